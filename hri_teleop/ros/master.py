@@ -1,0 +1,255 @@
+"""A private ROS master for tests, demos and notebooks, and the processes that run on it.
+
+Why: every test and demo needs a real ``roscore`` that nobody else talks to, on a free
+port (never 11311, never shared), and must leave nothing behind. Child processes are
+started in their own process group so that stopping one also stops whatever it spawned
+(roslaunch starts nodes, roscore starts rosmaster and rosout).
+
+This module talks to the master over XML-RPC and runs ROS command-line tools; it does not
+import rospy, so a test process can use many masters one after another.
+"""
+
+from __future__ import annotations
+
+import atexit
+import os
+import shutil
+import signal
+import socket
+import subprocess
+import tempfile
+import time
+import xmlrpc.client
+from pathlib import Path
+from typing import Dict, List, Mapping, Optional, Sequence, Set, Tuple
+
+
+class MasterError(RuntimeError):
+    """A ROS master or a process on it could not be started or did not answer."""
+
+
+_LIVE: "Set[ManagedProcess]" = set()
+
+
+def _stop_all_at_exit() -> None:
+    for proc in list(_LIVE):
+        proc.stop()
+
+
+atexit.register(_stop_all_at_exit)
+
+
+def free_port() -> int:
+    """A TCP port nobody listens on right now (the kernel's choice, never 11311)."""
+    while True:
+        with socket.socket(socket.AF_INET, socket.SOCK_STREAM) as sock:
+            sock.bind(("127.0.0.1", 0))
+            port = int(sock.getsockname()[1])
+        if port != 11311:
+            return port
+
+
+class ManagedProcess:
+    """A child process in its own process group, with its output kept in a log file."""
+
+    def __init__(self, argv: Sequence[str], env: Mapping[str, str], log_path: Path,
+                 cwd: Optional[Path] = None) -> None:
+        self.argv = list(argv)
+        self.log_path = log_path
+        log_path.parent.mkdir(parents=True, exist_ok=True)
+        self._log = open(log_path, "wb")
+        if shutil.which(self.argv[0], path=env.get("PATH")) is None and not os.path.exists(self.argv[0]):
+            self._log.close()
+            raise MasterError(
+                f"{self.argv[0]} not found on PATH: run 'make setup' (it installs ROS 1) "
+                "or source tools/env.sh"
+            )
+        self.popen = subprocess.Popen(
+            self.argv, env=dict(env), cwd=str(cwd) if cwd else None,
+            stdin=subprocess.DEVNULL, stdout=self._log, stderr=subprocess.STDOUT,
+            start_new_session=True,
+        )
+        _LIVE.add(self)
+
+    @property
+    def running(self) -> bool:
+        return self.popen.poll() is None
+
+    def output(self) -> str:
+        """Everything the process printed so far (stdout and stderr)."""
+        self._log.flush()
+        return self.log_path.read_text(errors="replace")
+
+    def stop(self, timeout_s: float = 10.0) -> Optional[int]:
+        """SIGINT the whole group (how ROS tools shut down cleanly), then escalate."""
+        try:
+            pgid = os.getpgid(self.popen.pid)
+        except ProcessLookupError:
+            pgid = None
+        for sig, wait_s in ((signal.SIGINT, timeout_s), (signal.SIGTERM, 3.0), (signal.SIGKILL, 3.0)):
+            if pgid is not None:
+                try:
+                    os.killpg(pgid, sig)
+                except ProcessLookupError:
+                    pass
+            try:
+                self.popen.wait(timeout=wait_s)
+                # The leader is gone; children that ignored SIGINT still get the rest.
+                if pgid is not None and _group_alive(pgid):
+                    continue
+                break
+            except subprocess.TimeoutExpired:
+                continue
+        _LIVE.discard(self)
+        if not self._log.closed:
+            self._log.close()
+        return self.popen.returncode
+
+    def wait(self, timeout_s: float) -> Optional[int]:
+        try:
+            return self.popen.wait(timeout=timeout_s)
+        except subprocess.TimeoutExpired:
+            return None
+
+
+def _group_alive(pgid: int) -> bool:
+    try:
+        os.killpg(pgid, 0)
+    except ProcessLookupError:
+        return False
+    except PermissionError:
+        return True
+    return True
+
+
+class PrivateMaster:
+    """A ``roscore`` on a free port with its own log directory; a context manager.
+
+    ``env`` is the environment to give every ROS process meant to talk to this master.
+    """
+
+    def __init__(self, port: Optional[int] = None, base_env: Optional[Mapping[str, str]] = None,
+                 work_dir: Optional[Path] = None) -> None:
+        self.port = port or free_port()
+        self.uri = f"http://127.0.0.1:{self.port}/"
+        self._own_dir = work_dir is None
+        self.work_dir = Path(work_dir) if work_dir else Path(tempfile.mkdtemp(prefix="hri-ros-"))
+        env = dict(base_env if base_env is not None else os.environ)
+        env.update({
+            "ROS_MASTER_URI": self.uri,
+            "ROS_HOSTNAME": "127.0.0.1",
+            "ROS_LOG_DIR": str(self.work_dir / "log"),
+            "ROS_HOME": str(self.work_dir / "home"),
+            "PYTHONUNBUFFERED": "1",
+        })
+        env.pop("ROS_IP", None)
+        self.env: Dict[str, str] = env
+        self.core: Optional[ManagedProcess] = None
+        self.children: List[ManagedProcess] = []
+
+    # -- lifecycle -------------------------------------------------------------------
+    def start(self, timeout_s: float = 20.0) -> "PrivateMaster":
+        self.core = ManagedProcess(["roscore", "-p", str(self.port)], self.env,
+                                   self.work_dir / "roscore.log")
+        deadline = time.monotonic() + timeout_s
+        while time.monotonic() < deadline:
+            if not self.core.running:
+                raise MasterError(f"roscore on port {self.port} exited: {self.core.output().strip()[-400:]}")
+            if self.is_online() and self.node_names() and "/rosout" in self.node_names():
+                return self
+            time.sleep(0.1)
+        self.stop()
+        raise MasterError(f"roscore on port {self.port} did not come up within {timeout_s:.0f} s")
+
+    def stop(self) -> None:
+        for child in reversed(self.children):
+            child.stop()
+        self.children.clear()
+        if self.core is not None:
+            self.core.stop()
+            self.core = None
+        if self._own_dir:
+            shutil.rmtree(self.work_dir, ignore_errors=True)
+
+    def __enter__(self) -> "PrivateMaster":
+        return self.start()
+
+    def __exit__(self, *exc: object) -> None:
+        self.stop()
+
+    # -- talking to the master -----------------------------------------------------------
+    def _proxy(self) -> xmlrpc.client.ServerProxy:
+        return xmlrpc.client.ServerProxy(self.uri)
+
+    def is_online(self) -> bool:
+        try:
+            code, _, _ = self._proxy().getPid("/hri_probe")
+            return code == 1
+        except (OSError, xmlrpc.client.Error):
+            return False
+
+    def system_state(self) -> Tuple[list, list, list]:
+        code, msg, state = self._proxy().getSystemState("/hri_probe")
+        if code != 1:
+            raise MasterError(f"master at {self.uri} refused getSystemState: {msg}")
+        return state[0], state[1], state[2]
+
+    def node_names(self) -> Set[str]:
+        pubs, subs, srvs = self.system_state()
+        return {n for _, nodes in list(pubs) + list(subs) + list(srvs) for n in nodes}
+
+    def publishers(self, topic: str) -> List[str]:
+        return next((nodes for t, nodes in self.system_state()[0] if t == topic), [])
+
+    def subscribers(self, topic: str) -> List[str]:
+        return next((nodes for t, nodes in self.system_state()[1] if t == topic), [])
+
+    def topic_types(self) -> Dict[str, str]:
+        code, msg, types = self._proxy().getTopicTypes("/hri_probe")
+        if code != 1:
+            raise MasterError(f"master at {self.uri} refused getTopicTypes: {msg}")
+        return dict(types)
+
+    def get_param(self, name: str) -> object:
+        code, msg, value = self._proxy().getParam("/hri_probe", name)
+        if code != 1:
+            raise MasterError(f"parameter {name} is not set: {msg}")
+        return value
+
+    def set_param(self, name: str, value: object) -> None:
+        self._proxy().setParam("/hri_probe", name, value)
+
+    def wait_for(self, condition, timeout_s: float, what: str, poll_s: float = 0.05) -> None:
+        """Poll ``condition()`` until true; MasterError naming ``what`` on timeout."""
+        deadline = time.monotonic() + timeout_s
+        while time.monotonic() < deadline:
+            if condition():
+                return
+            time.sleep(poll_s)
+        raise MasterError(f"timed out after {timeout_s:.0f} s waiting for {what}")
+
+    # -- processes on this master ------------------------------------------------------
+    def run(self, argv: Sequence[str], name: str, extra_env: Optional[Mapping[str, str]] = None,
+            cwd: Optional[Path] = None) -> ManagedProcess:
+        env = dict(self.env)
+        env.update(extra_env or {})
+        proc = ManagedProcess(argv, env, self.work_dir / f"{name}.log", cwd=cwd)
+        self.children.append(proc)
+        return proc
+
+    def roslaunch(self, package: str, launch_file: str, args: Optional[Mapping[str, object]] = None,
+                  name: Optional[str] = None) -> ManagedProcess:
+        argv = ["roslaunch", "--wait", package, launch_file]
+        argv += [f"{k}:={v}" for k, v in (args or {}).items()]
+        return self.run(argv, name or Path(launch_file).stem)
+
+    def record(self, bag_path: Path, topics: Sequence[str], timeout_s: float = 15.0) -> ManagedProcess:
+        """``rosbag record`` the topics into ``bag_path``; returns once it has subscribed."""
+        proc = self.run(["rosbag", "record", "--tcpnodelay", "-O", str(bag_path), *topics],
+                        f"record-{Path(bag_path).stem}")
+        self.wait_for(lambda: all(any(n.startswith("/record") for n in self.subscribers(t))
+                                  for t in topics) or not proc.running,
+                      timeout_s, f"rosbag record to subscribe to {', '.join(topics)}")
+        if not proc.running:
+            raise MasterError(f"rosbag record exited: {proc.output().strip()[-400:]}")
+        return proc

@@ -1,0 +1,46 @@
+"""Shared fixtures: a private roscore per test that needs one, headless pygame."""
+
+from __future__ import annotations
+
+import os
+import shutil
+from pathlib import Path
+
+import pytest
+
+REPO = Path(__file__).resolve().parents[1]
+
+os.environ.setdefault("SDL_VIDEODRIVER", "dummy")
+os.environ.setdefault("SDL_AUDIODRIVER", "dummy")
+os.environ.setdefault("PYGAME_HIDE_SUPPORT_PROMPT", "1")
+
+
+def _ros_env() -> dict:
+    """The environment tools/env.sh gives: venv first on PATH, hri_lab on ROS_PACKAGE_PATH."""
+    env = dict(os.environ)
+    venv_bin = str(REPO / ".venv" / "bin")
+    if venv_bin not in env.get("PATH", "").split(":"):
+        env["PATH"] = venv_bin + ":" + env.get("PATH", "")
+    paths = [p for p in env.get("ROS_PACKAGE_PATH", "").split(":") if p]
+    if str(REPO) not in paths:
+        paths.insert(0, str(REPO))
+    if not env.get("ROS_DISTRO") and "/usr/share" not in paths:
+        paths.append("/usr/share")
+    env["ROS_PACKAGE_PATH"] = ":".join(paths)
+    return env
+
+
+@pytest.fixture
+def ros_master(tmp_path):
+    """A real roscore on a free port, private to this test, stopped afterwards."""
+    if shutil.which("roscore") is None:
+        pytest.fail("roscore not found: run 'make setup' (installs ROS 1) or source tools/env.sh")
+    from hri_teleop.ros.master import PrivateMaster
+
+    master = PrivateMaster(base_env=_ros_env(), work_dir=tmp_path / "ros")
+    master.start()
+    try:
+        yield master
+    finally:
+        master.stop()
+        assert master.core is None

@@ -1,0 +1,42 @@
+"""Everything that runs in the lab must run on the lab PCs' Python 3.8 (ROS Noetic, Ubuntu 20.04)."""
+
+from __future__ import annotations
+
+import shutil
+import subprocess
+import sys
+from pathlib import Path
+
+import pytest
+
+REPO = Path(__file__).resolve().parents[2]
+LAB_CODE = [REPO / "hri_teleop", REPO / "hri_lab" / "scripts"]
+
+
+def _vermin() -> str:
+    exe = Path(sys.executable).with_name("vermin")
+    if exe.exists():
+        return str(exe)
+    found = shutil.which("vermin")
+    if not found:
+        pytest.fail("vermin not installed: run 'make setup' (it installs the test extras)")
+    return found
+
+
+def test_lab_code_needs_at_most_python_3_8():
+    targets = [str(p) for p in LAB_CODE if p.exists()]
+    proc = subprocess.run(
+        [_vermin(), "--target=3.8-", "--violations", "--no-tips",
+         "--backport", "dataclasses", "--backport", "typing", "--no-parse-comments", *targets],
+        capture_output=True, text=True,
+    )
+    assert proc.returncode == 0, "code that Python 3.8 cannot run:\n" + proc.stdout + proc.stderr
+
+
+def test_vermin_catches_a_python_3_10_construct(tmp_path):
+    """Guard against a vermin invocation that passes everything."""
+    bad = tmp_path / "bad.py"
+    bad.write_text("def f(x):\n    match x:\n        case 1:\n            return 2\n")
+    proc = subprocess.run([_vermin(), "--target=3.8-", "--violations", "--no-tips", str(bad)],
+                          capture_output=True, text=True)
+    assert proc.returncode != 0

@@ -1,0 +1,77 @@
+#!/usr/bin/env bash
+# Installs what `make demo` and `make test` need, and nothing that is already there.
+#
+# Why a script and not only Makefile rules: the decision "use the lab's /opt/ros/noetic
+# or Debian's ROS 1 packages" and "root, sudo or tell the user" is easier to read here.
+# Idempotent: a second run only checks (dpkg-query, a stamp file) and takes about a second.
+set -euo pipefail
+
+here="$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)"
+cd "$here"
+venv="$here/.venv"
+stamp="$venv/.hri-teleop-installed"
+
+say() { printf 'setup: %s\n' "$*"; }
+
+# Debian packages the project uses. ros-core brings roscore, roslaunch, rosbag, rosparam,
+# rostopic; the rest are the message and client libraries the nodes import.
+apt_packages=(
+  ros-core python3-rospy python3-roslaunch python3-rosbag python3-rosgraph
+  python3-std-msgs python3-geometry-msgs python3-sensor-msgs
+  python3-actionlib python3-actionlib-msgs python3-genpy
+  rospack-tools python3-venv catkin-lint
+)
+
+if [ -f /opt/ros/noetic/setup.sh ]; then
+  # The lab PCs: ROS Noetic is installed; use it and install nothing from apt.
+  say "using ROS Noetic from /opt/ros/noetic"
+  set +u; . /opt/ros/noetic/setup.sh; set -u
+  system_python=/usr/bin/python3
+else
+  missing=()
+  for p in "${apt_packages[@]}"; do
+    status="$(dpkg-query -W -f='${Status}' "$p" 2>/dev/null || true)"
+    [ "$status" = "install ok installed" ] || missing+=("$p")
+  done
+  if [ "${#missing[@]}" -gt 0 ]; then
+    if ! command -v apt-get >/dev/null 2>&1; then
+      say "missing ${missing[*]} and no apt-get: this setup supports Debian/Ubuntu; on other systems use the conda environment in environment.yml" >&2
+      exit 1
+    fi
+    if [ "$(id -u)" -eq 0 ]; then
+      sudo_cmd=()
+    elif command -v sudo >/dev/null 2>&1 && sudo -n true 2>/dev/null; then
+      sudo_cmd=(sudo -n)
+    else
+      say "need root to install ${#missing[@]} Debian package(s). Run this, then 'make setup' again:" >&2
+      printf '  sudo apt-get update && sudo apt-get install -y %s\n' "${missing[*]}" >&2
+      exit 1
+    fi
+    say "installing Debian packages: ${missing[*]}"
+    export DEBIAN_FRONTEND=noninteractive
+    "${sudo_cmd[@]}" apt-get update -qq
+    "${sudo_cmd[@]}" apt-get install -y -qq --no-install-recommends "${missing[@]}" >/dev/null
+  fi
+  system_python=/usr/bin/python3
+fi
+
+# The venv must come from the interpreter whose dist-packages hold rospy, and see them.
+if [ ! -x "$venv/bin/python" ] || ! "$venv/bin/python" -c 'import sys' 2>/dev/null; then
+  say "creating $venv (with system site packages, so rospy is importable)"
+  rm -rf "$venv"
+  "$system_python" -m venv --system-site-packages "$venv"
+fi
+
+want="$(cat pyproject.toml | sha256sum | cut -c1-16)"
+have="$(cat "$stamp" 2>/dev/null || true)"
+if [ "$want" != "$have" ] || ! "$venv/bin/python" -c 'import hri_teleop' 2>/dev/null; then
+  say "installing hri-teleop and its dependencies into .venv"
+  "$venv/bin/python" -m pip install -q --disable-pip-version-check -e ".[test]"
+  echo "$want" > "$stamp"
+fi
+
+if ! "$venv/bin/python" -c 'import rospy, actionlib, rosbag, genpy' 2>/dev/null; then
+  say "rospy is not importable from .venv; remove .venv and run 'make setup' again" >&2
+  exit 1
+fi
+say "ready ($("$venv/bin/python" --version), ROS from ${ROS_DISTRO:-Debian packages})"
