@@ -1,0 +1,37 @@
+from __future__ import annotations
+
+import numpy as np
+import pytest
+
+from hri_teleop.traces import TraceError, pair_outputs, percentile_ms, rate_hz
+
+
+def test_rate_of_a_10_hz_trace_is_10_hz():
+    trace = [(0.1 * k, 0.0) for k in range(11)]
+    assert rate_hz(trace) == pytest.approx(10.0)
+
+
+def test_rate_needs_two_messages():
+    with pytest.raises(TraceError, match="at least 2"):
+        rate_hz([(0.0, 1.0)])
+
+
+def test_pairing_matches_outputs_in_order_and_measures_latency():
+    inputs = [(1.0, 10.0), (2.0, 20.0), (3.0, 10.0)]
+    outputs = [(1.004, 1.0), (2.002, 2.0), (3.001, 1.0)]
+    pairing = pair_outputs(inputs, outputs, expected=lambda v: v / 10.0)
+    assert [p[0] for p in pairing.pairs] == [1.0, 2.0, 3.0]
+    assert pairing.unmatched_outputs == 0 and pairing.dropped_inputs == 0
+    np.testing.assert_allclose(pairing.latencies_s, [0.004, 0.002, 0.001], atol=1e-9)
+
+
+def test_pairing_counts_wrong_values_and_inputs_before_subscription():
+    inputs = [(0.5, 5.0), (1.0, 10.0), (2.0, 20.0)]
+    outputs = [(1.01, 1.0), (2.01, 0.3)]
+    pairing = pair_outputs(inputs, outputs, expected=lambda v: v / 10.0)
+    assert pairing.unmatched_outputs == 1  # 0.3 matches nothing
+    assert pairing.dropped_inputs == 2  # 0.5 s never answered, 2.0 s answered wrongly
+
+
+def test_percentile_in_milliseconds():
+    assert percentile_ms(np.array([0.001, 0.002, 0.003]), 50) == pytest.approx(2.0)
