@@ -1,0 +1,44 @@
+"""One entry point for the node: a pad by kind ("pygame" or "virtual") and layout name."""
+
+from __future__ import annotations
+
+import time
+from pathlib import Path
+from typing import Callable, Optional, Union
+
+from .layout import Layout
+from .pygame_pad import PygamePad
+from .state import Gamepad, GamepadError
+from .virtual import ScriptedPad, VirtualPad
+
+__all__ = ["PAD_KINDS", "open_gamepad"]
+
+PAD_KINDS = ("pygame", "virtual")
+
+
+def open_gamepad(kind: str = "pygame", layout: Union[Layout, str, None] = None, *,
+                 index: int = 0, script: Union[str, Path, None] = None,
+                 clock: Optional[Callable[[], float]] = None,
+                 log: Optional[Callable[[str], None]] = None) -> Gamepad:
+    """Open the pad the configuration asks for.
+
+    kind "pygame": the physical pad number ``index`` (GamepadError with the fix if none);
+    kind "virtual": a VirtualPad, or a ScriptedPad replaying ``script`` if one is given.
+    ``layout`` is a shipped layout name, a path, a Layout, or None for the DualShock 4.
+    """
+    name = str(kind).strip().lower()
+    if name == "pygame":
+        if script:
+            raise GamepadError("a pad script (%s) only drives the virtual pad: set pad to 'virtual' "
+                               "or remove the script" % (script,))
+        return PygamePad(layout, index, log=log)
+    if name in ("virtual", "scripted"):
+        clock = clock if clock is not None else time.monotonic
+        if script:
+            return ScriptedPad(script, layout, clock=clock)
+        if name == "scripted":
+            raise GamepadError("pad 'scripted' needs a script: give the path of a pad script YAML, "
+                               "or set pad to 'virtual'")
+        return VirtualPad(layout, clock=clock)
+    raise GamepadError("unknown pad kind %r: set pad to 'pygame' (a real gamepad) or 'virtual' "
+                       "(no hardware)" % (kind,))
