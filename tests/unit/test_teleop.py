@@ -1,0 +1,319 @@
+"""TeleopController: handout Ex. 8 rules, pad loss, quitting, rumble, and limits for any input."""
+
+from __future__ import annotations
+
+import math
+from typing import Dict, List, Optional
+
+import pytest
+from hypothesis import given, settings
+from hypothesis import strategies as st
+
+from hri_teleop.gamepad import AXES, BUTTONS, PadState
+from hri_teleop.limits import DEFAULT_LIMITS, PANDA_LIMITS, AxisLimits, CartesianLimits, limit_violations
+from hri_teleop.teleop import (
+    DEFAULT_AXIS_ASSIGNMENT,
+    GRIPPER_MAX_WIDTH_M,
+    AxisAssignment,
+    Mode,
+    TeleopCommand,
+    TeleopController,
+    TeleopError,
+    TeleopParams,
+)
+
+
+def assert_within_limits(limits, twists, dts):
+    # limit_violations is checked against an independent implementation in test_limits.py.
+    assert limit_violations(limits, twists, dts) == []
+
+DT = 0.02
+
+
+def pad(axes: Optional[Dict[str, float]] = None, pressed=(), connected: bool = True) -> PadState:
+    return PadState(dict(axes or {}), {name: True for name in pressed}, connected)
+
+
+def run(controller: TeleopController, pads, force=None, age=0.0, dt=DT) -> List[TeleopCommand]:
+    return [controller.step(p, force, age, dt) for p in pads]
+
+
+# --- parameters ------------------------------------------------------------------------
+
+
+def test_default_params_are_the_handout_lab_values():
+    p = TeleopParams()
+    assert (p.rate_hz, p.k_trans, p.k_rot, p.k_gripper, p.deadzone) == (50.0, 0.1, 0.3, 0.04, 0.1)
+    assert (p.width_min_m, p.width_max_m, p.initial_width_m) == (0.0, 0.08, 0.08)
+    assert (p.close_button, p.open_button, p.toggle_button, p.quit_button) == ("south", "east", "north", "west")
+    assert p.gripper_step_m == pytest.approx(0.04 / 50)
+    assert p.assignment == DEFAULT_AXIS_ASSIGNMENT
+    assert GRIPPER_MAX_WIDTH_M == 0.08
+
+
+def test_default_axis_assignment():
+    assert DEFAULT_AXIS_ASSIGNMENT.translation == ("left_y", "-left_x", "right_y")
+    assert DEFAULT_AXIS_ASSIGNMENT.rotation == ("left_y", "-left_x", "right_y")
+    assert DEFAULT_AXIS_ASSIGNMENT.sources(Mode.TRANSLATION) == (("left_y", 1.0), ("left_x", -1.0), ("right_y", 1.0))
+
+
+@pytest.mark.parametrize(
+    "kwargs",
+    [
+        dict(rate_hz=0),
+        dict(rate_hz=float("nan")),
+        dict(k_trans=-0.1),
+        dict(k_rot="0.3"),
+        dict(k_gripper=True),
+        dict(deadzone=1.0),
+        dict(deadzone=-0.1),
+        dict(width_max_m=0.1),
+        dict(width_min_m=0.05, width_max_m=0.04, initial_width_m=0.04),
+        dict(initial_width_m=0.09),
+        dict(input_timeout_s=0),
+        dict(force_timeout_s=-1),
+        dict(rumble_threshold=1.5),
+        dict(close_button="cross"),
+        dict(quit_button="north"),
+        dict(assignment=("left_y", "left_x", "right_y")),
+    ],
+)
+def test_bad_params_raise_one_line_errors(kwargs):
+    with pytest.raises(TeleopError) as info:
+        TeleopParams(**kwargs)
+    assert "\n" not in str(info.value)
+
+
+@pytest.mark.parametrize(
+    "kwargs",
+    [
+        dict(translation=("left_y", "left_x")),
+        dict(translation="left_y"),
+        dict(rotation=("left_y", "-stick", "right_y")),
+        dict(rotation=("left_y", 3, "right_y")),
+    ],
+)
+def test_bad_axis_assignments_raise(kwargs):
+    with pytest.raises(TeleopError) as info:
+        AxisAssignment(**kwargs)
+    assert "\n" not in str(info.value)
+
+
+def test_limits_above_the_robot_are_refused():
+    with pytest.raises(TeleopError, match="exceed"):
+        TeleopController(TeleopParams(), CartesianLimits(AxisLimits(5.0, 1.0, 1.0), DEFAULT_LIMITS.rotation))
+
+
+@pytest.mark.parametrize("dt", [0.0, -0.02, float("nan"), True])
+def test_bad_time_step(dt):
+    with pytest.raises(TeleopError):
+        TeleopController().step(pad(), None, 0.0, dt)
+
+
+# --- sticks -> twist ---------------------------------------------------------------------
+
+
+def test_target_twist_in_translation_uses_gain_dead_zone_and_assignment():
+    c = TeleopController(TeleopParams())
+    assert c.target_twist(pad({"left_y": 1.0})) == pytest.approx((0.1, 0, 0, 0, 0, 0))
+    assert c.target_twist(pad({"left_x": 1.0})) == pytest.approx((0, -0.1, 0, 0, 0, 0))
+    assert c.target_twist(pad({"right_y": -1.0})) == pytest.approx((0, 0, -0.1, 0, 0, 0))
+    assert c.target_twist(pad({"right_x": 1.0, "l2": 1.0})) == (0.0,) * 6  # unassigned axes
+    # Dead zone 0.1, continuous at its edge: 0.05 -> 0, 0.55 -> (0.55 - 0.1) / 0.9 = 0.5.
+    assert c.target_twist(pad({"left_y": 0.05})) == (0.0,) * 6
+    assert c.target_twist(pad({"left_y": 0.55}))[0] == pytest.approx(0.05)
+    assert c.target_twist(None) == (0.0,) * 6
+    assert c.target_twist(pad({"left_y": 1.0}, connected=False)) == (0.0,) * 6
+
+
+def test_target_twist_in_rotation_uses_k_rot():
+    c = TeleopController(TeleopParams())
+    c.step(pad(pressed=["north"]), None, 0.0, DT)
+    assert c.mode is Mode.ROTATION
+    assert c.target_twist(pad({"left_y": 1.0, "left_x": -1.0, "right_y": 0.5})) == pytest.approx(
+        (0, 0, 0, 0.3, 0.3, 0.3 * (0.4 / 0.9))
+    )
+
+
+def test_custom_assignment_and_gains():
+    params = TeleopParams(k_trans=0.2, assignment=AxisAssignment(translation=("none", "right_x", "-left_y")))
+    c = TeleopController(params)
+    assert c.target_twist(pad({"left_y": 1.0, "right_x": 1.0, "left_x": 1.0})) == pytest.approx((0, 0.2, -0.2, 0, 0, 0))
+
+
+def test_stick_drives_the_limited_twist_to_the_target():
+    c = TeleopController(TeleopParams())
+    commands = run(c, [pad({"left_y": 1.0})] * 60)
+    assert commands[-1].twist == (0.1, 0.0, 0.0, 0.0, 0.0, 0.0)
+    assert commands[0].twist[0] < 0.01  # ramped, not stepped
+    assert_within_limits(DEFAULT_LIMITS, [cmd.twist for cmd in commands], [DT] * 60)
+    assert not commands[-1].stopping and commands[-1].mode is Mode.TRANSLATION
+
+
+# --- buttons -----------------------------------------------------------------------------
+
+
+def test_triangle_toggles_once_per_press():
+    c = TeleopController(TeleopParams())
+    held = run(c, [pad(pressed=["north"])] * 10)
+    assert [cmd.mode for cmd in held] == [Mode.ROTATION] * 10
+    run(c, [pad()] * 3)
+    assert c.step(pad(pressed=["north"]), None, 0.0, DT).mode is Mode.TRANSLATION
+
+
+def test_mode_switch_ramps_translation_down_and_rotation_up():
+    c = TeleopController(TeleopParams())
+    run(c, [pad({"left_y": 1.0})] * 60)
+    commands = run(c, [pad({"left_y": 1.0}, pressed=["north"])] + [pad({"left_y": 1.0})] * 80)
+    assert commands[-1].twist == (0.0, 0.0, 0.0, 0.3, 0.0, 0.0)
+    assert commands[0].twist[0] > 0.09  # not stepped to zero
+
+
+def test_cross_closes_and_circle_opens_by_k_gripper_over_rate_per_tick():
+    c = TeleopController(TeleopParams())
+    step = 0.04 / 50
+    commands = run(c, [pad(pressed=["south"])] * 10)
+    assert commands[-1].gripper_width_m == pytest.approx(0.08 - 10 * step)
+    commands = run(c, [pad(pressed=["east"])] * 4)
+    assert commands[-1].gripper_width_m == pytest.approx(0.08 - 6 * step)
+    both = c.step(pad(pressed=["south", "east"]), None, 0.0, DT)
+    assert both.gripper_width_m == pytest.approx(0.08 - 6 * step)
+    released = run(c, [pad()] * 5)
+    assert released[-1].gripper_width_m == pytest.approx(0.08 - 6 * step)
+
+
+def test_gripper_width_is_clamped():
+    c = TeleopController(TeleopParams())
+    assert run(c, [pad(pressed=["east"])] * 5)[-1].gripper_width_m == 0.08
+    closed = run(c, [pad(pressed=["south"])] * 200)
+    assert closed[-1].gripper_width_m == 0.0
+    assert min(cmd.gripper_width_m for cmd in closed) == 0.0
+
+
+def test_square_quits_for_good_and_ramps_to_exact_zero():
+    c = TeleopController(TeleopParams())
+    run(c, [pad({"left_y": 1.0, "right_y": 1.0})] * 60)
+    width = c.gripper_width_m
+    pads = [pad({"left_y": 1.0}, pressed=["west"])] + [pad({"left_y": 1.0}, pressed=["south", "north"])] * 80
+    commands = run(c, pads)
+    assert all(cmd.quit and cmd.stopping for cmd in commands)
+    assert all(cmd.mode is Mode.TRANSLATION for cmd in commands)  # input ignored after quit
+    assert all(cmd.gripper_width_m == width for cmd in commands)
+    assert commands[0].twist[0] > 0.09  # ramped, not stepped
+    assert commands[-1].twist == (0.0,) * 6
+    assert c.finished and c.quit
+
+
+def test_finished_only_after_quit():
+    c = TeleopController(TeleopParams())
+    run(c, [pad()] * 5)
+    assert not c.finished
+    c.step(pad(pressed=["west"]), None, 0.0, DT)
+    assert c.finished  # at rest already
+
+
+# --- pad loss --------------------------------------------------------------------------
+
+
+@pytest.mark.parametrize("lost", [None, pad({"left_y": 1.0}, connected=False)])
+def test_lost_pad_ramps_to_zero_and_recovers(lost):
+    c = TeleopController(TeleopParams())
+    before = run(c, [pad({"left_y": 1.0})] * 60)
+    during = run(c, [lost] * 60, force=1.0)
+    assert all(cmd.stopping and not cmd.quit for cmd in during)
+    assert all(cmd.rumble == 0.0 for cmd in during)
+    assert during[0].twist[0] > 0.09
+    assert during[-1].twist == (0.0,) * 6
+    after = run(c, [pad({"left_y": 1.0})] * 60)
+    assert after[-1].twist[0] == 0.1 and not after[-1].stopping
+    assert_within_limits(DEFAULT_LIMITS, [cmd.twist for cmd in before + during + after], [DT] * 180)
+
+
+def test_buttons_do_nothing_while_disconnected():
+    c = TeleopController(TeleopParams())
+    command = c.step(pad(pressed=["south", "north", "west"], connected=False), None, 0.0, DT)
+    assert command.gripper_width_m == 0.08 and command.mode is Mode.TRANSLATION and not command.quit
+
+
+# --- rumble -------------------------------------------------------------------------------
+
+
+@pytest.mark.parametrize(
+    "force, age, threshold, expected",
+    [
+        (0.5, 0.1, 0.0, 0.5),
+        (0.0, 0.1, 0.0, 0.0),
+        (1.7, 0.1, 0.0, 1.0),
+        (-0.2, 0.1, 0.0, 0.0),
+        (0.5, 0.5, 0.0, 0.5),  # exactly at the timeout: still fresh
+        (0.5, 0.51, 0.0, 0.0),  # stale
+        (0.5, float("inf"), 0.0, 0.0),
+        (0.5, float("nan"), 0.0, 0.0),
+        (float("nan"), 0.1, 0.0, 0.0),
+        (None, 0.0, 0.0, 0.0),
+        (0.05, 0.1, 0.1, 0.0),  # below threshold
+        (0.2, 0.1, 0.1, 0.2),
+    ],
+)
+def test_rumble(force, age, threshold, expected):
+    c = TeleopController(TeleopParams(rumble_threshold=threshold))
+    assert c.step(pad(), force, age, DT).rumble == pytest.approx(expected)
+
+
+def test_rumble_stops_when_quitting():
+    c = TeleopController(TeleopParams())
+    assert c.step(pad(pressed=["west"]), 0.8, 0.0, DT).rumble == 0.0
+
+
+# --- properties ---------------------------------------------------------------------------
+
+stick = st.floats(min_value=-1.0, max_value=1.0)
+trigger = st.floats(min_value=0.0, max_value=1.0)
+pad_states = st.builds(
+    PadState,
+    st.fixed_dictionaries({name: (trigger if name in ("l2", "r2") else stick) for name in AXES}),
+    st.dictionaries(st.sampled_from(BUTTONS), st.booleans()),
+    st.booleans(),
+)
+pads = st.one_of(st.none(), pad_states, pad_states, pad_states)
+forces = st.one_of(st.none(), st.floats(allow_nan=True, allow_infinity=True), st.floats(min_value=0.0, max_value=1.0))
+params = st.builds(
+    TeleopParams,
+    rate_hz=st.floats(min_value=5.0, max_value=500.0),
+    k_trans=st.floats(min_value=0.0, max_value=3.0),  # above the limits too: the limiter must cut it
+    k_rot=st.floats(min_value=0.0, max_value=5.0),
+    k_gripper=st.floats(min_value=0.0, max_value=1.0),
+    deadzone=st.floats(min_value=0.0, max_value=0.9),
+    rumble_threshold=st.floats(min_value=0.0, max_value=1.0),
+    assignment=st.builds(
+        AxisAssignment,
+        st.tuples(*[st.sampled_from(["left_x", "-left_y", "right_x", "-right_y", "l2", "none"])] * 3),
+        st.tuples(*[st.sampled_from(["-left_x", "left_y", "-right_x", "right_y", "-r2", "none"])] * 3),
+    ),
+)
+limits = st.sampled_from([DEFAULT_LIMITS, PANDA_LIMITS, CartesianLimits(AxisLimits(0.1, 0.2, 1.0), AxisLimits(0.2, 0.4, 2.0))])
+
+
+@settings(max_examples=120, deadline=None)
+@given(
+    p=params,
+    lim=limits,
+    ticks=st.lists(
+        st.tuples(pads, forces, st.floats(min_value=0.0, max_value=2.0), st.floats(min_value=0.002, max_value=0.1)),
+        min_size=1,
+        max_size=60,
+    ),
+)
+def test_random_pad_input_keeps_every_command_inside_the_limits(p, lim, ticks):
+    c = TeleopController(p, lim)
+    commands = [c.step(pad_state, force, age, dt) for pad_state, force, age, dt in ticks]
+    assert_within_limits(lim, [cmd.twist for cmd in commands], [dt for *_, dt in ticks])
+    quit_seen = False
+    for (pad_state, *_), cmd in zip(ticks, commands):
+        assert p.width_min_m <= cmd.gripper_width_m <= p.width_max_m
+        assert 0.0 <= cmd.rumble <= 1.0 and not math.isnan(cmd.rumble)
+        assert cmd.quit or not quit_seen  # quit never un-sets
+        quit_seen = cmd.quit
+        if pad_state is None or not pad_state.connected or cmd.quit:
+            assert cmd.stopping and cmd.rumble == 0.0
+        assert isinstance(cmd.mode, Mode)
