@@ -44,12 +44,14 @@ def rate_hz(trace: Trace) -> float:
 
 
 def pair_outputs(inputs: Trace, outputs: Trace, expected: Callable[[float], float],
-                 tolerance: float = 1e-6) -> Pairing:
+                 tolerance: float = 1e-6, clock_slack_s: float = 0.05) -> Pairing:
     """Match each output to the earliest not-yet-matched input whose expected value it equals.
 
     A node that maps every input to one output produces outputs in input order; inputs
     sent before the node subscribed have no output (``dropped_inputs``), and outputs that
-    match no input (``unmatched_outputs``) are wrong values.
+    match no input (``unmatched_outputs``) are wrong values. A recorder receives inputs and
+    outputs over separate connections, so an output may be stamped slightly before its
+    input: inputs up to ``clock_slack_s`` after an output still count as its cause.
     """
     pairs: List[Tuple[float, float, float, float]] = []
     unmatched = 0
@@ -57,7 +59,7 @@ def pair_outputs(inputs: Trace, outputs: Trace, expected: Callable[[float], floa
     for t_out, v_out in outputs:
         j = i
         found: Optional[int] = None
-        while j < len(inputs) and inputs[j][0] <= t_out + 1e-9:
+        while j < len(inputs) and inputs[j][0] <= t_out + clock_slack_s:
             if abs(expected(inputs[j][1]) - v_out) <= tolerance:
                 found = j
                 break
@@ -70,7 +72,7 @@ def pair_outputs(inputs: Trace, outputs: Trace, expected: Callable[[float], floa
     matched_inputs = len(pairs)
     # Inputs after the last output may still be in flight when recording stopped.
     last_t_out = outputs[-1][0] if len(outputs) else float("-inf")
-    considered = sum(1 for t, _ in inputs if t <= last_t_out)
+    considered = sum(1 for t, _ in inputs if t <= last_t_out + clock_slack_s)
     return Pairing(pairs=pairs, unmatched_outputs=unmatched,
                    dropped_inputs=max(0, considered - matched_inputs))
 

@@ -35,3 +35,8 @@ def test_pairing_counts_wrong_values_and_inputs_before_subscription():
 
 def test_percentile_in_milliseconds():
     assert percentile_ms(np.array([0.001, 0.002, 0.003]), 50) == pytest.approx(2.0)
+
+
+def test_pairing_accepts_an_output_recorded_just_before_its_input():
+    pairing = pair_outputs([(1.0002, 7.0)], [(1.0001, 0.7)], expected=lambda v: v / 10.0)
+    assert len(pairing.pairs) == 1 and pairing.unmatched_outputs == 0

@@ -1,0 +1,82 @@
+"""sensor.launch (handout Ex. 5-7) for real: roslaunch on a private roscore, rosbag record,
+and the mapping checked message by message against hri_teleop.mapping."""
+
+from __future__ import annotations
+
+import time
+from pathlib import Path
+
+import pytest
+
+from hri_teleop.mapping import map_force
+from hri_teleop.ros.bags import read_topics
+from hri_teleop.traces import pair_outputs, rate_hz
+
+pytestmark = pytest.mark.ros
+
+REPO = Path(__file__).resolve().parents[2]
+MAPPING_NODE = REPO / "hri_lab" / "scripts" / "mapping_node.py"
+
+
+def _record_sensor_launch(master, tmp_path, duration_s, **launch_args):
+    launch = master.roslaunch("hri_lab", "sensor.launch", launch_args)
+    master.wait_for(lambda: bool(master.publishers("/force_mapped")) or not launch.running, 20,
+                    "mapping_node to advertise /force_mapped")
+    assert launch.running, launch.output()
+    bag = tmp_path / "sensor.bag"
+    recorder = master.record(bag, ["/pub_force", "/force_mapped"])
+    time.sleep(duration_s)
+    recorder.stop()
+    types = master.topic_types()
+    launch.stop()
+    topics = read_topics(bag, ["/pub_force", "/force_mapped"])
+    counts = [(t, float(m.data)) for t, m in topics["/pub_force"]]
+    mapped = [(t, float(m.data)) for t, m in topics["/force_mapped"]]
+    return types, counts, mapped
+
+
+@pytest.mark.parametrize("max_sensor_force", [700, 350])
+def test_force_mapped_is_float32_and_equals_the_mapping_of_pub_force(ros_master, tmp_path, max_sensor_force):
+    types, counts, mapped = _record_sensor_launch(ros_master, tmp_path, 3.0,
+                                                  max_sensor_force=max_sensor_force, rate_hz=50)
+    assert types["/pub_force"] == "std_msgs/Int16"
+    assert types["/force_mapped"] == "std_msgs/Float32"
+    assert len(mapped) >= 50, f"only {len(mapped)} messages on /force_mapped in 3 s at 50 Hz"
+    assert rate_hz(mapped) == pytest.approx(50.0, rel=0.2)
+    pairing = pair_outputs(counts, mapped, lambda c: float(map_force(c, max_sensor_force)), tolerance=1e-6)
+    assert pairing.unmatched_outputs == 0, "values on /force_mapped that are no count's mapping"
+    assert len(pairing.pairs) >= len(mapped) - 1
+    assert all(0.0 <= v <= 1.0 for _, v in mapped)
+    # The simulated presses go past the parameter, so the clipping is exercised too.
+    assert max(c for _, c in counts) > max_sensor_force * 0.9
+
+
+def test_sensor_launch_optionally_loads_the_robot_params_of_ex_7(ros_master):
+    launch = ros_master.roslaunch("hri_lab", "sensor.launch", {"load_robot_params": "true"})
+    ros_master.wait_for(lambda: bool(ros_master.publishers("/force_mapped")), 20, "/force_mapped")
+    assert ros_master.get_param("/robot_mass") == 18.0
+    assert isinstance(ros_master.get_param("/robot_mass"), float)
+    assert ros_master.get_param("/load_gripper") is True
+    assert ros_master.get_param("/gains") == {"p": 10.0, "i": 1.0, "d": 5.0}
+    assert ros_master.get_param("/max_sensor_force") == 700
+    launch.stop()
+
+
+@pytest.mark.parametrize("value, words", [
+    (None, "not set"),
+    (0, "0"),
+    (-5, "-5"),
+    ("abc", "abc"),
+    (2000, "1023"),
+])
+def test_mapping_node_refuses_a_bad_max_sensor_force_in_one_line(ros_master, value, words):
+    if value is not None:
+        ros_master.set_param("/max_sensor_force", value)
+    node = ros_master.run([str(MAPPING_NODE)], "mapping_node")
+    code = node.wait(20)
+    out = node.output()
+    assert code not in (None, 0), f"mapping_node kept running with /max_sensor_force={value!r}:\n{out}"
+    assert "Traceback" not in out, out
+    lines = [ln for ln in out.splitlines() if "/max_sensor_force" in ln]
+    assert lines, out
+    assert words in lines[0], lines[0]

@@ -1,0 +1,170 @@
+"""teleoperation.py for real on a private roscore, driven by a scripted virtual pad.
+
+What a student does with the pad (handout Ex. 8-9) must come out on the topics: stick ->
+twist with the gain, held cross -> gripper width in k_gripper/rate steps, triangle ->
+rotation mode, /force_mapped -> rumble, pad lost -> twist ramps to zero inside the limits.
+"""
+
+from __future__ import annotations
+
+import time
+from pathlib import Path
+
+import pytest
+import yaml
+
+from hri_teleop.config import load_teleop_config
+from hri_teleop.gamepad import normalize_analog_input
+from hri_teleop.limits import limit_violations
+from hri_teleop.ros.bags import read_topics
+
+pytestmark = pytest.mark.ros
+
+REPO = Path(__file__).resolve().parents[2]
+TELEOP = REPO / "hri_lab" / "scripts" / "teleoperation.py"
+CONFIG = load_teleop_config(REPO / "hri_lab" / "config" / "teleop.yaml")
+P = CONFIG.params
+TWIST = CONFIG.twist_topic
+TOPICS = [TWIST, "/gripper_width", "/teleoperation/rumble", "/joy", "/force_mapped"]
+
+
+def _write_script(tmp_path, steps) -> Path:
+    path = tmp_path / "pad_script.yaml"
+    path.write_text(yaml.safe_dump(steps))
+    return path
+
+
+def _start_node(master, *args):
+    node = master.run([str(TELEOP), "_pad:=virtual", *args], "teleoperation")
+    master.wait_for(lambda: bool(master.publishers("/gripper_width")) or not node.running, 20,
+                    "teleoperation to advertise /gripper_width")
+    assert node.running, node.output()
+    return node
+
+
+def _twists(msgs):
+    """Twists as tuples; the scripts start still, so the first recorded one must be zero."""
+    assert msgs and all(c == 0.0 for c in _as_tuple(msgs[0][1])), "recording started mid-motion"
+    return [_as_tuple(m) for _, m in msgs]
+
+
+def _as_tuple(m):
+    return (m.linear.x, m.linear.y, m.linear.z, m.angular.x, m.angular.y, m.angular.z)
+
+
+def test_pad_script_drives_twist_gripper_mode_and_rumble_then_loss_ramps_to_zero(ros_master, tmp_path):
+    script = _write_script(tmp_path, [
+        {"t": 0.5, "axis": "left_y", "value": 1.0},   # full forward
+        {"t": 2.5, "axis": "left_y", "value": 0.0},
+        {"t": 3.0, "press": "south"},                 # cross: close for 1 s
+        {"t": 4.0, "release": "south"},
+        {"t": 4.5, "press": "north"},                 # triangle: rotation mode
+        {"t": 4.6, "release": "north"},
+        {"t": 5.0, "axis": "left_y", "value": 0.5},
+        {"t": 6.5, "disconnect": True},               # pad unplugged
+    ])
+    bag = tmp_path / "teleop.bag"
+    recorder = ros_master.record(bag, TOPICS)
+    force = ros_master.run(["rostopic", "pub", "-r", "50", "/force_mapped", "std_msgs/Float32", "data: 0.6"],
+                           "force_pub")
+    node = _start_node(ros_master, f"_pad_script:={script}")
+    time.sleep(4.0)
+    force.stop()  # the sensor goes silent: rumble must stop after force_timeout
+    time.sleep(5.0)
+    types = ros_master.topic_types()
+    assert node.stop() == 0, node.output()
+    recorder.stop()
+
+    assert types[TWIST] == "geometry_msgs/Twist"
+    assert types["/gripper_width"] == "std_msgs/Float32"
+    assert types["/joy"] == "sensor_msgs/Joy"
+    data = read_topics(bag, TOPICS)
+    twists = _twists(data[TWIST])
+    assert len(twists) > 300, f"{len(twists)} twists in 9 s at {P.rate_hz} Hz"
+
+    # stick -> twist with the gain (full deflection: exactly k_trans after the ramp)
+    assert max(t[0] for t in twists) == pytest.approx(P.k_trans, abs=1e-9)
+    # triangle -> rotation: the same stick now turns about x, scaled by k_rot after the dead zone
+    expected_wx = P.k_rot * normalize_analog_input(0.5, P.deadzone)
+    assert max(t[3] for t in twists) == pytest.approx(expected_wx, abs=1e-9)
+    assert all(abs(t[3]) < 1e-12 for t in twists if abs(t[0]) > 1e-12), "translation and rotation at once"
+    # pad lost -> the command goes to zero and stays there
+    assert all(c == 0.0 for t in twists[-20:] for c in t)
+    # every command, including the ramps, is inside the configured limits
+    assert limit_violations(CONFIG.limits, twists, [1.0 / P.rate_hz] * len(twists), rel_tol=1e-6) == []
+
+    # held cross -> width shrinks by k_gripper/rate per tick, never below 0
+    widths = [m.data for _, m in data["/gripper_width"]]
+    assert widths[0] == pytest.approx(P.initial_width_m, abs=1e-7)
+    steps = {round(a - b, 6) for a, b in zip(widths, widths[1:])}
+    assert steps <= {0.0, round(P.k_gripper / P.rate_hz, 6)}, steps
+    closed_by = P.initial_width_m - min(widths)
+    assert closed_by == pytest.approx(P.k_gripper * 1.0, abs=3 * P.k_gripper / P.rate_hz)
+
+    # /force_mapped -> rumble; silent sensor -> rumble off within force_timeout (+ one tick)
+    rumble = [(t, m.data) for t, m in data["/teleoperation/rumble"]]
+    assert any(abs(v - 0.6) < 1e-6 for _, v in rumble)
+    last_force_t = data["/force_mapped"][-1][0]
+    off = [t for t, v in rumble if t > last_force_t and v == 0.0]
+    assert off, "rumble never stopped after /force_mapped went silent"
+    assert off[0] - last_force_t <= P.force_timeout_s + 3.0 / P.rate_hz
+    assert all(v == 0.0 for t, v in rumble if t > off[0])
+
+    # /joy carries the raw pad state while it is connected
+    assert len(data["/joy"]) > 100
+
+
+def test_square_quits_after_ramping_the_twist_to_zero(ros_master, tmp_path):
+    script = _write_script(tmp_path, [
+        {"t": 1.0, "axis": "left_x", "value": -1.0},
+        {"t": 2.5, "press": "west"},
+    ])
+    bag = tmp_path / "quit.bag"
+    recorder = ros_master.record(bag, [TWIST])
+    node = _start_node(ros_master, f"_pad_script:={script}")
+    code = node.wait(15)
+    recorder.stop()
+    assert code == 0, node.output()
+    twists = _twists(read_topics(bag, [TWIST])[TWIST])
+    assert max(t[1] for t in twists) == pytest.approx(P.k_trans, abs=1e-9)  # -left_x drives +vy
+    assert all(c == 0.0 for c in twists[-1])
+    assert limit_violations(CONFIG.limits, twists, [1.0 / P.rate_hz] * len(twists), rel_tol=1e-6) == []
+
+
+def test_sigint_mid_motion_ramps_to_zero_before_exit(ros_master, tmp_path):
+    script = _write_script(tmp_path, [{"t": 1.0, "axis": "left_y", "value": 1.0}])
+    bag = tmp_path / "sigint.bag"
+    recorder = ros_master.record(bag, [TWIST])
+    node = _start_node(ros_master, f"_pad_script:={script}")
+    time.sleep(3.0)
+    assert node.stop() == 0, node.output()
+    recorder.stop()
+    twists = _twists(read_topics(bag, [TWIST])[TWIST])
+    assert max(t[0] for t in twists) > 0.05
+    assert all(c == 0.0 for c in twists[-1]), twists[-5:]
+    assert limit_violations(CONFIG.limits, twists, [1.0 / P.rate_hz] * len(twists), rel_tol=1e-6) == []
+
+
+@pytest.mark.parametrize("args, words", [
+    (["_pad:=pygame"], "no gamepad"),
+    (["_layout:=nintendo64"], "nintendo64"),
+    (["_k_trans:=-1"], "k_trans"),
+])
+def test_bad_setup_stops_the_node_with_one_line_and_no_traceback(ros_master, args, words):
+    node = ros_master.run([str(TELEOP), *(["_pad:=virtual"] if "_pad:=pygame" not in args else []), *args],
+                          "teleoperation")
+    code = node.wait(20)
+    out = node.output()
+    assert code not in (None, 0), out
+    assert "Traceback" not in out, out
+    assert any(words in line for line in out.splitlines()), out
+
+
+def test_malformed_config_yaml_names_the_file_and_line(ros_master, tmp_path):
+    bad = tmp_path / "teleop.yaml"
+    bad.write_text("rate: 50\nk_trans: [0.1\n")
+    node = ros_master.run([str(TELEOP), "_pad:=virtual", f"_config:={bad}"], "teleoperation")
+    code = node.wait(20)
+    out = node.output()
+    assert code not in (None, 0) and "Traceback" not in out, out
+    assert any(str(bad) in line for line in out.splitlines()), out
