@@ -19,7 +19,7 @@ test: setup
 	@$(ENV) $(PY) -m pytest -q -p no:cacheprovider $(PYTEST_ARGS)
 
 lint: setup
-	@$(ENV) catkin_lint -W2 --strict hri_lab
+	@$(ENV) catkin_lint --offline -W2 --strict hri_lab
 
 clean:
 	rm -rf .venv build out .pytest_cache .hypothesis

@@ -1,1 +1,277 @@
 #!/usr/bin/env python3
+"""Teleoperation node (handout Ex. 8-10, 12-14): gamepad -> Cartesian twist, gripper width, rumble.
+
+Every rule (dead zone, gains, mode toggle, gripper steps, quit, velocity/acceleration/jerk
+limits, stale-force rumble cut-off) lives in hri_teleop.teleop.TeleopController. This
+script reads the parameters, opens the pad, and once per tick (``~rate``, 50 Hz) polls the
+pad, steps the controller and publishes what it returns.
+
+Parameters (private). The settings come from the YAML file ``~config``
+(hri_lab/config/teleop.yaml by default), and any private parameter with the same key
+overrides the file (the launch arguments pad, layout and twist_topic do that, and so does
+e.g. ``rosrun hri_lab teleoperation.py _k_trans:=0.05``). File and overrides are checked by
+hri_teleop.config.teleop_config_from_dict, which names a wrong key, type or YAML line and
+the fix. Keys (see teleop.yaml for units and defaults):
+  ~config        str   path of the teleop YAML ("" = hri_lab/config/teleop.yaml)
+  ~rate, ~k_trans, ~k_rot, ~k_gripper, ~deadzone, ~width_min, ~width_max, ~initial_width,
+  ~input_timeout, ~force_timeout, ~rumble_threshold, ~limits, ~axes, ~buttons
+  ~layout        str   controller mapping (dualshock4, dualsense, xbox, or a YAML path)
+  ~pad           str   "pygame" (a real pad) or "virtual" (no hardware)
+  ~twist_topic   str   where the twist goes. Default (teleop.yaml):
+                       /cartesian_velocity_controller/cmd_vel, the command topic of the
+                       Cartesian velocity controller started by
+                       franka_control_cartesian_velocity.launch (Task 2). If your
+                       controller listens elsewhere, set twist_topic:=... on the launch.
+  ~pad_script    str   ""  with pad "virtual": a ScriptedPad YAML to replay (use an absolute
+                           path: roslaunch starts nodes in ~/.ros)
+  ~pad_index     int   0   which physical pad, with pad "pygame"
+  ~stop_timeout_s float 3.0 longest ramp to zero at shutdown before giving up (s)
+Publishes:
+  <twist_topic>   geometry_msgs/Twist  every tick, limited (never steps, not even to zero)
+  gripper_width   std_msgs/Float32     every tick, target opening in m (-> gripper_manager)
+  joy             sensor_msgs/Joy      every tick, the pad's raw axes/buttons in the layout's order
+  ~rumble         std_msgs/Float32     every tick, the rumble intensity 0..1 sent to the pad
+Subscribes:
+  force_mapped    std_msgs/Float32     latest value and its arrival time; the rumble follows it
+                                       at the next tick (at most 1/rate later) and drops to 0
+                                       when it is older than force_timeout
+
+Stopping: square (quit) ramps the twist to zero inside the limits, then the node exits 0
+(with required="true" in teleoperation.launch that ends the whole launch). Ctrl-C, SIGTERM
+or `rosnode kill` do the same ramp first (the node keeps publishing until the twist is
+zero, at most ~stop_timeout_s), so the robot is never left with a velocity step. A lost or
+silent pad (no reading for input_timeout) also ramps to zero, but the node keeps running
+and resumes when the pad is back.
+"""
+
+from __future__ import annotations
+
+import math
+import signal
+import threading
+import time
+from pathlib import Path
+from typing import Any, Dict, Optional, Tuple
+
+import rospy
+from geometry_msgs.msg import Twist
+from sensor_msgs.msg import Joy
+from std_msgs.msg import Float32
+
+from hri_teleop.config import TeleopConfig, load_yaml, teleop_config_from_dict
+from hri_teleop.gamepad import GamepadError, open_gamepad
+from hri_teleop.limits import Watchdog
+from hri_teleop.ros.params import fail, get_param, private_params, run_node
+from hri_teleop.teleop import TeleopCommand, TeleopController
+
+#: Private parameters of this node that are not part of the teleop configuration.
+NODE_ONLY_KEYS = ("config", "pad_script", "pad_index", "stop_timeout_s")
+
+#: Rumble requests: sent when the intensity changes by this much, or goes to/from zero ...
+RUMBLE_CHANGE = 0.02
+#: ... and refreshed this often while it stays on; each request lasts RUMBLE_HOLD_S, so the
+#: pad falls silent by itself within that time if this node dies.
+RUMBLE_REFRESH_S = 0.25
+RUMBLE_HOLD_S = 0.5
+
+
+def default_config_path() -> str:
+    """hri_lab/config/teleop.yaml of the package this script belongs to ('' if not found)."""
+    candidates = []
+    try:
+        import rospkg
+
+        candidates.append(Path(rospkg.RosPack().get_path("hri_lab")) / "config" / "teleop.yaml")
+    except Exception:  # noqa: BLE001 - rospkg.ResourceNotFound, or no ROS_PACKAGE_PATH
+        pass
+    candidates.append(Path(__file__).resolve().parents[1] / "config" / "teleop.yaml")
+    for path in candidates:
+        if path.is_file():
+            return str(path)
+    return ""
+
+
+def load_config(path: str, overrides: Dict[str, Any], node_name: str) -> TeleopConfig:
+    """The file's settings, then the node's private parameters on top (both checked).
+
+    The file is read here, not with <rosparam load> in the launch file: a YAML mistake then
+    gives one line with the file, the line and the fix (roslaunch would print a parse
+    error and refuse to start anything).
+    """
+    settings: Dict[str, Any] = {}
+    if path:
+        settings = load_yaml(path)
+        teleop_config_from_dict(settings, source=path)  # errors name the file
+    settings.update(overrides)
+    where = f"{node_name} private parameters over {path}" if path else f"{node_name} private parameters"
+    return teleop_config_from_dict(settings, source=where)
+
+
+def _twist_msg(twist: Tuple[float, ...]) -> Twist:
+    msg = Twist()
+    msg.linear.x, msg.linear.y, msg.linear.z = twist[0], twist[1], twist[2]
+    msg.angular.x, msg.angular.y, msg.angular.z = twist[3], twist[4], twist[5]
+    return msg
+
+
+class TeleoperationNode:
+    """The shell around TeleopController: pad in, topics out (see the module doc)."""
+
+    def __init__(self) -> None:
+        name = rospy.get_name()
+        self.config_path = get_param("~config", "", kind=str).strip() or default_config_path()
+        self.config = load_config(self.config_path, private_params(exclude=NODE_ONLY_KEYS), name)
+        params = self.config.params
+        pad_script = get_param("~pad_script", "", kind=str).strip()
+        pad_index = get_param("~pad_index", 0, kind=int)
+        self.stop_timeout_s = get_param("~stop_timeout_s", 3.0, kind=float)
+        if not self.stop_timeout_s > 0:
+            fail(f"parameter {name}/stop_timeout_s is {self.stop_timeout_s!r}; set it to a positive time in s, e.g. 3.0")
+
+        self.controller = TeleopController(params, self.config.limits)
+        self.dt_s = 1.0 / params.rate_hz
+        self.pad = open_gamepad(self.config.pad, self.config.layout, index=pad_index,
+                                script=pad_script or None, log=rospy.logwarn)
+        self.pad_watchdog = Watchdog(params.input_timeout_s)
+
+        self._force: Optional[Tuple[float, float]] = None  # (value, monotonic arrival time)
+        self._stop_requested = threading.Event()
+        self._stopped = threading.Event()
+        self._rumble_sent = 0.0
+        self._rumble_sent_at = -math.inf
+        self._poll_error_logged = False
+        self._quit_logged = False
+        self.last_command: Optional[TeleopCommand] = None
+
+        self.twist_pub = rospy.Publisher(self.config.twist_topic, Twist, queue_size=1)
+        self.width_pub = rospy.Publisher("gripper_width", Float32, queue_size=1)
+        self.joy_pub = rospy.Publisher("joy", Joy, queue_size=1)
+        self.rumble_pub = rospy.Publisher("~rumble", Float32, queue_size=1)
+        self.force_sub = rospy.Subscriber("force_mapped", Float32, self.on_force, queue_size=1)
+        rospy.loginfo(
+            "teleoperation at %.0f Hz: pad %s (%s, layout %s), twist on %s, k_trans %.3f m/s, "
+            "k_rot %.3f rad/s, k_gripper %.3f m/s (config %s)", params.rate_hz, self.config.pad,
+            getattr(self.pad, "name", "?"), self.pad.layout.name, self.twist_pub.resolved_name,
+            params.k_trans, params.k_rot, params.k_gripper, self.config_path or "built-in defaults")
+
+    # -- inputs -----------------------------------------------------------------------
+    def on_force(self, msg: Float32) -> None:
+        self._force = (float(msg.data), time.monotonic())
+
+    def _read_pad(self, now: float) -> Optional[Any]:
+        """The pad's state; None once no connected reading came for input_timeout.
+
+        A disconnected reading is passed on as it is (the controller stops on
+        connected=False at once); a failed read counts as no reading.
+        """
+        try:
+            state = self.pad.poll()
+        except GamepadError as exc:
+            if not self._poll_error_logged:
+                rospy.logwarn("cannot read the gamepad (%s): bringing the robot to a stop", exc)
+                self._poll_error_logged = True
+            state = None
+        if state is not None and state.connected:
+            self.pad_watchdog.feed(now)
+            self._poll_error_logged = False
+        if self.pad_watchdog.is_stale(now):
+            return None if state is None or state.connected else state
+        return state
+
+    # -- one tick ---------------------------------------------------------------------
+    def tick(self, stopping: bool = False) -> TeleopCommand:
+        now = time.monotonic()
+        state = None if stopping else self._read_pad(now)
+        force = self._force
+        value, age = (force[0], now - force[1]) if force is not None else (None, math.inf)
+        cmd = self.controller.step(state, value, age, self.dt_s)
+        self.last_command = cmd
+        self.twist_pub.publish(_twist_msg(cmd.twist))
+        self.width_pub.publish(Float32(data=cmd.gripper_width_m))
+        self.rumble_pub.publish(Float32(data=cmd.rumble))
+        if state is not None:
+            self._publish_joy(state)
+        self._rumble(cmd.rumble, now)
+        if cmd.quit and not self._quit_logged:
+            rospy.loginfo("quit pressed (%s): ramping the twist to zero, then exiting",
+                          self.controller.params.quit_button)
+            self._quit_logged = True
+        return cmd
+
+    def _publish_joy(self, state: Any) -> None:
+        axes, buttons = self.pad.layout.raw_from_state(state)
+        msg = Joy(axes=[float(a) for a in axes], buttons=[int(b) for b in buttons])
+        msg.header.stamp = rospy.Time.now()
+        self.joy_pub.publish(msg)
+
+    def _rumble(self, intensity: float, now: float) -> None:
+        changed = abs(intensity - self._rumble_sent) >= RUMBLE_CHANGE or (
+            (intensity == 0.0) != (self._rumble_sent == 0.0))
+        refresh = intensity > 0.0 and now - self._rumble_sent_at >= RUMBLE_REFRESH_S
+        if changed or refresh:
+            self.pad.rumble(intensity, RUMBLE_HOLD_S)
+            self._rumble_sent, self._rumble_sent_at = intensity, now
+
+    # -- running and stopping ---------------------------------------------------------
+    def request_stop(self, *_args: object) -> None:
+        """SIGINT/SIGTERM: ramp to zero first (a second signal ends at once)."""
+        if self._stop_requested.is_set():
+            rospy.signal_shutdown("second stop request")
+            return
+        self._stop_requested.set()
+
+    def _on_rospy_shutdown(self) -> None:
+        """rospy is shutting down from outside (rosnode kill): let the loop ramp first."""
+        self._stop_requested.set()
+        self._stopped.wait(self.stop_timeout_s + 0.5)
+
+    def run(self) -> int:
+        rospy.on_shutdown(self._on_rospy_shutdown)
+        rate = rospy.Rate(self.controller.params.rate_hz)
+        try:
+            while not rospy.is_shutdown() and not self._stop_requested.is_set():
+                self.tick()
+                if self.controller.finished:
+                    rospy.loginfo("twist is zero after quit: teleoperation ends")
+                    return 0
+                rate.sleep()
+            self._ramp_to_zero()
+            return 0
+        except rospy.ROSInterruptException:
+            return 0
+        finally:
+            self._stopped.set()
+            self.pad.rumble(0.0, 0.0)
+            self.pad.close()
+
+    def _ramp_to_zero(self) -> None:
+        """Keep publishing with the pad ignored until the limited twist is exactly zero."""
+        deadline = time.monotonic() + self.stop_timeout_s
+        last = self.last_command
+        if last is None or all(c == 0.0 for c in last.twist):
+            self.tick(stopping=True)  # still say "zero" once to whoever listens
+            return
+        rospy.loginfo("stopping: ramping the twist to zero")
+        zero_ticks = 0
+        while time.monotonic() < deadline and zero_ticks < 2:
+            cmd = self.tick(stopping=True)
+            zero_ticks = zero_ticks + 1 if all(c == 0.0 for c in cmd.twist) else 0
+            time.sleep(self.dt_s)  # wall clock: rospy.Rate may already be shutting down
+        if zero_ticks < 2:
+            rospy.logwarn("twist not zero after %.1f s of ramping; last command %s",
+                          self.stop_timeout_s, self.last_command.twist if self.last_command else None)
+
+
+def main() -> int:
+    # Our own SIGINT/SIGTERM handling: rospy's would stop publishing at once, mid-motion.
+    rospy.init_node("teleoperation", disable_signals=True)
+    node = TeleoperationNode()
+    signal.signal(signal.SIGINT, node.request_stop)
+    signal.signal(signal.SIGTERM, node.request_stop)
+    code = node.run()
+    rospy.signal_shutdown("teleoperation finished")
+    return code
+
+
+if __name__ == "__main__":
+    run_node(main)

@@ -1,0 +1,168 @@
+"""What every hri_lab node does with its parameters and with bad input.
+
+Why: the lab's rule for bad input is one clear line naming the cause and the fix, exit
+code 1, and never a traceback. Each node reads a handful of parameters; doing the type
+checks and the exit by hand in four scripts would give four slightly different behaviours.
+Here they are once:
+
+* ``get_param(name, default, kind=...)``: read a parameter, check its type, raise
+  ``ParamError`` (one line: which parameter, what was found, how to set it) when it is
+  missing or of the wrong type;
+* ``fail(message)``: log the line with ``rospy.logfatal`` and exit with status 1;
+* ``run_node(main)``: run a node's main function so that any error raised by hri_teleop
+  (every module has one ``ValueError``/``RuntimeError`` subclass with a one-line message)
+  ends the node through ``fail`` instead of a traceback, and Ctrl-C / rospy shutdown ends
+  it quietly with status 0. Unexpected exceptions (bugs) still show their traceback.
+"""
+
+from __future__ import annotations
+
+import math
+import sys
+from typing import Any, Callable, Dict, Iterable, NoReturn, Optional, Tuple, Union
+
+_MISSING = object()
+
+Kind = Union[type, Tuple[type, ...]]
+
+# Node-script exit status for bad input (the shell and roslaunch show it).
+EXIT_BAD_INPUT = 1
+
+
+class ParamError(ValueError):
+    """A ROS parameter is missing or has the wrong type."""
+
+
+class NodeExit(SystemExit):
+    """Raised by ``fail`` to end a node after its one fatal line has been logged."""
+
+
+def _kind_name(kind: Kind) -> str:
+    kinds = kind if isinstance(kind, tuple) else (kind,)
+    names = {bool: "true/false", int: "an integer", float: "a number", str: "a string",
+             dict: "a dictionary", list: "a list"}
+    return " or ".join(names.get(k, k.__name__) for k in kinds)
+
+
+def check_kind(name: str, value: Any, kind: Kind, fix: str = "") -> Any:
+    """``value`` if it is of ``kind`` (an int counts as a float, a bool never as a number).
+
+    Floats are returned as ``float``; a float that is not finite is refused.
+    """
+    kinds = kind if isinstance(kind, tuple) else (kind,)
+    ok = False
+    if isinstance(value, bool):
+        ok = bool in kinds
+    elif isinstance(value, int):
+        ok = int in kinds or float in kinds
+        if ok and int not in kinds:
+            value = float(value)
+    elif isinstance(value, float):
+        ok = float in kinds and math.isfinite(value)
+    else:
+        ok = isinstance(value, tuple(k for k in kinds if k not in (bool, int, float)))
+    if not ok:
+        hint = f"; {fix}" if fix else f"; set it to {_kind_name(kind)}"
+        raise ParamError(f"parameter {name} is {value!r} ({type(value).__name__}), expected {_kind_name(kind)}{hint}")
+    return value
+
+
+def get_param(name: str, default: Any = _MISSING, *, kind: Optional[Kind] = None, fix: str = "") -> Any:
+    """The parameter ``name`` (``~x`` private, ``/x`` global), checked against ``kind``.
+
+    Missing and no default -> ``ParamError`` naming the parameter and ``fix`` (or a
+    generic ``rosparam set`` hint). A default is returned as is (not type-checked).
+    """
+    import rospy
+
+    if not rospy.has_param(name):
+        if default is _MISSING:
+            resolved = rospy.resolve_name(name)
+            hint = fix or f"set it, e.g. `rosparam set {resolved} <value>` or in the launch file"
+            raise ParamError(f"parameter {resolved} is not set; {hint}")
+        return default
+    value = rospy.get_param(name)
+    if kind is not None:
+        value = check_kind(rospy.resolve_name(name), value, kind, fix)
+    return value
+
+
+def private_params(exclude: Iterable[str] = ()) -> Dict[str, Any]:
+    """All of this node's private parameters as a dict, minus the keys in ``exclude``."""
+    import rospy
+
+    values = rospy.get_param("~", {})
+    if not isinstance(values, dict):
+        return {}
+    skip = set(exclude)
+    return {k: v for k, v in values.items() if k not in skip}
+
+
+def fail(message: str, exit_code: int = EXIT_BAD_INPUT) -> NoReturn:
+    """Log ``message`` once as fatal and end the process with ``exit_code``.
+
+    Call it from the main thread. From a callback thread use ``fail_from_callback``.
+    """
+    _log_fatal(message)
+    raise NodeExit(exit_code)
+
+
+def _log_fatal(message: str) -> None:
+    line = " ".join(str(message).split("\n"))
+    try:
+        import rospy
+
+        if rospy.core.is_initialized():
+            rospy.logfatal(line)
+            return
+    except ImportError:  # pragma: no cover - rospy is there whenever a node runs
+        pass
+    print(f"[FATAL] {line}", file=sys.stderr, flush=True)
+
+
+_exit_code: Optional[int] = None
+
+
+def fail_from_callback(message: str, exit_code: int = EXIT_BAD_INPUT) -> None:
+    """Like ``fail`` from a subscriber/timer thread: log, shut rospy down, remember the code.
+
+    ``sys.exit`` in a callback thread would only end that thread; ``run_node`` returns the
+    remembered code once rospy has shut down.
+    """
+    global _exit_code
+    import rospy
+
+    if _exit_code is None:
+        _exit_code = exit_code
+        _log_fatal(message)
+    rospy.signal_shutdown(str(message))
+
+
+def _is_project_error(exc: BaseException) -> bool:
+    """Errors raised on purpose by hri_teleop: they carry a one-line cause and fix."""
+    module = type(exc).__module__ or ""
+    return module.split(".")[0] == "hri_teleop" and isinstance(exc, (ValueError, RuntimeError))
+
+
+def run_node(main: Callable[[], Optional[int]]) -> None:
+    """Run ``main`` and exit: 0 on normal end, 1 (one fatal line) on bad input."""
+    import rospy
+
+    code: int = 0
+    try:
+        result = main()
+        code = int(result or 0)
+    except NodeExit as exc:
+        code = int(exc.code if isinstance(exc.code, int) else EXIT_BAD_INPUT)
+    except (KeyboardInterrupt, rospy.ROSInterruptException):
+        code = 0
+    except Exception as exc:  # noqa: BLE001 - filtered below, bugs are re-raised
+        if not _is_project_error(exc):
+            raise
+        _log_fatal(str(exc))
+        code = EXIT_BAD_INPUT
+    if _exit_code is not None:
+        code = _exit_code
+    if not rospy.is_shutdown():
+        rospy.signal_shutdown("node finished")
+    sys.exit(code)

@@ -1,0 +1,138 @@
+"""GoalThrottle: the rule that keeps gripper_manager.py from flooding the Franka Hand."""
+
+from __future__ import annotations
+
+import math
+
+import pytest
+from hypothesis import given, settings
+from hypothesis import strategies as st
+
+from hri_teleop.gripper import GoalThrottle, GripperError
+
+RATE_HZ = 50.0  # teleoperation's loop rate: one /gripper_width per tick
+DT = 1.0 / RATE_HZ
+
+
+def drive(throttle: GoalThrottle, targets, dt: float = DT, t0: float = 0.0):
+    """Feed one target per tick like /gripper_width does; return the (time, width) goals sent."""
+    sent = []
+    for i, target in enumerate(targets):
+        now = t0 + i * dt
+        if throttle.should_send(target, now):
+            throttle.sent(target, now)
+            sent.append((now, target))
+    return sent
+
+
+def test_first_target_is_sent_at_once():
+    throttle = GoalThrottle()
+    assert throttle.should_send(0.08, 0.0)
+
+
+def test_unchanged_target_at_loop_rate_sends_one_goal_only():
+    throttle = GoalThrottle()
+    sent = drive(throttle, [0.08] * 500)  # 10 s of the same width at 50 Hz
+    assert sent == [(0.0, 0.08)]
+
+
+def test_holding_close_does_not_flood_and_reaches_the_final_width():
+    # cross held for 2 s: width falls by k_gripper / rate = 0.04 / 50 = 0.8 mm per tick.
+    throttle = GoalThrottle(min_step_m=0.002, max_goal_rate_hz=5.0, settle_s=0.2)
+    ramp = [max(0.0, 0.08 - 0.0008 * i) for i in range(100)]
+    hold = [ramp[-1]] * 50  # button released, target stays for 1 s
+    sent = drive(throttle, ramp + hold)
+    assert len(sent) <= 1 + 2.0 * 5.0 + 2, f"{len(sent)} goals for 150 targets: flooding"
+    assert len(sent) < len(ramp) / 5
+    assert sent[-1][1] == pytest.approx(ramp[-1]), "the final width must be sent"
+    gaps = [b[0] - a[0] for a, b in zip(sent, sent[1:])]
+    assert min(gaps) >= 1.0 / 5.0 - 1e-9
+
+
+def test_small_final_correction_is_sent_after_settling_not_before():
+    throttle = GoalThrottle(min_step_m=0.002, max_goal_rate_hz=5.0, settle_s=0.2)
+    throttle.sent(0.040, 0.0)
+    assert not throttle.should_send(0.0395, 1.0)        # 0.5 mm: below min_step, just arrived
+    assert not throttle.should_send(0.0395, 1.1)        # still settling
+    assert throttle.should_send(0.0395, 1.25)           # unchanged for >= 0.2 s
+
+
+def test_big_step_is_sent_once_the_rate_limit_allows():
+    throttle = GoalThrottle(min_step_m=0.002, max_goal_rate_hz=5.0)
+    throttle.sent(0.08, 0.0)
+    assert not throttle.should_send(0.0, 0.1)           # 0.2 s between goals at 5 Hz
+    assert throttle.should_send(0.0, 0.2)
+
+
+def test_step_exactly_min_step_counts_as_meaningful():
+    throttle = GoalThrottle(min_step_m=0.002, max_goal_rate_hz=100.0)
+    throttle.sent(0.010, 0.0)
+    assert throttle.should_send(0.012, 1.0)
+    throttle.sent(0.012, 1.0)
+    assert not throttle.should_send(0.0139, 1.5)  # 1.9 mm: waits for the settle rule
+
+
+def test_noise_below_tolerance_never_sends():
+    throttle = GoalThrottle(min_step_m=0.002, tolerance_m=1e-4)
+    throttle.sent(0.05, 0.0)
+    for i in range(1, 200):
+        assert not throttle.should_send(0.05 + (5e-5 if i % 2 else -5e-5), i * DT)
+
+
+def test_pending_tells_whether_the_latest_target_is_still_unsent():
+    throttle = GoalThrottle()
+    assert not throttle.pending()
+    throttle.should_send(0.03, 0.0)
+    assert throttle.pending()
+    throttle.sent(0.03, 0.0)
+    assert not throttle.pending()
+    assert throttle.latest_target_m == 0.03
+
+
+def test_clock_is_used_when_no_time_is_given():
+    now = [0.0]
+    throttle = GoalThrottle(max_goal_rate_hz=5.0, clock=lambda: now[0])
+    throttle.sent(0.08)
+    now[0] = 0.1
+    assert not throttle.should_send(0.0)
+    now[0] = 0.3
+    assert throttle.should_send(0.0)
+
+
+@pytest.mark.parametrize("kwargs, word", [
+    ({"min_step_m": 0}, "min_step_m"),
+    ({"min_step_m": -0.001}, "min_step_m"),
+    ({"max_goal_rate_hz": 0}, "max_goal_rate_hz"),
+    ({"max_goal_rate_hz": float("nan")}, "max_goal_rate_hz"),
+    ({"settle_s": True}, "settle_s"),
+    ({"min_step_m": "2mm"}, "min_step_m"),
+    ({"tolerance_m": 0.01}, "tolerance_m"),
+])
+def test_bad_settings_raise_one_line_naming_the_setting(kwargs, word):
+    with pytest.raises(GripperError) as info:
+        GoalThrottle(**kwargs)
+    assert word in str(info.value) and "\n" not in str(info.value)
+
+
+@pytest.mark.parametrize("target", [float("nan"), float("inf"), "0.04", None, True])
+def test_bad_target_raises(target):
+    with pytest.raises(GripperError, match="/gripper_width"):
+        GoalThrottle().should_send(target, 0.0)
+
+
+@settings(max_examples=200, deadline=None)
+@given(
+    targets=st.lists(st.floats(min_value=0.0, max_value=0.08), min_size=1, max_size=300),
+    max_rate=st.floats(min_value=0.5, max_value=20.0),
+    min_step=st.floats(min_value=0.0005, max_value=0.01),
+)
+def test_property_goal_rate_is_bounded_and_the_last_target_is_reached(targets, max_rate, min_step):
+    throttle = GoalThrottle(min_step_m=min_step, max_goal_rate_hz=max_rate, settle_s=0.2)
+    tail = [targets[-1]] * int(RATE_HZ * (0.2 + 2.0 / max_rate + 0.1))  # the target then stays put
+    sent = drive(throttle, list(targets) + tail)
+    times = [t for t, _ in sent]
+    gaps = [b - a for a, b in zip(times, times[1:])]
+    assert all(g >= 1.0 / max_rate - 1e-9 for g in gaps)
+    duration = (len(targets) + len(tail)) * DT
+    assert len(sent) <= 1 + math.floor(duration * max_rate + 1e-9)
+    assert abs(sent[-1][1] - targets[-1]) <= throttle.tolerance_m

@@ -1,0 +1,88 @@
+"""hri_teleop.ros.params: one line and exit 1 on bad input, a traceback only for bugs."""
+
+from __future__ import annotations
+
+import subprocess
+import sys
+import textwrap
+from pathlib import Path
+
+import pytest
+
+pytest.importorskip("rospy", reason="needs ROS 1's rospy (run 'make setup')")
+
+from hri_teleop.ros.params import ParamError, check_kind  # noqa: E402
+
+REPO = Path(__file__).resolve().parents[2]
+
+
+@pytest.mark.parametrize("value, kind, expected", [
+    (10, float, 10.0),
+    (2.5, float, 2.5),
+    (3, int, 3),
+    (True, bool, True),
+    ("virtual", str, "virtual"),
+    (7, (int, str), 7),
+])
+def test_accepted_values(value, kind, expected):
+    result = check_kind("~x", value, kind)
+    assert result == expected and type(result) is type(expected)
+
+
+@pytest.mark.parametrize("value, kind", [
+    (True, float), (False, int), ("10", float), (2.5, int), (float("nan"), float),
+    (float("inf"), float), (None, str), (1, str), ([1], float),
+])
+def test_refused_values_name_the_parameter_in_one_line(value, kind):
+    with pytest.raises(ParamError) as info:
+        check_kind("/node/rate_hz", value, kind, fix="set it to a rate in Hz, e.g. _rate_hz:=10")
+    message = str(info.value)
+    assert message.startswith("parameter /node/rate_hz is ") and "_rate_hz:=10" in message
+    assert "\n" not in message
+
+
+def _run(body: str) -> subprocess.CompletedProcess:
+    code = "from hri_teleop.ros.params import run_node, fail\n" + textwrap.dedent(body)
+    return subprocess.run([sys.executable, "-c", code], cwd=str(REPO), capture_output=True, text=True, timeout=60)
+
+
+def test_a_project_error_ends_the_node_with_one_line_and_status_1():
+    proc = _run("""
+        from hri_teleop.mapping import validate_max_sensor_force
+        def main():
+            validate_max_sensor_force(-5)
+        run_node(main)
+    """)
+    assert proc.returncode == 1
+    assert "Traceback" not in proc.stderr
+    lines = [ln for ln in proc.stderr.splitlines() if ln.strip()]
+    assert len(lines) == 1 and "/max_sensor_force" in lines[0] and "rosparam set" in lines[0], proc.stderr
+
+
+def test_fail_ends_with_its_line_and_status_1():
+    proc = _run("""
+        def main():
+            fail("parameter ~speed is -1; set it to a positive speed in m/s")
+        run_node(main)
+    """)
+    assert proc.returncode == 1 and "Traceback" not in proc.stderr
+    assert "parameter ~speed is -1" in proc.stderr
+
+
+def test_normal_end_and_ctrl_c_end_with_status_0():
+    assert _run("run_node(lambda: 0)").returncode == 0
+    proc = _run("""
+        def main():
+            raise KeyboardInterrupt
+        run_node(main)
+    """)
+    assert proc.returncode == 0 and "Traceback" not in proc.stderr
+
+
+def test_a_bug_still_shows_its_traceback():
+    proc = _run("""
+        def main():
+            return 1 / 0
+        run_node(main)
+    """)
+    assert proc.returncode != 0 and "ZeroDivisionError" in proc.stderr and "Traceback" in proc.stderr
