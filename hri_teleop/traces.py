@@ -27,6 +27,7 @@ class Pairing:
     pairs: List[Tuple[float, float, float, float]]  # (t_in_s, value_in, t_out_s, value_out)
     unmatched_outputs: int
     dropped_inputs: int
+    unjudged_outputs: int = 0  # arrived before any input was recorded: their cause is unknown
 
     @property
     def latencies_s(self) -> np.ndarray:
@@ -44,37 +45,46 @@ def rate_hz(trace: Trace) -> float:
 
 
 def pair_outputs(inputs: Trace, outputs: Trace, expected: Callable[[float], float],
-                 tolerance: float = 1e-6, clock_slack_s: float = 0.05) -> Pairing:
-    """Match each output to the earliest not-yet-matched input whose expected value it equals.
+                 tolerance: float = 1e-6, clock_slack_s: float = 0.1,
+                 max_latency_s: float = 0.5) -> Pairing:
+    """Match each output to the input nearest in time whose expected value it equals.
 
-    A node that maps every input to one output produces outputs in input order; inputs
-    sent before the node subscribed have no output (``dropped_inputs``), and outputs that
-    match no input (``unmatched_outputs``) are wrong values. A recorder receives inputs and
-    outputs over separate connections, so an output may be stamped slightly before its
-    input: inputs up to ``clock_slack_s`` after an output still count as its cause.
+    The candidates for an output received at ``t`` are the inputs received in
+    ``[t - max_latency_s, t + clock_slack_s]``: a recorder gets inputs and outputs over
+    separate connections and may stamp an output a little before its input (up to about
+    20 ms seen on a loaded 2-core machine). Nearest in time, not "next in order", because
+    a sensor repeats values (a plateau of equal counts) and the first inputs may have been
+    sent before the recording began. An output that matches no candidate is a wrong value
+    (``unmatched_outputs``), unless it arrived before any input was recorded
+    (``unjudged_outputs``). Inputs that no output matched are ``dropped_inputs``
+    (counting only those recorded before the last output).
     """
     pairs: List[Tuple[float, float, float, float]] = []
     unmatched = 0
-    i = 0
+    unjudged = 0
+    used = set()
+    t_in = np.array([t for t, _ in inputs], dtype=float)
+    first_input_t = float(t_in[0]) if len(t_in) else float("inf")
     for t_out, v_out in outputs:
-        j = i
-        found: Optional[int] = None
-        while j < len(inputs) and inputs[j][0] <= t_out + clock_slack_s:
+        lo = int(np.searchsorted(t_in, t_out - max_latency_s, side="left"))
+        hi = int(np.searchsorted(t_in, t_out + clock_slack_s, side="right"))
+        best: Optional[int] = None
+        for j in range(lo, hi):
             if abs(expected(inputs[j][1]) - v_out) <= tolerance:
-                found = j
-                break
-            j += 1
-        if found is None:
-            unmatched += 1
+                if best is None or abs(t_out - t_in[j]) < abs(t_out - t_in[best]):
+                    best = j
+        if best is None:
+            if t_out < first_input_t + clock_slack_s:
+                unjudged += 1
+            else:
+                unmatched += 1
             continue
-        pairs.append((inputs[found][0], inputs[found][1], t_out, v_out))
-        i = found + 1
-    matched_inputs = len(pairs)
-    # Inputs after the last output may still be in flight when recording stopped.
+        used.add(best)
+        pairs.append((inputs[best][0], inputs[best][1], t_out, v_out))
     last_t_out = outputs[-1][0] if len(outputs) else float("-inf")
-    considered = sum(1 for t, _ in inputs if t <= last_t_out + clock_slack_s)
+    considered = sum(1 for t, _ in inputs if t <= last_t_out)
     return Pairing(pairs=pairs, unmatched_outputs=unmatched,
-                   dropped_inputs=max(0, considered - matched_inputs))
+                   dropped_inputs=max(0, considered - len(used)), unjudged_outputs=unjudged)
 
 
 def percentile_ms(values_s: np.ndarray, q: float) -> float:

@@ -92,14 +92,18 @@ class ManagedProcess:
                     os.killpg(pgid, sig)
                 except ProcessLookupError:
                     pass
+            deadline = time.monotonic() + wait_s
             try:
                 self.popen.wait(timeout=wait_s)
-                # The leader is gone; children that ignored SIGINT still get the rest.
-                if pgid is not None and _group_alive(pgid):
-                    continue
-                break
             except subprocess.TimeoutExpired:
                 continue
+            # The leader is gone, but its children may still be finishing (rosbag's
+            # wrapper exits before the recorder has closed the bag): give them the
+            # rest of this step's time before escalating.
+            while pgid is not None and _group_alive(pgid) and time.monotonic() < deadline:
+                time.sleep(0.02)
+            if pgid is None or not _group_alive(pgid):
+                break
         _LIVE.discard(self)
         if not self._log.closed:
             self._log.close()

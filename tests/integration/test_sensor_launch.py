@@ -45,7 +45,7 @@ def test_force_mapped_is_float32_and_equals_the_mapping_of_pub_force(ros_master,
     assert rate_hz(mapped) == pytest.approx(50.0, rel=0.2)
     pairing = pair_outputs(counts, mapped, lambda c: float(map_force(c, max_sensor_force)), tolerance=1e-6)
     assert pairing.unmatched_outputs == 0, "values on /force_mapped that are no count's mapping"
-    assert len(pairing.pairs) >= len(mapped) - 1
+    assert pairing.unjudged_outputs <= 2 and len(pairing.pairs) >= len(mapped) - 3
     assert all(0.0 <= v <= 1.0 for _, v in mapped)
     # The simulated presses go past the parameter, so the clipping is exercised too.
     assert max(c for _, c in counts) > max_sensor_force * 0.9

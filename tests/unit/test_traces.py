@@ -40,3 +40,12 @@ def test_percentile_in_milliseconds():
 def test_pairing_accepts_an_output_recorded_just_before_its_input():
     pairing = pair_outputs([(1.0002, 7.0)], [(1.0001, 0.7)], expected=lambda v: v / 10.0)
     assert len(pairing.pairs) == 1 and pairing.unmatched_outputs == 0
+
+
+def test_an_output_before_the_first_recorded_input_is_unjudged_not_wrong():
+    inputs = [(1.0, 10.0), (2.0, 20.0)]
+    outputs = [(0.99, 0.5), (1.001, 1.0), (2.001, 2.0), (2.5, 0.9)]
+    pairing = pair_outputs(inputs, outputs, expected=lambda v: v / 10.0)
+    assert pairing.unjudged_outputs == 1
+    assert pairing.unmatched_outputs == 1  # 0.9 after the recording began is wrong
+    assert len(pairing.pairs) == 2
