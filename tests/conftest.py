@@ -43,4 +43,5 @@ def ros_master(tmp_path):
         yield master
     finally:
         master.stop()
-        assert master.core is None
+        left = [" ".join(p.argv) for p in master.started if p.anything_left]
+        assert not left, f"still running after the test: {left}"

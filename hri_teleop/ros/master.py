@@ -69,11 +69,17 @@ class ManagedProcess:
             stdin=subprocess.DEVNULL, stdout=self._log, stderr=subprocess.STDOUT,
             start_new_session=True,
         )
+        self.pgid = self.popen.pid  # start_new_session: the child leads its own group
         _LIVE.add(self)
 
     @property
     def running(self) -> bool:
         return self.popen.poll() is None
+
+    @property
+    def anything_left(self) -> bool:
+        """True while any process of this one's group (itself or what it spawned) lives."""
+        return _group_alive(self.pgid)
 
     def output(self) -> str:
         """Everything the process printed so far (stdout and stderr)."""
@@ -150,11 +156,13 @@ class PrivateMaster:
         self.env: Dict[str, str] = env
         self.core: Optional[ManagedProcess] = None
         self.children: List[ManagedProcess] = []
+        self.started: List[ManagedProcess] = []  # everything ever started here, for leak checks
 
     # -- lifecycle -------------------------------------------------------------------
     def start(self, timeout_s: float = 20.0) -> "PrivateMaster":
         self.core = ManagedProcess(["roscore", "-p", str(self.port)], self.env,
                                    self.work_dir / "roscore.log")
+        self.started.append(self.core)
         deadline = time.monotonic() + timeout_s
         while time.monotonic() < deadline:
             if not self.core.running:
@@ -239,6 +247,7 @@ class PrivateMaster:
         env.update(extra_env or {})
         proc = ManagedProcess(argv, env, self.work_dir / f"{name}.log", cwd=cwd)
         self.children.append(proc)
+        self.started.append(proc)
         return proc
 
     def roslaunch(self, package: str, launch_file: str, args: Optional[Mapping[str, object]] = None,
