@@ -31,6 +31,12 @@ def _ros_env() -> dict:
 
 
 @pytest.fixture
+def ros_env() -> dict:
+    """Environment for ROS command-line tools that need no master (roslaunch --files)."""
+    return _ros_env()
+
+
+@pytest.fixture
 def ros_master(tmp_path):
     """A real roscore on a free port, private to this test, stopped afterwards."""
     if shutil.which("roscore") is None:
