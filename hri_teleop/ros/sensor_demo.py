@@ -18,6 +18,7 @@ from typing import List, Optional
 import numpy as np
 
 from hri_teleop.mapping import map_force
+from hri_teleop.plots import sensor_timeline
 from hri_teleop.traces import pair_outputs, percentile_ms, rate_hz
 from hri_teleop.ros.bags import read_topics
 from hri_teleop.ros.master import MasterError, PrivateMaster
@@ -27,7 +28,8 @@ def _progress(message: str) -> None:
     print(f"[demo] {message}", flush=True)
 
 
-def run(duration_s: float, max_sensor_force: int, rate_hz_param: float, out_dir: Path) -> int:
+def run(duration_s: float, max_sensor_force: int, rate_hz_param: float, out_dir: Path,
+        press_max_count: int = 800) -> int:
     out_dir.mkdir(parents=True, exist_ok=True)
     bag_path = out_dir / "sensor_demo.bag"
     if bag_path.exists():
@@ -36,7 +38,8 @@ def run(duration_s: float, max_sensor_force: int, rate_hz_param: float, out_dir:
     with PrivateMaster() as master:
         _progress(f"roscore up on port {master.port}")
         launch = master.roslaunch("hri_lab", "sensor.launch",
-                                  {"max_sensor_force": max_sensor_force, "rate_hz": rate_hz_param})
+                                  {"max_sensor_force": max_sensor_force, "rate_hz": rate_hz_param,
+                                   "max_value": press_max_count})
         master.wait_for(lambda: bool(master.publishers("/force_mapped")) or not launch.running,
                         20, "mapping_node to advertise /force_mapped")
         if not launch.running:
@@ -73,7 +76,9 @@ def run(duration_s: float, max_sensor_force: int, rate_hz_param: float, out_dir:
         lat = pairing.latencies_s
         lines.append(f"  latency pub->mapped   p50 {percentile_ms(lat, 50):.2f} ms, p99 {percentile_ms(lat, 99):.2f} ms, "
                      f"max {lat.max() * 1e3:.2f} ms (rosbag receive times)")
+    png = sensor_timeline(counts, mapped, max_sensor_force, out_dir / "sensor_demo.png")
     lines.append(f"  bag                   {bag_path}")
+    lines.append(f"  timeline plot         {png}")
     print("\n".join(lines))
     return 0 if pairing.unmatched_outputs == 0 and 0.0 <= values.min() and values.max() <= 1.0 else 1
 
@@ -83,10 +88,12 @@ def main(argv: Optional[List[str]] = None) -> int:
     parser.add_argument("--duration", type=float, default=5.0, help="recording time, s")
     parser.add_argument("--max-sensor-force", type=int, default=700, help="/max_sensor_force, ADC counts")
     parser.add_argument("--rate", type=float, default=50.0, help="FSR_sensor.py publish rate, Hz")
-    parser.add_argument("--out", type=Path, default=Path("out"), help="folder for the bag")
+    parser.add_argument("--press-max", type=int, default=800,
+                        help="top count of a simulated press; above --max-sensor-force shows the clipping")
+    parser.add_argument("--out", type=Path, default=Path("out"), help="folder for the bag and the plot")
     args = parser.parse_args(argv)
     try:
-        return run(args.duration, args.max_sensor_force, args.rate, args.out)
+        return run(args.duration, args.max_sensor_force, args.rate, args.out, args.press_max)
     except MasterError as exc:
         print(f"demo: {exc}", file=sys.stderr)
         return 1
