@@ -23,7 +23,9 @@ from __future__ import annotations
 
 import math
 import time
-from typing import Callable, Optional
+from typing import Callable, Optional, Tuple
+
+from hri_teleop.teleop import GRIPPER_MAX_WIDTH_M
 
 
 class GripperError(ValueError):
@@ -123,3 +125,24 @@ class GoalThrottle:
     def latest_target_m(self) -> Optional[float]:
         """The latest target passed to should_send (None before the first)."""
         return self._last_target_m
+
+
+def usable_width_m(width_m: float, width_min_m: float = 0.0,
+                   width_max_m: float = GRIPPER_MAX_WIDTH_M) -> Tuple[Optional[float], str]:
+    """A width target as the gripper may be sent it, and what was wrong with it ("" if nothing).
+
+    Why: /gripper_width is a topic anyone can publish on; a NaN or a width past the hand's
+    range must neither reach the Franka Hand nor crash the manager. Non-finite -> None
+    (ignore it); out of range -> clamped to ``width_min_m .. width_max_m``.
+    """
+    try:
+        value = float(width_m)
+    except (TypeError, ValueError):
+        return None, f"gripper width {width_m!r} is not a number: ignored"
+    if not math.isfinite(value):
+        return None, f"gripper width {value!r} is not finite: ignored"
+    if value < width_min_m or value > width_max_m:
+        clamped = min(max(value, width_min_m), width_max_m)
+        return clamped, (f"gripper width {value:.4f} m outside [{width_min_m:.3f}, {width_max_m:.3f}] m: "
+                         f"clamped to {clamped:.4f} m")
+    return value, ""

@@ -67,6 +67,10 @@ __all__ = [
     "TwistLimiter",
     "Watchdog",
     "limit_violations",
+    "ROBOT_PERIOD_S",
+    "max_step_per_command",
+    "check_command_rate",
+    "hold_at_robot_rate",
 ]
 
 Vec3 = Tuple[float, float, float]
@@ -141,6 +145,55 @@ PANDA_LIMITS = CartesianLimits(AxisLimits(1.7, 13.0, 6500.0), AxisLimits(2.5, 25
 #:   feels as a smooth start and stop; full stick (0.1 m/s) is reached or left in
 #:   about 0.5 s, with a stopping distance of about 2.5 cm.
 DEFAULT_LIMITS = CartesianLimits(AxisLimits(0.25, 0.3, 2.0), AxisLimits(0.5, 0.6, 4.0))
+
+
+#: The Franka control loop: the robot differentiates every command at 1 kHz (design.md).
+ROBOT_PERIOD_S = 0.001
+
+
+def max_step_per_command(hard: AxisLimits, robot_period_s: float = ROBOT_PERIOD_S) -> float:
+    """Largest velocity change between two commands that the robot accepts as a step.
+
+    Why: a controller that holds each command until the next one shows the robot a
+    change of dv within one 1 ms cycle, i.e. an acceleration of dv/1 ms that comes and
+    goes again, a jerk of dv/(1 ms)^2. Both must stay inside the robot's limits.
+    """
+    return min(hard.acceleration * robot_period_s, hard.jerk * robot_period_s ** 2)
+
+
+def check_command_rate(limits: CartesianLimits, rate_hz: float, hard: CartesianLimits = PANDA_LIMITS,
+                       robot_period_s: float = ROBOT_PERIOD_S) -> None:
+    """Refuse limits whose largest change per command (a_max / rate) the robot would take as a step.
+
+    The limiter keeps the finite differences at the command rate inside ``limits``; this
+    check makes the same sequence acceptable when the robot sees it at 1 kHz with each
+    command held (see :func:`max_step_per_command`). LimitsError names the fix.
+    """
+    if isinstance(rate_hz, bool) or not isinstance(rate_hz, (int, float)) or not math.isfinite(rate_hz) \
+            or rate_hz <= 0:
+        raise LimitsError(f"rate must be a positive number of Hz, got {rate_hz!r}; the lab runs at 50")
+    for group in ("translation", "rotation"):
+        mine: AxisLimits = getattr(limits, group)
+        budget = max_step_per_command(getattr(hard, group), robot_period_s)
+        step = mine.acceleration / float(rate_hz)
+        if step > budget * (1.0 + _MARGIN):
+            unit = "m/s" if group == "translation" else "rad/s"
+            raise LimitsError(
+                f"limits.{group}.acceleration {mine.acceleration:g} {unit}^2 at rate {rate_hz:g} Hz lets the "
+                f"command change by {step:.4g} {unit} per message, which the robot (1 kHz) sees as a step above "
+                f"its {budget:.4g} {unit}; lower limits.{group}.acceleration to <= {budget * rate_hz:.4g} "
+                f"or raise rate to >= {mine.acceleration / budget:.4g} Hz"
+            )
+
+
+def hold_at_robot_rate(twists: Sequence[Sequence[float]], rate_hz: float,
+                       robot_period_s: float = ROBOT_PERIOD_S) -> List[Tuple[float, ...]]:
+    """The 1 kHz command sequence a controller that holds each command would give the robot."""
+    per_command = max(1, int(round(1.0 / (float(rate_hz) * robot_period_s))))
+    held: List[Tuple[float, ...]] = []
+    for twist in twists:
+        held.extend([tuple(float(c) for c in twist)] * per_command)
+    return held
 
 
 # --- small 3-vector helpers (pure Python: faster than numpy for 3 elements) ----------

@@ -33,7 +33,7 @@ from enum import Enum
 from typing import Optional, Tuple
 
 from hri_teleop.gamepad import AXES, BUTTONS, PadState, normalize_analog_input
-from hri_teleop.limits import DEFAULT_LIMITS, CartesianLimits, LimitsError, TwistLimiter
+from hri_teleop.limits import DEFAULT_LIMITS, CartesianLimits, LimitsError, TwistLimiter, check_command_rate
 
 __all__ = [
     "TeleopError",
@@ -229,6 +229,7 @@ class TeleopController:
             raise TeleopError(f"params must be a TeleopParams, got {type(self._params).__name__}; build one with TeleopParams(...)")
         try:
             self._limiter = TwistLimiter(limits)
+            check_command_rate(self._limiter.limits, self._params.rate_hz)
         except LimitsError as exc:
             raise TeleopError(str(exc)) from None
         self._mode = Mode.TRANSLATION

@@ -59,6 +59,10 @@ else
   system_python=/usr/bin/python3
 fi
 
+if ! "$system_python" -c 'import ensurepip, venv' 2>/dev/null; then
+  say "$system_python cannot create a virtual environment: run 'sudo apt-get install -y python3-venv', then 'make setup' again" >&2
+  exit 1
+fi
 # The venv must come from the interpreter whose dist-packages hold rospy, and see them.
 if [ ! -x "$venv/bin/python" ] || ! "$venv/bin/python" -c 'import sys' 2>/dev/null; then
   say "creating $venv (with system site packages, so rospy is importable)"
@@ -69,6 +73,11 @@ fi
 want="$(cat pyproject.toml | sha256sum | cut -c1-16)"
 have="$(cat "$stamp" 2>/dev/null || true)"
 if [ "$want" != "$have" ] || ! "$venv/bin/python" -c 'import hri_teleop' 2>/dev/null; then
+  # Ubuntu 20.04's pip 20.0 cannot install a pyproject-only project in editable mode.
+  if ! "$venv/bin/python" -c 'import sys, pip; sys.exit(tuple(map(int, pip.__version__.split(".")[:2])) < (21, 3))' 2>/dev/null; then
+    say "upgrading pip in .venv (editable installs need pip >= 21.3)"
+    "$venv/bin/python" -m pip install -q --disable-pip-version-check "pip>=21.3"
+  fi
   say "installing hri-teleop and its dependencies into .venv"
   "$venv/bin/python" -m pip install -q --disable-pip-version-check -e ".[test]"
   echo "$want" > "$stamp"

@@ -36,7 +36,7 @@ from actionlib import CommState
 from actionlib_msgs.msg import GoalStatus
 from std_msgs.msg import Float32
 
-from hri_teleop.gripper import GoalThrottle
+from hri_teleop.gripper import GoalThrottle, usable_width_m
 from hri_teleop.ros.franka_gripper_msgs import MoveAction, MoveGoal
 from hri_teleop.ros.params import fail, get_param, run_node
 
@@ -106,14 +106,12 @@ class GripperManager:
             self.maybe_send()
 
     def on_width(self, msg: Float32) -> None:
-        width = float(msg.data)
-        if not self.width_min <= width <= self.width_max:
-            clamped = min(max(width, self.width_min), self.width_max)
-            if not self._warned_clamp:
-                rospy.logwarn("gripper width %.4f m outside [%.3f, %.3f] m: clamped to %.4f m",
-                              width, self.width_min, self.width_max, clamped)
-                self._warned_clamp = True
-            width = clamped
+        width, problem = usable_width_m(msg.data, self.width_min, self.width_max)
+        if problem and not self._warned_clamp:
+            rospy.logwarn("%s (said once)", problem)
+            self._warned_clamp = True
+        if width is None:
+            return
         with self._lock:
             self._target = width
         self.maybe_send()

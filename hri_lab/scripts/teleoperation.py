@@ -136,6 +136,7 @@ class TeleoperationNode:
 
         self._force: Optional[Tuple[float, float]] = None  # (value, monotonic arrival time)
         self._stop_requested = threading.Event()
+        self._abort = threading.Event()  # a second stop signal: give up the ramp
         self._stopped = threading.Event()
         self._rumble_sent = 0.0
         self._rumble_sent_at = -math.inf
@@ -214,16 +215,21 @@ class TeleoperationNode:
 
     # -- running and stopping ---------------------------------------------------------
     def request_stop(self, *_args: object) -> None:
-        """SIGINT/SIGTERM: ramp to zero first (a second signal ends at once)."""
+        """SIGINT/SIGTERM: ramp to zero first; a second signal abandons the ramp at once.
+
+        Runs in the main thread between two bytecodes of the loop: it only sets flags,
+        the loop does the work (blocking here would stall the ramp it waits for).
+        """
         if self._stop_requested.is_set():
-            rospy.signal_shutdown("second stop request")
+            self._abort.set()
             return
         self._stop_requested.set()
 
     def _on_rospy_shutdown(self) -> None:
         """rospy is shutting down from outside (rosnode kill): let the loop ramp first."""
         self._stop_requested.set()
-        self._stopped.wait(self.stop_timeout_s + 0.5)
+        if threading.current_thread() is not threading.main_thread():
+            self._stopped.wait(self.stop_timeout_s + 0.5)
 
     def run(self) -> int:
         rospy.on_shutdown(self._on_rospy_shutdown)
@@ -234,11 +240,20 @@ class TeleoperationNode:
                 if self.controller.finished:
                     rospy.loginfo("twist is zero after quit: teleoperation ends")
                     return 0
-                rate.sleep()
+                try:
+                    rate.sleep()
+                except rospy.ROSTimeMovedBackwardsException:
+                    pass  # simulated time restarted: keep going
             self._ramp_to_zero()
             return 0
         except rospy.ROSInterruptException:
+            self._ramp_to_zero()
             return 0
+        except Exception:
+            # A bug must not leave the robot with its last velocity: ramp, then report it.
+            rospy.logerr("teleoperation failed; ramping the twist to zero before exiting")
+            self._ramp_to_zero()
+            raise
         finally:
             self._stopped.set()
             self.pad.rumble(0.0, 0.0)
@@ -253,11 +268,13 @@ class TeleoperationNode:
             return
         rospy.loginfo("stopping: ramping the twist to zero")
         zero_ticks = 0
-        while time.monotonic() < deadline and zero_ticks < 2:
+        while time.monotonic() < deadline and zero_ticks < 2 and not self._abort.is_set():
             cmd = self.tick(stopping=True)
             zero_ticks = zero_ticks + 1 if all(c == 0.0 for c in cmd.twist) else 0
             time.sleep(self.dt_s)  # wall clock: rospy.Rate may already be shutting down
-        if zero_ticks < 2:
+        if self._abort.is_set():
+            rospy.logwarn("second stop signal: ramp abandoned at %s", self.last_command.twist if self.last_command else None)
+        elif zero_ticks < 2:
             rospy.logwarn("twist not zero after %.1f s of ramping; last command %s",
                           self.stop_timeout_s, self.last_command.twist if self.last_command else None)
 

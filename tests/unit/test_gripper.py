@@ -136,3 +136,15 @@ def test_property_goal_rate_is_bounded_and_the_last_target_is_reached(targets, m
     duration = (len(targets) + len(tail)) * DT
     assert len(sent) <= 1 + math.floor(duration * max_rate + 1e-9)
     assert abs(sent[-1][1] - targets[-1]) <= throttle.tolerance_m
+
+
+@pytest.mark.parametrize("raw, expected", [
+    (0.04, 0.04), (0.0, 0.0), (0.08, 0.08), (-0.01, 0.0), (0.2, 0.08),
+    (float("nan"), None), (float("inf"), None), (float("-inf"), None), ("x", None),
+])
+def test_usable_width_clamps_to_the_hand_and_drops_non_numbers(raw, expected):
+    from hri_teleop.gripper import usable_width_m
+
+    width, problem = usable_width_m(raw)
+    assert width == expected
+    assert (problem == "") == (raw == expected)

@@ -6,11 +6,12 @@ import math
 from typing import Dict, List, Optional
 
 import pytest
-from hypothesis import given, settings
+from hypothesis import assume, given, settings
 from hypothesis import strategies as st
 
 from hri_teleop.gamepad import AXES, BUTTONS, PadState
-from hri_teleop.limits import DEFAULT_LIMITS, PANDA_LIMITS, AxisLimits, CartesianLimits, limit_violations
+from hri_teleop.limits import (DEFAULT_LIMITS, PANDA_LIMITS, ROBOT_PERIOD_S, AxisLimits, CartesianLimits, LimitsError,
+                                check_command_rate, hold_at_robot_rate, limit_violations)
 from hri_teleop.teleop import (
     DEFAULT_AXIS_ASSIGNMENT,
     GRIPPER_MAX_WIDTH_M,
@@ -291,7 +292,10 @@ params = st.builds(
         st.tuples(*[st.sampled_from(["-left_x", "left_y", "-right_x", "right_y", "-r2", "none"])] * 3),
     ),
 )
-limits = st.sampled_from([DEFAULT_LIMITS, PANDA_LIMITS, CartesianLimits(AxisLimits(0.1, 0.2, 1.0), AxisLimits(0.2, 0.4, 2.0))])
+# Limits the robot accepts at some command rate up to 500 Hz (a_max / rate <= its 1 ms budget);
+# the Panda's own limits would need 2 kHz, so they are refused (tested below).
+limits = st.sampled_from([DEFAULT_LIMITS, CartesianLimits(AxisLimits(0.1, 0.2, 1.0), AxisLimits(0.2, 0.4, 2.0)),
+                          CartesianLimits(AxisLimits(1.0, 3.0, 50.0), AxisLimits(1.5, 5.0, 100.0))])
 
 
 @settings(max_examples=120, deadline=None)
@@ -305,6 +309,7 @@ limits = st.sampled_from([DEFAULT_LIMITS, PANDA_LIMITS, CartesianLimits(AxisLimi
     ),
 )
 def test_random_pad_input_keeps_every_command_inside_the_limits(p, lim, ticks):
+    assume(_rate_accepted(lim, p.rate_hz))
     c = TeleopController(p, lim)
     commands = [c.step(pad_state, force, age, dt) for pad_state, force, age, dt in ticks]
     assert_within_limits(lim, [cmd.twist for cmd in commands], [dt for *_, dt in ticks])
@@ -317,3 +322,42 @@ def test_random_pad_input_keeps_every_command_inside_the_limits(p, lim, ticks):
         if pad_state is None or not pad_state.connected or cmd.quit:
             assert cmd.stopping and cmd.rumble == 0.0
         assert isinstance(cmd.mode, Mode)
+
+
+def _rate_accepted(lim, rate_hz):
+    try:
+        check_command_rate(lim, rate_hz)
+    except LimitsError:
+        return False
+    return True
+
+
+@settings(max_examples=80, deadline=None)
+@given(
+    p=params,
+    lim=limits,
+    pads_seq=st.lists(pads, min_size=1, max_size=80),
+)
+def test_held_at_1_khz_the_commands_stay_inside_the_pandas_limits(p, lim, pads_seq):
+    """What the robot sees: each command held for 1 ms cycles until the next one."""
+    assume(_rate_accepted(lim, p.rate_hz))
+    c = TeleopController(p, lim)
+    twists = [c.step(pad_state, None, 0.0, 1.0 / p.rate_hz).twist for pad_state in pads_seq]
+    twists += [c.step(None, None, 0.0, 1.0 / p.rate_hz).twist for _ in range(int(3 * p.rate_hz))]  # pad lost
+    held = hold_at_robot_rate(twists, p.rate_hz)
+    dt = 1.0 / (p.rate_hz * round(len(held) / len(twists)))  # the hold's actual cycle
+    assert limit_violations(PANDA_LIMITS, held, [max(dt, ROBOT_PERIOD_S)] * len(held), rel_tol=1e-6) == []
+
+
+def test_the_pandas_own_limits_at_50_hz_are_refused_with_the_fix():
+    with pytest.raises(TeleopError) as info:
+        TeleopController(TeleopParams(rate_hz=50.0), PANDA_LIMITS)
+    message = str(info.value)
+    assert "\n" not in message
+    assert "limits.translation.acceleration" in message and "raise rate" in message
+
+
+def test_default_limits_need_at_least_about_46_hz():
+    TeleopController(TeleopParams(rate_hz=50.0), DEFAULT_LIMITS)
+    with pytest.raises(TeleopError, match="rate"):
+        TeleopController(TeleopParams(rate_hz=40.0), DEFAULT_LIMITS)
