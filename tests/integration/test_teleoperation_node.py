@@ -168,3 +168,21 @@ def test_malformed_config_yaml_names_the_file_and_line(ros_master, tmp_path):
     out = node.output()
     assert code not in (None, 0) and "Traceback" not in out, out
     assert any(str(bad) in line for line in out.splitlines()), out
+
+
+def test_a_second_sigint_ends_the_node_at_once(ros_master, tmp_path):
+    import os
+    import signal
+
+    script = _write_script(tmp_path, [{"t": 0.5, "axis": "left_y", "value": 1.0}])
+    node = _start_node(ros_master, f"_pad_script:={script}", "_stop_timeout_s:=5.0")
+    time.sleep(2.0)
+    os.killpg(node.pgid, signal.SIGINT)
+    time.sleep(0.1)
+    started = time.monotonic()
+    os.killpg(node.pgid, signal.SIGINT)
+    code = node.wait(10)
+    took = time.monotonic() - started
+    assert code == 0, node.output()
+    assert took < 2.0, f"exit took {took:.1f} s after the second Ctrl-C"
+    assert "ramp abandoned" in node.output()
