@@ -14,16 +14,22 @@ of :class:`~hri_teleop.teleop.TeleopParams` and :data:`~hri_teleop.limits.DEFAUL
 from __future__ import annotations
 
 import difflib
-import math
+import re
 from dataclasses import dataclass
 from pathlib import Path
 from typing import Any, Dict, Mapping, Union
 
-import yaml
-
+from hri_teleop.checks import is_finite_number
 from hri_teleop.gamepad import DEFAULT_LAYOUT, PAD_KINDS
-from hri_teleop.limits import DEFAULT_LIMITS, AxisLimits, CartesianLimits, LimitsError, TwistLimiter
+from hri_teleop.limits import (
+    DEFAULT_LIMITS,
+    AxisLimits,
+    CartesianLimits,
+    LimitsError,
+    TwistLimiter,
+)
 from hri_teleop.teleop import AxisAssignment, TeleopError, TeleopParams
+from hri_teleop.yamlfile import read_yaml
 
 __all__ = [
     "ConfigError",
@@ -57,6 +63,8 @@ _NUMBER_KEYS: Dict[str, tuple] = {
     "rumble_threshold": ("rumble_threshold", "mapped force 0..1 below which the pad does not rumble"),
 }
 _STRING_KEYS = ("layout", "pad", "twist_topic")
+# ROS graph resource names: optional ~ or /, then segments that start with a letter.
+_ROS_NAME = re.compile(r"^[~/]?[A-Za-z][A-Za-z0-9_]*(/[A-Za-z][A-Za-z0-9_]*)*$")
 _BUTTON_ROLES = {"close": "close_button", "open": "open_button", "toggle": "toggle_button", "quit": "quit_button"}
 _LIMIT_NAMES = ("velocity", "acceleration", "jerk")
 
@@ -85,31 +93,14 @@ def load_yaml(path: Union[str, Path]) -> Dict[str, Any]:
     Raises :class:`ConfigError` for a missing file, a syntax error (with the line) or a
     top level that is not a mapping.
     """
+
     path = Path(path)
-    try:
-        text = path.read_text(encoding="utf-8")
-    except FileNotFoundError:
-        raise ConfigError(f"file not found: {path}; check the path (configs live in hri_lab/config/)") from None
-    except IsADirectoryError:
-        raise ConfigError(f"{path} is a directory, not a YAML file; pass the file's path") from None
-    except (OSError, UnicodeDecodeError) as exc:
-        raise ConfigError(f"{path}: cannot read ({exc.__class__.__name__}: {exc}); check the file's permissions and encoding") from None
-    try:
-        data = yaml.safe_load(text)
-    except yaml.YAMLError as exc:
-        mark = getattr(exc, "problem_mark", None)
-        where = f"{path}:{mark.line + 1}" if mark is not None else str(path)
-        problem = getattr(exc, "problem", None) or str(exc).splitlines()[0]
-        raise ConfigError(f"{where}: {problem}; fix the YAML syntax (indent with spaces, `key: value`)") from None
+    data = read_yaml(path, ConfigError, missing_fix="check the path (configs live in hri_lab/config/)")
     if data is None:
         return {}
     if not isinstance(data, dict):
         raise ConfigError(f"{path}: the top level is a {type(data).__name__}, not a mapping; write `key: value` lines")
     return data
-
-
-def _is_number(value: object) -> bool:
-    return isinstance(value, (int, float)) and not isinstance(value, bool)
 
 
 def _unknown(key: str, where: str, valid: tuple, source: str) -> ConfigError:
@@ -119,7 +110,7 @@ def _unknown(key: str, where: str, valid: tuple, source: str) -> ConfigError:
 
 
 def _number(value: object, key: str, meaning: str, source: str) -> float:
-    if not _is_number(value) or not math.isfinite(float(value)):  # type: ignore[arg-type]
+    if not is_finite_number(value):
         raise ConfigError(
             f"{source}: {key} must be a number ({meaning}), got {value!r} of type {type(value).__name__}; "
             "write a plain number without quotes"
@@ -206,6 +197,9 @@ def teleop_config_from_dict(d: Mapping[str, Any], source: str = "<dict>") -> Tel
             if not isinstance(value, str) or not value.strip():
                 raise ConfigError(f"{source}: {key} must be a non-empty string, got {value!r}; e.g. {key}: {strings[key]}")
             strings[key] = value.strip()
+    if not _ROS_NAME.match(strings["twist_topic"]):
+        raise ConfigError(f"{source}: twist_topic {strings['twist_topic']!r} is not a valid ROS topic name; "
+                          f"use letters, digits, _ and /, e.g. {DEFAULT_TWIST_TOPIC}")
     if strings["pad"] not in PAD_KINDS:
         raise ConfigError(f"{source}: pad must be one of {', '.join(PAD_KINDS)}, got {strings['pad']!r}; use virtual when no gamepad is attached")
 

@@ -31,6 +31,8 @@ from typing import Any, Iterable, Tuple
 
 import numpy as np
 
+from hri_teleop.checks import is_int, is_number, is_positive_number
+
 __all__ = [
     "FsrError",
     "PowerLaw",
@@ -67,12 +69,12 @@ class PowerLaw:
     exponent: float
 
     def __post_init__(self) -> None:
-        if not (_is_real(self.r_at_1n_ohm) and self.r_at_1n_ohm > 0 and math.isfinite(self.r_at_1n_ohm)):
+        if not (is_number(self.r_at_1n_ohm, numpy=True) and self.r_at_1n_ohm > 0 and math.isfinite(self.r_at_1n_ohm)):
             raise FsrError(
                 f"PowerLaw.r_at_1n_ohm must be a positive finite resistance in ohm, got {self.r_at_1n_ohm!r}; "
                 "pass e.g. 6000.0"
             )
-        if not (_is_real(self.exponent) and self.exponent > 0 and math.isfinite(self.exponent)):
+        if not (is_number(self.exponent, numpy=True) and self.exponent > 0 and math.isfinite(self.exponent)):
             raise FsrError(
                 f"PowerLaw.exponent must be a positive finite number (R falls as force rises), "
                 f"got {self.exponent!r}; pass e.g. 0.8"
@@ -87,10 +89,6 @@ FSR402_POINTS: Tuple[Tuple[float, float], ...] = ((0.2, 30e3), (1.0, 6e3), (10.0
 PULLDOWN_OHM = 10e3
 SUPPLY_V = 5.0
 ADC_BITS = 10
-
-
-def _is_real(value: Any) -> bool:
-    return isinstance(value, (int, float, np.integer, np.floating)) and not isinstance(value, (bool, np.bool_))
 
 
 def fit_power_law(points: Iterable[Tuple[float, float]]) -> PowerLaw:
@@ -123,18 +121,18 @@ def _out(values: np.ndarray) -> Any:
 
 
 def _check_supply(supply_v: float) -> None:
-    if not (_is_real(supply_v) and 0 < supply_v < math.inf):
+    if not is_positive_number(supply_v, numpy=True):
         raise FsrError(f"supply_v must be a positive finite voltage in volt, got {supply_v!r}; the lab's Uno uses 5.0")
 
 
 def _check_divider(pulldown_ohm: float, supply_v: float) -> None:
-    if not (_is_real(pulldown_ohm) and 0 < pulldown_ohm < math.inf):
+    if not is_positive_number(pulldown_ohm, numpy=True):
         raise FsrError(f"pulldown_ohm must be a positive finite resistance in ohm, got {pulldown_ohm!r}; the lab uses 10e3")
     _check_supply(supply_v)
 
 
 def _check_bits(adc_bits: int) -> None:
-    if not (isinstance(adc_bits, (int, np.integer)) and not isinstance(adc_bits, bool) and 1 <= adc_bits <= 24):
+    if not (is_int(adc_bits, numpy=True) and 1 <= adc_bits <= 24):
         raise FsrError(f"adc_bits must be an integer from 1 to 24, got {adc_bits!r}; the Uno's ADC has 10 bits")
 
 

@@ -25,6 +25,7 @@ import math
 import time
 from typing import Callable, Optional, Tuple
 
+from hri_teleop.checks import is_finite_number, is_number
 from hri_teleop.teleop import GRIPPER_MAX_WIDTH_M
 
 
@@ -48,15 +49,11 @@ class GoalThrottle:
             ("max_goal_rate_hz", max_goal_rate_hz, "e.g. 5.0"),
             ("settle_s", settle_s, "e.g. 0.2"),
         ):
-            if isinstance(value, bool) or not isinstance(value, (int, float)) or not (
-                math.isfinite(value) and value > 0
-            ):
+            if not (is_finite_number(value) and value > 0):
                 raise GripperError(
                     f"gripper throttle {name} must be a positive number, got {value!r}; set it to {fix}"
                 )
-        if isinstance(tolerance_m, bool) or not isinstance(tolerance_m, (int, float)) or not (
-            0 <= tolerance_m < min_step_m
-        ):
+        if not (is_number(tolerance_m) and 0 <= tolerance_m < min_step_m):
             raise GripperError(
                 f"gripper throttle tolerance_m must be >= 0 and below min_step_m ({min_step_m}), "
                 f"got {tolerance_m!r}; leave it at its default 1e-4"
@@ -87,7 +84,7 @@ class GoalThrottle:
         Call it with every target that arrives (and, so that the settle rule can fire
         when targets stop arriving, now and then with the latest target).
         """
-        if isinstance(target_m, bool) or not isinstance(target_m, (int, float)) or not math.isfinite(target_m):
+        if not is_finite_number(target_m):
             raise GripperError(
                 f"gripper width target must be a finite number of metres, got {target_m!r}; "
                 "check what publishes /gripper_width"

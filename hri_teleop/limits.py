@@ -58,6 +58,8 @@ import math
 from dataclasses import dataclass, fields
 from typing import List, Optional, Sequence, Tuple
 
+from hri_teleop.checks import is_positive_number
+
 __all__ = [
     "LimitsError",
     "AxisLimits",
@@ -96,7 +98,7 @@ class AxisLimits:
     def __post_init__(self) -> None:
         for f in fields(self):
             value = getattr(self, f.name)
-            if isinstance(value, bool) or not isinstance(value, (int, float)) or not (0 < value < math.inf):
+            if not is_positive_number(value):
                 raise LimitsError(
                     f"limit {f.name} must be a positive finite number, got {value!r}; "
                     "set a value inside the Panda's limits (design.md)"
@@ -169,8 +171,7 @@ def check_command_rate(limits: CartesianLimits, rate_hz: float, hard: CartesianL
     check makes the same sequence acceptable when the robot sees it at 1 kHz with each
     command held (see :func:`max_step_per_command`). LimitsError names the fix.
     """
-    if isinstance(rate_hz, bool) or not isinstance(rate_hz, (int, float)) or not math.isfinite(rate_hz) \
-            or rate_hz <= 0:
+    if not is_positive_number(rate_hz):
         raise LimitsError(f"rate must be a positive number of Hz, got {rate_hz!r}; the lab runs at 50")
     for group in ("translation", "rotation"):
         mine: AxisLimits = getattr(limits, group)
@@ -363,7 +364,7 @@ class TwistLimiter:
 
     def step(self, target: Sequence[float], dt_s: float) -> Tuple[float, ...]:
         """Advance by ``dt_s`` seconds towards ``target`` (6 values) and return the new command."""
-        if isinstance(dt_s, bool) or not isinstance(dt_s, (int, float)) or not (0.0 < dt_s < math.inf):
+        if not is_positive_number(dt_s):
             raise LimitsError(f"dt_s must be a positive finite time step in seconds, got {dt_s!r}; pass 1/rate_hz")
         try:
             values = [float(c) for c in target]
@@ -424,7 +425,7 @@ class Watchdog:
     """
 
     def __init__(self, timeout_s: float) -> None:
-        if isinstance(timeout_s, bool) or not isinstance(timeout_s, (int, float)) or not (0.0 < timeout_s < math.inf):
+        if not is_positive_number(timeout_s):
             raise LimitsError(f"timeout_s must be a positive finite number of seconds, got {timeout_s!r}; e.g. 0.5")
         self.timeout_s = float(timeout_s)
         self._last_s: Optional[float] = None

@@ -15,6 +15,8 @@ from typing import Any
 
 import numpy as np
 
+from hri_teleop.checks import is_int, is_number
+
 __all__ = ["ADC_MAX_COUNT", "MappingError", "validate_max_sensor_force", "map_force"]
 
 #: Largest count a 10-bit ADC can publish.
@@ -36,7 +38,7 @@ def validate_max_sensor_force(value: object, name: str = "/max_sensor_force") ->
     fix = f"set it with `rosparam set {name} 700` or in the launch file (the count with the piston pressed in, Ex. 11)"
     if value is None:
         raise MappingError(f"{name} is not set; {fix}")
-    if isinstance(value, (bool, np.bool_)) or not isinstance(value, (int, float, np.integer, np.floating)):
+    if not is_number(value, numpy=True):
         raise MappingError(
             f"{name} must be a number of ADC counts (0 < value <= {ADC_MAX_COUNT}), "
             f"got {value!r} of type {type(value).__name__}; {fix}"
@@ -54,7 +56,7 @@ def map_force(count: Any, max_sensor_force: float) -> Any:
     NaN gives 0 (no usable reading means no feedback).
     """
     maximum = validate_max_sensor_force(max_sensor_force)
-    if isinstance(count, (int, np.integer)) and not isinstance(count, (bool, np.bool_)):
+    if is_int(count, numpy=True):
         # Exact for any Python int (a float conversion would overflow beyond 1e308).
         return 0.0 if count <= 0 else (1.0 if count >= maximum else float(count) / maximum)
     counts = np.asarray(count, dtype=float)

@@ -17,6 +17,7 @@ from __future__ import annotations
 
 import math
 
+from hri_teleop.checks import is_finite_number, is_int
 from hri_teleop.fsr import count_to_force, force_to_count
 from hri_teleop.mapping import ADC_MAX_COUNT
 
@@ -27,10 +28,6 @@ class SensorProfileError(ValueError):
     """A profile argument is out of range (one line with the fix)."""
 
 
-def _number(value: object) -> bool:
-    return isinstance(value, (int, float)) and not isinstance(value, bool) and math.isfinite(value)
-
-
 def press_profile_count(t_s: float, period_s: float, max_count: int, *, press_fraction: float = 0.6) -> int:
     """The simulated sensor's ADC count at time ``t_s`` (s): presses repeating every ``period_s``.
 
@@ -39,13 +36,13 @@ def press_profile_count(t_s: float, period_s: float, max_count: int, *, press_fr
     the rest is the released piston (count 0).  Deterministic: the same ``t_s`` always gives
     the same count.
     """
-    if not _number(t_s):
+    if not is_finite_number(t_s):
         raise SensorProfileError(f"t_s must be a finite time in seconds, got {t_s!r}; pass the node's clock")
-    if not _number(period_s) or period_s <= 0:
+    if not is_finite_number(period_s) or period_s <= 0:
         raise SensorProfileError(f"period_s must be a positive duration in seconds, got {period_s!r}; e.g. 4.0")
-    if isinstance(max_count, bool) or not isinstance(max_count, int) or not 0 <= max_count <= ADC_MAX_COUNT:
+    if not is_int(max_count) or not 0 <= max_count <= ADC_MAX_COUNT:
         raise SensorProfileError(f"max_count must be an integer count 0..{ADC_MAX_COUNT}, got {max_count!r}; e.g. 700")
-    if not _number(press_fraction) or not 0 < press_fraction <= 1:
+    if not is_finite_number(press_fraction) or not 0 < press_fraction <= 1:
         raise SensorProfileError(f"press_fraction must be in (0, 1], got {press_fraction!r}; e.g. 0.6")
     if max_count == 0:
         return 0

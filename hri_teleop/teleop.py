@@ -32,8 +32,15 @@ from dataclasses import dataclass, field, fields
 from enum import Enum
 from typing import Optional, Tuple
 
+from hri_teleop.checks import is_finite_number
 from hri_teleop.gamepad import AXES, BUTTONS, PadState, normalize_analog_input
-from hri_teleop.limits import DEFAULT_LIMITS, CartesianLimits, LimitsError, TwistLimiter, check_command_rate
+from hri_teleop.limits import (
+    DEFAULT_LIMITS,
+    CartesianLimits,
+    LimitsError,
+    TwistLimiter,
+    check_command_rate,
+)
 
 __all__ = [
     "TeleopError",
@@ -127,10 +134,6 @@ class AxisAssignment:
 DEFAULT_AXIS_ASSIGNMENT = AxisAssignment()
 
 
-def _is_number(value: object) -> bool:
-    return isinstance(value, (int, float)) and not isinstance(value, bool) and math.isfinite(value)
-
-
 @dataclass(frozen=True)
 class TeleopParams:
     """Every number of the teleoperation rules, with the lab's defaults (units in the names).
@@ -149,7 +152,7 @@ class TeleopParams:
     width_max_m: float = GRIPPER_MAX_WIDTH_M
     initial_width_m: float = GRIPPER_MAX_WIDTH_M
     input_timeout_s: float = 0.5  # pad silent/lost this long -> ramp to zero
-    force_timeout_s: float = 0.5  # mapped force older than this -> rumble 0
+    force_timeout_s: float = 1.0  # mapped force older than this -> rumble 0 (> 3 periods of the handout's 300 ms firmware)
     rumble_threshold: float = 0.0  # mapped force at or below this -> no rumble
     assignment: AxisAssignment = field(default_factory=AxisAssignment)
     close_button: str = "south"
@@ -162,7 +165,7 @@ class TeleopParams:
             value = getattr(self, f.name)
             if f.name == "assignment" or f.name.endswith("_button"):
                 continue
-            if not _is_number(value):
+            if not is_finite_number(value):
                 raise TeleopError(f"{f.name} must be a finite number, got {value!r}; set it in the teleop config")
             object.__setattr__(self, f.name, float(value))
         p = self
@@ -314,7 +317,7 @@ class TeleopController:
         ``mapped_force`` is the latest ``/force_mapped`` value (None if none arrived yet)
         and ``force_age_s`` its age in seconds.
         """
-        if not _is_number(dt_s) or dt_s <= 0:
+        if not is_finite_number(dt_s) or dt_s <= 0:
             raise TeleopError(f"dt_s must be a positive finite time step in seconds, got {dt_s!r}; pass 1/rate_hz")
         p = self._params
         connected = pad is not None and pad.connected

@@ -17,14 +17,15 @@ from __future__ import annotations
 
 import math
 
-from .state import GamepadError, is_number
+from ..checks import is_number
+from .state import GamepadError
 
 __all__ = ["normalize_analog_input", "check_deadzone"]
 
 
 def check_deadzone(deadzone: object) -> float:
     """deadzone as a float in [0, 1), or GamepadError saying what to set instead."""
-    value = float(deadzone) if is_number(deadzone) else float("nan")  # type: ignore[arg-type]
+    value = float(deadzone) if is_number(deadzone, numpy=True) else float("nan")  # type: ignore[arg-type]
     if not 0.0 <= value < 1.0:  # also refuses NaN
         raise GamepadError("dead zone %r is not a number in [0, 1): set deadzone to a fraction of "
                            "full stick travel, e.g. 0.1" % (deadzone,))

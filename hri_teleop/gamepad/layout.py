@@ -31,8 +31,8 @@ from pathlib import Path
 from types import MappingProxyType
 from typing import Any, Dict, List, Mapping, NamedTuple, Optional, Sequence, Tuple, Union
 
-import yaml
-
+from ..checks import is_int, is_number
+from ..yamlfile import read_yaml
 from .state import AXES, BUTTONS, STICK_AXES, TRIGGER_AXES, GamepadError, PadState
 
 __all__ = ["AxisMap", "Layout", "LAYOUT_DIR", "DEFAULT_LAYOUT", "available_layouts",
@@ -137,7 +137,7 @@ def _fail(source: str, problem: str, fix: str) -> GamepadError:
 
 
 def _check_index(source: str, where: str, value: Any) -> int:
-    if isinstance(value, bool) or not isinstance(value, int) or value < 0:
+    if not is_int(value) or value < 0:
         raise _fail(source, "%s is %r" % (where, value), "give a raw index, an integer >= 0")
     return value
 
@@ -166,7 +166,7 @@ def layout_from_dict(data: Any, source: str = "<dict>") -> Layout:
     for name, spec in axes_data.items():
         if name not in AXES:
             raise _fail(source, "unknown axis %r" % (name,), "use one of %s" % ", ".join(AXES))
-        if isinstance(spec, int) and not isinstance(spec, bool):
+        if is_int(spec):
             spec = {"index": spec}
         if not isinstance(spec, dict) or "index" not in spec:
             raise _fail(source, "axis %r is %r" % (name, spec), "write it as {index: N, invert: false}")
@@ -179,7 +179,7 @@ def layout_from_dict(data: Any, source: str = "<dict>") -> Layout:
         if not isinstance(invert, bool):
             raise _fail(source, "axis %r invert is %r" % (name, invert), "write true or false")
         rest = spec.get("rest", 0.0)
-        if isinstance(rest, bool) or not isinstance(rest, (int, float)) or not -1.0 <= rest < 1.0:
+        if not is_number(rest) or not -1.0 <= rest < 1.0:
             raise _fail(source, "axis %r rest is %r" % (name, rest),
                         "give the raw resting value, -1.0 for a trigger that rests at -1, else 0")
         axes[name] = AxisMap(index, invert, float(rest))
@@ -252,17 +252,7 @@ def load_layout(name_or_path: str) -> Layout:
             raise GamepadError("unknown gamepad layout %r: set layout to one of %s, or to the path "
                                "of your own layout YAML file" % (text, ", ".join(available_layouts())))
     source = str(path)
-    try:
-        with open(path, encoding="utf-8") as handle:
-            data = yaml.safe_load(handle)
-    except yaml.YAMLError as exc:
-        mark = getattr(exc, "problem_mark", None)
-        where = "%s:%d" % (source, mark.line + 1) if mark is not None else source
-        problem = getattr(exc, "problem", None) or str(exc).splitlines()[0]
-        raise GamepadError("%s: %s; fix the YAML syntax" % (where, problem)) from None
-    except OSError as exc:
-        raise GamepadError("cannot read layout file %s (%s); check its permissions"
-                           % (source, exc.strerror or exc)) from None
+    data = read_yaml(source, GamepadError, what="layout file")
     return layout_from_dict(data, source)
 
 

@@ -10,10 +10,11 @@ and about sticks that read +1 to the right and +1 up.
 from __future__ import annotations
 
 import math
-import numbers
 from dataclasses import dataclass, field
 from types import MappingProxyType
 from typing import TYPE_CHECKING, Mapping, Protocol, runtime_checkable
+
+from ..checks import is_number
 
 if TYPE_CHECKING:  # pragma: no cover - import for annotations only (layout imports this module)
     from .layout import Layout
@@ -64,11 +65,6 @@ def unknown_axis_error(name: object) -> GamepadError:
     return GamepadError("unknown axis %r: use one of %s" % (name, ", ".join(AXES)))
 
 
-def is_number(value: object) -> bool:
-    """True for int/float/numpy reals, False for bool, str and None (no silent conversions)."""
-    return isinstance(value, numbers.Real) and not isinstance(value, bool)
-
-
 def check_axis_value(name: str, value: object) -> float:
     """value as a float, or GamepadError if it is not a finite number in the axis' range.
 
@@ -76,7 +72,7 @@ def check_axis_value(name: str, value: object) -> float:
     is a mistake, not a trigger pull.
     """
     low = 0.0 if name in TRIGGER_AXES else -1.0
-    if not is_number(value):
+    if not is_number(value, numpy=True):
         raise GamepadError("axis %r got %r: give a number in %g..1" % (name, value, low))
     result = float(value)  # type: ignore[arg-type]
     if not math.isfinite(result) or not low <= result <= 1.0:
@@ -161,7 +157,7 @@ class Gamepad(Protocol):
 
 def clean_intensity(intensity: float) -> float:
     """Rumble intensity clipped to 0..1; NaN gives 0 so a bad force value never shakes the pad."""
-    if not is_number(intensity):
+    if not is_number(intensity, numpy=True):
         raise GamepadError("rumble intensity %r is not a number: pass 0..1 (0 stops)" % (intensity,))
     value = float(intensity)
     if math.isnan(value):
@@ -171,7 +167,7 @@ def clean_intensity(intensity: float) -> float:
 
 def clean_duration(duration_s: float) -> float:
     """Rumble duration in seconds, checked: a negative or infinite duration is a caller bug."""
-    value = float(duration_s) if is_number(duration_s) else float("nan")  # type: ignore[arg-type]
+    value = float(duration_s) if is_number(duration_s, numpy=True) else float("nan")  # type: ignore[arg-type]
     if not math.isfinite(value) or value < 0.0:
         raise GamepadError("rumble duration %r s is not a finite number >= 0: pass the effect "
                            "length in seconds (0 means until the next rumble call)" % (duration_s,))

@@ -24,12 +24,11 @@ from dataclasses import dataclass
 from pathlib import Path
 from typing import Any, Callable, Dict, List, Optional, Sequence, Tuple, Union
 
-import yaml
-
+from ..checks import is_number
+from ..yamlfile import read_yaml
 from .layout import Layout, as_layout
 from .state import (AXES, BUTTONS, TRIGGER_AXES, GamepadError, PadState, check_axis_value,
-                    clean_duration, clean_intensity, is_number, unknown_axis_error,
-                    unknown_button_error)
+                    clean_duration, clean_intensity, unknown_axis_error, unknown_button_error)
 
 __all__ = ["RumbleRecord", "VirtualPad", "ScriptStep", "ScriptedPad", "load_script", "parse_script"]
 
@@ -149,7 +148,7 @@ _EXAMPLE = "e.g. '- {t: 1.0, press: south}'"
 
 
 def _number(value: Any) -> Optional[float]:
-    return float(value) if is_number(value) else None
+    return float(value) if is_number(value, numpy=True) else None
 
 
 def parse_script(data: Any, source: str = "<script>") -> List[ScriptStep]:
@@ -219,20 +218,9 @@ def parse_script(data: Any, source: str = "<script>") -> List[ScriptStep]:
 def load_script(path: Union[str, Path]) -> List[ScriptStep]:
     """Read and check a pad script; errors are one line naming the file, the step and the fix."""
     source = str(path)
-    try:
-        with open(source, encoding="utf-8") as handle:
-            data = yaml.safe_load(handle)
-    except FileNotFoundError:
-        raise GamepadError("pad script not found: %s; check the path (it is relative to the "
-                           "directory the node was started from)" % source) from None
-    except OSError as exc:
-        raise GamepadError("cannot read pad script %s (%s); check its permissions"
-                           % (source, exc.strerror or exc)) from None
-    except yaml.YAMLError as exc:
-        mark = getattr(exc, "problem_mark", None)
-        where = "%s:%d" % (source, mark.line + 1) if mark is not None else source
-        problem = getattr(exc, "problem", None) or str(exc).splitlines()[0]
-        raise GamepadError("%s: %s; fix the YAML syntax" % (where, problem)) from None
+    data = read_yaml(source, GamepadError, what="pad script",
+                     missing_fix="check the path (it is relative to the directory the node was "
+                                 "started from)")
     return parse_script(data, source)
 
 

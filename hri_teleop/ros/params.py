@@ -17,9 +17,10 @@ Here they are once:
 
 from __future__ import annotations
 
-import math
 import sys
 from typing import Any, Callable, Dict, Iterable, NoReturn, Optional, Tuple, Union
+
+from hri_teleop.checks import is_finite_number, is_int
 
 _MISSING = object()
 
@@ -53,12 +54,12 @@ def check_kind(name: str, value: Any, kind: Kind, fix: str = "") -> Any:
     ok = False
     if isinstance(value, bool):
         ok = bool in kinds
-    elif isinstance(value, int):
+    elif is_int(value):
         ok = int in kinds or float in kinds
         if ok and int not in kinds:
             value = float(value)
     elif isinstance(value, float):
-        ok = float in kinds and math.isfinite(value)
+        ok = float in kinds and is_finite_number(value)
     else:
         ok = isinstance(value, tuple(k for k in kinds if k not in (bool, int, float)))
     if not ok:

@@ -211,3 +211,15 @@ def test_rosparam_style_round_trip(tmp_path):
     # What `rosparam load` puts on the server is what yaml.safe_load gives: the same dict.
     data = yaml.safe_load(TELEOP_YAML.read_text())
     assert teleop_config_from_dict(data, source="~") == load_teleop_config(TELEOP_YAML)
+
+
+@pytest.mark.parametrize("topic", ["my topic", "/cmd//vel", "/9cmd", "cmd-vel", "/cmd/"])
+def test_an_illegal_twist_topic_is_refused_in_one_line(topic):
+    with pytest.raises(ConfigError) as info:
+        teleop_config_from_dict({"twist_topic": topic}, source="teleop.yaml")
+    assert "twist_topic" in str(info.value) and "\n" not in str(info.value)
+
+
+@pytest.mark.parametrize("topic", ["/cartesian_velocity_controller/cmd_vel", "cmd_vel", "~twist", "/a1/b_2"])
+def test_legal_twist_topics_are_accepted(topic):
+    assert teleop_config_from_dict({"twist_topic": topic}).twist_topic == topic

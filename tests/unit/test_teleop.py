@@ -246,8 +246,8 @@ def test_buttons_do_nothing_while_disconnected():
         (0.0, 0.1, 0.0, 0.0),
         (1.7, 0.1, 0.0, 1.0),
         (-0.2, 0.1, 0.0, 0.0),
-        (0.5, 0.5, 0.0, 0.5),  # exactly at the timeout: still fresh
-        (0.5, 0.51, 0.0, 0.0),  # stale
+        (0.5, 1.0, 0.0, 0.5),  # exactly at the (1 s) timeout: still fresh
+        (0.5, 1.01, 0.0, 0.0),  # stale
         (0.5, float("inf"), 0.0, 0.0),
         (0.5, float("nan"), 0.0, 0.0),
         (float("nan"), 0.1, 0.0, 0.0),

@@ -1,0 +1,61 @@
+"""Is this value a number? Checks that refuse bools, for every module that validates input.
+
+Why a module for one-liners: ``bool`` is a subclass of ``int`` in Python, so
+``isinstance(True, int)`` holds and ``True * 0.5 == 0.5``.  YAML (1.1) and rosparam hand us
+bools for ``true``, ``yes`` and ``on``, so a student's ``deadzone: yes`` or ``rosparam set
+/rate true`` would silently become 1 unless every check says "not bool" as well.  Writing
+that by hand at each call site is how one of them forgets it.
+
+Two kinds of value, chosen per call site with ``numpy=``:
+
+* ``numpy=False`` (default): Python ``int`` and ``float`` only, i.e. what YAML, rosparam
+  and JSON produce.  numpy scalars are refused, except ``numpy.float64``, which is a
+  subclass of ``float``.
+* ``numpy=True``: numpy integer and floating scalars (``np.int64``, ``np.float32``, ...)
+  count too, for the numerical code (FSR model, force mapping) and the gamepad, whose
+  values may come out of numpy arrays.  ``numpy.bool_`` is refused like ``bool``.
+
+Nothing here imports numpy: a numpy scalar can only exist once numpy has been imported,
+so it is looked up in ``sys.modules`` (the gamepad modules stay numpy-free).
+"""
+
+from __future__ import annotations
+
+import math
+import sys
+
+__all__ = ["is_number", "is_finite_number", "is_positive_number", "is_int"]
+
+
+def _numpy_types(*names: str) -> tuple:
+    """numpy's scalar classes ``names``, or () if numpy is not loaded (then no value is one)."""
+    np = sys.modules.get("numpy")
+    return tuple(getattr(np, name) for name in names) if np is not None else ()
+
+
+def is_number(value: object, *, numpy: bool = False) -> bool:
+    """True for an int or a float (NaN and inf included), False for a bool, str or None."""
+    if isinstance(value, bool):
+        return False
+    if isinstance(value, (int, float)):
+        return True
+    return numpy and isinstance(value, _numpy_types("integer", "floating"))
+
+
+def is_finite_number(value: object, *, numpy: bool = False) -> bool:
+    """``is_number`` and neither NaN nor +-inf."""
+    return is_number(value, numpy=numpy) and math.isfinite(value)  # type: ignore[arg-type]
+
+
+def is_positive_number(value: object, *, numpy: bool = False) -> bool:
+    """``is_number`` and ``0 < value < inf`` (refuses NaN): a rate, a duration, a gain."""
+    return is_number(value, numpy=numpy) and 0 < value < math.inf  # type: ignore[operator]
+
+
+def is_int(value: object, *, numpy: bool = False) -> bool:
+    """True for an integer (``numpy=True``: numpy integers too), False for a bool or a float."""
+    if isinstance(value, bool):
+        return False
+    if isinstance(value, int):
+        return True
+    return numpy and isinstance(value, _numpy_types("integer"))
