@@ -12,6 +12,8 @@ steps::
     - {t: 2.5, press: [north, l1]}           # several buttons at once
     - {t: 3.0, disconnect: true}             # pad unplugged
     - {t: 4.0, reconnect: true}
+    - {t: 5.0, fail: true}                   # reading the pad fails (poll raises) ...
+    - {t: 6.0, recover: true}                # ... until it recovers
 
 ``t`` is seconds since the script started (the first ``poll``), never decreasing.
 The file may also be a mapping ``{description: ..., steps: [...]}``.
@@ -60,6 +62,7 @@ class VirtualPad:
         self._buttons: Dict[str, bool] = {button: False for button in BUTTONS}
         self._connected = True
         self._closed = False
+        self._failing = False
         self.rumbles: List[RumbleRecord] = []
 
     # -- Gamepad protocol ------------------------------------------------------------
@@ -69,6 +72,8 @@ class VirtualPad:
 
     def poll(self) -> PadState:
         """The current state; a disconnected or closed pad reads neutral with connected=False."""
+        if self._failing:
+            raise GamepadError("virtual pad: reading failed (simulated by fail_reads); call recover_reads()")
         if not self._connected or self._closed:
             return PadState.neutral(connected=False)
         return PadState(self._axes, self._buttons, True)
@@ -123,6 +128,13 @@ class VirtualPad:
     def reconnect(self) -> None:
         self._connected = True
 
+    def fail_reads(self) -> None:
+        """Make poll() raise GamepadError, as a pad whose device cannot be read does."""
+        self._failing = True
+
+    def recover_reads(self) -> None:
+        self._failing = False
+
     @staticmethod
     def _button(name: str) -> str:
         if name not in BUTTONS:
@@ -142,7 +154,7 @@ class ScriptStep:
     value: float = 0.0             # axis value
 
 
-_ACTIONS = ("axis", "press", "release", "disconnect", "reconnect")
+_ACTIONS = ("axis", "press", "release", "disconnect", "reconnect", "fail", "recover")
 _STEP_KEYS = ("t", "value") + _ACTIONS
 _EXAMPLE = "e.g. '- {t: 1.0, press: south}'"
 
@@ -273,5 +285,9 @@ class ScriptedPad(VirtualPad):
                 self.release(name)
         elif step.action == "disconnect":
             self.disconnect()
+        elif step.action == "fail":
+            self.fail_reads()
+        elif step.action == "recover":
+            self.recover_reads()
         else:
             self.reconnect()

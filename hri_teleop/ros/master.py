@@ -83,7 +83,8 @@ class ManagedProcess:
 
     def output(self) -> str:
         """Everything the process printed so far (stdout and stderr)."""
-        self._log.flush()
+        if not self._log.closed:
+            self._log.flush()
         return self.log_path.read_text(errors="replace")
 
     def stop(self, timeout_s: float = 10.0) -> Optional[int]:

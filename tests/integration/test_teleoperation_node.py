@@ -186,3 +186,25 @@ def test_a_second_sigint_ends_the_node_at_once(ros_master, tmp_path):
     assert code == 0, node.output()
     assert took < 2.0, f"exit took {took:.1f} s after the second Ctrl-C"
     assert "ramp abandoned" in node.output()
+
+
+def test_a_pad_that_cannot_be_read_ramps_the_twist_to_zero_and_resumes_after(ros_master, tmp_path):
+    script = _write_script(tmp_path, [
+        {"t": 1.0, "axis": "left_y", "value": 1.0},
+        {"t": 3.0, "fail": True},      # the device stops answering while the stick is held
+        {"t": 5.0, "recover": True},
+    ])
+    bag = tmp_path / "fail.bag"
+    recorder = ros_master.record(bag, [TWIST])
+    node = _start_node(ros_master, f"_pad_script:={script}")
+    time.sleep(7.5)
+    assert node.stop() == 0, node.output()
+    recorder.stop()
+    msgs = read_topics(bag, [TWIST])[TWIST]
+    twists = _twists(msgs)
+    vx = [t[0] for t in twists]
+    first_full = vx.index(max(vx))
+    zero_after = next(i for i in range(first_full, len(vx)) if vx[i] == 0.0)
+    assert any(v == pytest.approx(P.k_trans) for v in vx[zero_after:]), "did not resume after recovery"
+    assert "cannot read the gamepad" in node.output()
+    assert limit_violations(CONFIG.limits, twists, [1.0 / P.rate_hz] * len(twists), rel_tol=1e-6) == []

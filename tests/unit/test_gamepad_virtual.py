@@ -227,3 +227,14 @@ def test_script_errors_name_file_step_and_fix(tmp_path, text, expected):
 def test_missing_script_file(tmp_path):
     with pytest.raises(GamepadError, match="pad script not found: .*nope.yaml"):
         ScriptedPad(tmp_path / "nope.yaml")
+
+
+def test_a_scripted_read_failure_makes_poll_raise_until_it_recovers():
+    now = [0.0]
+    pad = ScriptedPad(parse_script([{"t": 1.0, "fail": True}, {"t": 2.0, "recover": True}]), clock=lambda: now[0])
+    assert pad.poll().connected
+    now[0] = 1.5
+    with pytest.raises(GamepadError, match="reading failed"):
+        pad.poll()
+    now[0] = 2.5
+    assert pad.poll().connected
