@@ -65,7 +65,8 @@ _NUMBER_KEYS: Dict[str, tuple] = {
 _STRING_KEYS = ("layout", "pad", "twist_topic")
 # ROS graph resource names: optional ~ or /, then segments that start with a letter.
 _ROS_NAME = re.compile(r"^[~/]?[A-Za-z][A-Za-z0-9_]*(/[A-Za-z][A-Za-z0-9_]*)*$")
-_BUTTON_ROLES = {"close": "close_button", "open": "open_button", "toggle": "toggle_button", "quit": "quit_button"}
+_BUTTON_ROLES = {"close": "close_button", "open": "open_button", "toggle": "toggle_button", "quit": "quit_button",
+                 "deadman": "deadman_button"}
 _LIMIT_NAMES = ("velocity", "acceleration", "jerk")
 
 #: Every top-level key the teleop config may have.
@@ -208,6 +209,8 @@ def teleop_config_from_dict(d: Mapping[str, Any], source: str = "<dict>") -> Tel
         for role, value in roles.items():
             if role not in _BUTTON_ROLES:
                 raise _unknown(str(role), "buttons.", tuple(_BUTTON_ROLES), source)
+            if role == "deadman" and value in (None, "none", ""):
+                value = ""  # no dead-man switch (the handout's behaviour)
             if not isinstance(value, str):
                 raise ConfigError(f"{source}: buttons.{role} must be a button name such as south, got {value!r}; write e.g. {role}: south")
             kwargs[_BUTTON_ROLES[role]] = value

@@ -159,6 +159,10 @@ class TeleopParams:
     open_button: str = "east"
     toggle_button: str = "north"
     quit_button: str = "west"
+    # Optional dead-man switch (teleop_twist_joy's enable_button): "" = none, as in the
+    # handout; e.g. "l1" = the arm moves only while L1 is held. Recommended for wireless
+    # pads, which can keep their last reading for seconds when the link drops.
+    deadman_button: str = ""
 
     def __post_init__(self) -> None:
         for f in fields(self):
@@ -196,9 +200,12 @@ class TeleopParams:
         for name in roles:
             if getattr(p, name) not in BUTTONS:
                 raise TeleopError(f"{name} must be a positional button name, got {getattr(p, name)!r}; use one of {', '.join(BUTTONS)}")
-        chosen = [getattr(p, name) for name in roles]
+        if p.deadman_button and p.deadman_button not in BUTTONS:
+            raise TeleopError(f"deadman_button must be empty or a positional button name, got {p.deadman_button!r}; "
+                              f"use one of {', '.join(BUTTONS)}, e.g. l1")
+        chosen = [getattr(p, name) for name in roles] + ([p.deadman_button] if p.deadman_button else [])
         if len(set(chosen)) != len(chosen):
-            raise TeleopError(f"close, open, toggle and quit need four different buttons, got {chosen}; change the buttons")
+            raise TeleopError(f"close, open, toggle, quit (and deadman) need different buttons, got {chosen}; change the buttons")
 
     @property
     def gripper_step_m(self) -> float:
@@ -274,9 +281,12 @@ class TeleopController:
     def target_twist(self, pad: Optional[PadState]) -> Twist:
         """The operator's wish before limiting: sticks through the dead zone, times the gain.
 
-        Zero for a missing or disconnected pad.  Only the current mode's half is non-zero.
+        Zero for a missing or disconnected pad, and while a configured dead-man button is
+        released.  Only the current mode's half is non-zero.
         """
         if pad is None or not pad.connected:
+            return _ZERO_TWIST
+        if self._params.deadman_button and not pad.pressed(self._params.deadman_button):
             return _ZERO_TWIST
         p = self._params
         gain = p.k_trans if self._mode is Mode.TRANSLATION else p.k_rot

@@ -186,7 +186,7 @@ def test_unknown_key_lists_the_valid_ones(tmp_path):
         ({"buttons": {"close": "cross"}}, ["close_button", "'cross'", "south"]),
         ({"buttons": {"grab": "south"}}, ["buttons.", "'grab'", "close"]),
         ({"buttons": {"close": 1}}, ["buttons.close", "button name"]),
-        ({"buttons": {"quit": "south"}}, ["four different buttons"]),
+        ({"buttons": {"quit": "south"}}, ["need different buttons"]),
     ],
 )
 def test_bad_values_give_one_line_naming_the_key_and_the_source(data, words):
@@ -223,3 +223,9 @@ def test_an_illegal_twist_topic_is_refused_in_one_line(topic):
 @pytest.mark.parametrize("topic", ["/cartesian_velocity_controller/cmd_vel", "cmd_vel", "~twist", "/a1/b_2"])
 def test_legal_twist_topics_are_accepted(topic):
     assert teleop_config_from_dict({"twist_topic": topic}).twist_topic == topic
+
+
+@pytest.mark.parametrize("value, expected", [("l1", "l1"), ("none", ""), (None, ""), ("", "")])
+def test_deadman_button_from_the_config(value, expected):
+    cfg = teleop_config_from_dict({"buttons": {"deadman": value}})
+    assert cfg.params.deadman_button == expected

@@ -361,3 +361,18 @@ def test_default_limits_need_at_least_about_46_hz():
     TeleopController(TeleopParams(rate_hz=50.0), DEFAULT_LIMITS)
     with pytest.raises(TeleopError, match="rate"):
         TeleopController(TeleopParams(rate_hz=40.0), DEFAULT_LIMITS)
+
+
+def test_with_a_deadman_button_the_sticks_move_the_arm_only_while_it_is_held():
+    c = TeleopController(TeleopParams(deadman_button="l1"))
+    released = PadState({"left_y": 1.0}, {}, True)
+    held = PadState({"left_y": 1.0}, {"l1": True}, True)
+    assert c.target_twist(released) == (0.0,) * 6
+    assert c.target_twist(held)[0] == pytest.approx(TeleopParams().k_trans)
+
+
+def test_the_deadman_button_must_be_a_free_positional_button():
+    with pytest.raises(TeleopError, match="deadman_button"):
+        TeleopParams(deadman_button="trigger")
+    with pytest.raises(TeleopError, match="different buttons"):
+        TeleopParams(deadman_button="south")
