@@ -59,20 +59,13 @@ from sensor_msgs.msg import Joy
 from std_msgs.msg import Float32
 
 from hri_teleop.config import TeleopConfig, load_yaml, teleop_config_from_dict
-from hri_teleop.gamepad import GamepadError, open_gamepad
+from hri_teleop.gamepad import GamepadError, RumbleRequests, open_gamepad
 from hri_teleop.limits import Watchdog
 from hri_teleop.ros.params import fail, get_param, private_params, run_node
 from hri_teleop.teleop import TeleopCommand, TeleopController
 
 #: Private parameters of this node that are not part of the teleop configuration.
 NODE_ONLY_KEYS = ("config", "pad_script", "pad_index", "stop_timeout_s")
-
-#: Rumble requests: sent when the intensity changes by this much, or goes to/from zero ...
-RUMBLE_CHANGE = 0.02
-#: ... and refreshed this often while it stays on; each request lasts RUMBLE_HOLD_S, so the
-#: pad falls silent by itself within that time if this node dies.
-RUMBLE_REFRESH_S = 0.25
-RUMBLE_HOLD_S = 0.5
 
 
 def default_config_path() -> str:
@@ -138,8 +131,7 @@ class TeleoperationNode:
         self._stop_requested = threading.Event()
         self._abort = threading.Event()  # a second stop signal: give up the ramp
         self._stopped = threading.Event()
-        self._rumble_sent = 0.0
-        self._rumble_sent_at = -math.inf
+        self.rumble_requests = RumbleRequests()  # when to send the pad a request
         self._poll_error_logged = False
         self._quit_logged = False
         self.last_command: Optional[TeleopCommand] = None
@@ -206,12 +198,9 @@ class TeleoperationNode:
         self.joy_pub.publish(msg)
 
     def _rumble(self, intensity: float, now: float) -> None:
-        changed = abs(intensity - self._rumble_sent) >= RUMBLE_CHANGE or (
-            (intensity == 0.0) != (self._rumble_sent == 0.0))
-        refresh = intensity > 0.0 and now - self._rumble_sent_at >= RUMBLE_REFRESH_S
-        if changed or refresh:
-            self.pad.rumble(intensity, RUMBLE_HOLD_S)
-            self._rumble_sent, self._rumble_sent_at = intensity, now
+        request = self.rumble_requests.update(intensity, now)
+        if request is not None:
+            self.pad.rumble(*request)
 
     # -- running and stopping ---------------------------------------------------------
     def request_stop(self, *_args: object) -> None:

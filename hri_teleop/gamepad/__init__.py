@@ -16,6 +16,7 @@ from .factory import PAD_KINDS, open_gamepad
 from .layout import (DEFAULT_LAYOUT, LAYOUT_DIR, AxisMap, Layout, available_layouts, load_layout,
                      layout_from_dict)
 from .pygame_pad import NO_GAMEPAD_MESSAGE, PygamePad
+from .rumble import RumblePolicy, RumbleRequests
 from .state import AXES, BUTTON_LABELS, BUTTONS, STICK_AXES, TRIGGER_AXES, Gamepad, GamepadError, PadState
 from .virtual import RumbleRecord, ScriptedPad, ScriptStep, VirtualPad, load_script, parse_script
 
@@ -28,4 +29,5 @@ __all__ = [
     "VirtualPad", "ScriptedPad", "ScriptStep", "RumbleRecord", "load_script", "parse_script",
     "PygamePad", "NO_GAMEPAD_MESSAGE",
     "open_gamepad", "PAD_KINDS",
+    "RumblePolicy", "RumbleRequests",
 ]
