@@ -47,7 +47,7 @@ def rate_hz(trace: Trace) -> float:
 def pair_outputs(inputs: Trace, outputs: Trace, expected: Callable[[float], float],
                  tolerance: float = 1e-6, clock_slack_s: float = 0.1,
                  max_latency_s: float = 0.5) -> Pairing:
-    """Match each output to the input nearest in time whose expected value it equals.
+    """Match each output to the unused input nearest in time whose expected value it equals.
 
     The candidates for an output received at ``t`` are the inputs received in
     ``[t - max_latency_s, t + clock_slack_s]``: a recorder gets inputs and outputs over
@@ -56,7 +56,8 @@ def pair_outputs(inputs: Trace, outputs: Trace, expected: Callable[[float], floa
     a sensor repeats values (a plateau of equal counts) and the first inputs may have been
     sent before the recording began. An output that matches no candidate is a wrong value
     (``unmatched_outputs``), unless it arrived before any input was recorded
-    (``unjudged_outputs``). Inputs that no output matched are ``dropped_inputs``
+    (``unjudged_outputs``). One output per input: an input already matched is not used
+    again, so a node that repeats itself shows up. Inputs that no output matched are ``dropped_inputs``
     (counting only those recorded before the last output).
     """
     pairs: List[Tuple[float, float, float, float]] = []
@@ -70,11 +71,11 @@ def pair_outputs(inputs: Trace, outputs: Trace, expected: Callable[[float], floa
         hi = int(np.searchsorted(t_in, t_out + clock_slack_s, side="right"))
         best: Optional[int] = None
         for j in range(lo, hi):
-            if abs(expected(inputs[j][1]) - v_out) <= tolerance:
+            if j not in used and abs(expected(inputs[j][1]) - v_out) <= tolerance:
                 if best is None or abs(t_out - t_in[j]) < abs(t_out - t_in[best]):
                     best = j
         if best is None:
-            if t_out < first_input_t + clock_slack_s:
+            if not pairs and t_out < first_input_t + clock_slack_s:
                 unjudged += 1
             else:
                 unmatched += 1

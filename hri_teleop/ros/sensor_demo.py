@@ -12,8 +12,9 @@ from __future__ import annotations
 import argparse
 import sys
 import time
+from dataclasses import dataclass
 from pathlib import Path
-from typing import List, Optional
+from typing import Callable, Dict, List, Mapping, Optional, Tuple
 
 import numpy as np
 
@@ -24,8 +25,53 @@ from hri_teleop.ros.bags import read_topics
 from hri_teleop.ros.master import MasterError, PrivateMaster
 
 
+@dataclass(frozen=True)
+class SensorRecording:
+    """What a run of sensor.launch published, as plain (receive time s, value) traces."""
+
+    topic_types: Dict[str, str]
+    counts: List[Tuple[float, float]]   # /pub_force
+    mapped: List[Tuple[float, float]]   # /force_mapped
+    bag_path: Path
+
+
+def record_sensor_launch(master: PrivateMaster, bag_path: Path, duration_s: float,
+                         launch_args: Mapping[str, object], progress: Callable[[str], None] = lambda _m: None
+                         ) -> SensorRecording:
+    """roslaunch hri_lab sensor.launch on ``master``, rosbag-record both topics, stop, read.
+
+    The demo and the integration tests share this, so both judge the same pipeline.
+    """
+    launch = master.roslaunch("hri_lab", "sensor.launch", launch_args)
+    try:
+        master.wait_for(lambda: bool(master.publishers("/force_mapped")) or not launch.running,
+                        20, "mapping_node to advertise /force_mapped")
+        if not launch.running:
+            raise MasterError("sensor.launch exited early: " + launch.output()[-2000:])
+        recorder = master.record(bag_path, ["/pub_force", "/force_mapped"])
+        progress(f"recording /pub_force and /force_mapped for {duration_s:.0f} s")
+        deadline = time.monotonic() + duration_s
+        while time.monotonic() < deadline:
+            time.sleep(min(1.0, max(0.0, deadline - time.monotonic())))
+            progress(".")
+        recorder.stop()
+        types = master.topic_types()
+    finally:
+        launch.stop()
+    topics = read_topics(bag_path, ["/pub_force", "/force_mapped"])
+    return SensorRecording(
+        topic_types=types,
+        counts=[(t, float(m.data)) for t, m in topics["/pub_force"]],
+        mapped=[(t, float(m.data)) for t, m in topics["/force_mapped"]],
+        bag_path=Path(bag_path),
+    )
+
+
 def _progress(message: str) -> None:
-    print(f"[demo] {message}", flush=True)
+    if message == ".":
+        print(".", end="", flush=True)
+    else:
+        print(f"[demo] {message}", flush=True)
 
 
 def run(duration_s: float, max_sensor_force: int, rate_hz_param: float, out_dir: Path,
@@ -37,30 +83,16 @@ def run(duration_s: float, max_sensor_force: int, rate_hz_param: float, out_dir:
     started = time.monotonic()
     with PrivateMaster() as master:
         _progress(f"roscore up on port {master.port}")
-        launch = master.roslaunch("hri_lab", "sensor.launch",
-                                  {"max_sensor_force": max_sensor_force, "rate_hz": rate_hz_param,
-                                   "max_value": press_max_count})
-        master.wait_for(lambda: bool(master.publishers("/force_mapped")) or not launch.running,
-                        20, "mapping_node to advertise /force_mapped")
-        if not launch.running:
-            print("demo: sensor.launch exited early:\n" + launch.output()[-2000:], file=sys.stderr)
-            return 1
-        recorder = master.record(bag_path, ["/pub_force", "/force_mapped"])
-        _progress(f"recording /pub_force and /force_mapped for {duration_s:.0f} s")
-        for _ in range(int(duration_s)):
-            time.sleep(1.0)
-            print(".", end="", flush=True)
-        time.sleep(duration_s - int(duration_s))
+        rec = record_sensor_launch(master, bag_path, duration_s, {
+            "max_sensor_force": max_sensor_force, "rate_hz": rate_hz_param, "max_value": press_max_count,
+        }, _progress)
         print(flush=True)
-        recorder.stop()
-        launch.stop()
     _progress(f"stopped roscore and nodes ({time.monotonic() - started:.1f} s in all)")
 
-    topics = read_topics(bag_path, ["/pub_force", "/force_mapped"])
-    counts = [(t, float(m.data)) for t, m in topics["/pub_force"]]
-    mapped = [(t, float(m.data)) for t, m in topics["/force_mapped"]]
-    if len(mapped) < 2:
-        print(f"demo: only {len(mapped)} message(s) on /force_mapped; see the node logs above", file=sys.stderr)
+    counts, mapped = rec.counts, rec.mapped
+    if len(mapped) < 2 or len(counts) < 2:
+        print(f"demo: only {len(counts)} message(s) on /pub_force and {len(mapped)} on /force_mapped; "
+              "see the node output above", file=sys.stderr)
         return 1
     pairing = pair_outputs(counts, mapped, lambda c: float(map_force(c, max_sensor_force)), tolerance=1e-6)
     values = np.array([v for _, v in mapped])
@@ -68,8 +100,8 @@ def run(duration_s: float, max_sensor_force: int, rate_hz_param: float, out_dir:
         "",
         "Sensor pipeline (handout Ex. 6): FSR_sensor.py -> /pub_force -> mapping_node.py -> /force_mapped",
         f"  /max_sensor_force      {max_sensor_force}",
-        f"  /pub_force             {len(counts)} msgs, {rate_hz(counts):.1f} Hz, counts {min(v for _, v in counts):.0f}..{max(v for _, v in counts):.0f}",
-        f"  /force_mapped          {len(mapped)} msgs, {rate_hz(mapped):.1f} Hz, values {values.min():.3f}..{values.max():.3f} (std_msgs/Float32)",
+        f"  /pub_force             {len(counts)} msgs, {rate_hz(counts):.1f} Hz, counts {min(v for _, v in counts):.0f}..{max(v for _, v in counts):.0f} ({rec.topic_types.get('/pub_force')})",
+        f"  /force_mapped          {len(mapped)} msgs, {rate_hz(mapped):.1f} Hz, values {values.min():.3f}..{values.max():.3f} ({rec.topic_types.get('/force_mapped')})",
         f"  equal to map(count)    {len(pairing.pairs)}/{len(mapped)} within 1e-6, {pairing.unmatched_outputs} wrong",
     ]
     if len(pairing.pairs):
@@ -80,7 +112,8 @@ def run(duration_s: float, max_sensor_force: int, rate_hz_param: float, out_dir:
     lines.append(f"  bag                   {bag_path}")
     lines.append(f"  timeline plot         {png}")
     print("\n".join(lines))
-    return 0 if pairing.unmatched_outputs == 0 and 0.0 <= values.min() and values.max() <= 1.0 else 1
+    ok = pairing.pairs and pairing.unmatched_outputs == 0 and 0.0 <= values.min() and values.max() <= 1.0
+    return 0 if ok else 1
 
 
 def main(argv: Optional[List[str]] = None) -> int:

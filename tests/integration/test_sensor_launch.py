@@ -3,13 +3,12 @@ and the mapping checked message by message against hri_teleop.mapping."""
 
 from __future__ import annotations
 
-import time
 from pathlib import Path
 
 import pytest
 
 from hri_teleop.mapping import map_force
-from hri_teleop.ros.bags import read_topics
+from hri_teleop.ros.sensor_demo import record_sensor_launch
 from hri_teleop.traces import pair_outputs, rate_hz
 
 pytestmark = pytest.mark.ros
@@ -19,20 +18,8 @@ MAPPING_NODE = REPO / "hri_lab" / "scripts" / "mapping_node.py"
 
 
 def _record_sensor_launch(master, tmp_path, duration_s, **launch_args):
-    launch = master.roslaunch("hri_lab", "sensor.launch", launch_args)
-    master.wait_for(lambda: bool(master.publishers("/force_mapped")) or not launch.running, 20,
-                    "mapping_node to advertise /force_mapped")
-    assert launch.running, launch.output()
-    bag = tmp_path / "sensor.bag"
-    recorder = master.record(bag, ["/pub_force", "/force_mapped"])
-    time.sleep(duration_s)
-    recorder.stop()
-    types = master.topic_types()
-    launch.stop()
-    topics = read_topics(bag, ["/pub_force", "/force_mapped"])
-    counts = [(t, float(m.data)) for t, m in topics["/pub_force"]]
-    mapped = [(t, float(m.data)) for t, m in topics["/force_mapped"]]
-    return types, counts, mapped
+    rec = record_sensor_launch(master, tmp_path / "sensor.bag", duration_s, launch_args)
+    return rec.topic_types, rec.counts, rec.mapped
 
 
 @pytest.mark.parametrize("max_sensor_force", [700, 350])

@@ -49,3 +49,10 @@ def test_an_output_before_the_first_recorded_input_is_unjudged_not_wrong():
     assert pairing.unjudged_outputs == 1
     assert pairing.unmatched_outputs == 1  # 0.9 after the recording began is wrong
     assert len(pairing.pairs) == 2
+
+
+def test_each_input_explains_at_most_one_output():
+    inputs = [(1.0, 10.0)]
+    outputs = [(1.001, 1.0), (1.002, 1.0)]  # the node published twice for one input
+    pairing = pair_outputs(inputs, outputs, expected=lambda v: v / 10.0)
+    assert len(pairing.pairs) == 1 and pairing.unmatched_outputs == 1
