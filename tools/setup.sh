@@ -83,6 +83,12 @@ if [ "$want" != "$have" ] || ! "$venv/bin/python" -c 'import hri_teleop' 2>/dev/
   echo "$want" > "$stamp"
 fi
 
+# Noetic machines may lack catkin_lint (not part of ros-noetic-desktop): take it from PyPI.
+if [ -n "${ROS_DISTRO:-}" ] && ! command -v catkin_lint >/dev/null 2>&1 && [ ! -x "$venv/bin/catkin_lint" ]; then
+  say "installing catkin_lint into .venv"
+  "$venv/bin/python" -m pip install -q --disable-pip-version-check "catkin_lint>=1.6"
+fi
+
 if ! "$venv/bin/python" -c 'import rospy, actionlib, rosbag, genpy' 2>/dev/null; then
   say "rospy is not importable from .venv; remove .venv and run 'make setup' again" >&2
   exit 1
