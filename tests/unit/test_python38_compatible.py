@@ -39,3 +39,24 @@ def test_vermin_catches_a_python_3_10_construct(tmp_path):
     proc = subprocess.run([_vermin(), "--target=3.8-", "--violations", "--no-tips", str(bad)],
                           capture_output=True, text=True)
     assert proc.returncode != 0
+
+
+# The ROS-free core's own tests; the rest need rospy, roslaunch or catkin_lint from the system.
+CORE_TESTS = ["test_fsr.py", "test_mapping.py", "test_limits.py", "test_teleop.py", "test_config.py",
+              "test_sensor_profile.py", "test_gripper.py", "test_traces.py", "test_gamepad_deadzone.py",
+              "test_gamepad_layout.py", "test_gamepad_state.py", "test_gamepad_virtual.py",
+              "test_gamepad_pygame.py", "test_gamepad_rumble.py"]
+
+
+@pytest.mark.skipif(not (REPO / ".venv38" / "bin" / "python").exists(),
+                    reason="no Python 3.8 on this machine (tools/setup.sh builds .venv38 where it finds one)")
+def test_core_unit_tests_pass_on_python_3_8():
+    py38 = REPO / ".venv38" / "bin" / "python"
+    version = subprocess.run([str(py38), "-c", "import sys; print(sys.version_info[:2])"],
+                             capture_output=True, text=True).stdout.strip()
+    assert version == "(3, 8)", version
+    here = Path(__file__).parent
+    proc = subprocess.run([str(py38), "-m", "pytest", "-q", "-p", "no:cacheprovider", "-x",
+                           *[str(here / name) for name in CORE_TESTS]],
+                          cwd=str(REPO), capture_output=True, text=True, timeout=600)
+    assert proc.returncode == 0, "on Python 3.8:\n" + proc.stdout[-3000:] + proc.stderr[-2000:]
