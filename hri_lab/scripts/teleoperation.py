@@ -35,13 +35,16 @@ Subscribes:
   force_mapped    std_msgs/Float32     latest value and its arrival time; the rumble follows it
                                        at the next tick (at most 1/rate later) and drops to 0
                                        when it is older than force_timeout
+  ~virtual_joy    sensor_msgs/Joy      only with pad "virtual" and no pad_script: drives the
+                                       virtual pad (raw axes/buttons in the layout's order, as
+                                       on /joy); no message for input_timeout -> ramp to zero
 
 Stopping: square (quit) ramps the twist to zero inside the limits, then the node exits 0
 (with required="true" in teleoperation.launch that ends the whole launch). Ctrl-C, SIGTERM
 or `rosnode kill` do the same ramp first (the node keeps publishing until the twist is
-zero, at most ~stop_timeout_s), so the robot is never left with a velocity step. A lost or
-silent pad (no reading for input_timeout) also ramps to zero, but the node keeps running
-and resumes when the pad is back.
+zero, at most ~stop_timeout_s), so the robot is never left with a velocity step. A pad
+that is unplugged or cannot be read, and a ~virtual_joy stream silent for input_timeout,
+also ramp to zero, but the node keeps running and resumes when input is back.
 """
 
 from __future__ import annotations
@@ -59,7 +62,7 @@ from sensor_msgs.msg import Joy
 from std_msgs.msg import Float32
 
 from hri_teleop.config import TeleopConfig, load_yaml, teleop_config_from_dict
-from hri_teleop.gamepad import GamepadError, RumbleRequests, open_gamepad
+from hri_teleop.gamepad import GamepadError, RumbleRequests, ScriptedPad, VirtualPad, open_gamepad
 from hri_teleop.limits import Watchdog
 from hri_teleop.ros.params import fail, get_param, private_params, run_node
 from hri_teleop.teleop import TeleopCommand, TeleopController
@@ -126,6 +129,12 @@ class TeleoperationNode:
         self.pad = open_gamepad(self.config.pad, self.config.layout, index=pad_index,
                                 script=pad_script or None, log=rospy.logwarn)
         self.pad_watchdog = Watchdog(params.input_timeout_s)
+        # pad:=virtual without a script is driven by messages on ~virtual_joy (a notebook
+        # widget, a test, `rosbag play` of a recorded /joy): its input is fresh only while
+        # they keep coming, so the watchdog is fed by them, not by polling.
+        self.topic_driven = isinstance(self.pad, VirtualPad) and not isinstance(self.pad, ScriptedPad)
+        self.virtual_joy_sub = (rospy.Subscriber("~virtual_joy", Joy, self.on_virtual_joy, queue_size=1)
+                                if self.topic_driven else None)
 
         self._force: Optional[Tuple[float, float]] = None  # (value, monotonic arrival time)
         self._stop_requested = threading.Event()
@@ -151,11 +160,22 @@ class TeleoperationNode:
     def on_force(self, msg: Float32) -> None:
         self._force = (float(msg.data), time.monotonic())
 
-    def _read_pad(self, now: float) -> Optional[Any]:
-        """The pad's state; None once no connected reading came for input_timeout.
+    def on_virtual_joy(self, msg: Joy) -> None:
+        """Raw axes/buttons in the layout's order (as this node publishes on /joy)."""
+        try:
+            self.pad.set_raw(msg.axes, msg.buttons)
+        except GamepadError as exc:
+            rospy.logwarn_throttle(5.0, "ignoring a ~virtual_joy message: %s" % (exc,))
+            return
+        self.pad_watchdog.feed(time.monotonic())
 
-        A disconnected reading is passed on as it is (the controller stops on
-        connected=False at once); a failed read counts as no reading.
+    def _read_pad(self, now: float) -> Optional[Any]:
+        """The pad's state, or None when there is none to act on.
+
+        A failed read gives None and a disconnected reading is passed on as it is: the
+        controller stops on both at once. A connected reading counts only while the input
+        is fresh (the watchdog: fed by every good poll, or for the topic-driven virtual pad
+        by its messages); input older than input_timeout also gives None.
         """
         try:
             state = self.pad.poll()
@@ -165,10 +185,11 @@ class TeleoperationNode:
                 self._poll_error_logged = True
             state = None
         if state is not None and state.connected:
-            self.pad_watchdog.feed(now)
+            if not self.topic_driven:
+                self.pad_watchdog.feed(now)
             self._poll_error_logged = False
-        if self.pad_watchdog.is_stale(now):
-            return None if state is None or state.connected else state
+        if state is not None and state.connected and self.pad_watchdog.is_stale(now):
+            return None  # no fresh input for input_timeout: stop as for a lost pad
         return state
 
     # -- one tick ---------------------------------------------------------------------

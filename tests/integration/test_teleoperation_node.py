@@ -208,3 +208,31 @@ def test_a_pad_that_cannot_be_read_ramps_the_twist_to_zero_and_resumes_after(ros
     assert any(v == pytest.approx(P.k_trans) for v in vx[zero_after:]), "did not resume after recovery"
     assert "cannot read the gamepad" in node.output()
     assert limit_violations(CONFIG.limits, twists, [1.0 / P.rate_hz] * len(twists), rel_tol=1e-6) == []
+
+
+def test_virtual_joy_drives_the_pad_and_silence_ramps_to_zero(ros_master, tmp_path):
+    """pad:=virtual without a script listens on ~virtual_joy; input older than input_timeout stops."""
+    from hri_teleop.gamepad import PadState, load_layout
+
+    layout = load_layout(CONFIG.layout)
+    axes, buttons = layout.raw_from_state(PadState({"left_y": 1.0}, {}, True))
+    joy = "{axes: %s, buttons: %s}" % ([float(a) for a in axes], [int(b) for b in buttons])
+    bag = tmp_path / "vjoy.bag"
+    recorder = ros_master.record(bag, [TWIST])
+    node = _start_node(ros_master)
+    time.sleep(1.0)
+    pub = ros_master.run(["rostopic", "pub", "-r", "20", "/teleoperation/virtual_joy", "sensor_msgs/Joy", joy],
+                         "virtual_joy")
+    time.sleep(3.0)
+    pub.stop()  # the input goes stale
+    silent_at = time.time()
+    time.sleep(3.0)
+    assert node.stop() == 0, node.output()
+    recorder.stop()
+    msgs = read_topics(bag, [TWIST])[TWIST]
+    twists = _twists(msgs)
+    assert max(t[0] for t in twists) == pytest.approx(P.k_trans)
+    back_to_zero = next(t for t, m in msgs if t > silent_at and m.linear.x == 0.0)
+    # stale after input_timeout, then the ramp down from k_trans (about 0.6 s at the default limits)
+    assert back_to_zero - silent_at < P.input_timeout_s + 1.5
+    assert limit_violations(CONFIG.limits, twists, [1.0 / P.rate_hz] * len(twists), rel_tol=1e-6) == []
