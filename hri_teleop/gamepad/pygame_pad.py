@@ -45,6 +45,10 @@ def import_pygame() -> Any:
     """Import and initialise pygame's display (event queue) and joystick modules, headless-safe."""
     for key, value in SDL_DEFAULTS:
         os.environ.setdefault(key, value)
+    if not (os.environ.get("DISPLAY") or os.environ.get("WAYLAND_DISPLAY")):
+        # No screen at all (ssh, CI): go straight to the dummy driver; trying X11/Wayland
+        # first only makes SDL print a stray "XDG_RUNTIME_DIR is invalid" line.
+        os.environ.setdefault("SDL_VIDEODRIVER", "dummy")
     try:
         import pygame  # noqa: PLC0415 - deliberately lazy: only real pads need pygame
     except ImportError:
