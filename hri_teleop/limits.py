@@ -347,10 +347,19 @@ class TwistLimiter:
     def limits(self) -> CartesianLimits:
         return self._limits
 
-    def reset(self) -> None:
-        """Back to rest (velocity and acceleration zero), e.g. after the robot was stopped."""
-        for group in self._groups:
+    def reset(self, velocity: Optional[Sequence[float]] = None,
+              acceleration: Optional[Sequence[float]] = None) -> None:
+        """Back to rest, or continue from a known motion (6 values each, e.g. a simulated arm's).
+
+        The state is exactly the realised velocity and acceleration of the emitted
+        sequence, so starting from another sequence's last values continues it smoothly.
+        """
+        for g, group in enumerate(self._groups):
             group.reset()
+            if velocity is not None:
+                group.v = tuple(float(c) for c in velocity[3 * g: 3 * g + 3])  # type: ignore[assignment]
+            if acceleration is not None:
+                group.a = tuple(float(c) for c in acceleration[3 * g: 3 * g + 3])  # type: ignore[assignment]
 
     @property
     def velocity(self) -> Tuple[float, ...]:

@@ -334,3 +334,13 @@ def test_watchdog():
 def test_watchdog_rejects_bad_timeouts(bad):
     with pytest.raises(LimitsError):
         Watchdog(bad)
+
+
+def test_reset_can_continue_from_a_known_motion():
+    lim = TwistLimiter(DEFAULT_LIMITS)
+    lim.reset(velocity=(0.1, 0, 0, 0, 0, 0.2), acceleration=(0.0,) * 6)
+    assert lim.velocity == (0.1, 0.0, 0.0, 0.0, 0.0, 0.2)
+    out = lim.step((0.1, 0, 0, 0, 0, 0.2), 0.02)
+    assert out == (0.1, 0.0, 0.0, 0.0, 0.0, 0.2)  # already there: holds, no jump
+    lim.reset()
+    assert lim.velocity == (0.0,) * 6
