@@ -28,8 +28,8 @@ most at the speed limit.
   reached, or when the fingers stall within ``move_width_tolerance_m`` (1 mm, franka_gazebo's
   ``kDefaultMoveWidthTolerance``) of it.  A move that an object blocks further away does
   what the real hand does: it keeps pressing and does not return (libfranka issue #18:
-  "move blocks until the desired location is reached"; franka_ros issue #281: "the Move
-  command will stall for about 100 s") and then fails with libfranka's
+  "move: blocks until the desired location is reached"; franka_ros issue #281: an
+  unreachable move "will stall for about 100s") and then fails with libfranka's
   ``"libfranka gripper: Command failed!"`` (``move_stall_timeout_s``, 100 s).  After a
   successful move the hand holds the width with the move force: this is how the lab's
   gripper_manager (move goals only) squeezes the piston.
@@ -42,11 +42,13 @@ most at the speed limit.
   ``success=False`` (its ``handleErrors`` calls ``setSucceeded`` with whatever libfranka
   returned; only exceptions become ABORTED).
 * ``homing{}``: closes (until the fingers stall at ``homing_force_n``, so an object in the
-  way is touched, not crushed) and then opens fully, as the real hand does to find its
-  maximum width; succeeds when fully open.
+  way is touched, not crushed) and then opens fully, as franka_gazebo's simulation does
+  (homing runs the fingers over their range to measure the maximum width); succeeds when
+  fully open.
 * ``stop{}``: succeeds at once; a running move, grasp or homing ends ABORTED with
   libfranka's ``"libfranka gripper: Command aborted!"``, and the hand stops pressing
-  (libfranka issue #111: stop "releases the pressure" on a grasped object).
+  (libfranka issue #111: call stop after a grasp "to release the pressure onto the
+  object"); squeezed fingers are then pushed back to where the force vanishes.
 * A newer move/grasp/homing goal preempts the running one (status PREEMPTED), as in the
   franka_gazebo gripper simulation.  Note: the real franka_gripper_node runs each goal as a
   blocking libfranka call, so there a new goal waits until the running one returns.
@@ -79,8 +81,10 @@ faces with Coulomb friction hold ``2 * mu * F_grip``.  The object moves with the
 that covers ``m * (g + a)`` (``a`` the hand's upward acceleration); otherwise it slides,
 with kinetic friction of the same coefficient, and falls back to its support (the table,
 height 0).  The object counts as between the fingers while the fingers are within
-``grip_zone_m`` (2 cm, about a Franka fingertip pad) of it vertically; the horizontal
-geometry is the caller's (place and remove the object).
+``grip_zone_m`` (2 cm, about a Franka fingertip pad) of it vertically, provided it got
+there with the fingers open wider than ``W + travel``: closed fingers arriving over an
+object collide with it, which this model does not resolve (the object just stays outside).
+The horizontal geometry is the caller's (place and remove the object).
 """
 
 from __future__ import annotations
@@ -159,13 +163,13 @@ class HandSimError(ValueError):
     """A hand, attachment, object or command setting is unusable, or time ran backwards."""
 
 
-def _check(value: object, name: str, fix: str, *, positive: bool = False, allow_zero: bool = True) -> float:
-    """``value`` as a finite float (>0 with ``positive``, >=0 unless ``allow_zero`` is None)."""
+def _check(value: object, name: str, fix: str, *, lowest: str = "") -> float:
+    """``value`` as a finite float; ``lowest`` ">0" or ">=0" bounds it (else HandSimError)."""
     if not (is_number(value, numpy=True) and math.isfinite(value)):  # type: ignore[arg-type]
         raise HandSimError(f"{name} must be a finite number, got {value!r}; {fix}")
     number = float(value)  # type: ignore[arg-type]
-    if positive and not (number > 0 or (allow_zero and number == 0)):
-        raise HandSimError(f"{name} must be {'>= 0' if allow_zero else '> 0'}, got {value!r}; {fix}")
+    if (lowest == ">0" and not number > 0.0) or (lowest == ">=0" and not number >= 0.0):
+        raise HandSimError(f"{name} must be {lowest.replace('0', ' 0')}, got {value!r}; {fix}")
     return number
 
 
@@ -203,9 +207,9 @@ class HandParams:
         )
         for name, fix in positive:
             object.__setattr__(self, name, _check(getattr(self, name), f"HandParams.{name}", fix,
-                                                  positive=True, allow_zero=False))
+                                                  lowest=">0"))
         for name, fix in (("move_width_tolerance_m", "e.g. 0.001"), ("grip_zone_m", "e.g. 0.02")):
-            object.__setattr__(self, name, _check(getattr(self, name), f"HandParams.{name}", fix, positive=True))
+            object.__setattr__(self, name, _check(getattr(self, name), f"HandParams.{name}", fix, lowest=">=0"))
         width = _check(self.initial_width_m, "HandParams.initial_width_m", "e.g. 0.08 (fully open)")
         if not 0.0 <= width <= self.max_width_m:
             raise HandSimError(
@@ -248,9 +252,9 @@ class Attachment:
 
     def __post_init__(self) -> None:
         object.__setattr__(self, "piston_travel_m", _check(
-            self.piston_travel_m, "Attachment.piston_travel_m", "e.g. 0.003 (3 mm)", positive=True, allow_zero=False))
+            self.piston_travel_m, "Attachment.piston_travel_m", "e.g. 0.003 (3 mm)", lowest=">0"))
         object.__setattr__(self, "spring_n_per_m", _check(
-            self.spring_n_per_m, "Attachment.spring_n_per_m", "e.g. 590.0", positive=True, allow_zero=False))
+            self.spring_n_per_m, "Attachment.spring_n_per_m", "e.g. 590.0", lowest=">0"))
         # Checks the wiring (raises fsr.FsrError with its own fix) before the table is built.
         fsr.force_to_count(1.0, law=self.law, pulldown_ohm=self.pulldown_ohm, supply_v=self.supply_v,
                            adc_bits=self.adc_bits)
@@ -322,11 +326,11 @@ class GraspObject:
             ("friction_coefficient", "e.g. 0.4"),
         ):
             object.__setattr__(self, name, _check(getattr(self, name), f"GraspObject.{name}", fix,
-                                                  positive=True, allow_zero=False))
+                                                  lowest=">0"))
         if self.breaking_force_n is not None:
             object.__setattr__(self, "breaking_force_n", _check(
                 self.breaking_force_n, "GraspObject.breaking_force_n", "e.g. 30.0, or None for unbreakable",
-                positive=True, allow_zero=False))
+                lowest=">0"))
 
     def min_grip_force_n(self, hand_accel_up_m_per_s2: float = 0.0) -> float:
         """The smallest grip force (N) that holds the object while the hand accelerates upwards."""
@@ -355,8 +359,9 @@ OBJECTS: Dict[str, GraspObject] = {
         GraspObject(
             "egg", width_m=0.044, stiffness_n_per_m=1.2e5, mass_kg=0.06, friction_coefficient=0.35,
             breaking_force_n=30.0,
-            note="hen's egg across its short axis: 44 mm, 60 g, about 120 N/mm, cracks at 30 N; holds from "
-                 "0.84 N, so a grip inside the piston's travel lifts it and a firm squeeze past it crushes it",
+            note="a hen's egg across its short axis: 44 mm, 60 g, shell stiffness of the order of 100 N/mm, "
+                 "cracks at 30 N (the low end of typical eggs); holds from 0.84 N, so a grip inside the "
+                 "piston's travel lifts it and a squeeze past full travel crushes it within 0.25 mm",
         ),
     )
 }
@@ -467,6 +472,12 @@ class GoalRecord:
         return self.status != GoalStatus.ACTIVE
 
 
+def _note(record: GoalRecord, text: str) -> None:
+    """Add ``text`` to the record's plain-words ``detail``."""
+    if text:
+        record.detail = f"{record.detail}; {text}" if record.detail else text
+
+
 @dataclass(frozen=True)
 class HandState:
     """A snapshot of :class:`HandSim` for logs, plots and tests."""
@@ -535,6 +546,7 @@ class HandSim:
         self._finished: List[GoalRecord] = []
         # The object and its vertical state.
         self._obj: Optional[GraspObject] = None
+        self._inside = False
         self._crushed = False
         self._crushed_s: Optional[float] = None
         self._obj_z = 0.0
@@ -558,18 +570,29 @@ class HandSim:
         """
         if not isinstance(obj, GraspObject):
             raise HandSimError(f"place_object takes a GraspObject, got {obj!r}; e.g. OBJECTS['egg']")
+        offset = _check(finger_offset_m, "finger_offset_m", "pass metres, 0.0 = fingers at the grasp height")
+        height = _check(height_m, "height_m", "pass metres above the support, 0.0 = on the table", lowest=">=0")
+        if abs(offset) <= self.params.grip_zone_m and self._w < obj.width_m + self._travel:
+            raise HandSimError(
+                f"place_object: the fingers are {self._w:.4f} m apart, too close for the {obj.name} "
+                f"({obj.width_m} m + {self._travel} m piston); open them first, or place it with "
+                f"|finger_offset_m| > {self.params.grip_zone_m} m (outside the fingers)"
+            )
         self._obj = obj
         self._crushed = False
         self._crushed_s = None
-        self._offset = _check(finger_offset_m, "finger_offset_m", "pass metres, 0.0 = fingers at the grasp height")
-        self._obj_z = _check(height_m, "height_m", "pass metres above the support, 0.0 = on the table", positive=True)
+        self._offset = offset
+        self._obj_z = height
         self._obj_v = 0.0
         self._moves_with_hand = False
+        self._inside = False
+        self._update_inside()
         self._update_forces()
 
     def remove_object(self) -> None:
         """Take the object away (the fingers then close on nothing but the piston)."""
         self._obj = None
+        self._inside = False
         self._crushed = False
         self._crushed_s = None
         self._moves_with_hand = False
@@ -606,7 +629,20 @@ class HandSim:
         return self._offset
 
     def _between_fingers(self) -> bool:
-        return self._obj is not None and not self._crushed and abs(self._offset) <= self.params.grip_zone_m
+        return self._inside and not self._crushed
+
+    def _update_inside(self) -> None:
+        """The object is between the fingers while in the grip zone, if it got in with room to spare.
+
+        Fingers closer than the object's width (plus the piston) cannot take it in: moving
+        them over it is a collision this model does not resolve, so the object stays outside
+        (no force) until the fingers leave the zone and come back open enough.
+        """
+        obj = self._obj
+        if obj is None or abs(self._offset) > self.params.grip_zone_m:
+            self._inside = False
+        elif not self._inside:
+            self._inside = self._w >= obj.width_m + self._travel
 
     # ------------------------------------------------------------------ elastics
 
@@ -752,8 +788,7 @@ class HandSim:
         record.status = status
         record.success = success
         record.error = error
-        if detail:
-            record.detail = (record.detail + "; " + detail) if record.detail else detail
+        _note(record, detail)
         record.finished_s = now
         self._finished.append(record)
         if record is self._active:
@@ -796,7 +831,7 @@ class HandSim:
         elif isinstance(command, GraspCommand):
             self._mode, self._cap = _GRASP, min(command.force_n, p.max_force_n)
             if command.force_n > p.max_force_n:
-                record.detail = f"force {command.force_n} N clipped to {p.max_force_n} N"
+                _note(record, f"force {command.force_n} N clipped to {p.max_force_n} N")
             self._target = 0.0 if command.width_m < self._w else self._w_max
             self._speed = self._clip_speed(command.speed_m_per_s, record)
             self._grasp = command
@@ -835,7 +870,7 @@ class HandSim:
 
     def _clip_speed(self, speed: float, record: GoalRecord) -> float:
         if speed > self._v_max:
-            record.detail = f"speed {speed} m/s clipped to {self._v_max} m/s"
+            _note(record, f"speed {speed} m/s clipped to {self._v_max} m/s")
             return self._v_max
         return speed
 
@@ -854,6 +889,12 @@ class HandSim:
         object moved with the hand in this step (False without an object).
         """
         now = self._check_time(now_s, "step")
+        hand_v = hand_vz_m_per_s
+        if not (is_number(hand_v, numpy=True) and math.isfinite(hand_v)):  # type: ignore[arg-type]
+            raise HandSimError(f"step: hand_vz_m_per_s must be a finite velocity in m/s, got {hand_v!r}")
+        hand_a = hand_az_m_per_s2
+        if hand_a is not None and not (is_number(hand_a, numpy=True) and math.isfinite(hand_a)):  # type: ignore[arg-type]
+            raise HandSimError(f"step: hand_az_m_per_s2 must be a finite acceleration in m/s^2 or None, got {hand_a!r}")
         dt = now - self._now
         if dt <= 0.0:
             return self._moves_with_hand
@@ -867,7 +908,10 @@ class HandSim:
         else:
             reach = self._speed * dt
             error = self._target - w
-            w_next = w + (error if -reach <= error <= reach else (reach if error > 0 else -reach))
+            if abs(error) <= reach + _SAME_M:  # arrives: exactly on the target, no rounding left
+                w_next = self._target
+            else:
+                w_next = w + reach if error > 0 else w - reach
         # ... 2. but not past the width where the elastic force reaches the force limit
         # (there the fingers stall); a hand squeezed beyond its limit is pushed open, at
         # most at the speed limit, and stalls once it is back at that width.
@@ -899,7 +943,7 @@ class HandSim:
         if mode >= _MOVE and mode != _GRASP_HOLD:
             self._advance_goal(mode, w_next, held_back, now)
         # 5. The object's vertical motion.
-        self._vertical(dt, hand_vz_m_per_s, hand_az_m_per_s2)
+        self._vertical(dt, float(hand_v), None if hand_a is None else float(hand_a))
         return self._moves_with_hand
 
     def _advance_goal(self, mode: int, w: float, held_back: bool, now: float) -> None:
@@ -943,25 +987,26 @@ class HandSim:
         elif mode == _HOMING_CLOSE:
             if held_back or arrived:
                 self._mode, self._target = _HOMING_OPEN, self._w_max
-        elif mode == _HOMING_OPEN:
-            if arrived:
-                self._mode, self._target, self._cap = _HOLD, self._w_max, p.move_force_n
-                self._finish(record, now, GoalStatus.SUCCEEDED, True)
+        elif mode == _HOMING_OPEN and arrived:
+            self._mode, self._target, self._cap = _HOLD, self._w_max, p.move_force_n
+            self._finish(record, now, GoalStatus.SUCCEEDED, True)
 
     def _vertical(self, dt: float, hand_v: float, hand_a: Optional[float]) -> None:
         """Coulomb stick-slip of the object against the fingers, and its support."""
-        if not (is_number(hand_v, numpy=True) and math.isfinite(hand_v)):  # type: ignore[arg-type]
-            raise HandSimError(f"step: hand_vz_m_per_s must be a finite velocity in m/s, got {hand_v!r}")
-        hand_v = float(hand_v)
         if hand_a is None:
             hand_a = 0.0 if self._hand_v_prev is None else (hand_v - self._hand_v_prev) / dt
-        elif not (is_number(hand_a, numpy=True) and math.isfinite(hand_a)):  # type: ignore[arg-type]
-            raise HandSimError(f"step: hand_az_m_per_s2 must be a finite acceleration in m/s^2 or None, got {hand_a!r}")
         self._hand_v_prev = hand_v
         obj = self._obj
         if obj is None:
             self._moves_with_hand = False
             return
+        self._vertical_object(obj, dt, hand_v, float(hand_a))
+        inside = self._inside
+        self._update_inside()
+        if self._inside != inside:  # it slid out of (or into) the fingers
+            self._update_forces()
+
+    def _vertical_object(self, obj: GraspObject, dt: float, hand_v: float, hand_a: float) -> None:
         g = GRAVITY_M_PER_S2
         m = obj.mass_kg
         friction = holding_force_n(self._force, obj.friction_coefficient) if self._between_fingers() else 0.0
@@ -969,10 +1014,10 @@ class HandSim:
         relative = v - hand_v
         stick = False
         if abs(relative) <= _STICK_M_PER_S:
-            need = m * (float(hand_a) + g)  # friction force that would carry it along
+            need = m * (hand_a + g)  # friction force that would carry it along
             if abs(need) <= friction and friction > 0.0:
                 stick = True
-                accel = float(hand_a)
+                accel = hand_a
             else:
                 accel = -g + math.copysign(friction, need) / m
         else:
