@@ -8,8 +8,10 @@ A trace is a sequence of (receive time in s, value) pairs in arrival order.
 
 from __future__ import annotations
 
+import bisect
+import difflib
 from dataclasses import dataclass
-from typing import Callable, List, Optional, Sequence, Tuple
+from typing import Callable, List, Sequence, Tuple
 
 import numpy as np
 
@@ -45,47 +47,65 @@ def rate_hz(trace: Trace) -> float:
 
 
 def pair_outputs(inputs: Trace, outputs: Trace, expected: Callable[[float], float],
-                 tolerance: float = 1e-6, clock_slack_s: float = 0.1,
-                 max_latency_s: float = 0.5) -> Pairing:
-    """Match each output to the unused input nearest in time whose expected value it equals.
+                 tolerance: float = 1e-6) -> Pairing:
+    """Line the outputs up with the inputs that caused them, in order, like a diff.
 
-    The candidates for an output received at ``t`` are the inputs received in
-    ``[t - max_latency_s, t + clock_slack_s]``: a recorder gets inputs and outputs over
-    separate connections and may stamp an output a little before its input (up to about
-    20 ms seen on a loaded 2-core machine). Nearest in time, not "next in order", because
-    a sensor repeats values (a plateau of equal counts) and the first inputs may have been
-    sent before the recording began. An output that matches no candidate is a wrong value
-    (``unmatched_outputs``), unless it arrived before any input was recorded
-    (``unjudged_outputs``). One output per input: an input already matched is not used
-    again, so a node that repeats itself shows up. Inputs that no output matched are ``dropped_inputs``
-    (counting only those recorded before the last output).
+    A node that answers every input with one output (mapping_node) keeps their order.
+    Order, not receive time, decides: a recorder gets inputs and outputs over separate
+    connections and may stamp an output 20 ms before its input on a loaded 2-core
+    machine; and a sensor repeats values (plateaus), so value alone is ambiguous. The
+    longest in-order matching (difflib) tolerates a message lost on either topic and the
+    edges, where the recorder subscribed to or left the two topics at different moments.
+
+    Unpaired outputs inside the matched span whose value is not the mapping of an input
+    where they would align are ``unmatched_outputs``: wrong. Unpaired outputs before the
+    first or after the last match, or equal to a neighbouring input's mapping, are
+    ``unjudged_outputs``: their inputs may not have been recorded (so a duplicated output
+    is not caught; a wrong value is). Inputs inside the matched span with no output are
+    ``dropped_inputs``.
     """
+    want = [float(expected(v)) for _, v in inputs]
+    levels = sorted(set(want))
+    symbols_in = [bisect.bisect_left(levels, w) for w in want]
+    symbols_out: List[int] = []
+    for k, (_, v) in enumerate(outputs):
+        i = bisect.bisect_left(levels, float(v) - tolerance)
+        ok = i < len(levels) and abs(levels[i] - float(v)) <= tolerance
+        symbols_out.append(i if ok else -1 - k)  # a value no input gives: a symbol of its own
+    blocks = [b for b in difflib.SequenceMatcher(None, symbols_in, symbols_out, autojunk=False)
+              .get_matching_blocks() if b.size]
     pairs: List[Tuple[float, float, float, float]] = []
-    unmatched = 0
-    unjudged = 0
-    used = set()
-    t_in = np.array([t for t, _ in inputs], dtype=float)
-    first_input_t = float(t_in[0]) if len(t_in) else float("inf")
-    for t_out, v_out in outputs:
-        lo = int(np.searchsorted(t_in, t_out - max_latency_s, side="left"))
-        hi = int(np.searchsorted(t_in, t_out + clock_slack_s, side="right"))
-        best: Optional[int] = None
-        for j in range(lo, hi):
-            if j not in used and abs(expected(inputs[j][1]) - v_out) <= tolerance:
-                if best is None or abs(t_out - t_in[j]) < abs(t_out - t_in[best]):
-                    best = j
-        if best is None:
-            if not pairs and t_out < first_input_t + clock_slack_s:
-                unjudged += 1
-            else:
-                unmatched += 1
+    paired_out = set()
+    for block in blocks:
+        for d in range(block.size):
+            j, k = block.a + d, block.b + d
+            pairs.append((inputs[j][0], inputs[j][1], outputs[k][0], outputs[k][1]))
+            paired_out.add(k)
+    pairs.sort(key=lambda p: p[2])
+    if not blocks:
+        return Pairing(pairs=[], unmatched_outputs=0, dropped_inputs=0, unjudged_outputs=len(outputs))
+    first_k, last_k = blocks[0].b, blocks[-1].b + blocks[-1].size - 1
+    first_j, last_j = blocks[0].a, blocks[-1].a + blocks[-1].size - 1
+    unmatched = unjudged = 0
+    for k in range(len(outputs)):
+        if k in paired_out:
             continue
-        used.add(best)
-        pairs.append((inputs[best][0], inputs[best][1], t_out, v_out))
-    last_t_out = outputs[-1][0] if len(outputs) else float("-inf")
-    considered = sum(1 for t, _ in inputs if t <= last_t_out)
-    return Pairing(pairs=pairs, unmatched_outputs=unmatched,
-                   dropped_inputs=max(0, considered - len(used)), unjudged_outputs=unjudged)
+        if not first_k < k < last_k:
+            unjudged += 1
+            continue
+        # Between two matched runs: an input lost by the recorder looks like this too, so an
+        # output equal to the mapping of an input where it would align is not called wrong.
+        before = max(b for b in blocks if b.b < k)
+        after = min(b for b in blocks if b.b > k)
+        lo, hi = before.a + before.size - 2, after.a + 1
+        value = float(outputs[k][1])
+        if any(abs(want[j] - value) <= tolerance for j in range(max(0, lo), min(len(want), hi + 1))):
+            unjudged += 1
+        else:
+            unmatched += 1
+    dropped = (last_j - first_j + 1) - len(pairs)
+    return Pairing(pairs=pairs, unmatched_outputs=unmatched, dropped_inputs=max(0, dropped),
+                   unjudged_outputs=unjudged)
 
 
 def percentile_ms(values_s: np.ndarray, q: float) -> float:
