@@ -17,7 +17,7 @@ import difflib
 import re
 from dataclasses import dataclass
 from pathlib import Path
-from typing import Any, Dict, Mapping, Union
+from typing import Any, Dict, Mapping, Optional, Union
 
 from hri_teleop.checks import is_finite_number
 from hri_teleop.gamepad import DEFAULT_LAYOUT, PAD_KINDS
@@ -230,6 +230,20 @@ def teleop_config_from_dict(d: Mapping[str, Any], source: str = "<dict>") -> Tel
     return TeleopConfig(params=params, limits=limits, layout=strings["layout"], pad=strings["pad"], twist_topic=strings["twist_topic"])
 
 
-def load_teleop_config(path: Union[str, Path]) -> TeleopConfig:
-    """:func:`load_yaml` then :func:`teleop_config_from_dict`, with the file named in every error."""
-    return teleop_config_from_dict(load_yaml(path), source=str(path))
+def load_teleop_config(path: Union[str, Path], overrides: Optional[Mapping[str, Any]] = None,
+                       overrides_source: str = "overrides") -> TeleopConfig:
+    """:func:`load_yaml` then :func:`teleop_config_from_dict`, with the file named in every error.
+
+    ``overrides`` (e.g. a node's private parameters) replace single keys of the file; the
+    file is checked on its own first, so a mistake in it is reported against the file.
+    An empty ``path`` means no file: the defaults plus the overrides.
+    """
+    settings: Dict[str, Any] = {}
+    if str(path):
+        settings = dict(load_yaml(path))
+        if not overrides:
+            return teleop_config_from_dict(settings, source=str(path))
+        teleop_config_from_dict(settings, source=str(path))
+    settings.update(overrides or {})
+    where = f"{overrides_source} over {path}" if str(path) else overrides_source
+    return teleop_config_from_dict(settings, source=where)

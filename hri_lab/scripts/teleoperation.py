@@ -54,14 +54,14 @@ import signal
 import threading
 import time
 from pathlib import Path
-from typing import Any, Dict, Optional, Tuple
+from typing import Any, Optional, Tuple
 
 import rospy
 from geometry_msgs.msg import Twist
 from sensor_msgs.msg import Joy
 from std_msgs.msg import Float32
 
-from hri_teleop.config import TeleopConfig, load_yaml, teleop_config_from_dict
+from hri_teleop.config import load_teleop_config
 from hri_teleop.gamepad import GamepadError, RumbleRequests, ScriptedPad, VirtualPad, open_gamepad
 from hri_teleop.limits import Watchdog
 from hri_teleop.ros.params import fail, get_param, private_params, run_node
@@ -87,22 +87,6 @@ def default_config_path() -> str:
     return ""
 
 
-def load_config(path: str, overrides: Dict[str, Any], node_name: str) -> TeleopConfig:
-    """The file's settings, then the node's private parameters on top (both checked).
-
-    The file is read here, not with <rosparam load> in the launch file: a YAML mistake then
-    gives one line with the file, the line and the fix (roslaunch would print a parse
-    error and refuse to start anything).
-    """
-    settings: Dict[str, Any] = {}
-    if path:
-        settings = load_yaml(path)
-        teleop_config_from_dict(settings, source=path)  # errors name the file
-    settings.update(overrides)
-    where = f"{node_name} private parameters over {path}" if path else f"{node_name} private parameters"
-    return teleop_config_from_dict(settings, source=where)
-
-
 def _twist_msg(twist: Tuple[float, ...]) -> Twist:
     msg = Twist()
     msg.linear.x, msg.linear.y, msg.linear.z = twist[0], twist[1], twist[2]
@@ -116,7 +100,10 @@ class TeleoperationNode:
     def __init__(self) -> None:
         name = rospy.get_name()
         self.config_path = get_param("~config", "", kind=str).strip() or default_config_path()
-        self.config = load_config(self.config_path, private_params(exclude=NODE_ONLY_KEYS), name)
+        # The node reads the file itself, not <rosparam load> in the launch file: a YAML
+        # mistake is then one line with the file, the line and the fix.
+        self.config = load_teleop_config(self.config_path, private_params(exclude=NODE_ONLY_KEYS),
+                                         f"{name} private parameters")
         params = self.config.params
         pad_script = get_param("~pad_script", "", kind=str).strip()
         pad_index = get_param("~pad_index", 0, kind=int)

@@ -21,6 +21,7 @@ import logging
 import os
 from typing import Any, Callable, List, Optional, Sequence, Tuple, Union
 
+from ..checks import is_int
 from .layout import Layout, as_layout, available_layouts
 from .state import GamepadError, PadState, clean_duration, clean_intensity
 
@@ -122,7 +123,7 @@ class PygamePad:
         count = pg.joystick.get_count()
         if count == 0:
             raise GamepadError(NO_GAMEPAD_MESSAGE)
-        if isinstance(index, bool) or not isinstance(index, int) or not 0 <= index < count:
+        if not is_int(index) or not 0 <= index < count:
             raise GamepadError("gamepad index %r not found: %d gamepad%s connected; set the pad "
                                "index to a number from 0 to %d" % (index, count, "" if count == 1 else "s",
                                                                    count - 1))

@@ -98,7 +98,7 @@ from typing import Dict, List, Optional, Tuple, Union
 import numpy as np
 
 from hri_teleop import fsr
-from hri_teleop.checks import is_number
+from hri_teleop.checks import is_finite_number, is_number
 from hri_teleop.teleop import GRIPPER_MAX_WIDTH_M
 
 __all__ = [
@@ -165,7 +165,7 @@ class HandSimError(ValueError):
 
 def _check(value: object, name: str, fix: str, *, lowest: str = "") -> float:
     """``value`` as a finite float; ``lowest`` ">0" or ">=0" bounds it (else HandSimError)."""
-    if not (is_number(value, numpy=True) and math.isfinite(value)):  # type: ignore[arg-type]
+    if not is_finite_number(value, numpy=True):
         raise HandSimError(f"{name} must be a finite number, got {value!r}; {fix}")
     number = float(value)  # type: ignore[arg-type]
     if (lowest == ">0" and not number > 0.0) or (lowest == ">=0" and not number >= 0.0):
@@ -773,7 +773,7 @@ class HandSim:
     # ------------------------------------------------------------------ goals
 
     def _check_time(self, now_s: float, what: str) -> float:
-        if not (is_number(now_s, numpy=True) and math.isfinite(now_s)):  # type: ignore[arg-type]
+        if not is_finite_number(now_s, numpy=True):
             raise HandSimError(f"{what}: now_s must be a finite time in seconds, got {now_s!r}")
         now = float(now_s)  # type: ignore[arg-type]
         if now < self._now:
@@ -890,10 +890,10 @@ class HandSim:
         """
         now = self._check_time(now_s, "step")
         hand_v = hand_vz_m_per_s
-        if not (is_number(hand_v, numpy=True) and math.isfinite(hand_v)):  # type: ignore[arg-type]
+        if not is_finite_number(hand_v, numpy=True):
             raise HandSimError(f"step: hand_vz_m_per_s must be a finite velocity in m/s, got {hand_v!r}")
         hand_a = hand_az_m_per_s2
-        if hand_a is not None and not (is_number(hand_a, numpy=True) and math.isfinite(hand_a)):  # type: ignore[arg-type]
+        if hand_a is not None and not is_finite_number(hand_a, numpy=True):
             raise HandSimError(f"step: hand_az_m_per_s2 must be a finite acceleration in m/s^2 or None, got {hand_a!r}")
         dt = now - self._now
         if dt <= 0.0:

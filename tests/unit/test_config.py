@@ -229,3 +229,12 @@ def test_legal_twist_topics_are_accepted(topic):
 def test_deadman_button_from_the_config(value, expected):
     cfg = teleop_config_from_dict({"buttons": {"deadman": value}})
     assert cfg.params.deadman_button == expected
+
+
+def test_overrides_replace_single_keys_of_the_file(tmp_path):
+    path = tmp_path / "teleop.yaml"
+    path.write_text("k_trans: 0.05\nrate: 50\n")
+    cfg = load_teleop_config(path, {"k_trans": 0.07}, "node params")
+    assert cfg.params.k_trans == 0.07 and cfg.params.rate_hz == 50.0
+    with pytest.raises(ConfigError, match="node params over"):
+        load_teleop_config(path, {"k_tran": 0.07}, "node params")
