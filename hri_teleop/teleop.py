@@ -153,7 +153,7 @@ class TeleopParams:
     initial_width_m: float = GRIPPER_MAX_WIDTH_M
     input_timeout_s: float = 0.5  # pad silent/lost this long -> ramp to zero
     force_timeout_s: float = 1.0  # mapped force older than this -> rumble 0 (> 3 periods of the handout's 300 ms firmware)
-    rumble_threshold: float = 0.0  # mapped force at or below this -> no rumble
+    rumble_threshold: float = 0.01  # mapped force at or below this -> no rumble (above ADC noise at rest: 7 of 700 counts)
     assignment: AxisAssignment = field(default_factory=AxisAssignment)
     close_button: str = "south"
     open_button: str = "east"

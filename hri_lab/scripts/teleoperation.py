@@ -23,7 +23,9 @@ the fix. Keys (see teleop.yaml for units and defaults):
                        franka_control_cartesian_velocity.launch (Task 2). If your
                        controller listens elsewhere, set twist_topic:=... on the launch.
   ~pad_script    str   ""  with pad "virtual": a ScriptedPad YAML to replay (use an absolute
-                           path: roslaunch starts nodes in ~/.ros)
+                           path: roslaunch starts nodes in ~/.ros). The script's time counts
+                           this node's ticks (1/rate each), so a replay is the same on a
+                           busy machine; hri_lab/scenarios/ has the simulated operators.
   ~pad_index     int   0   which physical pad, with pad "pygame"
   ~stop_timeout_s float 3.0 longest ramp to zero at shutdown before giving up (s)
 Publishes:
@@ -113,8 +115,12 @@ class TeleoperationNode:
 
         self.controller = TeleopController(params, self.config.limits)
         self.dt_s = 1.0 / params.rate_hz
+        # A scripted pad runs on the node's ticks, not on the wall clock: step k happens at
+        # the same tick in every run, however busy the machine (tests, the demo, traces).
+        self._ticks = 0
         self.pad = open_gamepad(self.config.pad, self.config.layout, index=pad_index,
-                                script=pad_script or None, log=rospy.logwarn)
+                                script=pad_script or None, log=rospy.logwarn,
+                                clock=(lambda: self._ticks * self.dt_s) if pad_script else None)
         self.pad_watchdog = Watchdog(params.input_timeout_s)
         # pad:=virtual without a script is driven by messages on ~virtual_joy (a notebook
         # widget, a test, `rosbag play` of a recorded /joy): its input is fresh only while
@@ -193,6 +199,7 @@ class TeleoperationNode:
         if state is not None:
             self._publish_joy(state)
         self._rumble(cmd.rumble, now)
+        self._ticks += 1
         if cmd.quit and not self._quit_logged:
             rospy.loginfo("quit pressed (%s): ramping the twist to zero, then exiting",
                           self.controller.params.quit_button)

@@ -15,8 +15,19 @@ steps::
     - {t: 5.0, fail: true}                   # reading the pad fails (poll raises) ...
     - {t: 6.0, recover: true}                # ... until it recovers
 
-``t`` is seconds since the script started (the first ``poll``), never decreasing.
-The file may also be a mapping ``{description: ..., steps: [...]}``.
+A simulated operator also taps and reacts to the rumble it feels::
+
+    - {t: 7.0, tap: south, hold: 0.04}       # press cross for 40 ms (two ticks at 50 Hz)
+    - {t: 8.0, tap: south, hold: 0.04, every: 0.5, until: rumble, above: 0.9, max_wait: 20}
+                                             # tap every 0.5 s until the pad rumbles above 0.9
+    - {t: 9.0, release: south, when: rumble} # wait until the pad rumbles, then let go
+
+``t`` is seconds since the script started (the first ``poll``), never decreasing.  While
+a step waits (``until``/``when``), the script's clock stops: later steps keep their
+spacing from the end of the wait.  A wait gives up after ``max_wait`` seconds (default
+30) and the script goes on; ``ScriptedPad.timed_out`` lists such waits.  The file may
+also be a mapping ``{description: ..., world: {...}, steps: [...]}`` (``world`` is for
+the simulation, see hri_teleop.sim.config).
 """
 
 from __future__ import annotations
@@ -146,17 +157,40 @@ class VirtualPad:
 
 @dataclass(frozen=True)
 class ScriptStep:
-    """One timed action: ``action`` is axis, press, release, disconnect or reconnect."""
+    """One timed action: ``action`` is axis, press, release, tap, disconnect, reconnect, fail or recover.
+
+    ``hold_s``: how long a tap holds its buttons.  ``every_s``: a tap repeated this often
+    until the rumble condition holds.  ``when``: the step waits for the condition, then
+    acts.  The condition is "the pad rumbles above ``above``", given up after ``max_wait_s``.
+    """
 
     t: float
     action: str
     target: Tuple[str, ...] = ()   # axis name, or button names
     value: float = 0.0             # axis value
+    hold_s: float = 0.0            # tap: seconds the buttons stay down
+    every_s: float = 0.0           # tap: repeat period while waiting (0: a single tap)
+    condition: str = ""            # "" or "rumble": wait for it ("when", or "until" for taps)
+    above: float = 0.0             # rumble intensity the condition needs (strictly above)
+    max_wait_s: float = 0.0        # give up waiting after this long (then act anyway)
+
+    @property
+    def waits(self) -> bool:
+        return bool(self.condition)
 
 
-_ACTIONS = ("axis", "press", "release", "disconnect", "reconnect", "fail", "recover")
-_STEP_KEYS = ("t", "value") + _ACTIONS
+_ACTIONS = ("axis", "press", "release", "tap", "disconnect", "reconnect", "fail", "recover")
+_OPTIONS = ("hold", "every", "until", "when", "above", "max_wait")
+_STEP_KEYS = ("t", "value") + _ACTIONS + _OPTIONS
+_CONDITIONS = ("rumble",)
 _EXAMPLE = "e.g. '- {t: 1.0, press: south}'"
+#: A tap holds its buttons this long unless the step says ``hold`` (s): a quick press.
+DEFAULT_TAP_HOLD_S = 0.1
+#: A waiting step gives up after this long unless it says ``max_wait`` (s).
+DEFAULT_MAX_WAIT_S = 30.0
+# Script times closer than this are equal (s): steps written at t and t + hold must not
+# miss each other by a rounding error of the clock's arithmetic.
+_TIME_EPS_S = 1e-6
 
 
 def _number(value: Any) -> Optional[float]:
@@ -164,11 +198,15 @@ def _number(value: Any) -> Optional[float]:
 
 
 def parse_script(data: Any, source: str = "<script>") -> List[ScriptStep]:
-    """Check parsed YAML and turn it into steps; each problem is one line naming source and step."""
+    """Check parsed YAML and turn it into steps; each problem is one line naming source and step.
+
+    A script is a list of steps, or a mapping with ``steps`` (and optionally
+    ``description``, and ``world``, which the simulation reads and the pad ignores).
+    """
     if isinstance(data, dict) and "steps" in data:
-        extra = [k for k in data if k not in ("steps", "description")]
+        extra = [k for k in data if k not in ("steps", "description", "world")]
         if extra:
-            raise GamepadError("%s: unknown key %r; a script mapping has only 'description' and "
+            raise GamepadError("%s: unknown key %r; a script mapping has only 'description', 'world' and "
                                "'steps'" % (source, extra[0]))
         data = data["steps"]
     if not isinstance(data, list) or not data:
@@ -184,7 +222,8 @@ def parse_script(data: Any, source: str = "<script>") -> List[ScriptStep]:
             raise fail("expected a mapping, found %r" % (raw,), "write it as {t: 1.0, press: south}")
         unknown = [k for k in raw if k not in _STEP_KEYS]
         if unknown:
-            raise fail("unknown key %r" % (unknown[0],), "use t plus one of %s" % ", ".join(_ACTIONS))
+            raise fail("unknown key %r" % (unknown[0],), "use t plus one of %s (options: %s)"
+                       % (", ".join(_ACTIONS), ", ".join(_OPTIONS)))
         t = _number(raw.get("t"))
         if t is None or not 0.0 <= t < float("inf"):
             raise fail("t is %r" % (raw.get("t"),), "give the time in seconds since the start, a number >= 0")
@@ -199,6 +238,7 @@ def parse_script(data: Any, source: str = "<script>") -> List[ScriptStep]:
         action = actions[0]
         if "value" in raw and action != "axis":
             raise fail("'value' belongs to an axis step", "remove it or write {t: ..., axis: left_y, value: 0.5}")
+        options = _parse_options(raw, action, fail)
         if action == "axis":
             name = raw["axis"]
             if name not in AXES:
@@ -208,8 +248,8 @@ def parse_script(data: Any, source: str = "<script>") -> List[ScriptStep]:
             if value is None or not low <= value <= 1.0:
                 raise fail("axis %s value is %r" % (name, raw.get("value")),
                            "give a number in %g..1 (sticks: right/up = +1)" % low)
-            steps.append(ScriptStep(t, "axis", (name,), value))
-        elif action in ("press", "release"):
+            steps.append(ScriptStep(t, "axis", (name,), value, **options))
+        elif action in ("press", "release", "tap"):
             names = raw[action]
             names = [names] if isinstance(names, str) else names
             if not isinstance(names, list) or not names:
@@ -219,12 +259,59 @@ def parse_script(data: Any, source: str = "<script>") -> List[ScriptStep]:
                     raise fail("unknown button %r" % (name,),
                                "use a positional name, one of %s (south = cross/A, east = circle/B, "
                                "west = square/X, north = triangle/Y)" % ", ".join(BUTTONS))
-            steps.append(ScriptStep(t, action, tuple(names)))
+            steps.append(ScriptStep(t, action, tuple(names), **options))
         else:
             if raw[action] is not True:
                 raise fail("%s is %r" % (action, raw[action]), "write '%s: true'" % action)
-            steps.append(ScriptStep(t, action))
+            steps.append(ScriptStep(t, action, **options))
     return steps
+
+
+def _parse_options(raw: Dict[str, Any], action: str, fail: Callable[[str, str], GamepadError]) -> Dict[str, Any]:
+    """hold/every/until/when/above/max_wait of one step, checked against its action."""
+    options: Dict[str, Any] = {}
+    is_tap = action == "tap"
+    for key in ("hold", "every"):
+        if key in raw and not is_tap:
+            raise fail("'%s' belongs to a tap step" % key, "write {t: ..., tap: south, %s: ...} or remove it" % key)
+    if "until" in raw and "when" in raw:
+        raise fail("both 'until' and 'when'", "a repeated tap waits with 'until', any other step with 'when'")
+    if "until" in raw and not (is_tap and "every" in raw):
+        raise fail("'until' belongs to a repeated tap",
+                   "write {t: ..., tap: south, every: 0.5, until: rumble}, or wait with 'when: rumble'")
+    if "when" in raw and is_tap and "every" in raw:
+        raise fail("a repeated tap stops with 'until', not 'when'", "write until: rumble")
+    if is_tap:
+        hold = _number(raw.get("hold", DEFAULT_TAP_HOLD_S))
+        if hold is None or not 0.0 < hold < float("inf"):
+            raise fail("hold is %r" % (raw.get("hold"),), "give the seconds the button stays down, e.g. 0.1")
+        options["hold_s"] = hold
+        if "every" in raw:
+            every = _number(raw["every"])
+            if every is None or not hold < every < float("inf"):
+                raise fail("every is %r" % (raw["every"],),
+                           "give the tap period in seconds, longer than hold (%g s), e.g. 0.5" % hold)
+            if "until" not in raw:
+                raise fail("a repeated tap needs 'until'", "add until: rumble (and max_wait: seconds)")
+            options["every_s"] = every
+    key = "until" if "until" in raw else "when" if "when" in raw else ""
+    if key:
+        if raw[key] not in _CONDITIONS:
+            raise fail("%s is %r" % (key, raw[key]), "the condition is 'rumble' (the pad vibrates)")
+        options["condition"] = raw[key]
+        above = _number(raw.get("above", 0.0))
+        if above is None or not 0.0 <= above < 1.0:
+            raise fail("above is %r" % (raw.get("above"),), "give a rumble intensity in [0, 1), e.g. 0.5")
+        options["above"] = above
+        max_wait = _number(raw.get("max_wait", DEFAULT_MAX_WAIT_S))
+        if max_wait is None or not 0.0 < max_wait < float("inf"):
+            raise fail("max_wait is %r" % (raw.get("max_wait"),), "give the longest wait in seconds, e.g. 20")
+        options["max_wait_s"] = max_wait
+    else:
+        for option in ("above", "max_wait"):
+            if option in raw:
+                raise fail("'%s' without a condition" % option, "add until: rumble (repeated tap) or when: rumble")
+    return options
 
 
 def load_script(path: Union[str, Path]) -> List[ScriptStep]:
@@ -237,7 +324,12 @@ def load_script(path: Union[str, Path]) -> List[ScriptStep]:
 
 
 class ScriptedPad(VirtualPad):
-    """A VirtualPad that replays timed steps; time starts at the first poll() (or advance())."""
+    """A VirtualPad that replays timed steps; time starts at the first poll() (or advance()).
+
+    The script's clock stops while a step waits for its condition (``when``/``until``):
+    the steps after it keep their spacing from the moment the wait ends, whatever the wait
+    took.  A wait that gives up after ``max_wait`` is recorded in ``timed_out``.
+    """
 
     def __init__(self, steps: Union[Sequence[ScriptStep], str, Path],
                  layout: Union[Layout, str, None] = None, name: str = "scripted", *,
@@ -248,24 +340,84 @@ class ScriptedPad(VirtualPad):
         self.steps: Tuple[ScriptStep, ...] = tuple(steps)
         self._next = 0
         self._start_s: Optional[float] = None
+        self._paused_s = 0.0                   # script time lost to waits so far
+        self._wait_since: Optional[float] = None  # elapsed time the current wait began
+        self._tap_buttons: Tuple[str, ...] = ()
+        self._release_at: Optional[float] = None  # elapsed time a tap lets go
+        self._next_tap_at: Optional[float] = None  # repeated tap: elapsed time of the next decision
+        self.taps = 0
+        #: (script step number from 1, seconds waited) of every wait that gave up.
+        self.timed_out: List[Tuple[int, float]] = []
+        #: (script step number from 1, seconds waited) of every wait that ended by its condition.
+        self.waited: List[Tuple[int, float]] = []
 
     @property
     def finished(self) -> bool:
-        """True once every step has been applied."""
-        return self._next >= len(self.steps)
+        """True once every step has been applied (and a last tap released)."""
+        return self._next >= len(self.steps) and self._release_at is None
 
     def start(self, now_s: Optional[float] = None) -> None:
         """Set the script's time zero (default: the clock now); poll() calls it if you do not."""
         self._start_s = float(self._clock() if now_s is None else now_s)
 
+    def rumble_level(self, now_s: Optional[float] = None) -> float:
+        """The intensity the pad is rumbling with at ``now_s`` (pad clock; 0 when it is not)."""
+        now = float(self._clock() if now_s is None else now_s)
+        for record in reversed(self.rumbles):
+            if record.time_s <= now + _TIME_EPS_S:
+                return record.intensity if now < record.time_s + record.duration_s else 0.0
+        return 0.0
+
     def advance(self, elapsed_s: float) -> int:
-        """Apply every step due at ``elapsed_s`` seconds into the script; returns how many."""
+        """Apply every step due at ``elapsed_s`` seconds since the start; returns how many."""
+        elapsed = float(elapsed_s)
+        if self._start_s is None:
+            self._start_s = float(self._clock()) - elapsed
         applied = 0
-        while self._next < len(self.steps) and self.steps[self._next].t <= elapsed_s:
-            self._apply(self.steps[self._next])
+        if self._release_at is not None and elapsed + _TIME_EPS_S >= self._release_at:
+            for name in self._tap_buttons:
+                self.release(name)
+            self._release_at = None
+        while self._next < len(self.steps):
+            step = self.steps[self._next]
+            if step.t > elapsed - self._paused_s + _TIME_EPS_S:
+                break
+            if step.waits and not self._wait_over(step, elapsed):
+                break
+            if not (step.action == "tap" and step.every_s > 0.0):
+                self._apply(step, elapsed)
             self._next += 1
             applied += 1
         return applied
+
+    def _wait_over(self, step: ScriptStep, elapsed: float) -> bool:
+        """Whether a waiting step may go on now (False: keep waiting; taps happen in here)."""
+        if self._wait_since is None:
+            self._wait_since = elapsed
+        waited = elapsed - self._wait_since
+        repeated = step.action == "tap" and step.every_s > 0.0
+        if repeated:
+            if self._release_at is not None:
+                return False  # the finger is still on the button
+            if self._next_tap_at is not None and elapsed + _TIME_EPS_S < self._next_tap_at:
+                return False  # between taps
+            if self._next_tap_at is None:  # the first tap, whatever the pad does
+                met = False
+            else:
+                met = self.rumble_level(self._start_s + elapsed) > step.above  # type: ignore[operator]
+            if not met and waited + _TIME_EPS_S < step.max_wait_s:
+                self._tap(step, elapsed)
+                self._next_tap_at = elapsed + step.every_s
+                return False
+        else:
+            met = self.rumble_level(self._start_s + elapsed) > step.above  # type: ignore[operator]
+            if not met and waited + _TIME_EPS_S < step.max_wait_s:
+                return False
+        (self.waited if met else self.timed_out).append((self._next + 1, waited))
+        self._paused_s += waited
+        self._wait_since = None
+        self._next_tap_at = None
+        return True
 
     def poll(self) -> PadState:
         if self._start_s is None:
@@ -274,7 +426,14 @@ class ScriptedPad(VirtualPad):
         self.advance(float(self._clock()) - self._start_s)
         return super().poll()
 
-    def _apply(self, step: ScriptStep) -> None:
+    def _tap(self, step: ScriptStep, elapsed: float) -> None:
+        for name in step.target:
+            self.press(name)
+        self._tap_buttons = step.target
+        self._release_at = elapsed + step.hold_s
+        self.taps += 1
+
+    def _apply(self, step: ScriptStep, elapsed: float) -> None:
         if step.action == "axis":
             self.set_axis(step.target[0], step.value)
         elif step.action == "press":
@@ -283,6 +442,8 @@ class ScriptedPad(VirtualPad):
         elif step.action == "release":
             for name in step.target:
                 self.release(name)
+        elif step.action == "tap":
+            self._tap(step, elapsed)
         elif step.action == "disconnect":
             self.disconnect()
         elif step.action == "fail":

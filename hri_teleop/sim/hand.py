@@ -553,6 +553,7 @@ class HandSim:
         self._obj_v = 0.0
         self._offset = 0.0
         self._moves_with_hand = False
+        self._in_reach = True  # horizontally between the fingers (the caller's geometry)
         self._hand_v_prev: Optional[float] = None
         # Results of the last step.
         self._force = 0.0
@@ -572,7 +573,7 @@ class HandSim:
             raise HandSimError(f"place_object takes a GraspObject, got {obj!r}; e.g. OBJECTS['egg']")
         offset = _check(finger_offset_m, "finger_offset_m", "pass metres, 0.0 = fingers at the grasp height")
         height = _check(height_m, "height_m", "pass metres above the support, 0.0 = on the table", lowest=">=0")
-        if abs(offset) <= self.params.grip_zone_m and self._w < obj.width_m + self._travel:
+        if self._in_reach and abs(offset) <= self.params.grip_zone_m and self._w < obj.width_m + self._travel:
             raise HandSimError(
                 f"place_object: the fingers are {self._w:.4f} m apart, too close for the {obj.name} "
                 f"({obj.width_m} m + {self._travel} m piston); open them first, or place it with "
@@ -628,6 +629,28 @@ class HandSim:
         """Fingers' height above the object's grasp height (m); grows as the object slips."""
         return self._offset
 
+    def set_in_reach(self, in_reach: bool) -> None:
+        """Tell the hand whether the object is horizontally between the fingers.
+
+        The hand models only the vertical; the caller (:class:`hri_teleop.sim.world.LabWorld`)
+        knows where the hand and the object are in the plane.  An object out of reach is
+        not between the fingers whatever the height; coming back into reach follows the
+        same rule as coming down onto it (the fingers must be open wide enough).
+        """
+        in_reach = bool(in_reach)
+        if in_reach == self._in_reach:
+            return
+        self._in_reach = in_reach
+        inside = self._inside
+        self._update_inside()
+        if self._inside != inside:
+            self._update_forces()
+
+    @property
+    def object_between_fingers(self) -> bool:
+        """Whether an unbroken object is between the fingers (in reach and in the grip zone)."""
+        return self._between_fingers()
+
     def _between_fingers(self) -> bool:
         return self._inside and not self._crushed
 
@@ -639,7 +662,7 @@ class HandSim:
         (no force) until the fingers leave the zone and come back open enough.
         """
         obj = self._obj
-        if obj is None or abs(self._offset) > self.params.grip_zone_m:
+        if obj is None or not self._in_reach or abs(self._offset) > self.params.grip_zone_m:
             self._inside = False
         elif not self._inside:
             self._inside = self._w >= obj.width_m + self._travel

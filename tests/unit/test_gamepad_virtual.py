@@ -238,3 +238,128 @@ def test_a_scripted_read_failure_makes_poll_raise_until_it_recovers():
         pad.poll()
     now[0] = 2.5
     assert pad.poll().connected
+
+
+# --------------------------------------------------------------------------- the simulated operator
+
+
+class TickClock:
+    """The teleoperation node's clock for a scripted pad: ticks of 20 ms."""
+
+    def __init__(self) -> None:
+        self.ticks = 0
+
+    def __call__(self) -> float:
+        return self.ticks * 0.02
+
+
+def _run_ticks(pad, clock, ticks, rumble_after=None, level=1.0):
+    """Poll once per tick; from tick ``rumble_after`` on the node makes the pad rumble."""
+    held = []
+    for _ in range(ticks):
+        state = pad.poll()
+        held.append(state.pressed("south"))
+        if rumble_after is not None and clock.ticks >= rumble_after:
+            pad.rumble(level, 0.5)
+        clock.ticks += 1
+    return held
+
+
+def test_a_tap_holds_the_button_for_exactly_its_hold_time_in_ticks():
+    clock = TickClock()
+    pad = ScriptedPad(parse_script([{"t": 0.1, "tap": "south", "hold": 0.04}]), clock=clock)
+    held = _run_ticks(pad, clock, 12)
+    assert held == [False] * 5 + [True, True] + [False] * 5
+    assert pad.finished and pad.taps == 1
+
+
+def test_repeated_taps_stop_when_the_pad_rumbles_above_the_level_and_later_steps_shift():
+    clock = TickClock()
+    steps = parse_script([
+        {"t": 0.0, "tap": "south", "hold": 0.04, "every": 0.2, "until": "rumble", "above": 0.5},
+        {"t": 0.1, "press": "west"},   # 0.1 s of script time after the taps end
+    ])
+    pad = ScriptedPad(steps, clock=clock)
+    held, west_at = [], None
+    for _ in range(80):
+        state = pad.poll()
+        held.append(state.pressed("south"))
+        if west_at is None and state.pressed("west"):
+            west_at = clock.ticks
+        if clock.ticks >= 45:  # the node starts rumbling at tick 45 (0.9 s)
+            pad.rumble(0.8, 0.5)
+        clock.ticks += 1
+    presses = [i for i in range(1, len(held)) if held[i] and not held[i - 1]] + ([0] if held[0] else [])
+    assert sorted(presses) == [0, 10, 20, 30, 40]  # every 0.2 s until the rumble is felt
+    assert sum(held) == 5 * 2  # two ticks each
+    # The tap decision at tick 50 feels the rumble: the wait ends after 1.0 s, and the
+    # press written 0.1 s after the taps' start happens 1.0 s + 0.1 s after it.
+    assert pad.waited == [(1, pytest.approx(1.0))]
+    assert west_at == 55
+    assert pad.timed_out == []
+
+
+def test_a_rumble_below_the_level_does_not_end_the_taps():
+    clock = TickClock()
+    pad = ScriptedPad(parse_script([
+        {"t": 0.0, "tap": "south", "hold": 0.02, "every": 0.1, "until": "rumble", "above": 0.9, "max_wait": 1.0},
+    ]), clock=clock)
+    held = _run_ticks(pad, clock, 70, rumble_after=0, level=0.5)
+    assert sum(held) == 10  # taps at 0, 0.1, ... 0.9 s: ten, then max_wait gives up
+    assert pad.timed_out == [(1, pytest.approx(1.0))] and pad.waited == []
+    assert pad.finished
+
+
+def test_when_waits_for_the_rumble_then_acts():
+    clock = TickClock()
+    pad = ScriptedPad(parse_script([
+        {"t": 0.0, "press": "south"},
+        {"t": 0.2, "release": "south", "when": "rumble"},
+    ]), clock=clock)
+    held = _run_ticks(pad, clock, 40, rumble_after=25)
+    assert held.index(False) == 26  # released at the first poll after the rumble began
+    assert pad.waited == [(2, pytest.approx(0.32))]
+
+
+def test_when_gives_up_after_max_wait_and_goes_on():
+    clock = TickClock()
+    pad = ScriptedPad(parse_script([
+        {"t": 0.0, "press": "south"},
+        {"t": 0.2, "release": "south", "when": "rumble", "max_wait": 0.5},
+    ]), clock=clock)
+    held = _run_ticks(pad, clock, 60)
+    assert held.index(False) == 35  # 0.2 s + 0.5 s
+    assert pad.timed_out == [(2, pytest.approx(0.5))]
+
+
+def test_rumble_level_follows_the_requests_and_their_duration():
+    clock = FakeClock(10.0)
+    pad = ScriptedPad(parse_script([{"t": 0.0, "press": "south"}]), clock=clock)
+    assert pad.rumble_level() == 0.0
+    pad.rumble(0.7, 0.5)
+    assert pad.rumble_level(10.2) == pytest.approx(0.7)
+    assert pad.rumble_level(10.6) == 0.0  # expired
+    pad.rumble(0.0, 0.0)
+    assert pad.rumble_level(10.1) == 0.0
+
+
+@pytest.mark.parametrize("step, expected", [
+    ({"t": 0, "press": "south", "hold": 0.1}, "'hold' belongs to a tap step"),
+    ({"t": 0, "tap": "south", "until": "rumble"}, "'until' belongs to a repeated tap"),
+    ({"t": 0, "tap": "south", "every": 0.5}, "a repeated tap needs 'until'"),
+    ({"t": 0, "tap": "south", "hold": 0.5, "every": 0.4, "until": "rumble"}, "longer than hold"),
+    ({"t": 0, "release": "south", "when": "force"}, "the condition is 'rumble'"),
+    ({"t": 0, "release": "south", "when": "rumble", "above": 1.0}, "above is 1.0"),
+    ({"t": 0, "release": "south", "above": 0.5}, "'above' without a condition"),
+    ({"t": 0, "release": "south", "when": "rumble", "max_wait": 0}, "max_wait is 0"),
+])
+def test_operator_step_mistakes_are_one_line_errors(step, expected):
+    with pytest.raises(GamepadError) as info:
+        parse_script([step], "op.yaml")
+    message = str(info.value)
+    assert expected in message and message.startswith("op.yaml: step 1:") and "\n" not in message
+
+
+def test_a_scenario_mapping_may_carry_a_world_section_for_the_simulation():
+    steps = parse_script({"description": "d", "world": {"object": "egg"}, "steps": [{"t": 0, "press": "south"}]})
+    assert steps[0].action == "press"
