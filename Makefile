@@ -7,12 +7,17 @@ export SDL_VIDEODRIVER ?= dummy
 export SDL_AUDIODRIVER ?= dummy
 export PYGAME_HIDE_SUPPORT_PROMPT := 1
 
-.PHONY: setup demo test lint clean
+.PHONY: setup demo demo-sensor test lint clean
 
 setup:
 	@bash tools/setup.sh
 
+# The whole lab simulated: teleoperation.launch sim:=true with the default scenario (~25 s).
 demo: setup
+	@$(ENV) $(PY) -m hri_teleop.ros.teleop_demo $(DEMO_ARGS)
+
+# Only the sensor stage (handout Ex. 6): sensor.launch with the simulated press profile.
+demo-sensor: setup
 	@$(ENV) $(PY) -m hri_teleop.ros.sensor_demo
 
 test: setup

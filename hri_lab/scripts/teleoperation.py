@@ -26,6 +26,9 @@ the fix. Keys (see teleop.yaml for units and defaults):
                            path: roslaunch starts nodes in ~/.ros). The script's time counts
                            this node's ticks (1/rate each), so a replay is the same on a
                            busy machine; hri_lab/scenarios/ has the simulated operators.
+                           It starts once the twist topic has a subscriber (the robot or
+                           lab_sim), so that no stick moves before the robot listens.
+  ~script_wait_s float 10.0 with no subscriber, the script starts anyway after this (s)
   ~pad_index     int   0   which physical pad, with pad "pygame"
   ~stop_timeout_s float 3.0 longest ramp to zero at shutdown before giving up (s)
 Publishes:
@@ -64,13 +67,13 @@ from sensor_msgs.msg import Joy
 from std_msgs.msg import Float32
 
 from hri_teleop.config import load_teleop_config
-from hri_teleop.gamepad import GamepadError, RumbleRequests, ScriptedPad, VirtualPad, open_gamepad
+from hri_teleop.gamepad import GamepadError, PadState, RumbleRequests, ScriptedPad, VirtualPad, open_gamepad
 from hri_teleop.limits import Watchdog
 from hri_teleop.ros.params import fail, get_param, private_params, run_node
 from hri_teleop.teleop import TeleopCommand, TeleopController
 
 #: Private parameters of this node that are not part of the teleop configuration.
-NODE_ONLY_KEYS = ("config", "pad_script", "pad_index", "stop_timeout_s")
+NODE_ONLY_KEYS = ("config", "pad_script", "pad_index", "stop_timeout_s", "script_wait_s")
 
 
 def default_config_path() -> str:
@@ -110,6 +113,9 @@ class TeleoperationNode:
         pad_script = get_param("~pad_script", "", kind=str).strip()
         pad_index = get_param("~pad_index", 0, kind=int)
         self.stop_timeout_s = get_param("~stop_timeout_s", 3.0, kind=float)
+        self.script_wait_s = get_param("~script_wait_s", 10.0, kind=float)
+        if not self.script_wait_s >= 0:
+            fail(f"parameter {name}/script_wait_s is {self.script_wait_s!r}; set it to a time in s >= 0, e.g. 10.0")
         if not self.stop_timeout_s > 0:
             fail(f"parameter {name}/stop_timeout_s is {self.stop_timeout_s!r}; set it to a positive time in s, e.g. 3.0")
 
@@ -118,6 +124,8 @@ class TeleoperationNode:
         # A scripted pad runs on the node's ticks, not on the wall clock: step k happens at
         # the same tick in every run, however busy the machine (tests, the demo, traces).
         self._ticks = 0
+        self._script_pending = bool(pad_script)  # the script waits for the robot (see tick)
+        self._script_wait_started: Optional[float] = None
         self.pad = open_gamepad(self.config.pad, self.config.layout, index=pad_index,
                                 script=pad_script or None, log=rospy.logwarn,
                                 clock=(lambda: self._ticks * self.dt_s) if pad_script else None)
@@ -186,9 +194,40 @@ class TeleoperationNode:
         return state
 
     # -- one tick ---------------------------------------------------------------------
+    def _script_may_start(self, now: float) -> bool:
+        """A pad script starts once the velocity controller listens (or after ~script_wait_s).
+
+        Nodes of one launch start in any order. A script that moved the stick before the
+        (real or simulated) robot subscribed would hand it a velocity out of the blue: a
+        step, which the Franka refuses. So the script's clock starts at the first tick
+        with a subscriber on the twist topic; with no robot at all it starts anyway after
+        ~script_wait_s.
+        """
+        if not self._script_pending:
+            return True
+        if self._script_wait_started is None:
+            self._script_wait_started = now
+            rospy.loginfo("pad script waits for a subscriber on %s (at most %.0f s) before it starts",
+                          self.twist_pub.resolved_name, self.script_wait_s)
+        if self.twist_pub.get_num_connections() > 0:
+            rospy.loginfo("pad script starts: %s has a subscriber", self.twist_pub.resolved_name)
+        elif now - self._script_wait_started >= self.script_wait_s:
+            rospy.logwarn("pad script starts without a subscriber on %s after %.0f s",
+                          self.twist_pub.resolved_name, self.script_wait_s)
+        else:
+            return False
+        self._script_pending = False
+        return True
+
     def tick(self, stopping: bool = False) -> TeleopCommand:
         now = time.monotonic()
-        state = None if stopping else self._read_pad(now)
+        if stopping:
+            state = None
+        elif not self._script_may_start(now):
+            state = PadState.neutral()  # the operator has not started yet
+            self.pad_watchdog.feed(now)
+        else:
+            state = self._read_pad(now)
         force = self._force
         value, age = (force[0], now - force[1]) if force is not None else (None, math.inf)
         cmd = self.controller.step(state, value, age, self.dt_s)
@@ -199,7 +238,8 @@ class TeleoperationNode:
         if state is not None:
             self._publish_joy(state)
         self._rumble(cmd.rumble, now)
-        self._ticks += 1
+        if not self._script_pending:
+            self._ticks += 1
         if cmd.quit and not self._quit_logged:
             rospy.loginfo("quit pressed (%s): ramping the twist to zero, then exiting",
                           self.controller.params.quit_button)

@@ -1,0 +1,178 @@
+"""``make demo``: the whole teleoperation lab, simulated and headless, on a private roscore.
+
+Starts a roscore on a free port, records the lab's topics with ``rosbag record``, runs
+``roslaunch hri_lab teleoperation.launch sim:=true`` -- the lab's own teleoperation,
+mapping_node and gripper_manager, with lab_sim in place of the Franka, the egg and the
+Arduino, and the default scenario in place of the student at the pad -- until the
+scenario quits (square ends the launch), then stops everything, reads the bag and
+prints what happened: grasped / lifted / crushed, the peak grip force in newtons, the
+peak /force_mapped, how long the pad rumbled and how many Franka limit violations the
+simulated robot saw.  A PNG timeline shows the run.
+
+Run it with a real gamepad instead: ``roslaunch hri_lab teleoperation.launch sim:=true
+pad:=pygame`` (see the README).
+"""
+
+from __future__ import annotations
+
+import argparse
+import math
+import sys
+import time
+from pathlib import Path
+from typing import Any, Callable, Dict, List, Mapping, Optional
+
+from hri_teleop.plots import lab_timeline
+from hri_teleop.ros.bags import read_topics
+from hri_teleop.ros.master import MasterError, PrivateMaster
+from hri_teleop.sim.report import LabRecord, format_summary, summarize
+
+#: What the demo records. Not the twist command itself: its only subscriber must be the
+#: (simulated) robot, so that the scripted operator starts when the robot listens (see
+#: teleoperation.py, ~pad_script); the arm's actual velocity is /lab_sim/ee_twist.
+TOPICS = (
+    "/pub_force",
+    "/force_mapped",
+    "/gripper_width",
+    "/teleoperation/rumble",
+    "/franka_gripper/joint_states",
+    "/lab_sim/ee_twist",
+    "/lab_sim/grip_force",
+    "/lab_sim/object",
+    "/lab_sim/violations",
+    "/lab_sim/arm_status",
+    "/joy",
+)
+
+#: The demo must end by itself within a minute, whatever happens.
+DEFAULT_TIMEOUT_S = 60.0
+
+
+def _values(msg: Any) -> Dict[str, str]:
+    return {kv.key: kv.value for kv in msg.values}
+
+
+def _flag(values: Mapping[str, str], key: str) -> bool:
+    return values.get(key, "false").strip().lower() == "true"
+
+
+def record_from_bag(bag_path: Path) -> LabRecord:
+    """The run recorded in ``bag_path`` as a :class:`LabRecord` (receive times of rosbag)."""
+    topics = read_topics(bag_path, TOPICS)
+    rec = LabRecord()
+    rec.count = [(t, float(m.data)) for t, m in topics["/pub_force"]]
+    rec.mapped = [(t, float(m.data)) for t, m in topics["/force_mapped"]]
+    rec.width_target = [(t, float(m.data)) for t, m in topics["/gripper_width"]]
+    rec.rumble = [(t, float(m.data)) for t, m in topics["/teleoperation/rumble"]]
+    rec.width = [(t, float(sum(m.position[:2]))) for t, m in topics["/franka_gripper/joint_states"]]
+    rec.speed = [(t, math.sqrt(m.twist.linear.x ** 2 + m.twist.linear.y ** 2 + m.twist.linear.z ** 2))
+                 for t, m in topics["/lab_sim/ee_twist"]]
+    rec.grip_force = [(t, float(m.data)) for t, m in topics["/lab_sim/grip_force"]]
+    objects = topics["/lab_sim/object"]
+    rec.object_height = [(t, float(_values(m).get("height_m", 0.0))) for t, m in objects]
+    if objects:
+        last = _values(objects[-1][1])
+        rec.object_name = last.get("name", "")
+        rec.grasped = _flag(last, "ever_grasped")
+        rec.lifted = _flag(last, "lifted")
+        rec.crushed = _flag(last, "crushed")
+        rec.peak_grip_force_n = float(last.get("peak_grip_force_n", 0.0))
+    violations = topics["/lab_sim/violations"]
+    rec.violations = int(violations[-1][1].data) if violations else 0
+    statuses = topics["/lab_sim/arm_status"]
+    if statuses:
+        last = _values(statuses[-1][1])
+        rec.violation_counts = {k: int(v) for k, v in last.items()
+                                if k.startswith("cartesian_") and v.isdigit() and int(v) > 0}
+    return rec
+
+
+def record_teleop_launch(master: PrivateMaster, bag_path: Path, launch_args: Mapping[str, object],
+                         timeout_s: float = DEFAULT_TIMEOUT_S,
+                         progress: Callable[[str], None] = lambda _m: None) -> LabRecord:
+    """Record a ``teleoperation.launch`` run on ``master`` until it ends (or ``timeout_s``).
+
+    The demo and the integration tests share this, so both judge the same run.
+    """
+    recorder = master.record(bag_path, TOPICS)
+    started = time.monotonic()
+    launch = master.roslaunch("hri_lab", "teleoperation.launch", launch_args)
+    ended_by = "timeout"
+    try:
+        next_note = started + 5.0
+        while time.monotonic() - started < timeout_s:
+            if not launch.running:
+                ended_by = "quit" if launch.stop() == 0 else "launch failed"
+                break
+            if time.monotonic() >= next_note:
+                progress(f"{time.monotonic() - started:4.0f} s  running ...")
+                next_note += 5.0
+            time.sleep(0.2)
+    finally:
+        code = launch.stop()
+        recorder.stop()
+    if ended_by == "launch failed" or (ended_by == "quit" and code not in (0, None)):
+        raise MasterError(f"teleoperation.launch failed (exit {code}):\n{launch.output()[-3000:]}")
+    rec = record_from_bag(bag_path)
+    rec.ended_by = ended_by
+    rec.wall_s = time.monotonic() - started
+    return rec
+
+
+def _progress(message: str) -> None:
+    print(f"[demo] {message}", flush=True)
+
+
+def run(scenario: Optional[Path], out_dir: Path, timeout_s: float, extra: Mapping[str, str]) -> int:
+    out_dir.mkdir(parents=True, exist_ok=True)
+    bag_path = out_dir / "teleop_demo.bag"
+    if bag_path.exists():
+        bag_path.unlink()  # the demo's own output from an earlier run
+    args: Dict[str, object] = {"sim": "true"}
+    if scenario is not None:
+        args["scenario"] = str(Path(scenario).resolve())
+    args.update(extra)
+    started = time.monotonic()
+    with PrivateMaster() as master:
+        _progress(f"roscore up on port {master.port}; roslaunch hri_lab teleoperation.launch "
+                  + " ".join(f"{k}:={v}" for k, v in args.items()))
+        rec = record_teleop_launch(master, bag_path, args, timeout_s, _progress)
+    _progress(f"stopped roscore and nodes ({time.monotonic() - started:.1f} s in all)")
+    if not rec.count or not rec.rumble:
+        print(f"demo: nothing recorded ({len(rec.count)} /pub_force, {len(rec.rumble)} rumble messages); "
+              "see the node output above", file=sys.stderr)
+        return 1
+    summary = summarize(rec)
+    png = lab_timeline(rec, out_dir / "teleop_demo.png", "make demo: the simulated lab, default scenario")
+    lines: List[str] = ["", "Teleoperation lab, simulated (teleoperation.launch sim:=true):"]
+    lines += ["  " + line for line in format_summary(summary)]
+    lines += [f"  bag               {bag_path}", f"  timeline plot     {png}"]
+    print("\n".join(lines), flush=True)
+    return 0 if rec.ended_by == "quit" and summary.violations == 0 else 1
+
+
+def main(argv: Optional[List[str]] = None) -> int:
+    parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    parser.add_argument("--scenario", type=Path, default=None,
+                        help="operator scenario YAML (default: hri_lab/scenarios/default.yaml)")
+    parser.add_argument("--object", default="", help="egg | block | heavy_block | sponge (default: the scenario's)")
+    parser.add_argument("--timeout", type=float, default=DEFAULT_TIMEOUT_S, help="give up after this many s")
+    parser.add_argument("--out", type=Path, default=Path("out"), help="folder for the bag and the plot")
+    args = parser.parse_args(argv)
+    if args.scenario is not None and not args.scenario.is_file():
+        print(f"demo: no scenario file {args.scenario}; give the path of a scenario YAML "
+              "(see hri_lab/scenarios/)", file=sys.stderr)
+        return 2
+    extra = {"object": args.object} if args.object else {}
+    try:
+        return run(args.scenario, args.out, args.timeout, extra)
+    except MasterError as exc:
+        print(f"demo: {exc}", file=sys.stderr)
+        return 1
+    except KeyboardInterrupt:
+        print("demo: interrupted; everything it started has been stopped", file=sys.stderr)
+        return 130
+
+
+if __name__ == "__main__":
+    sys.exit(main())
