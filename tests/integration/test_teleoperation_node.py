@@ -35,6 +35,9 @@ def _write_script(tmp_path, steps) -> Path:
 
 
 def _start_node(master, *args):
+    # No robot here: the tests' scripts start at once (see test_a_pad_script_waits_for_the_robot).
+    if not any(a.startswith("_script_wait_s:=") for a in args):
+        args = args + ("_script_wait_s:=0",)
     node = master.run([str(TELEOP), "_pad:=virtual", *args], "teleoperation")
     master.wait_for(lambda: bool(master.publishers("/gripper_width")) or not node.running, 20,
                     "teleoperation to advertise /gripper_width")
@@ -236,3 +239,21 @@ def test_virtual_joy_drives_the_pad_and_silence_ramps_to_zero(ros_master, tmp_pa
     # stale after input_timeout, then the ramp down from k_trans (about 0.6 s at the default limits)
     assert back_to_zero - silent_at < P.input_timeout_s + 1.5
     assert limit_violations(CONFIG.limits, twists, [1.0 / P.rate_hz] * len(twists), rel_tol=1e-6) == []
+
+
+def test_a_pad_script_waits_for_the_robot_to_listen_before_it_moves_the_stick(ros_master, tmp_path):
+    """Nodes of one launch start in any order: a stick moved before the robot subscribed would
+    reach it as a velocity step. The script starts when the twist topic has a subscriber."""
+    script = _write_script(tmp_path, [{"t": 0.2, "axis": "left_y", "value": 1.0}])
+    node = _start_node(ros_master, f"_pad_script:={script}", "_script_wait_s:=30")
+    time.sleep(2.0)
+    bag = tmp_path / "late.bag"
+    recorder = ros_master.record(bag, [TWIST])  # the first subscriber: now the script starts
+    time.sleep(2.0)
+    recorder.stop()
+    node.stop()
+    twists = _twists(read_topics(bag, [TWIST])[TWIST])
+    vx = [tw[0] for tw in twists]
+    assert vx and vx[0] == 0.0, "the stick moved before anyone listened"
+    assert max(vx) > 0.05
+    assert "pad script starts: " in node.output()
