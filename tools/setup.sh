@@ -18,6 +18,7 @@ say() { printf 'setup: %s\n' "$*"; }
 apt_packages=(
   ros-core python3-rospy python3-roslaunch python3-rosbag python3-rosgraph
   python3-std-msgs python3-geometry-msgs python3-sensor-msgs
+  python3-diagnostic-msgs python3-std-srvs
   python3-actionlib python3-actionlib-msgs python3-genpy
   rospack-tools python3-venv catkin-lint
 )

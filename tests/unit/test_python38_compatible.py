@@ -45,7 +45,8 @@ def test_vermin_catches_a_python_3_10_construct(tmp_path):
 CORE_TESTS = ["test_fsr.py", "test_mapping.py", "test_limits.py", "test_teleop.py", "test_config.py",
               "test_sensor_profile.py", "test_gripper.py", "test_traces.py", "test_gamepad_deadzone.py",
               "test_gamepad_layout.py", "test_gamepad_state.py", "test_gamepad_virtual.py",
-              "test_gamepad_pygame.py", "test_gamepad_rumble.py", "test_sim_arm.py", "test_sim_hand.py"]
+              "test_gamepad_pygame.py", "test_gamepad_rumble.py", "test_sim_arm.py", "test_sim_hand.py",
+              "test_sim_config.py", "test_sim_board.py", "test_sim_world.py", "test_sim_lab.py"]
 
 
 @pytest.mark.skipif(not (REPO / ".venv38" / "bin" / "python").exists(),

@@ -1,0 +1,474 @@
+#!/usr/bin/env python3
+"""The lab's hardware, simulated (issue 3): Franka arm and hand, an object, the FSR board.
+
+One node, one job: it owns a hri_teleop.sim.world.LabWorld (the physics: a 1 kHz Franka
+arm that judges every command like the robot, the Franka Hand with franka_gripper's goal
+semantics, the object, the handout's piston attachment and the sensor board) and runs it
+in real time, speaking exactly the real hardware's interfaces. teleoperation.py,
+gripper_manager.py and mapping_node.py cannot tell it from the lab.
+
+Time: the simulation time is time.monotonic() since start. The main loop wakes every
+``~loop_period_s`` and runs every 1 ms cycle due; each incoming command first runs the
+world up to its arrival, so a command is held from the millisecond it arrived even when
+the loop is late (two commands never merge into one step the robot would refuse).
+
+Parameters (private):
+  ~config           str    ""     sim.yaml to read ("" = hri_lab/config/sim.yaml): object, start
+                                  pose, workspace, command timeout, hand, attachment, board
+  ~scenario         str    ""     a scenario YAML (absolute path: roslaunch starts nodes in
+                                  ~/.ros) whose optional ``world:`` mapping overrides ~config;
+                                  its steps are the virtual pad's, not read here
+  ~twist_topic      str    /cartesian_velocity_controller/cmd_vel  velocity command topic
+  ~gripper_ns       str    /franka_gripper  namespace of the actions and joint_states
+  ~board            bool   true   publish the sensor board's samples on /pub_force; false when
+                                  a real board (or another simulation) publishes there
+  ~frame_id         str    panda_link0  frame of ~ee_pose and ~ee_twist (the robot's base)
+  ~gripper_rate_hz  float  30.0   joint_states rate, Hz (franka_gripper's publish_rate)
+  ~state_rate_hz    float  100.0  ~ee_pose, ~ee_twist and ~grip_force rate, Hz
+  ~status_rate_hz   float  10.0   ~arm_status rate, Hz (also published at once on a change)
+  ~object_rate_hz   float  20.0   ~object rate, Hz
+  ~loop_period_s    float  0.002  how often the main loop wakes, s (the physics runs at 1 kHz
+                                  whatever this is; it bounds the latency of goal results
+                                  and board samples)
+  sim.yaml keys, overriding ~config and ~scenario for one run (hri_teleop.sim.config):
+  ~object           str|dict      block | heavy_block | sponge | egg | none | {GraspObject fields}
+  ~object_xy_m, ~table_z_m, ~capture_radius_m, ~arm, ~hand, ~attachment  as in sim.yaml
+  ~board_rate_hz    float  100.0  board.rate_hz, samples/s (3.333 = the handout's 300 ms sketch)
+  ~noise_counts     float  1.0    board.noise_counts, ADC noise standard deviation, counts
+  ~board_seed       int    0      board.seed
+  ~arm_timeout_s    float  0.1    arm.timeout_s, s without a command before the arm stops
+  ~initial_width_m  float  0.08   hand.initial_width_m, m
+  A wrong key, type or value in any of them ends the node with one line naming the file
+  (or the parameters), the key and the fix (exit status 1).
+Subscribes:
+  <twist_topic>     geometry_msgs/Twist  base-frame velocity command (m/s, rad/s), held until
+                                         the next one and judged every 1 ms against the
+                                         Panda's limits
+Action servers (actionlib, franka_gripper's definitions and MD5 sums):
+  <gripper_ns>/move, grasp, homing, stop   goals become MoveCommand, GraspCommand, ...;
+                    results carry success and error exactly as the simulated hand decided
+                    (SUCCEEDED, ABORTED "libfranka gripper: Command aborted!"/"... failed!");
+                    a goal preempted by a newer one or cancelled ends PREEMPTED
+Publishes:
+  <gripper_ns>/joint_states sensor_msgs/JointState  panda_finger_joint1/2 at width/2 each
+  /pub_force        std_msgs/Int16       one raw ADC count per board sample (~board true)
+  ~ee_pose          geometry_msgs/PoseStamped   end-effector pose in ~frame_id
+  ~ee_twist         geometry_msgs/TwistStamped  the arm's actual velocity (zero in a reflex)
+  ~grip_force       std_msgs/Float32     force between the fingers and the object, N
+  ~arm_status       diagnostic_msgs/DiagnosticStatus  OK idle/moving, WARN timeout, ERROR
+                    reflex (message: the libfranka error names); values: state, violations,
+                    one count per libfranka error, ignored_commands, reflex_errors, position_m
+  ~violations       std_msgs/UInt32      latched: limit violations so far (0 in a good run)
+  ~object           diagnostic_msgs/DiagnosticStatus  the object: name, height_m,
+                    between_fingers, in_contact, held, grasped, lifted, crushed, grip_force_n,
+                    peak_grip_force_n, ever_grasped, ever_lifted (ERROR once crushed)
+Services:
+  ~recover          std_srvs/Trigger     clears a reflex (franka_control's error_recovery)
+Logs: every arm event once (logerr for a reflex, with the libfranka error names; logwarn for
+a command timeout, a workspace wall, commands ignored in a reflex), each gripper goal that
+fails, and the object being crushed, lifted, put down or dropped.
+"""
+
+from __future__ import annotations
+
+import functools
+import threading
+import time
+from pathlib import Path
+from typing import Any, Dict, List, Optional, Tuple
+
+import actionlib
+import rosgraph.names
+import rospy
+from diagnostic_msgs.msg import DiagnosticStatus, KeyValue
+from geometry_msgs.msg import PoseStamped, Twist, TwistStamped
+from sensor_msgs.msg import JointState
+from std_msgs.msg import Float32, Header, Int16, UInt32
+from std_srvs.srv import Trigger, TriggerResponse
+
+from hri_teleop.config import DEFAULT_TWIST_TOPIC
+from hri_teleop.ros import franka_gripper_msgs as fg
+from hri_teleop.ros.params import fail, get_param, private_params, run_node
+from hri_teleop.sim.arm import (ACCELERATION_DISCONTINUITY, EVENT_RECOVERED, EVENT_REFLEX,
+                                NON_FINITE_COMMAND, STATE_REFLEX, STATE_TIMEOUT,
+                                VELOCITY_DISCONTINUITY, VELOCITY_LIMITS_VIOLATION)
+from hri_teleop.sim.config import (default_sim_yaml, describe, load_world_config,
+                                   world_overrides_from_params)
+from hri_teleop.sim.hand import (Command, GoalRecord, GoalStatus, GraspCommand, HandSimError,
+                                 HomingCommand, MoveCommand, StopCommand)
+from hri_teleop.sim.world import LabWorld, ObjectStatus
+
+#: Private parameters of the node itself; every other private parameter is a sim.yaml override.
+NODE_KEYS = ("config", "scenario", "twist_topic", "gripper_ns", "board", "frame_id", "gripper_rate_hz",
+             "state_rate_hz", "status_rate_hz", "object_rate_hz", "loop_period_s")
+FINGER_JOINTS = ["panda_finger_joint1", "panda_finger_joint2"]
+#: Every name the arm reports a violation under, in the order ~arm_status lists them.
+ARM_ERRORS = (VELOCITY_LIMITS_VIOLATION, VELOCITY_DISCONTINUITY, ACCELERATION_DISCONTINUITY, NON_FINITE_COMMAND)
+#: action name -> (action spec, result class)
+ACTIONS: Dict[str, Tuple[type, type]] = {
+    "move": (fg.MoveAction, fg.MoveResult),
+    "grasp": (fg.GraspAction, fg.GraspResult),
+    "homing": (fg.HomingAction, fg.HomingResult),
+    "stop": (fg.StopAction, fg.StopResult),
+}
+
+
+def default_config_path() -> str:
+    """hri_lab/config/sim.yaml of the package this script belongs to ('' if not found)."""
+    candidates = []
+    try:
+        import rospkg
+
+        candidates.append(Path(rospkg.RosPack().get_path("hri_lab")) / "config" / "sim.yaml")
+    except Exception:  # noqa: BLE001 - rospkg.ResourceNotFound, or no ROS_PACKAGE_PATH
+        pass
+    candidates.append(Path(__file__).resolve().parents[1] / "config" / "sim.yaml")
+    in_checkout = default_sim_yaml()
+    if in_checkout is not None:
+        candidates.append(in_checkout)
+    for path in candidates:
+        if path.is_file():
+            return str(path)
+    return ""
+
+
+def command_from_goal(action: str, goal: Any) -> Command:
+    """A franka_gripper goal message as the simulated hand's command (units as the fields': m, m/s, N)."""
+    if action == "move":
+        return MoveCommand(width_m=goal.width, speed_m_per_s=goal.speed)
+    if action == "grasp":
+        return GraspCommand(width_m=goal.width, speed_m_per_s=goal.speed, force_n=goal.force,
+                            epsilon_inner_m=goal.epsilon.inner, epsilon_outer_m=goal.epsilon.outer)
+    if action == "homing":
+        return HomingCommand()
+    return StopCommand()
+
+
+class _Goal:
+    """An accepted actionlib goal and the hand's record of it."""
+
+    __slots__ = ("action", "handle", "record")
+
+    def __init__(self, action: str, handle: Any, record: GoalRecord) -> None:
+        self.action = action
+        self.handle = handle
+        self.record = record
+
+
+class LabSimNode:
+    """The shell around LabWorld: ROS in, world stepped in real time, ROS out (see the module doc)."""
+
+    def __init__(self) -> None:
+        name = rospy.get_name()
+        self.name = name
+        config_path = get_param("~config", "", kind=str).strip() or default_config_path()
+        scenario = get_param("~scenario", "", kind=str).strip()
+        overrides = world_overrides_from_params(private_params(), f"{name} private parameters", NODE_KEYS)
+        self.config = load_world_config(config_path, overrides, f"{name} private parameters",
+                                        scenario=scenario or None)
+        twist_topic = get_param("~twist_topic", DEFAULT_TWIST_TOPIC, kind=str).strip()
+        gripper_ns = get_param("~gripper_ns", "/franka_gripper", kind=str).strip().rstrip("/")
+        for param, value, example in (("twist_topic", twist_topic, DEFAULT_TWIST_TOPIC),
+                                      ("gripper_ns", gripper_ns, "/franka_gripper")):
+            if not value or not rosgraph.names.is_legal_name(value):
+                fail(f"parameter {name}/{param} is {value!r}, not a ROS name; use letters, digits, _ and /, "
+                     f"e.g. {example}")
+        self.board_on = get_param("~board", True, kind=bool)
+        self.frame_id = get_param("~frame_id", "panda_link0", kind=str)
+        periods = {}
+        for param, default in (("gripper_rate_hz", 30.0), ("state_rate_hz", 100.0), ("status_rate_hz", 10.0),
+                               ("object_rate_hz", 20.0)):
+            rate = get_param(f"~{param}", default, kind=float)
+            if not 0.0 < rate <= 1000.0:
+                fail(f"parameter {name}/{param} is {rate!r}; set it to a rate in (0, 1000] Hz, e.g. {default:g}")
+            periods[param] = 1.0 / rate
+        self.loop_period_s = get_param("~loop_period_s", 0.002, kind=float)
+        if not 0.0 < self.loop_period_s <= 0.05:
+            fail(f"parameter {name}/loop_period_s is {self.loop_period_s!r}; set it to (0, 0.05] s, e.g. 0.002")
+        self._periods = {"joints": periods["gripper_rate_hz"], "state": periods["state_rate_hz"],
+                         "status": periods["status_rate_hz"], "object": periods["object_rate_hz"]}
+        self._next_due = {key: 0.0 for key in self._periods}
+
+        # Outputs first: they exist before anything can happen.
+        self.force_pub = rospy.Publisher("/pub_force", Int16, queue_size=20) if self.board_on else None
+        self.joints_pub = rospy.Publisher(f"{gripper_ns}/joint_states", JointState, queue_size=5)
+        self.pose_pub = rospy.Publisher("~ee_pose", PoseStamped, queue_size=5)
+        self.twist_pub = rospy.Publisher("~ee_twist", TwistStamped, queue_size=5)
+        self.grip_pub = rospy.Publisher("~grip_force", Float32, queue_size=5)
+        self.status_pub = rospy.Publisher("~arm_status", DiagnosticStatus, queue_size=5)
+        self.violations_pub = rospy.Publisher("~violations", UInt32, queue_size=1, latch=True)
+        self.object_pub = rospy.Publisher("~object", DiagnosticStatus, queue_size=5)
+
+        # The world and its clock; every callback and the loop touch it under this lock.
+        # Lock order: an actionlib server's lock may be held while taking this one (goal and
+        # cancel callbacks), never the other way round: goal results are sent outside it.
+        self._lock = threading.Lock()
+        self.world = LabWorld(self.config, start_s=0.0)
+        self._t0 = time.monotonic()
+        self._samples: List[Tuple[float, int]] = []
+        self._goals: Dict[int, _Goal] = {}   # hand goal id -> goal, until reported
+        self._ids: Dict[str, int] = {}       # actionlib goal id -> hand goal id, same lifetime
+        self._status_key: Optional[tuple] = None
+        self._violations_sent = -1
+        self._crushed = False
+        self._lifted = False
+        self._held_aloft = False  # lifted and carried by friction at the last tick
+
+        self.servers = []
+        for action, (spec, _result) in ACTIONS.items():
+            server = actionlib.ActionServer(f"{gripper_ns}/{action}", spec,
+                                            functools.partial(self._on_goal, action),
+                                            functools.partial(self._on_cancel, action), auto_start=False)
+            server.start()
+            self.servers.append(server)
+        self.recover_srv = rospy.Service("~recover", Trigger, self._on_recover)
+        self.twist_sub = rospy.Subscriber(twist_topic, Twist, self._on_twist, queue_size=100, tcp_nodelay=True)
+        rospy.loginfo("simulating the lab: %s. Commands on %s, gripper actions on %s/{move,grasp,homing,stop}%s",
+                      describe(self.config), self.twist_sub.resolved_name, gripper_ns,
+                      ", board on /pub_force" if self.board_on else ", board off (~board false)")
+
+    # -- clock and world ------------------------------------------------------------------
+
+    def now(self) -> float:
+        """Simulation time: seconds since the world was created."""
+        return time.monotonic() - self._t0
+
+    def _advance_locked(self, now: float) -> None:
+        """Run the world up to ``now`` (hold the lock); keep the board's samples for the loop."""
+        samples = self.world.advance(now)
+        if samples:
+            self._samples.extend(samples)
+
+    # -- inputs ---------------------------------------------------------------------------
+
+    def _on_twist(self, msg: Twist) -> None:
+        now = self.now()
+        twist = (msg.linear.x, msg.linear.y, msg.linear.z, msg.angular.x, msg.angular.y, msg.angular.z)
+        with self._lock:
+            self._advance_locked(now)
+            self.world.command_twist(twist, now)
+
+    def _on_goal(self, action: str, handle: Any) -> None:
+        _spec, result_cls = ACTIONS[action]
+        try:
+            command = command_from_goal(action, handle.get_goal())
+        except HandSimError as exc:  # a field that is not a number: only a broken client sends it
+            handle.set_rejected(result_cls(success=False, error=str(exc)), str(exc))
+            return
+        now = self.now()
+        with self._lock:
+            self._advance_locked(now)
+            record = self.world.send_gripper(command, now)
+            self._goals[record.goal_id] = _Goal(action, handle, record)
+            self._ids[handle.get_goal_id().id] = record.goal_id
+            # Accepted before the loop can collect the record as finished (it does so under this lock).
+            handle.set_accepted(f"simulated hand goal {record.goal_id}")
+
+    def _on_cancel(self, action: str, handle: Any) -> None:
+        now = self.now()
+        with self._lock:
+            goal = self._goals.get(self._ids.get(handle.get_goal_id().id, -1))
+            if goal is None:
+                return  # already finished; its result is on its way
+            self._advance_locked(now)
+            self.world.cancel_gripper(goal.record, now)  # a running goal ends PREEMPTED
+
+    def _on_recover(self, _request: Any) -> TriggerResponse:
+        now = self.now()
+        with self._lock:
+            self._advance_locked(now)
+            errors = self.world.arm.reflex_errors
+            recovered = self.world.arm.recover(now)
+            state = self.world.arm.state
+        if recovered:
+            message = f"recovered from reflex [{', '.join(errors)}]; the arm accepts commands again"
+        else:
+            message = f"no reflex to recover from (the arm is {state})"
+        # franka_control's error recovery succeeds whether or not there was an error.
+        return TriggerResponse(success=True, message=message)
+
+    # -- the loop -------------------------------------------------------------------------
+
+    def run(self) -> int:
+        period = self.loop_period_s
+        wake = time.monotonic()
+        while not rospy.is_shutdown():
+            self.tick()
+            wake += period
+            delay = wake - time.monotonic()
+            if delay > 0.0:
+                time.sleep(delay)
+            else:
+                wake = time.monotonic()  # late: carry on from now, never in a burst
+        return 0
+
+    def _due(self, key: str, now: float) -> bool:
+        due = self._next_due[key]
+        if now < due:
+            return False
+        period = self._periods[key]
+        self._next_due[key] = due + period if now - due < period else now + period
+        return True
+
+    def tick(self) -> None:
+        """Run the world up to now, then publish, report and log what it produced."""
+        now = self.now()
+        due = {key: self._due(key, now) for key in self._periods}
+        world = self.world
+        arm, hand = world.arm, world.hand
+        with self._lock:
+            self._advance_locked(now)
+            samples, self._samples = self._samples, []
+            events = arm.new_events()
+            finished: List[_Goal] = []
+            for record in hand.pop_finished():
+                goal = self._goals.pop(record.goal_id, None)
+                if goal is not None:  # every goal is tracked from its acceptance
+                    self._ids.pop(goal.handle.get_goal_id().id, None)
+                    finished.append(goal)
+            width = hand.width_m
+            joint_v = hand.joint_velocities_m_per_s
+            pose = arm.pose if due["state"] else None
+            velocity = arm.velocity
+            grip = hand.grip_force_n
+            state = arm.state
+            violations = arm.violation_count
+            status = self._arm_status_values() if due["status"] or (state, violations) != self._status_key else None
+            obj = world.object_status()
+            peak, ever_grasped, ever_lifted = world.peak_grip_force_n, world.ever_grasped, world.ever_lifted
+
+        if self.force_pub is not None:
+            for _t, count in samples:
+                self.force_pub.publish(Int16(data=count))
+        for goal in finished:
+            self._report(goal)
+        for event in events:
+            self._log_event(event)
+        stamp = rospy.Time.now()
+        if due["joints"]:
+            self.joints_pub.publish(JointState(
+                header=self._header(stamp, ""), name=FINGER_JOINTS, position=[0.5 * width, 0.5 * width],
+                velocity=list(joint_v), effort=[0.0, 0.0]))
+        if pose is not None:
+            msg = PoseStamped(header=self._header(stamp, self.frame_id))
+            p, q = msg.pose.position, msg.pose.orientation
+            p.x, p.y, p.z = pose.position_m
+            q.x, q.y, q.z, q.w = pose.orientation_xyzw
+            self.pose_pub.publish(msg)
+            tmsg = TwistStamped(header=self._header(stamp, self.frame_id))
+            lin, ang = tmsg.twist.linear, tmsg.twist.angular
+            lin.x, lin.y, lin.z, ang.x, ang.y, ang.z = velocity
+            self.twist_pub.publish(tmsg)
+            self.grip_pub.publish(Float32(data=grip))
+        if status is not None:
+            self._status_key = (state, violations)
+            self.status_pub.publish(status)
+        if violations != self._violations_sent:
+            self._violations_sent = violations
+            self.violations_pub.publish(UInt32(data=violations))
+        self._watch_object(obj)
+        if due["object"]:
+            self.object_pub.publish(self._object_status(obj, peak, ever_grasped, ever_lifted))
+
+    # -- outputs --------------------------------------------------------------------------
+
+    @staticmethod
+    def _header(stamp: rospy.Time, frame_id: str) -> Header:
+        return Header(stamp=stamp, frame_id=frame_id)
+
+    def _report(self, goal: _Goal) -> None:
+        """A finished hand goal -> its actionlib terminal state, with success/error as the hand says."""
+        record = goal.record
+        _spec, result_cls = ACTIONS[goal.action]
+        result = result_cls(success=record.success, error=record.error)
+        text = record.detail
+        if record.status == GoalStatus.SUCCEEDED:
+            goal.handle.set_succeeded(result, text)
+            if not record.success:
+                rospy.logwarn("gripper %s goal %d ended without success: %s", goal.action, record.goal_id, text)
+        elif record.status == GoalStatus.ABORTED:
+            goal.handle.set_aborted(result, text)
+            rospy.logwarn("gripper %s goal %d aborted: %s%s", goal.action, record.goal_id, record.error,
+                          f" ({text})" if text else "")
+        else:  # PREEMPTED: by a newer goal, or an actionlib cancel
+            goal.handle.set_canceled(result, text)
+            rospy.logdebug("gripper %s goal %d preempted: %s", goal.action, record.goal_id, text)
+
+    def _log_event(self, event: Any) -> None:
+        if event.kind == EVENT_REFLEX:
+            rospy.logerr("simulated Franka at %.3f s: %s", event.time_s, event.message)
+        elif event.kind == EVENT_RECOVERED:
+            rospy.loginfo("simulated Franka at %.3f s: %s", event.time_s, event.message)
+        else:  # command timeout, workspace limit, command ignored
+            rospy.logwarn("simulated Franka at %.3f s: %s", event.time_s, event.message)
+
+    def _arm_status_values(self) -> DiagnosticStatus:
+        """~arm_status from the arm (call under the lock)."""
+        arm = self.world.arm
+        state = arm.state
+        level = (DiagnosticStatus.ERROR if state == STATE_REFLEX
+                 else DiagnosticStatus.WARN if state == STATE_TIMEOUT else DiagnosticStatus.OK)
+        counts = arm.violation_counts
+        x, y, z = arm.position_m
+        values = [KeyValue(key="state", value=state), KeyValue(key="violations", value=str(arm.violation_count))]
+        values += [KeyValue(key=error, value=str(counts.get(error, 0))) for error in ARM_ERRORS]
+        values += [KeyValue(key="ignored_commands", value=str(arm.ignored_command_count)),
+                   KeyValue(key="reflex_errors", value=", ".join(arm.reflex_errors)),
+                   KeyValue(key="position_m", value=f"{x:.4f} {y:.4f} {z:.4f}")]
+        return DiagnosticStatus(level=level, name=f"{self.name}: arm", message=arm.status,
+                                hardware_id="simulated Franka Panda", values=values)
+
+    def _object_status(self, obj: Any, peak: float, ever_grasped: bool, ever_lifted: bool) -> DiagnosticStatus:
+        if obj is None:
+            return DiagnosticStatus(level=DiagnosticStatus.OK, name=f"{self.name}: object",
+                                    message="no object on the table", hardware_id="simulated object",
+                                    values=[KeyValue(key="name", value="none"),
+                                            KeyValue(key="peak_grip_force_n", value=f"{peak:.3f}")])
+        flags = [w for w, on in (("crushed", obj.crushed), ("held", obj.held), ("grasped", obj.grasped),
+                                 ("lifted", obj.lifted), ("in contact", obj.in_contact),
+                                 ("between the fingers", obj.between_fingers)) if on]
+        message = (f"{obj.name}: {', '.join(flags) or 'on the table, not touched'}; height {obj.height_m:.3f} m, "
+                   f"grip {obj.grip_force_n:.2f} N (peak {peak:.2f} N)")
+        values = [("name", obj.name), ("height_m", f"{obj.height_m:.4f}"),
+                  ("between_fingers", obj.between_fingers), ("in_contact", obj.in_contact), ("held", obj.held),
+                  ("grasped", obj.grasped), ("lifted", obj.lifted), ("crushed", obj.crushed),
+                  ("grip_force_n", f"{obj.grip_force_n:.3f}"), ("peak_grip_force_n", f"{peak:.3f}"),
+                  ("ever_grasped", ever_grasped), ("ever_lifted", ever_lifted)]
+        return DiagnosticStatus(
+            level=DiagnosticStatus.ERROR if obj.crushed else DiagnosticStatus.OK, name=f"{self.name}: object",
+            message=message, hardware_id="simulated object",
+            values=[KeyValue(key=k, value=str(v).lower() if isinstance(v, bool) else str(v)) for k, v in values])
+
+    def _watch_object(self, obj: Optional[ObjectStatus]) -> None:
+        """Log once when the object is crushed, lifted, put down or dropped."""
+        if obj is None:
+            return
+        thing = self.world.hand.object  # immutable: safe to read outside the lock
+        if obj.crushed and not self._crushed:
+            breaking = thing.breaking_force_n if thing is not None else None
+            rospy.logwarn("the %s was crushed: the grip force passed its breaking force of %s N; stop closing "
+                          "earlier (the rumble says when the piston is pressed)", obj.name,
+                          f"{breaking:g}" if breaking is not None else "?")
+        self._crushed = obj.crushed
+        if obj.lifted and not self._lifted:
+            rospy.loginfo("the %s is lifted (%.3f m above the table, grip %.2f N)", obj.name, obj.height_m,
+                          obj.grip_force_n)
+        elif self._lifted and not obj.lifted:
+            if self._held_aloft:
+                rospy.loginfo("the %s is back on the table", obj.name)
+            elif not obj.crushed:  # a crushed one falls too: said already
+                need = thing.min_grip_force_n() if thing is not None else float("nan")
+                rospy.logwarn("the %s dropped: it slipped out of the fingers (a grip of %.2f N holds it; "
+                              "squeeze harder or lift more gently)", obj.name, need)
+        self._held_aloft = obj.lifted and obj.held
+        self._lifted = obj.lifted
+
+
+def main() -> int:
+    rospy.init_node("lab_sim")
+    node = LabSimNode()
+    return node.run()
+
+
+if __name__ == "__main__":
+    run_node(main)
