@@ -74,7 +74,6 @@ from __future__ import annotations
 import functools
 import threading
 import time
-from pathlib import Path
 from typing import Any, Dict, List, Optional, Tuple
 
 import actionlib
@@ -88,7 +87,7 @@ from std_srvs.srv import Trigger, TriggerResponse
 
 from hri_teleop.config import DEFAULT_TWIST_TOPIC
 from hri_teleop.ros import franka_gripper_msgs as fg
-from hri_teleop.ros.params import fail, get_param, private_params, run_node
+from hri_teleop.ros.params import fail, get_param, package_file, private_params, run_node
 from hri_teleop.sim.arm import (ACCELERATION_DISCONTINUITY, EVENT_RECOVERED, EVENT_REFLEX,
                                 NON_FINITE_COMMAND, STATE_REFLEX, STATE_TIMEOUT,
                                 VELOCITY_DISCONTINUITY, VELOCITY_LIMITS_VIOLATION)
@@ -115,21 +114,11 @@ ACTIONS: Dict[str, Tuple[type, type]] = {
 
 def default_config_path() -> str:
     """hri_lab/config/sim.yaml of the package this script belongs to ('' if not found)."""
-    candidates = []
-    try:
-        import rospkg
-
-        candidates.append(Path(rospkg.RosPack().get_path("hri_lab")) / "config" / "sim.yaml")
-    except Exception:  # noqa: BLE001 - rospkg.ResourceNotFound, or no ROS_PACKAGE_PATH
-        pass
-    candidates.append(Path(__file__).resolve().parents[1] / "config" / "sim.yaml")
-    in_checkout = default_sim_yaml()
-    if in_checkout is not None:
-        candidates.append(in_checkout)
-    for path in candidates:
-        if path.is_file():
-            return str(path)
-    return ""
+    found = package_file("config/sim.yaml", __file__)
+    if not found:
+        in_checkout = default_sim_yaml()
+        found = str(in_checkout) if in_checkout is not None else ""
+    return found
 
 
 def command_from_goal(action: str, goal: Any) -> Command:

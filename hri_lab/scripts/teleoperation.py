@@ -58,7 +58,6 @@ import math
 import signal
 import threading
 import time
-from pathlib import Path
 from typing import Any, Optional, Tuple
 
 import rospy
@@ -69,7 +68,7 @@ from std_msgs.msg import Float32
 from hri_teleop.config import load_teleop_config
 from hri_teleop.gamepad import GamepadError, PadState, RumbleRequests, ScriptedPad, VirtualPad, open_gamepad
 from hri_teleop.limits import Watchdog
-from hri_teleop.ros.params import fail, get_param, private_params, run_node
+from hri_teleop.ros.params import fail, get_param, package_file, private_params, run_node
 from hri_teleop.teleop import TeleopCommand, TeleopController
 
 #: Private parameters of this node that are not part of the teleop configuration.
@@ -78,18 +77,7 @@ NODE_ONLY_KEYS = ("config", "pad_script", "pad_index", "stop_timeout_s", "script
 
 def default_config_path() -> str:
     """hri_lab/config/teleop.yaml of the package this script belongs to ('' if not found)."""
-    candidates = []
-    try:
-        import rospkg
-
-        candidates.append(Path(rospkg.RosPack().get_path("hri_lab")) / "config" / "teleop.yaml")
-    except Exception:  # noqa: BLE001 - rospkg.ResourceNotFound, or no ROS_PACKAGE_PATH
-        pass
-    candidates.append(Path(__file__).resolve().parents[1] / "config" / "teleop.yaml")
-    for path in candidates:
-        if path.is_file():
-            return str(path)
-    return ""
+    return package_file("config/teleop.yaml", __file__)
 
 
 def _twist_msg(twist: Tuple[float, ...]) -> Twist:

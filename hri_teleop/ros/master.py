@@ -17,11 +17,12 @@ import shutil
 import signal
 import socket
 import subprocess
+import sys
 import tempfile
 import time
 import xmlrpc.client
 from pathlib import Path
-from typing import Dict, List, Mapping, Optional, Sequence, Set, Tuple
+from typing import Callable, Dict, List, Mapping, Optional, Sequence, Set, Tuple
 
 
 class MasterError(RuntimeError):
@@ -267,3 +268,20 @@ class PrivateMaster:
         if not proc.running:
             raise MasterError(f"rosbag record exited: {proc.output().strip()[-400:]}")
         return proc
+
+
+def run_reporting(call: Callable[[], int], name: str = "demo") -> int:
+    """Run a command-line job that starts ROS processes; its failures become one line.
+
+    A MasterError (a roscore or launch that would not start or failed) is printed as
+    ``name: message`` with exit status 1; Ctrl-C gives 130. Every process the job started
+    is stopped by then (PrivateMaster's context manager and the exit hook).
+    """
+    try:
+        return call()
+    except MasterError as exc:
+        print(f"{name}: {exc}", file=sys.stderr)
+        return 1
+    except KeyboardInterrupt:
+        print(f"{name}: interrupted; everything it started has been stopped", file=sys.stderr)
+        return 130

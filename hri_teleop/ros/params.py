@@ -18,6 +18,7 @@ Here they are once:
 from __future__ import annotations
 
 import sys
+from pathlib import Path
 from typing import Any, Callable, Dict, Iterable, NoReturn, Optional, Tuple, Union
 
 from hri_teleop.checks import is_finite_number, is_int
@@ -167,3 +168,24 @@ def run_node(main: Callable[[], Optional[int]]) -> None:
     if not rospy.is_shutdown():
         rospy.signal_shutdown("node finished")
     sys.exit(code)
+
+
+def package_file(relative: str, script_file: str, package: str = "hri_lab") -> str:
+    """A file of the ``hri_lab`` package, e.g. ``config/teleop.yaml`` ('' if not found).
+
+    Why: a node's default config lives in its package; roslaunch runs the installed
+    package (found with rospkg) and ``rosrun``/tests run the checkout, where the file sits
+    beside the script's folder (``script_file`` is the node's ``__file__``).
+    """
+    candidates = []
+    try:
+        import rospkg
+
+        candidates.append(Path(rospkg.RosPack().get_path(package)) / relative)
+    except Exception:  # noqa: BLE001 - rospkg.ResourceNotFound, or no ROS_PACKAGE_PATH
+        pass
+    candidates.append(Path(script_file).resolve().parents[1] / relative)
+    for path in candidates:
+        if path.is_file():
+            return str(path)
+    return ""

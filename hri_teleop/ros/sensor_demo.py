@@ -22,7 +22,7 @@ from hri_teleop.mapping import map_force
 from hri_teleop.plots import sensor_timeline
 from hri_teleop.traces import pair_outputs, percentile_ms, rate_hz
 from hri_teleop.ros.bags import read_topics
-from hri_teleop.ros.master import MasterError, PrivateMaster
+from hri_teleop.ros.master import MasterError, PrivateMaster, run_reporting
 
 
 @dataclass(frozen=True)
@@ -125,14 +125,7 @@ def main(argv: Optional[List[str]] = None) -> int:
                         help="top count of a simulated press; above --max-sensor-force shows the clipping")
     parser.add_argument("--out", type=Path, default=Path("out"), help="folder for the bag and the plot")
     args = parser.parse_args(argv)
-    try:
-        return run(args.duration, args.max_sensor_force, args.rate, args.out, args.press_max)
-    except MasterError as exc:
-        print(f"demo: {exc}", file=sys.stderr)
-        return 1
-    except KeyboardInterrupt:
-        print("demo: interrupted; everything it started has been stopped", file=sys.stderr)
-        return 130
+    return run_reporting(lambda: run(args.duration, args.max_sensor_force, args.rate, args.out, args.press_max), "demo")
 
 
 if __name__ == "__main__":

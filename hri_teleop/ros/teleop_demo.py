@@ -24,7 +24,7 @@ from typing import Any, Callable, Dict, List, Mapping, Optional
 
 from hri_teleop.plots import lab_timeline
 from hri_teleop.ros.bags import read_topics
-from hri_teleop.ros.master import MasterError, PrivateMaster
+from hri_teleop.ros.master import MasterError, PrivateMaster, run_reporting
 from hri_teleop.sim.report import LabRecord, format_summary, summarize
 
 #: What the demo records. Not the twist command itself: its only subscriber must be the
@@ -164,14 +164,7 @@ def main(argv: Optional[List[str]] = None) -> int:
               "(see hri_lab/scenarios/)", file=sys.stderr)
         return 2
     extra = {"object": args.object} if args.object else {}
-    try:
-        return run(args.scenario, args.out, args.timeout, extra)
-    except MasterError as exc:
-        print(f"demo: {exc}", file=sys.stderr)
-        return 1
-    except KeyboardInterrupt:
-        print("demo: interrupted; everything it started has been stopped", file=sys.stderr)
-        return 130
+    return run_reporting(lambda: run(args.scenario, args.out, args.timeout, extra), "demo")
 
 
 if __name__ == "__main__":
