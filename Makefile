@@ -28,3 +28,11 @@ lint: setup
 
 clean:
 	rm -rf .venv build out .pytest_cache .hypothesis
+
+# Firmware (firmware/README.md): both Arduino sketches for the Uno with Debian's AVR
+# toolchain (flash and RAM use against 32 KB / 2 KB), and the simulated Uno (simavr) the
+# tests run the plain-serial sketch on. ROS_LIB=... points at a rosserial Arduino library;
+# without one the rosserial sketch is skipped with a one-line note.
+.PHONY: firmware
+firmware: setup
+	@$(MAKE) --no-print-directory -C firmware

@@ -21,6 +21,9 @@ apt_packages=(
   python3-diagnostic-msgs python3-std-srvs
   python3-actionlib python3-actionlib-msgs python3-genpy
   rospack-tools python3-venv catkin-lint
+  # `make firmware` and its tests: the Uno's toolchain and Arduino core, simavr with its
+  # library (the simulated Uno), a host compiler (the harness, the sketches' host tests).
+  gcc-avr avr-libc binutils-avr arduino-core-avr simavr libsimavr-dev gcc g++ make
 )
 # Tests check the "no root" path with a package list of their own.
 if [ -n "${HRI_SETUP_APT_PACKAGES:-}" ]; then read -r -a apt_packages <<<"$HRI_SETUP_APT_PACKAGES"; fi
