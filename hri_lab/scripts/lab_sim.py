@@ -27,6 +27,8 @@ Parameters (private):
   ~state_rate_hz    float  100.0  ~ee_pose, ~ee_twist and ~grip_force rate, Hz
   ~status_rate_hz   float  10.0   ~arm_status rate, Hz (also published at once on a change)
   ~object_rate_hz   float  20.0   ~object rate, Hz
+  ~stall_s          float  0.1    a loop that woke this much later than due means the process
+                                  was starved: simulated time skips the gap (see now())
   ~loop_period_s    float  0.002  how often the main loop wakes, s (the physics runs at 1 kHz
                                   whatever this is; it bounds the latency of goal results
                                   and board samples)
@@ -36,7 +38,7 @@ Parameters (private):
   ~board_rate_hz    float  100.0  board.rate_hz, samples/s (3.333 = the handout's 300 ms sketch)
   ~noise_counts     float  1.0    board.noise_counts, ADC noise standard deviation, counts
   ~board_seed       int    0      board.seed
-  ~arm_timeout_s    float  0.1    arm.timeout_s, s without a command before the arm stops
+  ~arm_timeout_s    float  0.3    arm.timeout_s, s without a command before the arm stops
   ~initial_width_m  float  0.08   hand.initial_width_m, m
   A wrong key, type or value in any of them ends the node with one line naming the file
   (or the parameters), the key and the fix (exit status 1).
@@ -99,7 +101,7 @@ from hri_teleop.sim.world import LabWorld, ObjectStatus
 
 #: Private parameters of the node itself; every other private parameter is a sim.yaml override.
 NODE_KEYS = ("config", "scenario", "twist_topic", "gripper_ns", "board", "frame_id", "gripper_rate_hz",
-             "state_rate_hz", "status_rate_hz", "object_rate_hz", "loop_period_s")
+             "state_rate_hz", "status_rate_hz", "object_rate_hz", "loop_period_s", "stall_s")
 FINGER_JOINTS = ["panda_finger_joint1", "panda_finger_joint2"]
 #: Every name the arm reports a violation under, in the order ~arm_status lists them.
 ARM_ERRORS = (VELOCITY_LIMITS_VIOLATION, VELOCITY_DISCONTINUITY, ACCELERATION_DISCONTINUITY, NON_FINITE_COMMAND)
@@ -174,6 +176,9 @@ class LabSimNode:
         self.loop_period_s = get_param("~loop_period_s", 0.002, kind=float)
         if not 0.0 < self.loop_period_s <= 0.05:
             fail(f"parameter {name}/loop_period_s is {self.loop_period_s!r}; set it to (0, 0.05] s, e.g. 0.002")
+        self.stall_s = get_param("~stall_s", 0.1, kind=float)
+        if not self.stall_s > 2 * self.loop_period_s:
+            fail(f"parameter {name}/stall_s is {self.stall_s!r}; set it above twice ~loop_period_s, e.g. 0.1")
         self._periods = {"joints": periods["gripper_rate_hz"], "state": periods["state_rate_hz"],
                          "status": periods["status_rate_hz"], "object": periods["object_rate_hz"]}
         self._next_due = {key: 0.0 for key in self._periods}
@@ -194,6 +199,10 @@ class LabSimNode:
         self._lock = threading.Lock()
         self.world = LabWorld(self.config, start_s=0.0)
         self._t0 = time.monotonic()
+        self._clock_lock = threading.Lock()
+        self._last_wall = self._t0
+        self._skipped_s = 0.0
+        self.stalls = 0
         self._samples: List[Tuple[float, int]] = []
         self._goals: Dict[int, _Goal] = {}   # hand goal id -> goal, until reported
         self._ids: Dict[str, int] = {}       # actionlib goal id -> hand goal id, same lifetime
@@ -219,8 +228,25 @@ class LabSimNode:
     # -- clock and world ------------------------------------------------------------------
 
     def now(self) -> float:
-        """Simulation time: seconds since the world was created."""
-        return time.monotonic() - self._t0
+        """Simulation time: seconds since the world was created, less this process's stalls.
+
+        The loop asks for the time every ~loop_period_s. When it has not for more than
+        ~stall_s, this process was starved (a busy machine), not idle: the commands that
+        were sent meanwhile are still waiting to be read. Running the world through that
+        gap would judge a command timeout and then a step that never happened, so the
+        simulated time skips the stall (and says so, at most every 5 s).
+        """
+        with self._clock_lock:
+            wall = time.monotonic()
+            gap = wall - self._last_wall
+            if gap > self.stall_s:
+                self._skipped_s += gap - self.loop_period_s
+                self.stalls += 1
+                rospy.logwarn_throttle(5.0, "simulation stalled for %.0f ms (the machine is busy): simulated "
+                                       "time skips it (%d stalls, %.2f s skipped so far)"
+                                       % (gap * 1e3, self.stalls, self._skipped_s))
+            self._last_wall = wall
+            return wall - self._t0 - self._skipped_s
 
     def _advance_locked(self, now: float) -> None:
         """Run the world up to ``now`` (hold the lock); keep the board's samples for the loop."""

@@ -37,8 +37,11 @@ from hri_teleop.sim.hand import (Attachment, Command, GoalRecord, GraspObject, H
 __all__ = ["WorldError", "WorldConfig", "ObjectStatus", "LabWorld", "LAB_ARM_CONFIG", "LIFTED_M"]
 
 #: The arm as the lab world uses it: SimArm's defaults, with the workspace floor lowered to
-#: 15 mm above the table so that the fingers reach an object lying on it.
-LAB_ARM_CONFIG = SimArmConfig(workspace_min_m=(0.2, -0.5, 0.015))
+#: 15 mm above the table so that the fingers reach an object lying on it, and a command
+#: timeout of 0.3 s (15 missed messages at 50 Hz) instead of 0.1 s: on a student's busy
+#: laptop a Python node can stall for a tenth of a second, and a stall must not look like
+#: a dead node (the ramp to zero would then make the next command a step).
+LAB_ARM_CONFIG = SimArmConfig(workspace_min_m=(0.2, -0.5, 0.015), timeout_s=0.3)
 #: An object this far above the table counts as lifted (m).
 LIFTED_M = 0.005
 

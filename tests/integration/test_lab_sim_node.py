@@ -23,6 +23,7 @@ from hri_teleop.ros.bags import read_topics
 from hri_teleop.ros.master import PrivateMaster
 from hri_teleop.sim.arm import VELOCITY_DISCONTINUITY
 from hri_teleop.sim.hand import COMMAND_ABORTED, OBJECTS, Attachment
+from hri_teleop.sim.world import WorldConfig
 
 pytestmark = pytest.mark.ros
 
@@ -38,6 +39,7 @@ TOPICS = ["/pub_force", "/franka_gripper/joint_states", "/lab_sim/ee_pose", "/la
           "/lab_sim/arm_status", "/lab_sim/violations", "/lab_sim/object", "/lab_sim/grip_force"]
 
 ZERO = [0.0] * 6
+TIMEOUT_S = WorldConfig().arm.timeout_s  # what sim.yaml says too (test_sim_config checks)
 
 
 def _vx(v: float) -> List[float]:
@@ -316,13 +318,13 @@ def test_no_command_for_longer_than_the_timeout_stops_the_arm_and_says_why(sessi
     sent = session.twists(1)
     last_t, last_vy = sent[-1][0], sent[-1][2]
     poses = session.between("/lab_sim/ee_pose", "silence", "silence_end")
-    still = [m.pose.position.y for t, m in poses if t > last_t + 0.2]  # timeout 0.1 s, ramp ~4 ms
+    still = [m.pose.position.y for t, m in poses if t > last_t + TIMEOUT_S + 0.1]  # then a ramp of ~4 ms
     assert still and max(still) - min(still) < 1e-9
     integral_m = sum(v[2] * (later[0] - v[0]) for v, later in zip(sent, sent[1:]))
     # the last command is held for the timeout, then ramped to zero (about 1.6 ms more)
-    assert still[-1] - START[1] == pytest.approx(integral_m + last_vy * 0.1, abs=5e-4)
+    assert still[-1] - START[1] == pytest.approx(integral_m + last_vy * TIMEOUT_S, abs=5e-4)
     twists = [m.twist.linear.y for t, m in session.between("/lab_sim/ee_twist", "silence", "silence_end")
-              if t > last_t + 0.2]
+              if t > last_t + TIMEOUT_S + 0.1]
     assert twists and all(v == 0.0 for v in twists)
     assert all(_values(m)["violations"] == "0" for m in statuses)
     assert "command timeout" in session.node_output
@@ -358,3 +360,30 @@ def test_board_false_leaves_pub_force_to_another_board_and_names_are_parameters(
     assert "/lab_sim_quiet" not in master.publishers("/pub_force")
     assert node.stop() == 0, node.output()
     assert "board off" in node.output() and "no object" in node.output()
+
+
+def test_a_stalled_simulation_skips_the_stall_instead_of_judging_a_timeout(ros_master, tmp_path):
+    """A busy machine can starve lab_sim for longer than the command timeout while the
+    teleoperation node keeps publishing: that is no dead node, and the arm must not stop."""
+    import os
+    import signal
+    import time
+
+    node = ros_master.run([str(LAB_SIM), "_object:=none", "_board:=false"], "lab_sim_stall")
+    ros_master.wait_for(lambda: bool(ros_master.subscribers("/cartesian_velocity_controller/cmd_vel"))
+                        or not node.running, 30, "lab_sim to subscribe to the twist")
+    pub = ros_master.run(["rostopic", "pub", "-r", "50", "/cartesian_velocity_controller/cmd_vel",
+                          "geometry_msgs/Twist", "{}"], "zero_twists")
+    bag = tmp_path / "stall.bag"
+    recorder = ros_master.record(bag, ["/lab_sim/arm_status"])
+    time.sleep(1.5)
+    os.kill(node.popen.pid, signal.SIGSTOP)  # starved for 0.6 s, twice the command timeout
+    time.sleep(0.6)
+    os.kill(node.popen.pid, signal.SIGCONT)
+    time.sleep(1.5)
+    recorder.stop()
+    pub.stop()
+    node.stop()
+    states = [_values(m)["state"] for _, m in read_topics(bag, ["/lab_sim/arm_status"])["/lab_sim/arm_status"]]
+    assert states and "timeout" not in states, states
+    assert "simulation stalled for" in node.output()
