@@ -63,6 +63,7 @@ _NUMBER_KEYS: Dict[str, tuple] = {
     "rumble_threshold": ("rumble_threshold", "mapped force 0..1 below which the pad does not rumble"),
 }
 _STRING_KEYS = ("layout", "pad", "twist_topic")
+_BOOL_KEYS = {"feedback": ("feedback", "force feedback: true = the pad rumbles, false = it never does")}
 # ROS graph resource names: optional ~ or /, then segments that start with a letter.
 _ROS_NAME = re.compile(r"^[~/]?[A-Za-z][A-Za-z0-9_]*(/[A-Za-z][A-Za-z0-9_]*)*$")
 _BUTTON_ROLES = {"close": "close_button", "open": "open_button", "toggle": "toggle_button", "quit": "quit_button",
@@ -70,7 +71,7 @@ _BUTTON_ROLES = {"close": "close_button", "open": "open_button", "toggle": "togg
 _LIMIT_NAMES = ("velocity", "acceleration", "jerk")
 
 #: Every top-level key the teleop config may have.
-CONFIG_KEYS = tuple(sorted(list(_NUMBER_KEYS) + list(_STRING_KEYS) + ["limits", "axes", "buttons"]))
+CONFIG_KEYS = tuple(sorted(list(_NUMBER_KEYS) + list(_STRING_KEYS) + list(_BOOL_KEYS) + ["limits", "axes", "buttons"]))
 
 
 class ConfigError(ValueError):
@@ -190,6 +191,13 @@ def teleop_config_from_dict(d: Mapping[str, Any], source: str = "<dict>") -> Tel
     for key, (field_name, meaning) in _NUMBER_KEYS.items():
         if key in d:
             kwargs[field_name] = _number(d[key], key, meaning, source)
+
+    for key, (field_name, meaning) in _BOOL_KEYS.items():
+        if key in d:
+            if not isinstance(d[key], bool):
+                raise ConfigError(f"{source}: {key} must be true or false ({meaning}), got {d[key]!r}; "
+                                  f"write {key}: true or {key}: false, without quotes")
+            kwargs[field_name] = d[key]
 
     strings = {"layout": DEFAULT_LAYOUT, "pad": DEFAULT_PAD, "twist_topic": DEFAULT_TWIST_TOPIC}
     for key in _STRING_KEYS:

@@ -163,11 +163,19 @@ class TeleopParams:
     # handout; e.g. "l1" = the arm moves only while L1 is held. Recommended for wireless
     # pads, which can keep their last reading for seconds when the link drops.
     deadman_button: str = ""
+    # Force feedback on (the lab) or off (the control condition of Ex. 14's experiment):
+    # off, the pad never rumbles; everything else is the same.
+    feedback: bool = True
 
     def __post_init__(self) -> None:
         for f in fields(self):
             value = getattr(self, f.name)
             if f.name == "assignment" or f.name.endswith("_button"):
+                continue
+            if f.name == "feedback":
+                if not isinstance(value, bool):
+                    raise TeleopError(f"feedback must be true or false, got {value!r}; write feedback: true (rumble on) "
+                                      "or feedback: false (the experiment's control condition)")
                 continue
             if not is_finite_number(value):
                 raise TeleopError(f"{f.name} must be a finite number, got {value!r}; set it in the teleop config")
@@ -303,8 +311,8 @@ class TeleopController:
         return (0.0, 0.0, 0.0, values[0], values[1], values[2])
 
     def rumble_for(self, mapped_force: Optional[float], force_age_s: Optional[float]) -> float:
-        """Rumble intensity 0..1 for a mapped force of a given age (s); 0 if missing, stale or below threshold."""
-        if mapped_force is None or force_age_s is None:
+        """Rumble intensity 0..1 for a mapped force of a given age (s); 0 if missing, stale, below threshold or feedback off."""
+        if not self._params.feedback or mapped_force is None or force_age_s is None:
             return 0.0
         try:
             force, age = float(mapped_force), float(force_age_s)

@@ -238,3 +238,13 @@ def test_overrides_replace_single_keys_of_the_file(tmp_path):
     assert cfg.params.k_trans == 0.07 and cfg.params.rate_hz == 50.0
     with pytest.raises(ConfigError, match="node params over"):
         load_teleop_config(path, {"k_tran": 0.07}, "node params")
+
+
+def test_feedback_switch_is_read_from_the_file_and_must_be_a_yaml_bool(tmp_path):
+    from hri_teleop.config import teleop_config_from_dict
+
+    assert teleop_config_from_dict({}).params.feedback is True
+    assert teleop_config_from_dict({"feedback": False}).params.feedback is False
+    with pytest.raises(ConfigError) as info:
+        teleop_config_from_dict({"feedback": "false"}, "t.yaml")
+    assert "t.yaml: feedback must be true or false" in str(info.value) and "without quotes" in str(info.value)

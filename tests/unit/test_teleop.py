@@ -376,3 +376,17 @@ def test_the_deadman_button_must_be_a_free_positional_button():
         TeleopParams(deadman_button="trigger")
     with pytest.raises(TeleopError, match="different buttons"):
         TeleopParams(deadman_button="south")
+
+
+def test_with_feedback_off_the_pad_never_rumbles_and_everything_else_is_the_same():
+    on, off = TeleopController(TeleopParams()), TeleopController(TeleopParams(feedback=False))
+    pad = PadState({**PadState.neutral().axes, "left_y": 0.8}, {**PadState.neutral().buttons, "south": True}, True)
+    for _ in range(20):
+        a, b = on.step(pad, 0.7, 0.01, 0.02), off.step(pad, 0.7, 0.01, 0.02)
+        assert a.rumble == pytest.approx(0.7) and b.rumble == 0.0
+        assert (a.twist, a.gripper_width_m, a.mode) == (b.twist, b.gripper_width_m, b.mode)
+
+
+def test_feedback_must_be_a_bool():
+    with pytest.raises(TeleopError, match="feedback must be true or false"):
+        TeleopParams(feedback="false")
