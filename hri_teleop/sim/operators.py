@@ -16,7 +16,7 @@ from typing import Any, Dict, List
 
 from hri_teleop.gamepad import ScriptStep
 
-__all__ = ["random_operator", "script_to_yaml_data"]
+__all__ = ["random_operator", "script_to_yaml_data", "study_operator"]
 
 _STICKS = ("left_x", "left_y", "right_x", "right_y")
 _BUTTONS = ("south", "east", "north")
@@ -87,3 +87,44 @@ def script_to_yaml_data(steps: List[ScriptStep], description: str = "") -> Dict[
     if description:
         data["description"] = description
     return data
+
+
+def study_operator(condition: str, seed: int) -> List[ScriptStep]:
+    """A participant of Ex. 14's experiment grasping and lifting the egg (default world).
+
+    Both conditions approach the same way and close fast to 56 mm.  Then:
+
+    * ``feedback``: taps cross (1.6 mm a tap) until the pad rumbles above 0.9 -- the
+      default scenario's careful operator;
+    * ``no_feedback``: cannot feel the piston, so judges by eye: 6 to 9 taps, drawn with
+      the seed and biased towards squeezing too much (7 taps land in the piston's window;
+      6 hold too lightly and the egg slips, 8 or more crush it).
+
+    The timing jitters with the seed (reaction and pauses), as people do.
+    """
+    if condition not in ("feedback", "no_feedback"):
+        raise ValueError(f"condition must be feedback or no_feedback, got {condition!r}")
+    rng = random.Random(seed)
+    t = round(1.0 + rng.uniform(0.0, 0.3), 2)
+    steps = [ScriptStep(t, "axis", ("right_y",), -1.0)]
+    t = round(t + 4.6, 2)
+    steps.append(ScriptStep(t, "axis", ("right_y",), 0.0))
+    t = round(t + 0.9 + rng.uniform(0.0, 0.3), 2)
+    steps.append(ScriptStep(t, "press", ("south",)))
+    t = round(t + 0.6, 2)
+    steps.append(ScriptStep(t, "release", ("south",)))
+    t = round(t + 0.5, 2)
+    if condition == "feedback":
+        steps.append(ScriptStep(t, "tap", ("south",), hold_s=0.04, every_s=0.5, condition="rumble", above=0.9,
+                                max_wait_s=20.0))
+        t = round(t + 0.5, 2)
+    else:
+        for _ in range(rng.choice((6, 7, 8, 8, 9))):
+            steps.append(ScriptStep(t, "tap", ("south",), hold_s=0.04))
+            t = round(t + 0.5, 2)
+    steps.append(ScriptStep(t, "axis", ("right_y",), 0.5))
+    t = round(t + 2.0, 2)
+    steps.append(ScriptStep(t, "axis", ("right_y",), 0.0))
+    t = round(t + 2.0, 2)
+    steps.append(ScriptStep(t, "tap", ("west",), hold_s=0.1))
+    return steps

@@ -1,0 +1,103 @@
+"""Ex. 14's experiment core: the trial plan, the per-trial metrics, a simulated study end to end."""
+
+from __future__ import annotations
+
+from collections import Counter
+from pathlib import Path
+
+import pytest
+
+from hri_teleop.config import load_teleop_config
+from hri_teleop.experiment.metrics import (MetricsError, TrialMeta, calibrated_force_n, per_participant,
+                                           trial_metrics)
+from hri_teleop.experiment.plan import counterbalanced_plan, read_plan, write_plan
+from hri_teleop.experiment.stats import paired_comparison
+from hri_teleop.sim.hand import OBJECTS, Attachment
+from hri_teleop.sim.lab import run_lab
+from hri_teleop.sim.operators import study_operator
+from hri_teleop.sim.world import WorldConfig
+
+REPO = Path(__file__).resolve().parents[2]
+CONFIG = load_teleop_config(REPO / "hri_lab" / "config" / "teleop.yaml")
+EGG = WorldConfig(object=OBJECTS["egg"])
+MAX = Attachment().full_travel_count  # the calibration a student would measure in this world
+
+
+def _trial(condition: str, seed: int, participant: str = "P01", trial: int = 1):
+    from dataclasses import replace
+
+    params = replace(CONFIG.params, feedback=(condition == "feedback"))
+    record = run_lab(study_operator(condition, seed), EGG, params, CONFIG.limits, max_sensor_force=MAX)
+    return record, trial_metrics(record, TrialMeta(participant, "egg", condition, trial), MAX)
+
+
+def test_the_plan_gives_everyone_every_object_in_both_conditions_and_balances_the_order():
+    plan = counterbalanced_plan(["P01", "P02", "P03", "P04"], ["egg", "sponge", "block"], repetitions=2)
+    assert len(plan) == 4 * 3 * 2 * 2
+    cells = Counter((m.participant, m.object_name, m.condition) for m in plan)
+    assert set(cells.values()) == {2} and len(cells) == 4 * 3 * 2
+    first = {m.participant: m.condition for m in plan if m.trial == 1}
+    assert Counter(first.values()) == Counter({"feedback": 2, "no_feedback": 2})
+    firsts = [next(m.object_name for m in plan if m.participant == p) for p in ("P01", "P02", "P03")]
+    assert sorted(firsts) == ["block", "egg", "sponge"]  # Latin square: each object leads once
+    assert [m.trial for m in plan if m.participant == "P03"] == list(range(1, 13))
+
+
+def test_a_plan_round_trips_through_its_csv(tmp_path):
+    plan = counterbalanced_plan(["A", "B"], ["egg"])
+    assert read_plan(write_plan(plan, tmp_path / "plan.csv")) == plan
+
+
+def test_the_calibration_makes_the_measured_maximum_read_the_full_travel_force():
+    force = calibrated_force_n([0, MAX, 650], 690.0)
+    assert force[0] == 0.0 and force[2] < force[1]
+    assert calibrated_force_n([690], 690.0)[0] == pytest.approx(Attachment().full_travel_force_n)
+
+
+def test_metrics_agree_with_what_the_simulation_knows_for_a_careful_grasp():
+    record, m = _trial("feedback", seed=1)
+    assert m.success and m.lifted and not m.crushed
+    # the FSR's calibrated force matches the simulated spring within the ADC's resolution
+    spring_peak = max(v for _, v in record.grip_force)  # below full travel, grip = spring (series)
+    assert m.peak_force_n == pytest.approx(spring_peak, rel=0.05)
+    assert 0 < m.time_to_grasp_s < m.time_to_lift_s < m.duration_s
+    assert m.rumble_s > 1.0 and m.saturated_s == 0.0
+
+
+def test_metrics_see_a_crush_and_the_piston_bottomed_out_without_feedback():
+    for seed in range(40):
+        record, m = _trial("no_feedback", seed)
+        if record.crushed:
+            break
+    assert m.crushed and not m.success and m.rumble_s == 0.0
+    # the shell gives way within milliseconds of full travel: the FSR's last word is its maximum
+    assert m.peak_force_n == pytest.approx(Attachment().full_travel_force_n, rel=0.02)
+
+
+def test_a_block_squeezed_past_full_travel_keeps_the_piston_bottomed_out():
+    record = run_lab(REPO / "hri_lab" / "scenarios" / "squeeze.yaml", WorldConfig(object=OBJECTS["block"]),
+                     CONFIG.params, CONFIG.limits, max_sensor_force=MAX)
+    m = trial_metrics(record, TrialMeta("P01", "block", "feedback", 1), MAX)
+    assert m.saturated_s > 2.0 and not m.crushed and m.lifted
+    assert max(v for _, v in record.grip_force) > 10 * m.peak_force_n  # the housing, not the FSR, took it
+
+
+def test_a_simulated_study_shows_feedback_lowers_the_squeeze():
+    participants = ["P01", "P02", "P03", "P04", "P05", "P06"]
+    metrics = []
+    for i, p in enumerate(participants):
+        for condition in ("feedback", "no_feedback"):
+            metrics.append(_trial(condition, seed=100 + i, participant=p)[1])
+    with_fb = per_participant(metrics, "peak_force_n", "feedback")
+    without = per_participant(metrics, "peak_force_n", "no_feedback")
+    result = paired_comparison([v for _, v in without], [v for _, v in with_fb])
+    assert result.n_pairs == 6 and result.median_difference >= 0.0
+    assert sum(m.success for m in metrics if m.meta.condition == "feedback") == 6
+    assert sum(m.success for m in metrics if m.meta.condition == "no_feedback") < 6
+
+
+def test_a_trial_without_sensor_samples_is_named_in_the_error():
+    from hri_teleop.sim.report import LabRecord
+
+    with pytest.raises(MetricsError, match="P07 trial 3"):
+        trial_metrics(LabRecord(), TrialMeta("P07", "egg", "feedback", 3), 700)
