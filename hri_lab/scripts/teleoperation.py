@@ -26,8 +26,9 @@ the fix. Keys (see teleop.yaml for units and defaults):
                            path: roslaunch starts nodes in ~/.ros). The script's time counts
                            this node's ticks (1/rate each), so a replay is the same on a
                            busy machine; hri_lab/scenarios/ has the simulated operators.
-                           It starts once the twist topic has a subscriber (the robot or
-                           lab_sim), so that no stick moves before the robot listens.
+                           It starts once the twist topic has a subscriber other than
+                           rosbag (the robot or lab_sim), so that no stick moves before
+                           the robot listens.
   ~script_wait_s float 10.0 with no subscriber, the script starts anyway after this (s)
   ~pad_index     int   0   which physical pad, with pad "pygame"
   ~stop_timeout_s float 3.0 longest ramp to zero at shutdown before giving up (s)
@@ -60,6 +61,7 @@ import threading
 import time
 from typing import Any, Optional, Tuple
 
+import rosgraph
 import rospy
 from geometry_msgs.msg import Twist
 from sensor_msgs.msg import Joy
@@ -114,6 +116,7 @@ class TeleoperationNode:
         self._ticks = 0
         self._script_pending = bool(pad_script)  # the script waits for the robot (see tick)
         self._script_wait_started: Optional[float] = None
+        self._next_listen_check = 0.0
         self.pad = open_gamepad(self.config.pad, self.config.layout, index=pad_index,
                                 script=pad_script or None, log=rospy.logwarn,
                                 clock=(lambda: self._ticks * self.dt_s) if pad_script else None)
@@ -182,14 +185,30 @@ class TeleoperationNode:
         return state
 
     # -- one tick ---------------------------------------------------------------------
+    def _robot_listens(self, now: float) -> bool:
+        """Whether something other than a recorder (rosbag's /record_*) subscribes to the twist.
+
+        Asks the master at most every 0.25 s, and only while the script waits.
+        """
+        if self.twist_pub.get_num_connections() == 0 or now < self._next_listen_check:
+            return False
+        self._next_listen_check = now + 0.25
+        try:
+            _pubs, subs, _srvs = rosgraph.Master(rospy.get_name()).getSystemState()
+        except Exception as exc:  # noqa: BLE001 - master unreachable: keep waiting, ~script_wait_s bounds it
+            rospy.logdebug("cannot ask the master for subscribers: %s", exc)
+            return False
+        names = next((nodes for topic, nodes in subs if topic == self.twist_pub.resolved_name), [])
+        return any(not name.startswith("/record") for name in names)
+
     def _script_may_start(self, now: float) -> bool:
         """A pad script starts once the velocity controller listens (or after ~script_wait_s).
 
         Nodes of one launch start in any order. A script that moved the stick before the
         (real or simulated) robot subscribed would hand it a velocity out of the blue: a
         step, which the Franka refuses. So the script's clock starts at the first tick
-        with a subscriber on the twist topic; with no robot at all it starts anyway after
-        ~script_wait_s.
+        with a subscriber on the twist topic other than a recorder (rosbag record may
+        subscribe first); with no robot at all it starts anyway after ~script_wait_s.
         """
         if not self._script_pending:
             return True
@@ -197,7 +216,7 @@ class TeleoperationNode:
             self._script_wait_started = now
             rospy.loginfo("pad script waits for a subscriber on %s (at most %.0f s) before it starts",
                           self.twist_pub.resolved_name, self.script_wait_s)
-        if self.twist_pub.get_num_connections() > 0:
+        if self._robot_listens(now):
             rospy.loginfo("pad script starts: %s has a subscriber", self.twist_pub.resolved_name)
         elif now - self._script_wait_started >= self.script_wait_s:
             rospy.logwarn("pad script starts without a subscriber on %s after %.0f s",

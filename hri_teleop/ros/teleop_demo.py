@@ -22,15 +22,16 @@ import time
 from pathlib import Path
 from typing import Any, Callable, Dict, List, Mapping, Optional
 
+from hri_teleop.config import DEFAULT_TWIST_TOPIC
 from hri_teleop.plots import lab_timeline
 from hri_teleop.ros.bags import read_topics
 from hri_teleop.ros.master import MasterError, PrivateMaster, run_reporting
 from hri_teleop.sim.report import LabRecord, format_summary, summarize
 
-#: What the demo records. Not the twist command itself: its only subscriber must be the
-#: (simulated) robot, so that the scripted operator starts when the robot listens (see
-#: teleoperation.py, ~pad_script); the arm's actual velocity is /lab_sim/ee_twist.
+#: What the demo records: the lab's topics (the twist as commanded, and as the simulated
+#: arm moved, /lab_sim/ee_twist) and the simulation's view of the object and the judge.
 TOPICS = (
+    DEFAULT_TWIST_TOPIC,
     "/pub_force",
     "/force_mapped",
     "/gripper_width",

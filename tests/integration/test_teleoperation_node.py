@@ -243,17 +243,22 @@ def test_virtual_joy_drives_the_pad_and_silence_ramps_to_zero(ros_master, tmp_pa
 
 def test_a_pad_script_waits_for_the_robot_to_listen_before_it_moves_the_stick(ros_master, tmp_path):
     """Nodes of one launch start in any order: a stick moved before the robot subscribed would
-    reach it as a velocity step. The script starts when the twist topic has a subscriber."""
+    reach it as a velocity step. The script starts when the twist topic has a subscriber other
+    than a recorder (rosbag may well subscribe first)."""
     script = _write_script(tmp_path, [{"t": 0.2, "axis": "left_y", "value": 1.0}])
     node = _start_node(ros_master, f"_pad_script:={script}", "_script_wait_s:=30")
-    time.sleep(2.0)
     bag = tmp_path / "late.bag"
-    recorder = ros_master.record(bag, [TWIST])  # the first subscriber: now the script starts
+    recorder = ros_master.record(bag, [TWIST])  # a recorder is no robot: the script keeps waiting
     time.sleep(2.0)
+    robot_at = time.time()
+    robot = ros_master.run(["rostopic", "echo", "-n", "1000", TWIST], "robot_stand_in")
+    time.sleep(2.5)
     recorder.stop()
+    robot.stop()
     node.stop()
-    twists = _twists(read_topics(bag, [TWIST])[TWIST])
-    vx = [tw[0] for tw in twists]
-    assert vx and vx[0] == 0.0, "the stick moved before anyone listened"
-    assert max(vx) > 0.05
+    msgs = read_topics(bag, [TWIST])[TWIST]
+    before = [m.linear.x for t, m in msgs if t < robot_at]
+    after = [m.linear.x for t, m in msgs if t >= robot_at]
+    assert len(before) > 50 and all(v == 0.0 for v in before), "the stick moved before the robot listened"
+    assert max(after) > 0.05
     assert "pad script starts: " in node.output()
