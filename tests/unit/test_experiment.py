@@ -96,6 +96,18 @@ def test_a_simulated_study_shows_feedback_lowers_the_squeeze():
     assert sum(m.success for m in metrics if m.meta.condition == "no_feedback") < 6
 
 
+def test_the_study_figure_is_drawn_from_trials(tmp_path):
+    from hri_teleop.experiment.figures import study_figure
+
+    trials = []
+    for i, p in enumerate(["P01", "P02", "P03"]):
+        for condition in ("feedback", "no_feedback"):
+            record, m = _trial(condition, seed=200 + i, participant=p)
+            trials.append((m, record))
+    png = study_figure(trials, MAX, tmp_path / "study.png")
+    assert png.stat().st_size > 30_000
+
+
 def test_a_trial_without_sensor_samples_is_named_in_the_error():
     from hri_teleop.sim.report import LabRecord
 
