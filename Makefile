@@ -29,6 +29,19 @@ lint: setup
 clean:
 	rm -rf .venv build out .pytest_cache .hypothesis
 
+# Autograder (hri_teleop.grading; solutions/README.md). `make traces` rewrites the public
+# reference bags in grading/traces/ (byte-identical on every run), `make templates` the
+# student templates from solutions/ into build/templates/, and `make grade` grades every
+# submission in DIR (default nbgrader's notebooks/submitted/) into OUT (default out/grades).
+traces: setup
+	@$(ENV) $(PY) -m hri_teleop.grading.cli traces
+
+templates: setup
+	@$(ENV) $(PY) -m hri_teleop.grading.cli templates
+
+grade: setup
+	@$(ENV) $(PY) -m hri_teleop.grading.cli batch $(or $(DIR),notebooks/submitted) --out $(or $(OUT),out/grades) $(if $(JOBS),--jobs $(JOBS))
+
 # Firmware (firmware/README.md): both Arduino sketches for the Uno with Debian's AVR
 # toolchain (flash and RAM use against 32 KB / 2 KB), and the simulated Uno (simavr) the
 # tests run the plain-serial sketch on. ROS_LIB=... points at a rosserial Arduino library;

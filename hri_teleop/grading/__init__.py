@@ -1,0 +1,28 @@
+"""The autograder of handout Task 4: student files checked against the lab's reference rules.
+
+Entry points (grading/README.md has the whole picture):
+
+* ``hri-grade CHECK PATH [--json] [--seed N]`` and ``hri-grade submission DIR`` (``cli``);
+* ``make grade``: every submission in a folder, several at once (``batch``);
+* notebooks: ``from hri_teleop.grading import check_mapping_node`` -- raises AssertionError
+  with the student's feedback unless every part passes; ``grade_*`` return the result;
+* ``hri-grade traces`` writes the public reference traces (``tracefiles``), ``hri-grade
+  templates`` the student templates from ``solutions/`` (``templates``).
+
+Nothing here is imported by the lab's nodes; rospy is only needed by the parts that run ROS.
+"""
+
+from __future__ import annotations
+
+from hri_teleop.grading.checks import (CHECKS, check_graph, check_mapping_node, check_robot_params,
+                                       check_sensor_launch, check_teleoperation, check_teleoperation_launch, grade,
+                                       grade_graph, grade_mapping_node, grade_robot_params, grade_sensor_launch,
+                                       grade_submission, grade_teleoperation, grade_teleoperation_launch)
+from hri_teleop.grading.results import CheckResult, GradingError, Part, feedback_text, gradescope_json
+
+__all__ = [
+    "CHECKS", "CheckResult", "GradingError", "Part", "feedback_text", "gradescope_json", "grade", "grade_submission",
+    "grade_robot_params", "grade_mapping_node", "grade_sensor_launch", "grade_teleoperation",
+    "grade_teleoperation_launch", "grade_graph", "check_robot_params", "check_mapping_node", "check_sensor_launch",
+    "check_teleoperation", "check_teleoperation_launch", "check_graph",
+]

@@ -1,0 +1,522 @@
+"""The checks: find the student's file, run it where it cannot hurt, compare, give points.
+
+One function per handout deliverable, each returning a
+:class:`~hri_teleop.grading.results.CheckResult`; ``grade_submission`` runs them all on a
+student's package. The same functions serve ``hri-grade`` (CLI), ``make grade`` (many
+submissions) and the notebooks' autograded cells (``check_*``: raise AssertionError with
+the feedback when a part fails, so nbgrader shows the student what to fix).
+
+Running is delegated (probes and sessions in sandboxes, :mod:`~hri_teleop.grading.sandbox`),
+judging is :mod:`~hri_teleop.grading.compare`; this module wires them together.
+"""
+
+from __future__ import annotations
+
+import json
+import os
+import shutil
+import signal
+import subprocess
+import sys
+import tempfile
+import time
+from pathlib import Path
+from typing import Any, Callable, Dict, List, Optional, Sequence, Tuple, Union
+
+import yaml
+
+from hri_teleop.grading import cases as C
+from hri_teleop.grading import compare
+from hri_teleop.grading.results import CheckResult, GradingError, Part, feedback_text, not_judged
+from hri_teleop.grading.robot_params import compare_robot_params
+from hri_teleop.grading.sandbox import DEFAULT_LIMITS, StudentProcess, describe_exit, sandbox_mode, session_argv, student_uid
+from hri_teleop.grading.workspace import (DELIVERABLES, REPO, Workspace, find_package_root, prepare_workspace,
+                                          ros_package_path)
+
+__all__ = [
+    "CHECKS", "grade", "grade_robot_params", "grade_mapping_node", "grade_sensor_launch", "grade_teleoperation",
+    "grade_teleoperation_launch", "grade_graph", "grade_submission", "live_graph", "simulation_launch",
+    "check_robot_params", "check_mapping_node", "check_sensor_launch", "check_teleoperation",
+    "check_teleoperation_launch", "check_graph",
+]
+
+PathLike = Union[str, Path]
+_PROBE_TIMEOUT_S = 20.0
+TWIST_TOPIC = "/cartesian_velocity_controller/cmd_vel"
+
+
+# -- shared machinery -----------------------------------------------------------------------
+
+def _require_ros() -> None:
+    for tool in ("roscore", "roslaunch"):
+        if shutil.which(tool, path=_grader_env()["PATH"]) is None:
+            raise GradingError(f"{tool} not found: run 'make setup' (it installs ROS 1) and source tools/env.sh")
+
+
+def _grader_env(package_path: str = "") -> Dict[str, str]:
+    env = dict(os.environ)
+    venv_bin = str(Path(sys.executable).parent)
+    if venv_bin not in env.get("PATH", "").split(":"):
+        env["PATH"] = venv_bin + ":" + env.get("PATH", "/usr/bin:/bin")
+    if package_path:
+        env["ROS_PACKAGE_PATH"] = package_path
+    for key in ("ROS_MASTER_URI", "ROS_IP"):
+        env.pop(key, None)
+    env["ROS_HOSTNAME"] = "127.0.0.1"
+    env["PYTHONUNBUFFERED"] = "1"
+    return env
+
+
+_OPEN_RUNS: "List[_Run]" = []
+
+
+def _closing(check: Callable[..., CheckResult]) -> Callable[..., CheckResult]:
+    """Whatever happens inside a check, its scratch folder does not outlive it."""
+    def wrapper(*args: Any, **kwargs: Any) -> CheckResult:
+        try:
+            return check(*args, **kwargs)
+        finally:
+            for run in list(_OPEN_RUNS):
+                run.close()
+    wrapper.__name__ = check.__name__
+    wrapper.__doc__ = check.__doc__
+    return wrapper
+
+
+class _Run:
+    """One check's scratch folder (a fresh workspace) and where its plots and logs go."""
+
+    def __init__(self, check: str, submission: PathLike, out_dir: Optional[PathLike], key: str,
+                 single_file: Optional[Path]) -> None:
+        self.check = check
+        self.session_dir = Path(tempfile.mkdtemp(prefix=f"hri-grade-{check}-"))
+        # Without out_dir, plots of failed parts go to a fresh temp path (created only if one is drawn)
+        # and the logs are not kept.
+        self.keep_logs = out_dir is not None
+        self.out_dir = Path(out_dir) / check if out_dir else \
+            Path(tempfile.gettempdir()) / f"hri-grade-out-{check}-{os.getpid()}-{time.monotonic_ns()}"
+        if out_dir:
+            self.out_dir.mkdir(parents=True, exist_ok=True)
+        self.uid = student_uid()
+        self.closed = False
+        _OPEN_RUNS.append(self)
+        self.space: Workspace = prepare_workspace(submission, self.session_dir, self.uid, single_file, key)
+        self.started = time.monotonic()
+
+    def close(self) -> None:
+        """Keep the logs (256 kB each) next to the plots, delete the scratch folder; safe to call twice."""
+        if self.closed:
+            return
+        self.closed = True
+        if self in _OPEN_RUNS:
+            _OPEN_RUNS.remove(self)
+        logs = self.session_dir / "logs"
+        if logs.is_dir() and self.keep_logs:
+            target = self.out_dir / "logs"
+            target.mkdir(parents=True, exist_ok=True)
+            for log in logs.glob("*.log"):
+                with open(log, "rb") as src, open(target / log.name, "wb") as dst:
+                    dst.write(src.read(256 * 1024))
+        if not os.environ.get("HRI_GRADE_KEEP"):
+            shutil.rmtree(self.session_dir, ignore_errors=True)
+
+    def env(self) -> Dict[str, str]:
+        return _grader_env(ros_package_path(self.space.ws))
+
+    def probe(self, command: str, target: Path, name: str, plan: Optional[Path] = None
+              ) -> Tuple[Optional[Dict[str, Any]], Dict[str, Any]]:
+        """Run a probe as a student process (no network); (its JSON or None, facts about the process)."""
+        out = self.space.grader_dir / f"{name}.json"
+        env = self.env()
+        env.update({"HOME": str(self.space.package), "ROS_HOME": str(self.space.package / ".ros"),
+                    "PYTHONDONTWRITEBYTECODE": "1", "MPLBACKEND": "Agg", "SDL_VIDEODRIVER": "dummy",
+                    "SDL_AUDIODRIVER": "dummy"})
+        argv = [sys.executable, "-m", "hri_teleop.grading.probe", command, str(target)]
+        argv += ([str(plan)] if plan is not None else []) + [str(out)]
+        proc = StudentProcess(argv, self.space.package, env, self.session_dir / "logs" / f"{name}.log",
+                              DEFAULT_LIMITS, uid=self.uid, nested=True, network=False)
+        code = proc.wait(_PROBE_TIMEOUT_S)
+        problem = "" if code is not None else f"was still running after {_PROBE_TIMEOUT_S:.0f} s (an endless loop?)"
+        proc.stop()
+        facts = {"exit_code": proc.returncode, "output_tail": proc.output_tail(), "output_bytes": proc.output_size(),
+                 "problem": problem or (describe_exit(proc.returncode) if proc.returncode else "")}
+        data: Optional[Dict[str, Any]] = None
+        if out.is_file() and code == 0:
+            try:
+                data = json.loads(out.read_text(encoding="utf-8"))
+            except (OSError, ValueError):
+                data = None
+        return data, facts
+
+    def session(self, plan: Dict[str, Any], timeout_s: float) -> Dict[str, Any]:
+        """Run a session plan (sandboxed: own network namespace) and return its observation."""
+        plan = dict(plan)
+        plan.update({"session_dir": str(self.session_dir), "student_folder": str(self.space.package),
+                     "uid": self.uid, "python": sys.executable, "env": dict(self.env(), TMPDIR=str(self.session_dir)),
+                     "out": str(self.session_dir / f"{plan['kind']}.out.json"),
+                     "limits": {"cpu_s": DEFAULT_LIMITS.cpu_s, "memory_bytes": DEFAULT_LIMITS.memory_bytes,
+                                "file_bytes": DEFAULT_LIMITS.file_bytes, "processes": DEFAULT_LIMITS.processes,
+                                "open_files": DEFAULT_LIMITS.open_files}})
+        return run_session_plan(plan, self.session_dir, timeout_s)
+
+
+def run_session_plan(plan: Dict[str, Any], session_dir: Path, timeout_s: float) -> Dict[str, Any]:
+    """Start ``python -m hri_teleop.grading.session`` (in bubblewrap where it works), wait, read."""
+    plan_path = session_dir / f"{plan['kind']}.plan.json"
+    plan_path.write_text(json.dumps(plan), encoding="utf-8")
+    out = Path(plan["out"])
+    argv = session_argv([sys.executable, "-m", "hri_teleop.grading.session", str(plan_path)], session_dir)
+    log = open(session_dir / f"{plan['kind']}.session.log", "wb")
+    proc = subprocess.Popen(argv, env=plan["env"], stdin=subprocess.DEVNULL, stdout=log, stderr=subprocess.STDOUT,
+                            start_new_session=True, cwd=str(session_dir))
+    try:
+        proc.wait(timeout=timeout_s)
+    except subprocess.TimeoutExpired:
+        for sig in (signal.SIGTERM, signal.SIGKILL):
+            try:
+                os.killpg(proc.pid, sig)
+            except ProcessLookupError:
+                break
+            try:
+                proc.wait(timeout=3)
+                break
+            except subprocess.TimeoutExpired:
+                continue
+        log.close()
+        return {"session_error": f"the grading session did not finish within {timeout_s:.0f} s"}
+    log.close()
+    if not out.is_file():
+        tail = (session_dir / f"{plan['kind']}.session.log").read_text(errors="replace")[-1500:]
+        return {"session_error": f"the grading session ended without a result (status {proc.returncode}): {tail}"}
+    return json.loads(out.read_text(encoding="utf-8"))
+
+
+def _missing_result(check: str, key: str, table: Dict[str, Tuple[str, float]], root: Path, seed: Optional[int]) -> CheckResult:
+    sub = DELIVERABLES[key]
+    entries = list(table.values())
+    parts = [Part(entries[0][0], entries[0][1], False, f"{sub} was not found in {root}: put it at {sub} in your "
+                                                        "hri_lab package")]
+    parts += [not_judged(name, points, f"{sub} was not found") for name, points in entries[1:]]
+    return CheckResult(check, str(root / sub), parts, seed)
+
+
+def _resolve(path: PathLike, key: str) -> Tuple[Path, Optional[Path], Optional[Path]]:
+    """(package root, the file given explicitly or None, the file found or None)."""
+    path = Path(path).expanduser()
+    if not path.exists():
+        raise GradingError(f"{path}: no such file or folder; give the student's {DELIVERABLES[key]} or their "
+                           "hri_lab folder")
+    root = find_package_root(path)
+    if path.is_file():
+        return root, path, path
+    from hri_teleop.grading.workspace import locate
+
+    return root, None, locate(root, key)
+
+
+def _finish(check: str, run: _Run, parts: List[Part], seed: Optional[int], notes: Sequence[str] = ()) -> CheckResult:
+    target = run.space.originals.get(_KEY[check])
+    mode = sandbox_mode(warn=False)
+    all_notes = list(notes) + ([] if mode == "bwrap" else ["student code ran without bubblewrap (limits only)"])
+    result = CheckResult(check, str(target) if target else "", parts, seed, time.monotonic() - run.started,
+                         tuple(all_notes))
+    run.close()
+    return result
+
+
+_KEY = {"robot-params": "robot_params", "mapping-node": "mapping_node", "sensor-launch": "sensor_launch",
+        "teleoperation": "teleoperation", "teleoperation-launch": "teleoperation_launch", "graph": "graph"}
+
+
+def _table_for(check: str) -> Dict[str, Tuple[str, float]]:
+    if check == "robot-params":
+        from hri_teleop.grading.robot_params import part_table
+
+        return part_table()
+    return {"mapping-node": compare.MAPPING, "sensor-launch": compare.SENSOR_LAUNCH, "teleoperation": compare.TELEOP,
+            "teleoperation-launch": compare.TELEOP_LAUNCH, "graph": compare.GRAPH}[check]
+
+
+def _start(check: str, path: PathLike, out_dir: Optional[PathLike], seed: Optional[int]
+           ) -> Tuple[Optional[_Run], Optional[CheckResult], int]:
+    key = _KEY[check]
+    root, given, found = _resolve(path, key)
+    seed = C.seed_for(root) if seed is None else int(seed)
+    if found is None:
+        hidden = check in ("mapping-node", "teleoperation")
+        return None, _missing_result(check, key, _table_for(check), root, seed if hidden else None), seed
+    sandbox_mode()  # says once when bubblewrap is missing
+    return _Run(check, root if given is None else given, out_dir, key, given or found), None, seed
+
+
+# -- the checks --------------------------------------------------------------------------------
+
+@_closing
+def grade_robot_params(path: PathLike, *, seed: Optional[int] = None, out_dir: Optional[PathLike] = None) -> CheckResult:
+    """Ex. 4: Table 1's keys, YAML types and values; loaded with rosparam's own loader."""
+    run, missing, seed = _start("robot-params", path, out_dir, seed)
+    if run is None:
+        return missing  # type: ignore[return-value]
+    target = run.space.files["robot_params"]
+    data, facts = run.probe("rosparam-load", target, "rosparam-load")
+    if data is None:
+        parts = compare_robot_params(None, compare._explain_process(facts, "loading robot_params.yaml"))
+    elif not data.get("ok"):
+        parts = compare_robot_params(None, f"`rosparam load` fails: {data.get('error')}")
+    else:
+        parts = compare_robot_params(data["params"])
+    return _finish("robot-params", run, parts, None)
+
+
+@_closing
+def grade_mapping_node(path: PathLike, *, seed: Optional[int] = None, out_dir: Optional[PathLike] = None) -> CheckResult:
+    """Ex. 5: the node for real on a private master: topics, type, every value, the range from the parameter."""
+    _require_ros()
+    run, missing, seed = _start("mapping-node", path, out_dir, seed)
+    if run is None:
+        return missing  # type: ignore[return-value]
+    cases = [C.public_mapping_case()] + C.hidden_mapping_cases(seed)
+    plan = {"kind": "mapping-node", "script": str(run.space.files["mapping_node"]),
+            "cases": [{"label": c.label, "max_sensor_force": c.max_sensor_force, "counts": list(c.counts)} for c in cases],
+            "start_timeout_s": 10.0, "response_timeout_s": 1.5}
+    observation = run.session(plan, timeout_s=120.0)
+    parts = compare.compare_mapping(observation, cases, run.out_dir)
+    return _finish("mapping-node", run, parts, seed)
+
+
+def _parse_launch(run: _Run, key: str) -> Tuple[Dict[str, Any], Dict[str, Any]]:
+    data, facts = run.probe("launch-parse", run.space.files[key], f"parse-{key}")
+    return (data if data is not None else {"ok": False, "error": ""}), facts
+
+
+@_closing
+def grade_sensor_launch(path: PathLike, *, seed: Optional[int] = None, out_dir: Optional[PathLike] = None) -> CheckResult:
+    """Ex. 6-7: parsed with roslaunch's loader, then launched: /force_mapped flows and stays in [0, 1]."""
+    _require_ros()
+    run, missing, seed = _start("sensor-launch", path, out_dir, seed)
+    if run is None:
+        return missing  # type: ignore[return-value]
+    parsed, facts = _parse_launch(run, "sensor_launch")
+    observation: Optional[Dict[str, Any]] = None
+    if parsed.get("ok"):
+        scripts = {n["type"] for n in parsed.get("nodes", [])}
+        param_ok, _ = compare._check_max_param(parsed.get("params", {}))
+        package = run.space.package
+        plan = {"kind": "sensor-launch", "launch_file": str(run.space.files["sensor_launch"]),
+                "set_max_sensor_force": None if param_ok else C.PUBLIC_MAX_SENSOR_FORCE,
+                "run_fsr_sensor": "FSR_sensor.py" not in scripts, "fsr_sensor": str(package / "scripts" / "FSR_sensor.py"),
+                "run_mapping_node": "mapping_node.py" not in scripts and (package / "scripts" / "mapping_node.py").is_file(),
+                "mapping_node": str(package / "scripts" / "mapping_node.py"),
+                "start_timeout_s": 15.0, "record_s": 3.0}
+        observation = run.session(plan, timeout_s=90.0)
+    parts = compare.compare_sensor_launch(parsed, observation, facts)
+    return _finish("sensor-launch", run, parts, None)
+
+
+@_closing
+def grade_teleoperation(path: PathLike, *, seed: Optional[int] = None, out_dir: Optional[PathLike] = None,
+                        node: bool = True) -> CheckResult:
+    """Ex. 8-9: the student's parts against pad-event traces, then the node with the virtual pad."""
+    from hri_teleop.gamepad.events import pad_events
+
+    _require_ros()
+    run, missing, seed = _start("teleoperation", path, out_dir, seed)
+    if run is None:
+        return missing  # type: ignore[return-value]
+    cases = [C.public_teleop_parts_case(), C.hidden_teleop_parts_case(seed)]
+    plan_cases = []
+    for case in cases:
+        ticks, previous = [], None
+        for tick in case.ticks:
+            state = tick.state()
+            events = [[e.type, e.button, e.axis, e.value] for e in pad_events(previous, state)]
+            ticks.append({"events": events, "force": tick.force})
+            previous = state
+        plan_cases.append({"label": case.label, "gains": case.gains.as_dict(), "ticks": ticks})
+    plan_path = run.space.grader_dir / "teleop-parts.plan.json"
+    plan_path.write_text(json.dumps({"cases": plan_cases}), encoding="utf-8")
+    if run.uid is not None:
+        os.chown(plan_path, run.uid, run.uid)
+    data, facts = run.probe("teleop-parts", run.space.files["teleoperation"], "teleop-parts", plan_path)
+    parts = compare.compare_teleop_parts(data or {"ok": False, "error": ""}, cases, run.out_dir, facts)
+    node_keys = [k for k in compare.TELEOP if k.startswith("node_")]
+    if not node:
+        parts += [not_judged(*compare.TELEOP[k], "the node was not run (node=False)") for k in node_keys]
+    elif not (data or {}).get("ok"):
+        parts += [not_judged(*compare.TELEOP[k], "the file could not be imported (see above)") for k in node_keys]
+    else:
+        node_case = C.hidden_teleop_node_case(seed)
+        script_path = run.space.grader_dir / "pad_script.yaml"
+        script_path.write_text(yaml.safe_dump([dict(step) for step in node_case.script]), encoding="utf-8")
+        if run.uid is not None:
+            os.chown(script_path, run.uid, run.uid)
+        plan = {"kind": "teleop-node", "script": str(run.space.files["teleoperation"]), "pad_script": str(script_path),
+                "gains": node_case.gains.as_dict(), "force": node_case.force, "start_timeout_s": 10.0,
+                "run_s": node_case.quit_s + 4.0, "quit_grace_s": 5.0}
+        observation = run.session(plan, timeout_s=90.0)
+        parts += compare.compare_teleop_node(observation, node_case, TWIST_TOPIC, run.out_dir)
+    return _finish("teleoperation", run, parts, seed)
+
+
+def simulation_launch(package: Path) -> Optional[str]:
+    """Hook for launching teleoperation.launch in simulation; None while the simulation issue is open.
+
+    The plan, for when it closes: the grading workspace already puts stand-ins where a
+    student's launch file reaches for hardware (``workspace._fake_franka_control``). Their
+    launch files then start the simulated lab instead of marking the include: the
+    stand-in ``franka_control_cartesian_velocity.launch`` starts hri_lab's ``lab_sim.py``
+    (simulated arm, hand and object) and a stand-in ``rosserial_python/serial_node.py``
+    the simulated sensor board. This function returns the ROS package path holding those
+    stand-ins, and ``grade_teleoperation_launch`` adds a part "launched in simulation"
+    (a session like ``teleop-node``: roslaunch the student's file with a scripted pad,
+    then judge the node set, the topics and that the twist reaches the simulated arm).
+    Until then the check parses the file only and says so in its notes.
+    """
+    return None
+
+
+@_closing
+def grade_teleoperation_launch(path: PathLike, *, seed: Optional[int] = None,
+                               out_dir: Optional[PathLike] = None) -> CheckResult:
+    """Ex. 12-13: node set, serial_node with its port, /max_sensor_force, the controller include."""
+    _require_ros()
+    run, missing, seed = _start("teleoperation-launch", path, out_dir, seed)
+    if run is None:
+        return missing  # type: ignore[return-value]
+    parsed, facts = _parse_launch(run, "teleoperation_launch")
+    parts = compare.compare_teleop_launch(parsed, facts)
+    notes = []
+    if simulation_launch(run.space.package) is None:
+        notes.append("teleoperation.launch was parsed with roslaunch's loader, not launched: launching it in "
+                     "simulation waits for the simulation issue")
+    return _finish("teleoperation-launch", run, parts, None, notes)
+
+
+_LIVE_GRAPH: Dict[str, Dict[str, Any]] = {}
+LIVE_GRAPH_NODES = ("/FSR_sensor", "/mapping_node", "/gripper_manager", "/teleoperation")
+
+
+def live_graph(cache_file: Optional[PathLike] = None) -> Dict[str, Any]:
+    """The graph of the lab's pipeline (hri_lab teleoperation.launch without hardware), once per process.
+
+    ``cache_file``: read it if it exists, else write it (``make grade`` computes it once for all).
+    """
+    if "graph" in _LIVE_GRAPH:
+        return _LIVE_GRAPH["graph"]
+    if cache_file and Path(cache_file).is_file():
+        _LIVE_GRAPH["graph"] = json.loads(Path(cache_file).read_text(encoding="utf-8"))
+        return _LIVE_GRAPH["graph"]
+    _require_ros()
+    session_dir = Path(tempfile.mkdtemp(prefix="hri-grade-graph-"))
+    try:
+        env = _grader_env()
+        paths = [str(REPO)] + [p for p in env.get("ROS_PACKAGE_PATH", "").split(":") if p and Path(p).resolve() != REPO]
+        if not env.get("ROS_DISTRO") and "/usr/share" not in paths:
+            paths.append("/usr/share")
+        env["ROS_PACKAGE_PATH"] = ":".join(paths)
+        plan = {"kind": "live-graph", "session_dir": str(session_dir), "student_folder": "", "uid": None,
+                "python": sys.executable, "env": dict(env, TMPDIR=str(session_dir)),
+                "out": str(session_dir / "live-graph.out.json"),
+                "launch_args": ["robot:=false", "arduino:=false", "pad:=virtual"], "nodes": list(LIVE_GRAPH_NODES),
+                "start_timeout_s": 30.0}
+        graph = run_session_plan(plan, session_dir, 90.0)
+    finally:
+        shutil.rmtree(session_dir, ignore_errors=True)
+    if graph.get("session_error") or graph.get("problem"):
+        raise GradingError(f"could not read the lab's live graph: {graph.get('session_error') or graph.get('problem')}")
+    _LIVE_GRAPH["graph"] = graph
+    if cache_file:
+        Path(cache_file).parent.mkdir(parents=True, exist_ok=True)
+        Path(cache_file).write_text(json.dumps(graph, sort_keys=True), encoding="utf-8")
+    return graph
+
+
+def grade_graph(path: PathLike, *, seed: Optional[int] = None, out_dir: Optional[PathLike] = None,
+                graph_cache: Optional[PathLike] = None) -> CheckResult:
+    """Ex. 15: the student's nodes, topics and types against the live graph of the lab's pipeline."""
+    key = "graph"
+    root, given, found = _resolve(path, key)
+    started = time.monotonic()
+    if found is None:
+        return _missing_result("graph", key, compare.GRAPH, root, None)
+    error, answer = "", None
+    try:
+        if found.stat().st_size > 100_000:
+            error = "graph.yaml is larger than 100 kB; list only the pipeline's nodes and topics"
+        else:
+            answer = yaml.safe_load(found.read_text(encoding="utf-8"))
+    except (OSError, UnicodeDecodeError) as exc:
+        error = f"graph.yaml cannot be read ({exc})"
+    except yaml.YAMLError as exc:
+        mark = getattr(exc, "problem_mark", None)
+        error = f"graph.yaml line {mark.line + 1 if mark else '?'}: {getattr(exc, 'problem', exc)}; fix the YAML syntax"
+    parts = compare.compare_graph(answer, live_graph(graph_cache) if not error and isinstance(answer, dict) else {},
+                                  error)
+    return CheckResult("graph", str(found), parts, None, time.monotonic() - started)
+
+
+CHECKS: Dict[str, Callable[..., CheckResult]] = {
+    "robot-params": grade_robot_params,
+    "mapping-node": grade_mapping_node,
+    "sensor-launch": grade_sensor_launch,
+    "teleoperation": grade_teleoperation,
+    "teleoperation-launch": grade_teleoperation_launch,
+    "graph": grade_graph,
+}
+
+
+def grade(check: str, path: PathLike, **kwargs: Any) -> CheckResult:
+    """Run the check named ``check`` (one of CHECKS) on ``path``."""
+    if check not in CHECKS:
+        raise GradingError(f"unknown check {check!r}; use one of {', '.join(CHECKS)}")
+    return CHECKS[check](path, **kwargs)
+
+
+def grade_submission(folder: PathLike, *, seed: Optional[int] = None, out_dir: Optional[PathLike] = None,
+                     graph_cache: Optional[PathLike] = None, checks: Sequence[str] = tuple(CHECKS)) -> List[CheckResult]:
+    """Every check on one student's package (missing files give failed checks, not errors)."""
+    folder = Path(folder).expanduser()
+    if not folder.is_dir():
+        raise GradingError(f"{folder}: not a folder; give the student's hri_lab package folder (or their submission)")
+    root = find_package_root(folder)
+    seed = C.seed_for(root) if seed is None else seed
+    results = []
+    for check in checks:
+        kwargs: Dict[str, Any] = {"seed": seed, "out_dir": out_dir}
+        if check == "graph":
+            kwargs["graph_cache"] = graph_cache
+        results.append(CHECKS[check](root, **kwargs))
+    return results
+
+
+# -- for notebooks: assertions with the student's messages -----------------------------------------
+
+def _assert(result: CheckResult) -> CheckResult:
+    if not result.passed:
+        raise AssertionError("\n" + feedback_text([result]))
+    return result
+
+
+def check_robot_params(path: PathLike, **kwargs: Any) -> CheckResult:
+    """For an autograded cell: AssertionError with the feedback unless every part passes."""
+    return _assert(grade_robot_params(path, **kwargs))
+
+
+def check_mapping_node(path: PathLike, **kwargs: Any) -> CheckResult:
+    return _assert(grade_mapping_node(path, **kwargs))
+
+
+def check_sensor_launch(path: PathLike, **kwargs: Any) -> CheckResult:
+    return _assert(grade_sensor_launch(path, **kwargs))
+
+
+def check_teleoperation(path: PathLike, **kwargs: Any) -> CheckResult:
+    return _assert(grade_teleoperation(path, **kwargs))
+
+
+def check_teleoperation_launch(path: PathLike, **kwargs: Any) -> CheckResult:
+    return _assert(grade_teleoperation_launch(path, **kwargs))
+
+
+def check_graph(path: PathLike, **kwargs: Any) -> CheckResult:
+    return _assert(grade_graph(path, **kwargs))

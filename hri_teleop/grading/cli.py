@@ -1,0 +1,141 @@
+"""``hri-grade``: the autograder from the command line.
+
+    hri-grade CHECK PATH [--json] [--seed N] [--out DIR]
+        CHECK: robot-params, mapping-node, sensor-launch, teleoperation, teleoperation-launch, graph
+        PATH: the student's file, or their hri_lab package folder
+    hri-grade submission DIR [--json] [--seed N] [--out DIR]    every check on one package
+    hri-grade batch DIR [--out DIR] [--jobs N]                  every submission in DIR (make grade)
+    hri-grade traces [--out DIR]                                the public reference traces (bags)
+    hri-grade templates [--solutions DIR] [--out DIR]           student templates from solutions/
+
+Exit status: 0 every check passed, 1 a check failed, 2 the grader itself could not run
+(the reason on one line on stderr). ``--json`` prints the Gradescope results format.
+"""
+
+from __future__ import annotations
+
+import argparse
+import json
+import os
+import sys
+import tempfile
+from pathlib import Path
+from typing import List, Optional, Sequence
+
+__all__ = ["main", "EXIT_PASSED", "EXIT_FAILED", "EXIT_GRADER_ERROR"]
+
+EXIT_PASSED, EXIT_FAILED, EXIT_GRADER_ERROR = 0, 1, 2
+_REPO = Path(__file__).resolve().parents[2]
+
+
+def _parser() -> argparse.ArgumentParser:
+    from hri_teleop.grading.checks import CHECKS
+
+    parser = argparse.ArgumentParser(prog="hri-grade", description="Autograder of the HRI lab's Task 4 (teleoperation).",
+                                     formatter_class=argparse.RawDescriptionHelpFormatter, epilog=__doc__)
+    sub = parser.add_subparsers(dest="command", metavar="COMMAND")
+    for name in list(CHECKS) + ["submission"]:
+        p = sub.add_parser(name, help=f"grade {'one package' if name == 'submission' else name}")
+        p.add_argument("path", help="the student's file or hri_lab folder" if name != "submission"
+                       else "the student's hri_lab folder (or their submission folder)")
+        p.add_argument("--json", action="store_true", help="print the Gradescope results JSON")
+        p.add_argument("--seed", type=int, default=None, help="seed of the hidden inputs (default: from the folder)")
+        p.add_argument("--out", default=None, help="where plots, logs and results go (default: a new temp folder)")
+        if name in ("submission", "graph"):
+            p.add_argument("--graph-cache", default=None,
+                           help="file with the lab's live graph (read if it exists, else written)")
+        if name == "submission":
+            p.add_argument("--checks", default="", help="comma-separated subset of checks (default: all)")
+    b = sub.add_parser("batch", help="grade every submission in a folder, several at once")
+    b.add_argument("path", nargs="?", default=str(_REPO / "notebooks" / "submitted"),
+                   help="folder of submissions, one subfolder per student (default: notebooks/submitted)")
+    b.add_argument("--out", default=str(_REPO / "out" / "grades"), help="results folder (default: out/grades)")
+    b.add_argument("--jobs", type=int, default=None, help="submissions graded at once (default: the CPU count)")
+    b.add_argument("--checks", default="", help="comma-separated subset of checks (default: all)")
+    t = sub.add_parser("traces", help="write the public reference traces")
+    t.add_argument("--out", default=None, help="folder (default: grading/traces)")
+    m = sub.add_parser("templates", help="write the student templates generated from solutions/")
+    m.add_argument("--solutions", default=str(_REPO / "solutions" / "hri_lab"))
+    m.add_argument("--out", default=str(_REPO / "build" / "templates" / "hri_lab"))
+    return parser
+
+
+def _report(results: Sequence, as_json: bool, out_dir: Path) -> int:
+    from hri_teleop.grading.results import feedback_text, gradescope_json
+
+    payload = gradescope_json(results)
+    (out_dir / "results.json").write_text(json.dumps(payload, indent=2), encoding="utf-8")
+    (out_dir / "feedback.txt").write_text(feedback_text(results) + "\n", encoding="utf-8")
+    (out_dir / "checks.json").write_text(json.dumps([r.to_dict() for r in results], indent=2), encoding="utf-8")
+    if as_json:
+        print(json.dumps(payload, indent=2))
+    else:
+        print(feedback_text(results))
+        print(f"(plots, logs and results in {out_dir})")
+    return EXIT_PASSED if all(r.passed for r in results) else EXIT_FAILED
+
+
+def main(argv: Optional[List[str]] = None) -> int:
+    args = _parser().parse_args(argv)
+    if not args.command:
+        _parser().print_help()
+        return EXIT_GRADER_ERROR
+    from hri_teleop.grading.batch import BatchError
+    from hri_teleop.grading.results import GradingError
+    from hri_teleop.grading.sandbox import SandboxError
+    from hri_teleop.grading.templates import TemplateError
+    from hri_teleop.grading.workspace import WorkspaceError
+
+    try:
+        if args.command == "traces":
+            from hri_teleop.grading.tracefiles import TRACE_DIR, write_traces
+
+            for path in write_traces(Path(args.out) if args.out else TRACE_DIR):
+                print(path)
+            return EXIT_PASSED
+        if args.command == "templates":
+            from hri_teleop.grading.templates import generate_templates
+
+            for item in generate_templates(args.solutions, args.out):
+                print(f"{item.target}  ({item.regions} region(s) removed)")
+            return EXIT_PASSED
+        if args.command == "batch":
+            from hri_teleop.grading.batch import grade_all
+
+            checks = [c.strip() for c in args.checks.split(",") if c.strip()] or None
+            return grade_all(Path(args.path), Path(args.out), jobs=args.jobs, checks=checks)
+        from hri_teleop.grading.checks import CHECKS, grade, grade_submission
+
+        if not Path(args.path).expanduser().exists():
+            raise GradingError(f"{args.path}: no such file or folder; give the student's file or hri_lab folder")
+        out_dir = Path(args.out) if args.out else Path(tempfile.mkdtemp(prefix="hri-grade-"))
+        out_dir.mkdir(parents=True, exist_ok=True)
+        if args.command == "submission":
+            checks = [c.strip() for c in args.checks.split(",") if c.strip()]
+            unknown = [c for c in checks if c not in CHECKS]
+            if unknown:
+                raise GradingError(f"unknown check(s) {', '.join(unknown)}; use {', '.join(CHECKS)}")
+            results = grade_submission(args.path, seed=args.seed, out_dir=out_dir, checks=checks or tuple(CHECKS),
+                                       graph_cache=Path(args.graph_cache) if args.graph_cache else None)
+        elif args.command == "graph":
+            results = [grade(args.command, args.path, seed=args.seed, out_dir=out_dir,
+                             graph_cache=Path(args.graph_cache) if args.graph_cache else None)]
+        else:
+            results = [grade(args.command, args.path, seed=args.seed, out_dir=out_dir)]
+        return _report(results, args.json, out_dir)
+    except (GradingError, SandboxError, TemplateError, WorkspaceError, BatchError, OSError) as exc:
+        print(f"hri-grade: {exc}", file=sys.stderr)
+        return EXIT_GRADER_ERROR
+    except KeyboardInterrupt:
+        print("hri-grade: interrupted", file=sys.stderr)
+        return EXIT_GRADER_ERROR
+    except Exception as exc:  # noqa: BLE001 - a grader bug: one line; HRI_GRADE_DEBUG=1 shows the traceback
+        if os.environ.get("HRI_GRADE_DEBUG"):
+            raise
+        print(f"hri-grade: internal error ({type(exc).__name__}: {exc}); rerun with HRI_GRADE_DEBUG=1 for the "
+              "traceback and report it", file=sys.stderr)
+        return EXIT_GRADER_ERROR
+
+
+if __name__ == "__main__":
+    sys.exit(main())

@@ -1,0 +1,64 @@
+"""Expected-against-actual figures for failed trace comparisons (PNG, matplotlib's Agg backend).
+
+Why: a list of three wrong numbers says *that* a mapping is wrong; a plot of the whole
+trace says *how* (flat at 0: integer division; a line past 1.0: no clipping; a line with
+the wrong slope: the wrong range), which is what a student needs to find the mistake.
+"""
+
+from __future__ import annotations
+
+import math
+from pathlib import Path
+from typing import Optional, Sequence
+
+__all__ = ["expected_vs_actual"]
+
+
+def _finite(values: Sequence[Optional[float]]) -> list:
+    out = []
+    for v in values:
+        try:
+            f = float(v)  # type: ignore[arg-type]
+        except (TypeError, ValueError):
+            f = math.nan
+        out.append(f if math.isfinite(f) else math.nan)
+    return out
+
+
+def expected_vs_actual(path: Path, title: str, x: Sequence[float], expected: Sequence[float],
+                       actual: Sequence[Optional[float]], xlabel: str, ylabel: str,
+                       inputs: Optional[Sequence[float]] = None, input_label: str = "",
+                       marks: Sequence[int] = (), levels: Sequence[float] = ()) -> str:
+    """Draw expected (line) and actual (dots, None = nothing arrived) over ``x``; returns the path.
+
+    ``inputs`` go on a second axis (e.g. the counts sent); ``marks`` are indices of wrong
+    values, circled in red; ``levels`` are values that must be reached (dashed lines).
+    """
+    import matplotlib
+
+    matplotlib.use("Agg")
+    import matplotlib.pyplot as plt
+
+    fig, ax = plt.subplots(figsize=(9, 3.6), dpi=90)
+    ax.plot(list(x), _finite(expected), color="tab:green", lw=1.6, label="expected", drawstyle="steps-post")
+    act = _finite(actual)
+    ax.plot(list(x), act, "o", ms=3, color="tab:orange", label="actual")
+    if marks:
+        ax.plot([x[i] for i in marks], [act[i] if not math.isnan(act[i]) else _finite(expected)[i] for i in marks],
+                "o", ms=9, mfc="none", mec="tab:red", label="wrong or missing")
+    for level in levels:
+        ax.axhline(level, color="tab:green", ls="--", lw=1)
+    ax.set_xlabel(xlabel)
+    ax.set_ylabel(ylabel)
+    if inputs is not None:
+        right = ax.twinx()
+        right.plot(list(x), list(inputs), color="tab:blue", lw=0.8, alpha=0.5, drawstyle="steps-post")
+        right.set_ylabel(input_label, color="tab:blue")
+    ax.legend(loc="upper left", fontsize=8)
+    ax.set_title(title, fontsize=10)
+    fig.tight_layout()
+    path = Path(path)
+    path.parent.mkdir(parents=True, exist_ok=True)
+    fig.savefig(path)
+    plt.close(fig)
+    return str(path)

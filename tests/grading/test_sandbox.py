@@ -1,0 +1,92 @@
+"""Student processes under limits (hri_teleop.grading.sandbox), without ROS: fork bombs, floods, writes."""
+
+from __future__ import annotations
+
+import os
+import shutil
+import signal
+import sys
+import tempfile
+from pathlib import Path
+
+import pytest
+
+from hri_teleop.grading.sandbox import DEFAULT_LIMITS, Limits, StudentProcess, bwrap_problem, describe_exit, student_uid
+
+
+@pytest.fixture
+def tmp_path():
+    """A folder the student's uid can enter (pytest's own is private to root)."""
+    path = Path(tempfile.mkdtemp(prefix="hri-sandbox-test-"))
+    path.chmod(0o755)
+    yield path
+    shutil.rmtree(path, ignore_errors=True)
+
+
+def _run(tmp_path: Path, code: str, limits: Limits = DEFAULT_LIMITS, timeout_s: float = 20.0):
+    folder = tmp_path / "student"
+    folder.mkdir(exist_ok=True)
+    uid = student_uid()
+    if uid is not None:
+        os.chown(folder, uid, uid)
+    (folder / "x.py").write_text(code)
+    proc = StudentProcess([sys.executable, str(folder / "x.py")], folder, {"PATH": os.environ["PATH"]},
+                          tmp_path / "x.log", limits, uid=uid, nested=True, network=False)
+    code = proc.wait(timeout_s)
+    proc.stop()
+    return code, proc
+
+
+def test_a_fork_bomb_hits_the_process_limit_and_leaves_nothing_behind(tmp_path):
+    code, proc = _run(tmp_path, "import os, time\nn = 0\ntry:\n    while n < 2000:\n        if os.fork() == 0:\n"
+                                "            time.sleep(60)\n            os._exit(0)\n        n += 1\n"
+                                "except OSError as e:\n    print('stopped after', n, e.errno)\n",
+                      Limits(processes=40))
+    out = proc.output_tail()
+    assert "stopped after" in out, out
+    assert int(out.split("stopped after")[1].split()[0]) <= 40
+    if proc.uid is not None:
+        assert proc.process_count() == 0, "forked children outlived the stop"
+    else:
+        pytest.skip("not root: no uid of its own to count leftovers by")
+
+
+def test_output_beyond_the_cap_ends_the_process_with_a_clear_reason(tmp_path):
+    from hri_teleop.grading.compare import process_hints
+
+    cap = DEFAULT_LIMITS.file_bytes
+    code, proc = _run(tmp_path, "import sys\nwhile True:\n    sys.stdout.write('x' * 65536)\n")
+    # Python ignores SIGXFSZ: the write fails with EFBIG and the program ends with an error
+    assert code not in (None, 0)
+    assert cap - 65536 <= proc.output_size() <= cap
+    facts = {"exit_code": code, "output_bytes": proc.output_size(), "output_tail": proc.output_tail()}
+    assert any("output limit" in hint for hint in process_hints(facts))
+    assert "output limit" in describe_exit(-signal.SIGXFSZ)
+
+
+def test_a_hang_is_stopped_by_the_caller_and_cpu_time_is_capped(tmp_path):
+    code, proc = _run(tmp_path, "while True:\n    pass\n", Limits(cpu_s=1), timeout_s=10)
+    assert code in (-signal.SIGXCPU, -signal.SIGKILL), code
+    assert "CPU" in describe_exit(code) or "killed" in describe_exit(code)
+
+
+@pytest.mark.skipif(bool(bwrap_problem()), reason="bubblewrap not usable here: the grader runs with limits only")
+def test_with_bubblewrap_only_the_own_folder_is_writable_and_there_is_no_network(tmp_path):
+    outside = tmp_path / "outside.txt"
+    code, proc = _run(tmp_path, f"import socket\nopen('mine.txt', 'w').write('ok')\n"
+                                f"try:\n    open({str(outside)!r}, 'w')\nexcept OSError as e:\n    print('write', e.errno)\n"
+                                "s = socket.socket()\ntry:\n    s.connect(('1.1.1.1', 80))\nexcept OSError as e:\n"
+                                "    print('net', e.errno)\n")
+    out = proc.output_tail()
+    assert code == 0, out
+    assert (tmp_path / "student" / "mine.txt").read_text() == "ok"
+    assert not outside.exists() and "write 30" in out  # EROFS
+    assert "net " in out
+
+
+def test_student_code_sees_only_the_variables_ros_and_python_need():
+    from hri_teleop.grading.sandbox import student_environment
+
+    env = student_environment({"PATH": "/bin", "ROS_MASTER_URI": "http://127.0.0.1:1/", "LC_ALL": "C",
+                               "GITHUB_TOKEN": "secret", "AWS_SECRET_ACCESS_KEY": "x", "HOME": "/root"})
+    assert env == {"PATH": "/bin", "ROS_MASTER_URI": "http://127.0.0.1:1/", "LC_ALL": "C", "HOME": "/root"}

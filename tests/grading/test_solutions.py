@@ -1,0 +1,42 @@
+"""The answer key passes every check, and so do the lab's own files (the rules and the key agree)."""
+
+from __future__ import annotations
+
+import time
+
+import pytest
+
+from hri_teleop.grading import feedback_text, grade_mapping_node, grade_robot_params, grade_submission, grade_teleoperation
+from hri_teleop.grading.checks import CHECKS
+from hri_teleop.grading.templates import generate_templates
+
+from grading_helpers import REPO, SOLUTIONS
+
+pytestmark = pytest.mark.ros
+
+
+def test_solutions_pass_every_check_with_full_marks(tmp_path):
+    started = time.monotonic()
+    results = grade_submission(SOLUTIONS, out_dir=tmp_path, graph_cache=tmp_path / "graph.json")
+    assert [r.check for r in results] == list(CHECKS)
+    assert all(r.passed for r in results), feedback_text(results)
+    assert all(r.max_score > 0 for r in results)
+    durations = ", ".join(f"{r.check} {r.duration_s:.1f} s" for r in results)
+    print(f"answer key graded in {time.monotonic() - started:.1f} s: {durations}")
+
+
+def test_the_labs_own_robot_params_and_mapping_node_pass_the_same_checks(tmp_path):
+    params = grade_robot_params(REPO / "hri_lab" / "config" / "robot_params.yaml", out_dir=tmp_path)
+    node = grade_mapping_node(REPO / "hri_lab" / "scripts" / "mapping_node.py", out_dir=tmp_path, seed=11)
+    assert params.passed and node.passed, feedback_text([params, node])
+
+
+def test_the_generated_templates_are_gradable_and_say_what_to_fill_in(tmp_path):
+    generate_templates(SOLUTIONS, tmp_path / "hri_lab")
+    params = grade_robot_params(tmp_path / "hri_lab", out_dir=tmp_path / "out")
+    assert params.parts[0].passed, "an empty template still loads"
+    assert params.score == params.parts[0].points
+    teleop = grade_teleoperation(tmp_path / "hri_lab", out_dir=tmp_path / "out", node=False)
+    assert teleop.parts[0].passed, feedback_text([teleop])  # it imports
+    for part in teleop.parts[1:5]:
+        assert not part.passed and "NotImplementedError" in part.message and "YOUR CODE HERE" in part.message

@@ -1,0 +1,248 @@
+"""Judging observations (hri_teleop.grading.compare, robot_params): parts, points, student messages.
+
+No ROS here: the observations are built by hand the way the sessions and probes report them.
+"""
+
+from __future__ import annotations
+
+import copy
+
+import pytest
+
+from hri_teleop.grading import compare
+from hri_teleop.grading.cases import public_mapping_case, public_teleop_parts_case, reference_parts
+from hri_teleop.grading.robot_params import TABLE_1, compare_robot_params
+from hri_teleop.grading.workspace import FRANKA_MARKER_PARAM
+
+
+def _failed(parts):
+    return {p.name: p.message for p in parts if not p.passed}
+
+
+# -- robot_params.yaml ----------------------------------------------------------------------
+
+def test_table_1_passes_and_extra_keys_are_fine():
+    parts = compare_robot_params({**copy.deepcopy(TABLE_1), "extra": 3})
+    assert all(p.passed for p in parts) and sum(p.points for p in parts) == 10
+
+
+@pytest.mark.parametrize("key, value, words", [
+    ("robot_mass", 18, "integer"),
+    ("load_gripper", "true", "string"),
+    ("robot_number", 1.0, "integer"),
+    ("mixed_list", ["text", 1, 1], "mixed_list[1]"),
+    ("gains", {"p": 10, "i": 1.0, "d": 5.0}, "gains/p"),
+    ("robot_name", "Panda", "FER"),
+])
+def test_a_wrong_type_or_value_fails_only_its_key_and_says_how_to_write_it(key, value, words):
+    params = copy.deepcopy(TABLE_1)
+    params[key] = value
+    failed = _failed(compare_robot_params(params))
+    assert len(failed) == 1
+    (name, message), = failed.items()
+    assert name.startswith(key) and words in message
+
+
+def test_a_missing_or_nested_key_is_named():
+    params = copy.deepcopy(TABLE_1)
+    del params["gains"]
+    assert "add the line `gains:" in _failed(compare_robot_params(params))["gains: {p: 10.0, i: 1.0, d: 5.0} (dictionary)"]
+    nested = {"robot": copy.deepcopy(TABLE_1)}
+    assert all("nested under 'robot'" in m for m in _failed(compare_robot_params(nested)).values())
+
+
+def test_a_file_that_does_not_load_fails_every_part_with_the_reason_first():
+    parts = compare_robot_params(None, "`rosparam load` fails: mapping values are not allowed here")
+    assert not any(p.passed for p in parts)
+    assert "mapping values" in parts[0].message and "not judged" in parts[1].message
+
+
+# -- mapping_node.py ---------------------------------------------------------------------------
+
+def _run(case, outputs, topic="/force_mapped", kind="std_msgs/Float32", subs=(("/pub_force", "std_msgs/Int16"),)):
+    return {"label": case.label, "max_sensor_force": case.max_sensor_force, "counts": list(case.counts),
+            "input_topic": subs[0][0] if subs else "", "input_type": subs[0][1] if subs else "",
+            "output_topic": topic, "output_type": kind, "connected": True,
+            "responses": [[[kind, v]] if v is not None else [] for v in outputs],
+            "node": {"started": True, "subscriptions": [list(s) for s in subs], "publications": [[topic, kind]],
+                     "exited_by_itself": False, "exit_code": None, "output_tail": "", "output_bytes": 0, "problem": ""}}
+
+
+def _cases():
+    from hri_teleop.grading.cases import hidden_mapping_cases
+
+    return [public_mapping_case()] + hidden_mapping_cases(3)
+
+
+def test_the_reference_mapping_gets_full_marks():
+    cases = _cases()
+    parts = compare.compare_mapping({"runs": [_run(c, c.expected) for c in cases]}, cases)
+    assert all(p.passed for p in parts) and sum(p.points for p in parts) == 20
+
+
+def test_a_range_of_700_fails_only_the_hidden_part_and_says_so():
+    cases = _cases()
+    runs = [_run(c, [min(1.0, x / 700.0) for x in c.counts]) for c in cases]
+    failed = _failed(compare.compare_mapping({"runs": runs}, cases))
+    assert list(failed) == [compare.MAPPING["hidden"][0]]
+    assert "0..700" in failed[compare.MAPPING["hidden"][0]] and "rospy.get_param" in failed[compare.MAPPING["hidden"][0]]
+
+
+def test_missing_and_doubled_messages_are_counted_with_an_example():
+    cases = _cases()
+    public = _run(cases[0], cases[0].expected)
+    public["responses"][1] = []
+    public["responses"][2] = public["responses"][2] * 2
+    failed = _failed(compare.compare_mapping({"runs": [public] + [_run(c, c.expected) for c in cases[1:]]}, cases))
+    message = failed[compare.MAPPING["values"][0]]
+    assert "got no message back" in message and "more than one message" in message
+
+
+def test_a_node_that_never_subscribes_fails_first_and_the_rest_is_not_judged():
+    cases = _cases()
+    run = _run(cases[0], [], subs=())
+    run["node"].update(exited_by_itself=True, exit_code=1, output_tail="Traceback...\nKeyError: '/max_force'",
+                       problem="exited with status 1 before subscribing to a topic")
+    parts = compare.compare_mapping({"runs": [run]}, cases)
+    assert "KeyError" in parts[0].message and "exited with status 1" in parts[0].message
+    assert all(p.message.startswith("not judged") for p in parts[1:])
+
+
+def test_the_output_limit_and_writes_outside_are_explained():
+    facts = {"output_bytes": 5 * 1024 * 1024, "exit_code": -25,
+             "output_tail": "OSError: [Errno 30] Read-only file system: '/etc/passwd'"}
+    hints = " ".join(compare.process_hints(facts))
+    assert "output limit" in hints and "/etc/passwd" in hints and "outside its own folder" in hints
+
+
+# -- teleoperation.py: the student's parts ------------------------------------------------------
+
+def _ticks_from_reference(case):
+    return [{"gripper_width": e.gripper_width, "rotation_mode": e.rotation_mode,
+             "cartesian_velocity": list(e.cartesian_velocity), "rumble": e.rumble} for e in reference_parts(case)]
+
+
+def test_reference_parts_pass_and_a_gripper_step_without_rate_is_recognised():
+    case = public_teleop_parts_case()
+    ticks = _ticks_from_reference(case)
+    ok = compare.compare_teleop_parts({"ok": True, "cases": [{"label": case.label, "ticks": ticks}]}, [case])
+    assert all(p.passed for p in ok)
+    bad = copy.deepcopy(ticks)
+    width = 0.08
+    for tick, t in zip(bad, case.ticks):
+        width += (case.gains.k_gripper if "east" in t.buttons else 0) - (case.gains.k_gripper if "south" in t.buttons else 0)
+        width = min(0.08, max(0.0, width))
+        tick["gripper_width"] = width
+    failed = _failed(compare.compare_teleop_parts({"ok": True, "cases": [{"label": case.label, "ticks": bad}]}, [case]))
+    assert list(failed) == [compare.TELEOP["gripper"][0]]
+    assert "k_gripper / rate" in failed[compare.TELEOP["gripper"][0]]
+
+
+def test_a_template_part_left_unfilled_names_the_method():
+    case = public_teleop_parts_case()
+    ticks = _ticks_from_reference(case)
+    result = {"label": case.label, "ticks": ticks, "errors": {"update_rumble": "NotImplementedError: "},
+              "error_ticks": {"update_rumble": 0}}
+    failed = _failed(compare.compare_teleop_parts({"ok": True, "cases": [result]}, [case]))
+    assert list(failed) == [compare.TELEOP["rumble"][0]]
+    assert "update_rumble() raised NotImplementedError" in failed[compare.TELEOP["rumble"][0]]
+
+
+def test_an_import_failure_fails_the_import_part_and_nothing_is_judged_after_it():
+    parts = compare.compare_teleop_parts({"ok": False, "error": "the file called sys.exit(2) while being imported"},
+                                         [public_teleop_parts_case()])
+    assert "sys.exit" in parts[0].message and all("not judged" in p.message for p in parts[1:])
+
+
+# -- launch files -------------------------------------------------------------------------------
+
+def _launch(nodes, params):
+    return {"ok": True, "nodes": [{"name": n, "namespace": "/", "package": pkg, "type": t} for n, pkg, t in nodes],
+            "params": params, "files": []}
+
+
+TELEOP_NODES = [("serial_node", "rosserial_python", "serial_node.py"), ("mapping_node", "hri_lab", "mapping_node.py"),
+                ("teleoperation", "hri_lab", "teleoperation.py"), ("gripper_manager", "hri_lab", "gripper_manager.py")]
+TELEOP_PARAMS = {"/max_sensor_force": 700, "/serial_node/port": "/dev/ttyACM0", FRANKA_MARKER_PARAM: True}
+
+
+def test_a_complete_teleoperation_launch_passes():
+    assert all(p.passed for p in compare.compare_teleop_launch(_launch(TELEOP_NODES, TELEOP_PARAMS)))
+
+
+@pytest.mark.parametrize("drop_node, params, key, words", [
+    ("gripper_manager", TELEOP_PARAMS, "nodes", "gripper_manager.py"),
+    (None, {k: v for k, v in TELEOP_PARAMS.items() if k != "/max_sensor_force"}, "param", "max_sensor_force"),
+    (None, {**{k: v for k, v in TELEOP_PARAMS.items() if k != "/max_sensor_force"}, "/mapping_node/max_sensor_force": 700},
+     "param", "private"),
+    (None, {**TELEOP_PARAMS, "/max_sensor_force": "700"}, "param", "type=\"str\""),
+    (None, {k: v for k, v in TELEOP_PARAMS.items() if k != "/serial_node/port"}, "serial", "port"),
+    (None, {k: v for k, v in TELEOP_PARAMS.items() if k != FRANKA_MARKER_PARAM}, "include", "franka_control"),
+])
+def test_each_teleoperation_launch_mistake_fails_its_part_only(drop_node, params, key, words):
+    nodes = [n for n in TELEOP_NODES if n[0] != drop_node]
+    failed = _failed(compare.compare_teleop_launch(_launch(nodes, params)))
+    assert list(failed) == [compare.TELEOP_LAUNCH[key][0]] and words in failed[compare.TELEOP_LAUNCH[key][0]]
+
+
+def test_sensor_launch_accepts_the_handouts_ros_intro_package_and_reports_ex_7():
+    parsed = _launch([("FSR_sensor", "ros_intro", "FSR_sensor.py"), ("mapping_node", "ros_intro", "mapping_node.py")],
+                     {"/max_sensor_force": 700, "/robot_name": "FER"})
+    observation = {"force_mapped": [[0.0, "std_msgs/Float32", 0.5]] * 5, "supplied": []}
+    parts = compare.compare_sensor_launch(parsed, observation)
+    assert all(p.passed for p in parts)
+    assert "Ex. 7 done" in parts[3].note
+
+
+def test_sensor_launch_values_outside_0_1_fail_the_flow():
+    parsed = _launch([("FSR_sensor", "hri_lab", "FSR_sensor.py"), ("mapping_node", "hri_lab", "mapping_node.py")],
+                     {"/max_sensor_force": 700})
+    observation = {"force_mapped": [[0.0, "std_msgs/Float32", v] for v in (0.2, 1.46, 0.9)], "supplied": []}
+    failed = _failed(compare.compare_sensor_launch(parsed, observation))
+    assert list(failed) == [compare.SENSOR_LAUNCH["flow"][0]] and "outside [0, 1]" in failed[compare.SENSOR_LAUNCH["flow"][0]]
+
+
+# -- Ex. 15 -----------------------------------------------------------------------------------------
+
+LIVE = {
+    "publishers": {"/pub_force": ["/FSR_sensor"], "/force_mapped": ["/mapping_node"], "/gripper_width": ["/teleoperation"],
+                   "/cartesian_velocity_controller/cmd_vel": ["/teleoperation"], "/joy": ["/teleoperation"],
+                   "/rosout": ["/FSR_sensor", "/mapping_node", "/teleoperation", "/gripper_manager"]},
+    "subscribers": {"/pub_force": ["/mapping_node"], "/force_mapped": ["/teleoperation"],
+                    "/gripper_width": ["/gripper_manager"], "/rosout": ["/rosout"]},
+    "types": {"/pub_force": "std_msgs/Int16", "/force_mapped": "std_msgs/Float32", "/gripper_width": "std_msgs/Float32",
+              "/cartesian_velocity_controller/cmd_vel": "geometry_msgs/Twist", "/joy": "sensor_msgs/Joy",
+              "/rosout": "rosgraph_msgs/Log"},
+}
+ANSWER = {
+    "nodes": ["/serial_node", "/mapping_node", "/teleoperation", "/gripper_manager"],
+    "topics": {
+        "/pub_force": {"type": "std_msgs/Int16", "publishers": ["/serial_node"], "subscribers": ["/mapping_node"]},
+        "/force_mapped": {"type": "std_msgs/Float32", "publishers": ["/mapping_node"], "subscribers": ["/teleoperation"]},
+        "/gripper_width": {"type": "std_msgs/Float32", "publishers": ["/teleoperation"], "subscribers": ["/gripper_manager"]},
+        "/cartesian_velocity_controller/cmd_vel": {"type": "geometry_msgs/Twist", "publishers": ["/teleoperation"],
+                                                   "subscribers": ["/franka_control"]},
+    },
+}
+
+
+def test_the_answer_graph_matches_the_live_one_with_serial_node_for_the_simulated_sensor():
+    assert all(p.passed for p in compare.compare_graph(ANSWER, LIVE))
+
+
+@pytest.mark.parametrize("change, key, words", [
+    (lambda a: a["nodes"].remove("/gripper_manager"), "nodes", "/gripper_manager"),
+    (lambda a: a["nodes"].append("/force_node"), "nodes", "/force_node"),
+    (lambda a: a["topics"]["/force_mapped"].update(type="std_msgs/Float64"), "types", "std_msgs/Float32"),
+    (lambda a: a["topics"]["/gripper_width"].update(subscribers=["/teleoperation"]), "links", "/gripper_manager"),
+])
+def test_graph_mistakes_fail_their_part(change, key, words):
+    answer = copy.deepcopy(ANSWER)
+    change(answer)
+    failed = _failed(compare.compare_graph(answer, LIVE))
+    assert list(failed) == [compare.GRAPH[key][0]] and words in failed[compare.GRAPH[key][0]]
+
+
+def test_an_unreadable_graph_fails_the_format_part_first():
+    parts = compare.compare_graph(["not", "a", "mapping"], LIVE)
+    assert not parts[0].passed and "nodes:" in parts[0].message
