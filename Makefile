@@ -49,3 +49,10 @@ grade: setup
 .PHONY: firmware
 firmware: setup
 	@$(MAKE) --no-print-directory -C firmware
+
+# Notebooks (notebooks/, one per handout exercise): JupyterLab with the "hri-teleop" kernel
+# (.venv's Python in tools/env.sh's ROS shell, registered inside .venv); the widgets need
+# no extension build (ipywidgets 8, ipympl). LAB_ARGS=... go to jupyter lab, e.g. --no-browser.
+.PHONY: lab
+lab: setup
+	@$(ENV) $(PY) -m hri_teleop.labkernel $(LAB_ARGS)

@@ -25,6 +25,9 @@ apt_packages=(
   # library (the simulated Uno), a host compiler (the harness, the sketches' host tests).
   gcc-avr avr-libc binutils-avr arduino-core-avr simavr libsimavr-dev gcc g++ make
 )
+# `make lab`'s browser test (tests/integration/test_jupyterlab_browser.py): headless Chromium
+# and its WebDriver. Debian's packages; Ubuntu ships Chromium only as a snap (the test skips there).
+if grep -qs '^ID=debian' /etc/os-release; then apt_packages+=(chromium chromium-driver); fi
 # Tests check the "no root" path with a package list of their own.
 if [ -n "${HRI_SETUP_APT_PACKAGES:-}" ]; then read -r -a apt_packages <<<"$HRI_SETUP_APT_PACKAGES"; fi
 uid="$(id -u)"
@@ -109,9 +112,11 @@ if [ -n "$py38" ] && [ "$("$system_python" -c 'import sys; print(sys.version_inf
   want38="$(printf '%s' "$want" | sha256sum | cut -c1-16)"
   if [ "$(cat .venv38/.stamp 2>/dev/null || true)" != "$want38" ]; then
     say "creating .venv38 (Python 3.8, as on the lab PCs) for the core's unit tests"
+    # pip >= 24.1 (24.3.1, the last for 3.8): the pip 23.0 of python3.8's ensurepip backtracks
+    # for many minutes over the Jupyter stack (jsonschema extras); 24.3 resolves it in seconds.
     rm -rf .venv38
     if "$py38" -m venv .venv38 \
-      && .venv38/bin/python -m pip install -q --disable-pip-version-check "pip>=21.3" \
+      && .venv38/bin/python -m pip install -q --disable-pip-version-check "pip>=24.1" \
       && .venv38/bin/python -m pip install -q --disable-pip-version-check -e ".[test]"; then
       echo "$want38" > .venv38/.stamp
     else

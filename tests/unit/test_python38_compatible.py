@@ -48,9 +48,9 @@ CORE_TESTS = ["test_fsr.py", "test_mapping.py", "test_limits.py", "test_teleop.p
               "test_gamepad_pygame.py", "test_gamepad_rumble.py", "test_sim_arm.py", "test_sim_hand.py",
               "test_sim_config.py", "test_sim_board.py", "test_sim_world.py", "test_sim_lab.py",
               "test_serial_protocol.py", "test_calibrate.py", "test_simavr_board.py",
-              "test_experiment.py", "test_experiment_stats.py",
               "test_gamepad_events.py", "test_grading_templates.py", "test_grading_cases.py",
-              "test_grading_results.py", "test_grading_compare.py"]
+              "test_grading_results.py", "test_grading_compare.py",
+              "test_experiment.py", "test_experiment_stats.py", "test_paramfile.py"]
 
 
 @pytest.mark.skipif(not (REPO / ".venv38" / "bin" / "python").exists(),

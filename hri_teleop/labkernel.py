@@ -1,0 +1,94 @@
+"""``make lab``: JupyterLab on ``notebooks/`` with the "hri-teleop" kernel.
+
+Why a kernel of our own: Jupyter's default ``python3`` kernel runs with whatever
+environment the server was started in. The notebooks need the lab's shell -- ROS on the
+path, ``hri_lab`` on ``ROS_PACKAGE_PATH``, ``.venv``'s Python with rospy -- also when
+JupyterLab was started from a desktop icon or another terminal. The kernelspec therefore
+starts ``tools/kernel.sh``, which sources ``tools/env.sh`` and then runs ``.venv``'s
+Python. It is installed into ``.venv`` (``sys.prefix``), never into the user's home, so
+removing ``.venv`` removes it, and it is rewritten only when it changed.
+
+    python -m hri_teleop.labkernel [--install-only] [jupyter lab options...]
+"""
+
+from __future__ import annotations
+
+import json
+import os
+import sys
+from pathlib import Path
+from typing import Dict, List, Optional, Sequence
+
+__all__ = ["KERNEL_NAME", "LabError", "kernelspec", "install_kernelspec", "lab_command", "main"]
+
+KERNEL_NAME = "hri-teleop"
+REPO = Path(__file__).resolve().parents[1]
+
+
+class LabError(RuntimeError):
+    """JupyterLab cannot be started as asked (one line with the fix)."""
+
+
+def kernelspec(repo: Path = REPO) -> Dict[str, object]:
+    """The kernel.json content: tools/kernel.sh of ``repo`` runs ipykernel in the lab's shell."""
+    return {
+        "argv": ["bash", str(repo / "tools" / "kernel.sh"), "-m", "ipykernel_launcher", "-f", "{connection_file}"],
+        "display_name": "Python 3 (hri-teleop, ROS)",
+        "language": "python",
+        "interrupt_mode": "signal",
+        "metadata": {"debugger": True},
+    }
+
+
+def install_kernelspec(repo: Path = REPO, prefix: Optional[Path] = None) -> Path:
+    """Write ``<prefix>/share/jupyter/kernels/hri-teleop/kernel.json`` if it differs; returns its folder."""
+    folder = Path(prefix if prefix is not None else sys.prefix) / "share" / "jupyter" / "kernels" / KERNEL_NAME
+    text = json.dumps(kernelspec(repo), indent=1) + "\n"
+    target = folder / "kernel.json"
+    try:
+        if not target.is_file() or target.read_text(encoding="utf-8") != text:
+            folder.mkdir(parents=True, exist_ok=True)
+            target.write_text(text, encoding="utf-8")
+    except OSError as exc:
+        raise LabError(f"cannot write the kernelspec {target} ({exc.strerror}): check that {folder.parent} "
+                       "is writable, or run `make clean setup`") from None
+    return folder
+
+
+def lab_command(notebook_dir: Path, extra: Sequence[str] = ()) -> List[str]:
+    """The ``jupyter lab`` command line: ``notebook_dir`` as the root, the hri-teleop kernel by default."""
+    command = [sys.executable, "-m", "jupyterlab", f"--ServerApp.root_dir={notebook_dir}",
+               f"--MultiKernelManager.default_kernel_name={KERNEL_NAME}"]
+    if os.geteuid() == 0:
+        command.append("--allow-root")  # containers and CI run as root; jupyter refuses without it
+    return command + list(extra)
+
+
+def main(argv: Optional[Sequence[str]] = None) -> int:
+    args = list(sys.argv[1:] if argv is None else argv)
+    install_only = "--install-only" in args
+    args = [a for a in args if a != "--install-only"]
+    try:
+        import jupyterlab  # noqa: F401, PLC0415 - only to say what is missing
+        import ipykernel  # noqa: F401, PLC0415
+    except ImportError as exc:
+        print(f"lab: {exc.name} is not installed: run `make setup` (it installs the project's [lab] extra)",
+              file=sys.stderr)
+        return 1
+    try:
+        folder = install_kernelspec()
+    except LabError as exc:
+        print(f"lab: {exc}", file=sys.stderr)
+        return 1
+    print(f"lab: kernel {KERNEL_NAME!r} ({folder})", flush=True)
+    if install_only:
+        return 0
+    notebooks = REPO / "notebooks"
+    notebooks.mkdir(exist_ok=True)
+    command = lab_command(notebooks, args)
+    os.execv(command[0], command)
+    return 0  # pragma: no cover - execv does not return
+
+
+if __name__ == "__main__":
+    sys.exit(main())

@@ -1,0 +1,57 @@
+"""`make lab`'s kernel: .venv's Python in the lab's ROS shell, registered inside .venv."""
+
+from __future__ import annotations
+
+import json
+import os
+import subprocess
+import sys
+from pathlib import Path
+
+from hri_teleop.labkernel import KERNEL_NAME, install_kernelspec, kernelspec, lab_command
+
+REPO = Path(__file__).resolve().parents[2]
+
+
+def test_the_kernelspec_starts_ipykernel_through_the_env_wrapper():
+    spec = kernelspec(REPO)
+    assert spec["argv"] == ["bash", str(REPO / "tools" / "kernel.sh"), "-m", "ipykernel_launcher", "-f",
+                            "{connection_file}"]
+    assert spec["language"] == "python"
+
+
+def test_installing_twice_writes_once_into_the_given_prefix(tmp_path):
+    folder = install_kernelspec(REPO, tmp_path)
+    target = folder / "kernel.json"
+    assert folder == tmp_path / "share" / "jupyter" / "kernels" / KERNEL_NAME
+    assert json.loads(target.read_text()) == kernelspec(REPO)
+    os.utime(target, (1, 1))
+    install_kernelspec(REPO, tmp_path)
+    assert target.stat().st_mtime == 1, "an unchanged kernelspec was rewritten"
+
+
+def test_the_wrapper_gives_the_kernel_rospy_and_hri_lab_on_the_package_path():
+    env = {"PATH": "/usr/bin:/bin", "HOME": os.environ.get("HOME", "/tmp")}  # as from a desktop icon
+    code = "import os, sys, rospy; print(sys.prefix); print(os.environ['ROS_PACKAGE_PATH'])"
+    out = subprocess.run(["bash", str(REPO / "tools" / "kernel.sh"), "-c", code], env=env, capture_output=True,
+                         text=True, timeout=60)
+    assert out.returncode == 0, out.stderr
+    prefix, package_path = out.stdout.splitlines()
+    assert Path(prefix) == REPO / ".venv"
+    assert str(REPO) in package_path.split(":")
+
+
+def test_jupyter_lab_opens_notebooks_with_the_hri_teleop_kernel():
+    command = lab_command(REPO / "notebooks", ["--no-browser"])
+    assert command[:3] == [sys.executable, "-m", "jupyterlab"]
+    assert f"--ServerApp.root_dir={REPO / 'notebooks'}" in command
+    assert f"--MultiKernelManager.default_kernel_name={KERNEL_NAME}" in command
+    assert command[-1] == "--no-browser"
+
+
+def test_make_lab_runs_setup_then_the_lab_module():
+    out = subprocess.run(["make", "-n", "lab", "LAB_ARGS=--port=9999"], cwd=REPO, capture_output=True, text=True,
+                         timeout=60)
+    assert out.returncode == 0, out.stderr
+    assert "tools/setup.sh" in out.stdout
+    assert "-m hri_teleop.labkernel --port=9999" in out.stdout

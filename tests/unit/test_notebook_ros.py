@@ -1,0 +1,37 @@
+"""hri_teleop.notebook_ros without a master: fast, one-line answers (the live paths: tests/integration)."""
+
+from __future__ import annotations
+
+import time
+
+import pytest
+
+from hri_teleop import notebook_ros
+from hri_teleop.notebook_ros import NotebookRosError, RosSession, ensure_ros, master_call, master_reachable
+from hri_teleop.ros.master import free_port
+
+
+def test_a_closed_port_is_not_a_master_and_says_so_quickly():
+    uri = f"http://127.0.0.1:{free_port()}/"
+    started = time.monotonic()
+    assert not master_reachable(uri)
+    assert time.monotonic() - started < 1.5
+    with pytest.raises(NotebookRosError, match=f"no ROS master at {uri}.*ensure_ros"):
+        master_call("getSystemState", uri=uri)
+
+
+def test_a_false_session_describes_its_problem_in_one_line():
+    session = RosSession(False, problem="rospy is not installed: x")
+    assert not session and session.describe() == "ROS: rospy is not installed: x"
+
+
+def test_without_a_master_and_not_allowed_to_start_one_it_returns_a_false_session(monkeypatch, capsys):
+    pytest.importorskip("rospy")
+    monkeypatch.setenv("ROS_MASTER_URI", f"http://127.0.0.1:{free_port()}/")
+    monkeypatch.setattr(notebook_ros, "_SESSION", None)
+    session = ensure_ros(start_master=False)
+    assert not session and "start roscore" in session.problem
+    err = capsys.readouterr().err
+    assert err.count("\n") == 1 and err.startswith("ROS: no ROS master at")
+    with pytest.raises(NotebookRosError):
+        ensure_ros(start_master=False, required=True)
