@@ -50,6 +50,14 @@ grade: setup
 firmware: setup
 	@$(MAKE) --no-print-directory -C firmware
 
+# The nbgrader course (notebooks/README.md): `make release` writes the student versions of
+# the notebooks (nbgrader generate_assignment) and the templates of the student files
+# (generated from solutions/) into notebooks/release/, proves that no solution text is in
+# them, and packs out/task4-student-bundle.tar.gz.
+.PHONY: release
+release: setup
+	@$(ENV) $(PY) -m hri_teleop.course release
+
 # Notebooks (notebooks/, one per handout exercise): JupyterLab with the "hri-teleop" kernel
 # (.venv's Python in tools/env.sh's ROS shell, registered inside .venv); the widgets need
 # no extension build (ipywidgets 8, ipympl). LAB_ARGS=... go to jupyter lab, e.g. --no-browser.
