@@ -37,7 +37,7 @@ def sensor_timeline(counts: Trace, mapped: Trace, max_sensor_force: float, path:
     more = right.get_legend_handles_labels()
     ax.legend(lines[0] + more[0], lines[1] + more[1], loc="upper right", fontsize=8)
     ax.set_title("Sensor pipeline: counts clip to 1.0 above /max_sensor_force")
-    return _save(fig, path)
+    return save_figure(fig, path)
 
 
 def lab_timeline(record: "LabRecord", path: Path, title: str = "") -> Path:
@@ -104,10 +104,10 @@ def lab_timeline(record: "LabRecord", path: Path, title: str = "") -> Path:
                 f"mapped {summary.peak_force_mapped:.2f}, rumble {summary.rumble_s:.1f} s, "
                 f"{summary.violations} limit violations")
     fig.suptitle((title + "\n" if title else "") + headline, fontsize=11)
-    return _save(fig, path)
+    return save_figure(fig, path)
 
 
-def _save(fig, path: Path) -> Path:
+def save_figure(fig, path: Path) -> Path:
     """Write the figure as a PNG (creating its folder) and free it."""
     import matplotlib.pyplot as plt
 

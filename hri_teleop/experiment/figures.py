@@ -14,6 +14,7 @@ import numpy as np
 
 from hri_teleop.experiment.metrics import CONDITIONS, TrialMetrics, calibrated_force_n, per_participant
 from hri_teleop.experiment.stats import StatsError, paired_comparison
+from hri_teleop.plots import save_figure
 from hri_teleop.sim.report import LabRecord
 
 __all__ = ["study_figure"]
@@ -89,12 +90,7 @@ def study_figure(trials: Sequence[Tuple[TrialMetrics, LabRecord]], max_sensor_fo
         lines.append(f"not computed: {exc}")
     ax.text(0.0, 1.0, "\n".join(lines), va="top", family="monospace", fontsize=8.5)
     fig.suptitle("Force feedback experiment (handout Ex. 14)")
-    fig.tight_layout()
-    path = Path(path)
-    path.parent.mkdir(parents=True, exist_ok=True)
-    fig.savefig(path)
-    plt.close(fig)
-    return path
+    return save_figure(fig, path)
 
 
 def _wrap(text: str, width: int) -> List[str]:
