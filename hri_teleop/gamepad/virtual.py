@@ -361,11 +361,15 @@ class ScriptedPad(VirtualPad):
         self._start_s = float(self._clock() if now_s is None else now_s)
 
     def rumble_level(self, now_s: Optional[float] = None) -> float:
-        """The intensity the pad is rumbling with at ``now_s`` (pad clock; 0 when it is not)."""
+        """The intensity the pad is rumbling with at ``now_s`` (pad clock; 0 when it is not).
+
+        A request of duration 0 lasts until the next request, as on a real pad.
+        """
         now = float(self._clock() if now_s is None else now_s)
         for record in reversed(self.rumbles):
             if record.time_s <= now + _TIME_EPS_S:
-                return record.intensity if now < record.time_s + record.duration_s else 0.0
+                lasting = record.duration_s == 0.0 or now < record.time_s + record.duration_s
+                return record.intensity if lasting else 0.0
         return 0.0
 
     def advance(self, elapsed_s: float) -> int:

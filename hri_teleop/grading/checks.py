@@ -35,7 +35,7 @@ from hri_teleop.grading.workspace import (DELIVERABLES, REPO, Workspace, find_pa
 
 __all__ = [
     "CHECKS", "grade", "grade_robot_params", "grade_mapping_node", "grade_sensor_launch", "grade_teleoperation",
-    "grade_teleoperation_launch", "grade_graph", "grade_submission", "live_graph", "simulation_launch",
+    "grade_teleoperation_launch", "grade_graph", "grade_submission", "live_graph",
     "check_robot_params", "check_mapping_node", "check_sensor_launch", "check_teleoperation",
     "check_teleoperation_launch", "check_graph",
 ]
@@ -358,38 +358,62 @@ def grade_teleoperation(path: PathLike, *, seed: Optional[int] = None, out_dir: 
     return _finish("teleoperation", run, parts, seed)
 
 
-def simulation_launch(package: Path) -> Optional[str]:
-    """Hook for launching teleoperation.launch in simulation; None while the simulation issue is open.
+def _launch_sim_plan(run: _Run, parsed: Dict[str, Any]) -> Optional[Dict[str, Any]]:
+    """The ``teleop-launch-sim`` session for a parsed teleoperation.launch; None without a teleoperation node."""
+    from hri_teleop.grading.standins import BOARD_TOPIC
 
-    The plan, for when it closes: the grading workspace already puts stand-ins where a
-    student's launch file reaches for hardware (``workspace._fake_franka_control``). Their
-    launch files then start the simulated lab instead of marking the include: the
-    stand-in ``franka_control_cartesian_velocity.launch`` starts hri_lab's ``lab_sim.py``
-    (simulated arm, hand and object) and a stand-in ``rosserial_python/serial_node.py``
-    the simulated sensor board. This function returns the ROS package path holding those
-    stand-ins, and ``grade_teleoperation_launch`` adds a part "launched in simulation"
-    (a session like ``teleop-node``: roslaunch the student's file with a scripted pad,
-    then judge the node set, the topics and that the twist reaches the simulated arm).
-    Until then the check parses the file only and says so in its notes.
-    """
-    return None
+    scripts = compare._nodes_by_script(parsed)
+    teleop = [n for n in scripts.get("teleoperation.py", []) if n["package"] == "hri_lab"]
+    if not teleop:
+        return None
+    node = f"{teleop[0]['namespace'].rstrip('/')}/{teleop[0]['name']}"
+    case = C.launch_sim_case()
+    grader_dir = run.space.grader_dir
+    scenario = grader_dir / "launch-sim.scenario.yaml"
+    scenario.write_text(yaml.safe_dump(case.scenario(), sort_keys=False), encoding="utf-8")
+    params = grader_dir / "launch-sim.params.launch"
+    params.write_text("<launch>\n  <!-- hri-grade: no gamepad here; the teleoperation node gets a scripted virtual pad -->\n"
+                      + "".join(f'  <param name="{node}/{k}" type="string" value="{v}"/>\n'
+                                for k, v in (("pad", "virtual"), ("layout", "dualshock4"), ("pad_script", scenario)))
+                      + "</launch>\n", encoding="utf-8")
+    for path in (scenario, params):
+        if run.uid is not None:
+            os.chown(path, run.uid, run.uid)
+    package = run.space.package
+    supply: Dict[str, List[str]] = {}
+    if not [n for n in scripts.get("serial_node.py", []) if n["package"] == "rosserial_python"]:
+        supply["serial_node"] = [str(run.space.ws / "rosserial_python" / "scripts" / "serial_node.py"),
+                                 "_port:=/dev/ttyACM0"]
+    for script in ("mapping_node.py", "gripper_manager.py"):
+        if not scripts.get(script) and (package / "scripts" / script).is_file():
+            supply[script[:-3]] = [str(package / "scripts" / script)]
+    param_ok, _ = compare._check_max_param(parsed.get("params", {}))
+    return {"kind": "teleop-launch-sim", "launch_file": str(run.space.files["teleoperation_launch"]),
+            "params_launch": str(params), "teleop_node": node, "twist_topic": TWIST_TOPIC, "supply": supply,
+            "set_max_sensor_force": None if param_ok else C.PUBLIC_MAX_SENSOR_FORCE,
+            "lab_sim": [str(REPO / "hri_lab" / "scripts" / "lab_sim.py"), "__name:=lab_sim",
+                        f"_config:={REPO / 'hri_lab' / 'config' / 'sim.yaml'}", f"_scenario:={scenario}",
+                        f"/pub_force:={BOARD_TOPIC}"],
+            "record": [TWIST_TOPIC, "/force_mapped", "/pub_force", "/gripper_width", "/franka_gripper/joint_states",
+                       "/lab_sim/ee_pose", "/lab_sim/object", f"{node}/rumble"],
+            "start_timeout_s": 20.0, "run_s": case.quit_s + 12.0}
 
 
 @_closing
 def grade_teleoperation_launch(path: PathLike, *, seed: Optional[int] = None,
                                out_dir: Optional[PathLike] = None) -> CheckResult:
-    """Ex. 12-13: node set, serial_node with its port, /max_sensor_force, the controller include."""
+    """Ex. 12-13: node set, serial_node with its port, /max_sensor_force, the controller include;
+    then launched in simulation (the simulated lab in place of robot and board)."""
     _require_ros()
     run, missing, seed = _start("teleoperation-launch", path, out_dir, seed)
     if run is None:
         return missing  # type: ignore[return-value]
     parsed, facts = _parse_launch(run, "teleoperation_launch")
     parts = compare.compare_teleop_launch(parsed, facts)
-    notes = []
-    if simulation_launch(run.space.package) is None:
-        notes.append("teleoperation.launch was parsed with roslaunch's loader, not launched: launching it in "
-                     "simulation waits for the simulation issue")
-    return _finish("teleoperation-launch", run, parts, None, notes)
+    plan = _launch_sim_plan(run, parsed) if parsed.get("ok") else None
+    observation = run.session(plan, timeout_s=120.0) if plan is not None else None
+    parts.append(compare.compare_teleop_launch_sim(parsed, observation, C.launch_sim_case(), run.out_dir))
+    return _finish("teleoperation-launch", run, parts, None)
 
 
 _LIVE_GRAPH: Dict[str, Dict[str, Any]] = {}

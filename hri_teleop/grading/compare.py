@@ -28,7 +28,7 @@ from hri_teleop.teleop import TeleopController, TeleopParams
 __all__ = [
     "TOLERANCE", "MAPPING", "TELEOP", "SENSOR_LAUNCH", "TELEOP_LAUNCH", "GRAPH",
     "process_hints", "compare_mapping", "compare_teleop_parts", "compare_teleop_node",
-    "compare_sensor_launch", "compare_teleop_launch", "compare_graph",
+    "compare_sensor_launch", "compare_teleop_launch", "compare_teleop_launch_sim", "compare_graph",
 ]
 
 #: Values on /force_mapped must be within this of the reference (Float32 carries ~7 digits).
@@ -71,6 +71,7 @@ TELEOP_LAUNCH: Dict[str, Tuple[str, float]] = {
     "serial": ("starts rosserial_python's serial_node.py with ~port /dev/ttyACM0 (a string)", 2),
     "param": ("sets /max_sensor_force (a count, 0 < value <= 1023)", 2),
     "include": ("includes franka_control's franka_control_cartesian_velocity.launch", 2),
+    "sim": ("launched in simulation: the pad moves the arm, closes the hand, and the force reaches /force_mapped", 4),
 }
 GRAPH: Dict[str, Tuple[str, float]] = {
     "format": ("graph.yaml has a list of nodes and a mapping of topics", 1),
@@ -843,6 +844,112 @@ def compare_teleop_launch(parsed: Dict[str, Any], parse_facts: Optional[Dict[str
         "franka_control_cartesian_velocity.launch is not included: add <include file=\"$(find franka_control)"
         "/launch/franka_control_cartesian_velocity.launch\"/> (Ex. 13)")))
     return parts
+
+
+#: What the launch in simulation must show (the grader's scenario: hri_teleop.grading.cases.launch_sim_case).
+SIM_MIN_RISE_M = 0.02          # the arm rises at 5 cm/s for 1 s: at least 2 cm
+SIM_MAX_CLOSED_WIDTH_M = 0.06  # the hand opens 0.08 m; cross closes it past 0.06 m
+SIM_MIN_FORCE = 0.3            # the egg squeezed until strong rumble: /force_mapped well above 0
+
+
+def _series(observation: Dict[str, Any], topic: str) -> List[Tuple[float, Any]]:
+    return [(float(t), v) for t, _kind, v in observation.get("messages", {}).get(topic, [])]
+
+
+def _width_m(positions: Any) -> Optional[float]:
+    """franka_gripper's joint_states: two finger joints, each half the opening."""
+    if not isinstance(positions, list) or not positions:
+        return None
+    numbers = [_as_float(p) for p in positions[:2]]
+    return None if None in numbers else float(sum(numbers))  # type: ignore[arg-type]
+
+
+def _sim_plot(plot_dir: Optional[Path], observation: Dict[str, Any], teleop: str) -> List[str]:
+    if plot_dir is None:
+        return []
+    from hri_teleop.grading.plots import timeline
+
+    twist = [(t, v[2]) for t, v in _series(observation, "/cartesian_velocity_controller/cmd_vel") if isinstance(v, list)]
+    z = [(t, v[2]) for t, v in _series(observation, "/lab_sim/ee_pose") if isinstance(v, list)]
+    width = [(t, _width_m(v)) for t, v in _series(observation, "/franka_gripper/joint_states")]
+    target = [(t, _as_float(v)) for t, v in _series(observation, "/gripper_width")]
+    force = [(t, _as_float(v)) for t, v in _series(observation, "/force_mapped")]
+    rumble = [(t, _as_float(v)) for t, v in _series(observation, f"{teleop}/rumble")]
+    panels = [("twist v_z (m/s)", [("command", twist)]), ("end effector z (m)", [("simulated arm", z)]),
+              ("gripper width (m)", [("hand", width), ("/gripper_width", target)]),
+              ("force", [("/force_mapped", force), ("rumble", rumble)])]
+    return [timeline(Path(plot_dir) / "teleoperation-launch-sim.png",
+                     "teleoperation.launch in simulation: what the grader saw", panels)]
+
+
+def compare_teleop_launch_sim(parsed: Dict[str, Any], observation: Optional[Dict[str, Any]], case: Any,
+                              plot_dir: Optional[Path] = None) -> Part:
+    """The launch file run with the simulated lab and the grader's operator (``case``): did it all connect?"""
+    T = TELEOP_LAUNCH
+    if not parsed.get("ok"):
+        return _nj(T, "sim", "the file does not parse")
+    if observation is None:
+        return _nj(T, "sim", "it starts no teleoperation.py of hri_lab, so there is no operator to run")
+    if observation.get("session_error"):
+        return _nj(T, "sim", f"the grader could not run the simulation ({observation['session_error']})")
+    note = ""
+    if observation.get("supplied"):
+        note = "to judge the rest the grader supplied what the launch file lacks: " + ", ".join(observation["supplied"])
+    teleop = next((f"{n['namespace'].rstrip('/')}/{n['name']}" for n in parsed.get("nodes", [])
+                   if n["type"] == "teleoperation.py"), "/teleoperation")
+    if observation.get("problem"):
+        launch = dict(observation.get("launch", {}))
+        launch["problem"] = observation["problem"]
+        return _part(T, "sim", False, _explain_process(launch, "roslaunch"), note=note)
+    twist_topic = "/cartesian_velocity_controller/cmd_vel"
+    problems: List[str] = []
+    twists = [v for _, v in _series(observation, twist_topic)]
+    if not twists:
+        others = sorted(t for t, k in observation.get("teleop_publications", []) if k == "geometry_msgs/Twist")
+        problems.append(f"nothing arrived on {twist_topic}, where the robot listens"
+                        + (f"; {teleop} publishes its twist on {', '.join(others)}: a <remap> in the launch file?"
+                           if others else f": did {teleop} start and stay up?"))
+    z = [v[2] for _, v in _series(observation, "/lab_sim/ee_pose") if isinstance(v, list)]
+    rise = (max(z) - z[0]) if z else 0.0
+    if twists and rise < SIM_MIN_RISE_M:
+        problems.append(f"the arm rose {rise * 100:.1f} cm while the right stick was held up for "
+                        f"{case.lift_to_s - case.lift_from_s:.0f} s (at least {SIM_MIN_RISE_M * 100:.0f} cm expected)")
+    widths = [w for w in (_width_m(v) for _, v in _series(observation, "/franka_gripper/joint_states")) if w is not None]
+    if not widths or min(widths) > SIM_MAX_CLOSED_WIDTH_M:
+        seen = f"it stayed at {min(widths):.3f} m or more" if widths else "no joint_states arrived"
+        targets = _series(observation, "/gripper_width")
+        why = ("gripper_manager got no /gripper_width" if not targets else
+               "/gripper_width came but the hand did not move: is gripper_manager.py started?")
+        problems.append(f"the hand did not close while cross was held ({seen}); {why}")
+    pub_force = _series(observation, "/pub_force")
+    force = [_as_float(v) for _, v in _series(observation, "/force_mapped")]
+    if not pub_force:
+        problems.append("no sensor counts on /pub_force: the board's counts reach ROS through rosserial_python's "
+                        "serial_node.py (the grader's stand-in forwards the simulated board)")
+    elif not force:
+        problems.append("the board's counts arrived on /pub_force but nothing on /force_mapped: is mapping_node.py "
+                        "started?")
+    else:
+        outside = [v for v in force if v is None or not 0.0 <= v <= 1.0]
+        if outside:
+            problems.append(f"{len(outside)} of {len(force)} values on /force_mapped were outside [0, 1]")
+        elif max(force) < SIM_MIN_FORCE:  # type: ignore[type-var]
+            problems.append(f"/force_mapped stayed below {SIM_MIN_FORCE} (max {max(force):.3f}) while the hand "
+                            "squeezed the sponge: is /max_sensor_force the calibrated count?")
+    facts = []
+    rumble = [r for r in (_as_float(v) for _, v in _series(observation, f"{teleop}/rumble")) if r is not None]
+    if rumble:
+        facts.append(f"the pad rumbled up to {max(rumble):.2f}")
+    status = [v for _, v in _series(observation, "/lab_sim/object") if isinstance(v, dict)]
+    if status:
+        last = status[-1]
+        facts.append(f"the {last.get('name', 'object')} was " + ("crushed" if last.get("crushed") == "true" else
+                                       "lifted" if last.get("ever_lifted") == "true" else "not lifted"))
+    if not observation.get("quit_in_time"):
+        facts.append(f"{teleop} was still running after square was pressed")
+    note = "; ".join(x for x in [note] + facts if x)
+    plots = _sim_plot(plot_dir, observation, teleop) if problems else []
+    return _part(T, "sim", not problems, "\n".join(problems), plots, note=note)
 
 
 # -- Ex. 15: the graph --------------------------------------------------------------------------

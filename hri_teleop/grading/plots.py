@@ -9,9 +9,9 @@ from __future__ import annotations
 
 import math
 from pathlib import Path
-from typing import Optional, Sequence
+from typing import Optional, Sequence, Tuple
 
-__all__ = ["expected_vs_actual"]
+__all__ = ["expected_vs_actual", "timeline"]
 
 
 def _finite(values: Sequence[Optional[float]]) -> list:
@@ -56,6 +56,40 @@ def expected_vs_actual(path: Path, title: str, x: Sequence[float], expected: Seq
         right.set_ylabel(input_label, color="tab:blue")
     ax.legend(loc="upper left", fontsize=8)
     ax.set_title(title, fontsize=10)
+    fig.tight_layout()
+    path = Path(path)
+    path.parent.mkdir(parents=True, exist_ok=True)
+    fig.savefig(path)
+    plt.close(fig)
+    return str(path)
+
+
+Series = Sequence[Tuple[float, Optional[float]]]
+
+
+def timeline(path: Path, title: str, panels: Sequence[Tuple[str, Sequence[Tuple[str, Series]]]]) -> str:
+    """Panels of (label, [(legend, [(t_s, value), ...]), ...]) stacked on one time axis; returns the path.
+
+    For a run where several things had to happen in order (a launch file in simulation):
+    the panel that stays flat shows which link of the chain did not work.
+    """
+    import matplotlib
+
+    matplotlib.use("Agg")
+    import matplotlib.pyplot as plt
+
+    fig, axes = plt.subplots(len(panels), 1, figsize=(9, 1.9 * len(panels)), dpi=90, sharex=True, squeeze=False)
+    for ax, (label, lines) in zip(axes[:, 0], panels):
+        for legend, series in lines:
+            points = list(series)
+            if points:
+                ax.plot([t for t, _ in points], _finite([v for _, v in points]), lw=1.2, label=legend)
+            else:
+                ax.plot([], [], lw=1.2, label=f"{legend}: nothing arrived")
+        ax.set_ylabel(label, fontsize=8)
+        ax.legend(loc="upper left", fontsize=7)
+    axes[-1, 0].set_xlabel("time since the launch (s)")
+    axes[0, 0].set_title(title, fontsize=10)
     fig.tight_layout()
     path = Path(path)
     path.parent.mkdir(parents=True, exist_ok=True)

@@ -11,8 +11,9 @@ One plan per process (rospy can join one master per process)::
 Kinds of plan: ``mapping-node`` (counts on the student's input topic, lockstep, per
 /max_sensor_force), ``sensor-launch`` (roslaunch the student's file, record
 /force_mapped), ``teleop-node`` (the student's teleoperation.py with a scripted virtual
-pad and a steady /force_mapped) and ``live-graph`` (the lab's reference pipeline, to
-read its graph).
+pad and a steady /force_mapped), ``teleop-launch-sim`` (the student's teleoperation.launch
+with the simulated lab in place of robot and board, and a scripted operator) and
+``live-graph`` (the lab's reference pipeline, to read its graph).
 """
 
 from __future__ import annotations
@@ -152,6 +153,12 @@ def _decode(kind: str, buff: bytes) -> Any:
         return [msg.linear.x, msg.linear.y, msg.linear.z, msg.angular.x, msg.angular.y, msg.angular.z]
     if hasattr(msg, "data") and isinstance(msg.data, (int, float, bool)):
         return msg.data
+    if kind == "geometry_msgs/PoseStamped":
+        return [msg.pose.position.x, msg.pose.position.y, msg.pose.position.z]
+    if kind == "sensor_msgs/JointState":
+        return list(msg.position)
+    if kind == "diagnostic_msgs/DiagnosticStatus":
+        return {value.key: value.value for value in msg.values}
     return {"__repr__": repr(msg)[:100]}
 
 
@@ -412,6 +419,74 @@ def run_teleop_node(session: Session) -> Dict[str, Any]:
     }
 
 
+def run_teleop_launch_sim(session: Session) -> Dict[str, Any]:
+    """roslaunch the student's teleoperation.launch with the simulated lab and a scripted operator.
+
+    lab_sim (the grader's, trusted) plays arm, hand, object and board before the launch
+    starts, so the operator's script meets a ready lab; its board counts go to the
+    stand-in serial_node the student's file starts (:mod:`hri_teleop.grading.standins`).
+    The grader's parameter file (second on roslaunch's command line, so it survives
+    ``clear_params``) gives the teleoperation node the virtual pad and the script. What the
+    launch file lacks (a parameter, the serial_node, mapping_node, gripper_manager) the
+    grader supplies, so this judges only whether what it starts works together.
+    """
+    plan = session.plan
+    supplied: List[str] = []
+    if plan.get("set_max_sensor_force") is not None:
+        session.master.set_param("/max_sensor_force", plan["set_max_sensor_force"])
+        supplied.append("/max_sensor_force")
+    lab = session.master.run([plan["python"], *plan["lab_sim"]], "grader_lab_sim")
+    ready = _wait(lambda: "/lab_sim" in session.master.subscribers(plan["twist_topic"]) or not lab.running,
+                  plan["start_timeout_s"], 0.05)
+    if not ready or not lab.running:
+        out = lab.output()[-1500:]
+        lab.stop()
+        return {"kind": "teleop-launch-sim", "session_error": f"the simulated lab did not start: {out}"}
+    recorder = _Recorder()
+    for topic in plan["record"]:
+        recorder.add(topic)
+    launch = session.start_student(["roslaunch", "--wait", plan["launch_file"], plan["params_launch"]], "roslaunch")
+    teleop = plan["teleop_node"]
+    started = time.monotonic()
+    up = _wait(lambda: teleop in session.master.node_names() or not launch.running, plan["start_timeout_s"], 0.05)
+    problem = "" if up and launch.running else _start_problem(launch, plan["start_timeout_s"], f"starting {teleop}")
+    extra: List[Any] = []
+    nodes: Set[str] = set()
+    teleop_pub: List[List[str]] = []
+    quit_in_time = False
+    if not problem:
+        for name, argv in plan.get("supply", {}).items():  # now: the launch file's parameters are set
+            extra.append(session.start_student([plan["python"], *argv], f"grader_{name}"))
+            supplied.append(name)
+        deadline = time.monotonic() + plan["run_s"]
+        while time.monotonic() < deadline:
+            names = set(session.master.node_names())
+            nodes |= _student_nodes(session.master, session.baseline) - {"/lab_sim"}
+            if teleop not in names or not launch.running:
+                quit_in_time = teleop not in names
+                break
+            teleop_pub = _node_io(session.master, {teleop})[1] or teleop_pub
+            time.sleep(0.1)
+    pubs, subs, types = _graph(session.master)
+    recorder.close()
+    exited = not launch.running
+    launch.stop()
+    for proc in extra:
+        proc.stop()
+    lab.stop()
+    return {
+        "kind": "teleop-launch-sim", "supplied": supplied, "problem": problem, "nodes": sorted(nodes),
+        "quit_in_time": quit_in_time, "run_s": round(time.monotonic() - started, 3), "teleop_publications": teleop_pub,
+        "publishers": {t: sorted(n) for t, n in pubs.items() if t not in _IGNORED_TOPICS},
+        "subscribers": {t: sorted(n) for t, n in subs.items() if t not in _IGNORED_TOPICS},
+        "types": {t: k for t, k in types.items() if t not in _IGNORED_TOPICS},
+        "messages": {t: [[round(ts - started, 4), k, v] for ts, k, v in msgs] for t, msgs in recorder.messages.items()},
+        "launch": {"exit_code": launch.returncode, "exited_by_itself": exited, "output_tail": launch.output_tail(),
+                   "output_bytes": launch.output_size()},
+        "lab_sim_log": lab.output()[-1500:],
+    }
+
+
 def run_live_graph(session: Session) -> Dict[str, Any]:
     """The lab's reference pipeline without hardware: its nodes, topics, types and connections."""
     plan = session.plan
@@ -438,7 +513,7 @@ def run_live_graph(session: Session) -> Dict[str, Any]:
 
 
 _KINDS = {"mapping-node": run_mapping_node, "sensor-launch": run_sensor_launch, "teleop-node": run_teleop_node,
-          "live-graph": run_live_graph}
+          "teleop-launch-sim": run_teleop_launch_sim, "live-graph": run_live_graph}
 
 
 def run_plan(plan: Dict[str, Any]) -> Dict[str, Any]:

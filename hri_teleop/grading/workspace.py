@@ -4,8 +4,10 @@ Why: submissions arrive in many shapes (the hri_lab package folder, nbgrader's
 ``submitted/<student>/<assignment>/``, or the files side by side), and a launch file says
 ``pkg="hri_lab"``, so the grader needs a package called hri_lab with the student's files
 at the handout's places, the files the lab provides (FSR_sensor.py, gripper_manager.py,
-package.xml) from the instructor -- never the student's copy of them -- and a stand-in
-franka_control whose launch file only marks that it was included. The student's
+package.xml) from the instructor -- never the student's copy of them -- and stand-ins for
+the hardware packages: a franka_control whose launch file only marks that it was included
+(the grader starts the simulated robot itself) and a rosserial_python whose serial_node
+forwards the simulated sensor board (:mod:`hri_teleop.grading.standins`). The student's
 original folder is never written to: code runs on a copy.
 """
 
@@ -109,13 +111,29 @@ class Workspace:
         return self.package / ".grader"
 
 
+def _manifest(name: str, description: str) -> str:
+    return ('<?xml version="1.0"?>\n<package format="2"><name>' + name + '</name><version>0.0.0</version>'
+            f"<description>{description}</description>"
+            '<maintainer email="lab@example.org">hri-lab</maintainer><license>BSD</license></package>\n')
+
+
+def _fake_rosserial_python(ws: Path) -> None:
+    from hri_teleop.grading.standins import SERIAL_NODE_SCRIPT
+
+    pkg = ws / "rosserial_python"
+    (pkg / "scripts").mkdir(parents=True, exist_ok=True)
+    (pkg / "package.xml").write_text(_manifest("rosserial_python", "grader stand-in: serial_node.py forwards the "
+                                                                   "simulated sensor board to /pub_force"))
+    script = pkg / "scripts" / "serial_node.py"
+    script.write_text(SERIAL_NODE_SCRIPT)
+    script.chmod(0o755)
+
+
 def _fake_franka_control(ws: Path) -> None:
     pkg = ws / "franka_control"
     (pkg / "launch").mkdir(parents=True, exist_ok=True)
-    (pkg / "package.xml").write_text(
-        '<?xml version="1.0"?>\n<package format="2"><name>franka_control</name><version>0.0.0</version>'
-        "<description>grader stand-in: marks that franka_control_cartesian_velocity.launch was included"
-        "</description><maintainer email=\"lab@example.org\">hri-lab</maintainer><license>BSD</license></package>\n")
+    (pkg / "package.xml").write_text(_manifest("franka_control", "grader stand-in: marks that "
+                                                                 "franka_control_cartesian_velocity.launch was included"))
     (pkg / "launch" / "franka_control_cartesian_velocity.launch").write_text(
         '<launch>\n  <arg name="robot_ip" default="172.16.0.2"/>\n  <arg name="load_gripper" default="true"/>\n'
         f'  <param name="{FRANKA_MARKER_PARAM}" value="true"/>\n</launch>\n')
@@ -132,10 +150,7 @@ def _ros_intro_alias(ws: Path, package: Path) -> None:
         if (package / sub).is_dir():
             shutil.copytree(package / sub, alias / sub)
     alias.mkdir(exist_ok=True)
-    (alias / "package.xml").write_text(
-        '<?xml version="1.0"?>\n<package format="2"><name>ros_intro</name><version>0.0.0</version>'
-        "<description>grader alias of the student's hri_lab package</description>"
-        '<maintainer email="lab@example.org">hri-lab</maintainer><license>BSD</license></package>\n')
+    (alias / "package.xml").write_text(_manifest("ros_intro", "grader alias of the student's hri_lab package"))
 
 
 def _looks_like_package(root: Path) -> bool:
@@ -191,6 +206,7 @@ def prepare_workspace(submission: Union[str, Path], session_dir: Path, uid: Opti
     for script in (package / "scripts").glob("*.py") if (package / "scripts").is_dir() else []:
         script.chmod(0o755)
     _fake_franka_control(ws)
+    _fake_rosserial_python(ws)
     _ros_intro_alias(ws, package)
     space.grader_dir.mkdir(parents=True, exist_ok=True)
     _open_up(session_dir, package, uid)

@@ -343,6 +343,18 @@ def test_rumble_level_follows_the_requests_and_their_duration():
     assert pad.rumble_level(10.1) == 0.0
 
 
+def test_a_rumble_of_duration_zero_lasts_until_the_next_request():
+    """The Gamepad protocol: duration 0 s means until the next call (the students' node asks so)."""
+    clock = FakeClock(10.0)
+    pad = ScriptedPad(parse_script([{"t": 0.0, "press": "south"}]), clock=clock)
+    pad.rumble(0.9, 0.0)
+    assert pad.rumble_level(10.0) == pytest.approx(0.9)
+    assert pad.rumble_level(15.0) == pytest.approx(0.9)
+    clock.now = 16.0
+    pad.rumble(0.0, 0.0)
+    assert pad.rumble_level(16.5) == 0.0
+
+
 @pytest.mark.parametrize("step, expected", [
     ({"t": 0, "press": "south", "hold": 0.1}, "'hold' belongs to a tap step"),
     ({"t": 0, "tap": "south", "until": "rumble"}, "'until' belongs to a repeated tap"),

@@ -6,6 +6,7 @@ No ROS here: the observations are built by hand the way the sessions and probes 
 from __future__ import annotations
 
 import copy
+from pathlib import Path
 
 import pytest
 
@@ -183,6 +184,75 @@ def test_each_teleoperation_launch_mistake_fails_its_part_only(drop_node, params
     nodes = [n for n in TELEOP_NODES if n[0] != drop_node]
     failed = _failed(compare.compare_teleop_launch(_launch(nodes, params)))
     assert list(failed) == [compare.TELEOP_LAUNCH[key][0]] and words in failed[compare.TELEOP_LAUNCH[key][0]]
+
+
+def _sim_observation(**changes):
+    """What the grader records when the answer key's teleoperation.launch runs in simulation."""
+    twist = "/cartesian_velocity_controller/cmd_vel"
+    messages = {
+        twist: [[t / 10, "geometry_msgs/Twist", [0.0, 0.0, 0.05 if 36 <= t < 46 else 0.0, 0.0, 0.0, 0.0]]
+                for t in range(60)],
+        "/lab_sim/ee_pose": [[t / 10, "geometry_msgs/PoseStamped", [0.3, 0.0, 0.03 + 0.005 * max(0, min(t, 46) - 36)]]
+                             for t in range(60)],
+        "/franka_gripper/joint_states": [[t / 10, "sensor_msgs/JointState", [max(0.025, 0.04 - t * 0.001)] * 2]
+                                         for t in range(60)],
+        "/gripper_width": [[t / 10, "std_msgs/Float32", 0.05] for t in range(60)],
+        "/pub_force": [[t / 10, "std_msgs/Int16", min(700, t * 20)] for t in range(60)],
+        "/force_mapped": [[t / 10, "std_msgs/Float32", min(1.0, t * 20 / 700)] for t in range(60)],
+        "/teleoperation/rumble": [[t / 10, "std_msgs/Float32", min(1.0, t * 20 / 700)] for t in range(60)],
+        "/lab_sim/object": [[5.9, "diagnostic_msgs/DiagnosticStatus", {"name": "sponge", "crushed": "false",
+                                                                        "ever_lifted": "true"}]],
+    }
+    observation = {"kind": "teleop-launch-sim", "supplied": [], "problem": "", "quit_in_time": True,
+                   "messages": messages, "teleop_publications": [[twist, "geometry_msgs/Twist"]]}
+    for key, value in changes.items():
+        if key.startswith("/"):
+            messages[key] = value
+        else:
+            observation[key] = value
+    return observation
+
+
+def _sim_part(observation, plot_dir=None):
+    from hri_teleop.grading.cases import launch_sim_case
+
+    return compare.compare_teleop_launch_sim(_launch(TELEOP_NODES, TELEOP_PARAMS), observation, launch_sim_case(),
+                                             plot_dir)
+
+
+def test_a_teleoperation_launch_that_works_in_simulation_passes_and_says_what_happened():
+    part = _sim_part(_sim_observation())
+    assert part.passed and part.points == compare.TELEOP_LAUNCH["sim"][1]
+    assert "rumbled up to 1.00" in part.note and "sponge was lifted" in part.note
+
+
+@pytest.mark.parametrize("changes, words", [
+    ({"/cartesian_velocity_controller/cmd_vel": [], "teleop_publications": [["/cmd_vel", "geometry_msgs/Twist"]]},
+     "publishes its twist on /cmd_vel: a <remap>"),
+    ({"/lab_sim/ee_pose": [[t / 10, "geometry_msgs/PoseStamped", [0.3, 0.0, 0.03]] for t in range(60)]},
+     "the arm rose 0.0 cm"),
+    ({"/franka_gripper/joint_states": [[0.0, "sensor_msgs/JointState", [0.04, 0.04]]], "/gripper_width": []},
+     "gripper_manager got no /gripper_width"),
+    ({"/franka_gripper/joint_states": [[0.0, "sensor_msgs/JointState", [0.04, 0.04]]]}, "is gripper_manager.py started"),
+    ({"/pub_force": [], "/force_mapped": []}, "rosserial_python's serial_node.py"),
+    ({"/force_mapped": []}, "is mapping_node.py started"),
+    ({"/force_mapped": [[0.0, "std_msgs/Float32", 0.1]] * 10}, "stayed below 0.3"),
+    ({"/force_mapped": [[0.0, "std_msgs/Float32", 1.4]] * 10}, "outside [0, 1]"),
+])
+def test_each_broken_link_in_simulation_fails_the_part_naming_it(changes, words, tmp_path):
+    part = _sim_part(_sim_observation(**changes), tmp_path)
+    assert not part.passed and words in part.message, part.message
+    assert part.plots and Path(part.plots[0]).read_bytes()[:8] == b"\x89PNG\r\n\x1a\n"
+
+
+def test_a_launch_that_does_not_start_or_could_not_be_run_is_named():
+    failed = _sim_part(_sim_observation(problem="exited with status 1 before starting /teleoperation",
+                                        launch={"exit_code": 1, "output_tail": "RLException: unused args [x]"}))
+    assert not failed.passed and "RLException" in failed.message
+    skipped = _sim_part({"session_error": "the grading session did not finish within 120 s"})
+    assert not skipped.passed and skipped.message.startswith("not judged: the grader could not run the simulation")
+    nothing = compare.compare_teleop_launch_sim(_launch(TELEOP_NODES[:2], TELEOP_PARAMS), None, None)
+    assert nothing.message.startswith("not judged") and "no teleoperation.py" in nothing.message
 
 
 def test_sensor_launch_accepts_the_handouts_ros_intro_package_and_reports_ex_7():
