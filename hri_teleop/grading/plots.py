@@ -11,6 +11,8 @@ import math
 from pathlib import Path
 from typing import Optional, Sequence, Tuple
 
+from hri_teleop.plots import save_figure
+
 __all__ = ["expected_vs_actual", "timeline"]
 
 
@@ -56,12 +58,7 @@ def expected_vs_actual(path: Path, title: str, x: Sequence[float], expected: Seq
         right.set_ylabel(input_label, color="tab:blue")
     ax.legend(loc="upper left", fontsize=8)
     ax.set_title(title, fontsize=10)
-    fig.tight_layout()
-    path = Path(path)
-    path.parent.mkdir(parents=True, exist_ok=True)
-    fig.savefig(path)
-    plt.close(fig)
-    return str(path)
+    return str(save_figure(fig, path))
 
 
 Series = Sequence[Tuple[float, Optional[float]]]
@@ -90,9 +87,4 @@ def timeline(path: Path, title: str, panels: Sequence[Tuple[str, Sequence[Tuple[
         ax.legend(loc="upper left", fontsize=7)
     axes[-1, 0].set_xlabel("time since the launch (s)")
     axes[0, 0].set_title(title, fontsize=10)
-    fig.tight_layout()
-    path = Path(path)
-    path.parent.mkdir(parents=True, exist_ok=True)
-    fig.savefig(path)
-    plt.close(fig)
-    return str(path)
+    return str(save_figure(fig, path))
