@@ -10,7 +10,9 @@ agree on what "peak grasp force" or "time to grasp" means.  Definitions:
   1.77 N), which scales the nominal model to this part (FSRs differ by about 10 %).  The
   FSR feels at most that force: a squeeze past full travel (the housing presses the
   object) reads as the maximum, so :attr:`TrialMetrics.saturated_s` says how long the
-  piston was bottomed out.
+  piston was bottomed out.  A crush is faster than the board: an egg's shell gives way
+  within about 10 ms of full travel and the force drops, so a 100 Hz board sees that
+  peak at most once -- a crushed trial's peak force is a lower bound.
 * **contact**: a count above ``contact_fraction`` of ``max_sensor_force`` (default 0.01:
   the rumble threshold, above the ADC's noise at rest).
 * **time to grasp**: from the start of the trial to the first contact.  **time to lift**:
@@ -32,7 +34,8 @@ from hri_teleop.sim.hand import Attachment
 from hri_teleop.sim.report import LabRecord, time_above
 from hri_teleop.sim.world import LIFTED_M
 
-__all__ = ["MetricsError", "TrialMeta", "TrialMetrics", "CONDITIONS", "calibrated_force_n", "trial_metrics"]
+__all__ = ["MetricsError", "TrialMeta", "TrialMetrics", "CONDITIONS", "calibrated_force_n", "trial_metrics",
+           "per_participant", "paired_by_participant"]
 
 #: The experiment's two conditions: the pad rumbles with the force, or never.
 CONDITIONS = ("feedback", "no_feedback")
@@ -77,6 +80,7 @@ class TrialMetrics:
     time_to_lift_s: Optional[float]
     rumble_s: float
     duration_s: float
+    raw_tlx: Optional[float] = None  # the participant's raw NASA-TLX after the trial (0..100), if asked
 
 
 def calibrated_force_n(counts: Sequence[float], max_sensor_force: float,
@@ -99,11 +103,13 @@ def _first_time(series: Sequence[Tuple[float, float]], above: float) -> Optional
 
 def trial_metrics(record: LabRecord, meta: TrialMeta, max_sensor_force: float, *,
                   contact_fraction: float = 0.01, full_travel_force_n: Optional[float] = None,
-                  outcome_lifted: Optional[bool] = None, outcome_crushed: Optional[bool] = None) -> TrialMetrics:
+                  outcome_lifted: Optional[bool] = None, outcome_crushed: Optional[bool] = None,
+                  raw_tlx: Optional[float] = None) -> TrialMetrics:
     """The metrics of one trial (see the module doc).
 
     ``outcome_lifted``/``outcome_crushed``: the experimenter's judgement in the lab, where
     no sensor sees the object; None takes the simulation's word from ``record``.
+    ``raw_tlx``: the workload score stored with the trial (:mod:`hri_teleop.experiment.tlx`).
     """
     if not record.count:
         raise MetricsError(f"{meta.label}: no /pub_force samples recorded; was the sensor board running?")
@@ -129,6 +135,7 @@ def trial_metrics(record: LabRecord, meta: TrialMeta, max_sensor_force: float, *
         time_to_lift_s=None if first_lift is None else float(first_lift - start),
         rumble_s=time_above(record.rumble, 0.0),
         duration_s=record.duration_s(),
+        raw_tlx=None if raw_tlx is None else float(raw_tlx),
     )
 
 
@@ -141,3 +148,18 @@ def per_participant(metrics: Sequence[TrialMetrics], value: str, condition: str)
             if v is not None:
                 groups.setdefault(m.meta.participant, []).append(float(v))
     return [(p, float(np.mean(vs))) for p, vs in sorted(groups.items())]
+
+
+def paired_by_participant(metrics: Sequence[TrialMetrics], value: str
+                          ) -> Tuple[List[str], List[float], List[float], List[str]]:
+    """Per-participant means of ``value`` in both conditions, for a paired comparison.
+
+    Returns (participants with a value in both conditions, their no_feedback means, their
+    feedback means -- in the same order, and the participants left out because one
+    condition has no value for them).
+    """
+    without = dict(per_participant(metrics, value, "no_feedback"))
+    with_fb = dict(per_participant(metrics, value, "feedback"))
+    both = sorted(set(without) & set(with_fb))
+    left_out = sorted(set(m.meta.participant for m in metrics) - set(both))
+    return both, [without[p] for p in both], [with_fb[p] for p in both], left_out

@@ -270,6 +270,51 @@ class PrivateMaster:
         return proc
 
 
+class RunningMaster(PrivateMaster):
+    """A master someone else started (the lab PC's ``roscore``): run processes on it, never stop it.
+
+    Same interface as :class:`PrivateMaster` -- ``record``, ``roslaunch``, ``run`` -- so the
+    code that records a trial does not care whose master it is.  :meth:`start` only checks
+    that the master answers (one line naming the URI and how to start one otherwise);
+    :meth:`stop` stops what was started *here* and leaves the master, and every node that
+    was already running on it, alone.  The environment keeps the caller's ROS settings
+    (``ROS_HOSTNAME``/``ROS_IP``, log and home folders) and only points ``ROS_MASTER_URI``
+    at ``uri``.
+    """
+
+    def __init__(self, uri: str, base_env: Optional[Mapping[str, str]] = None,
+                 work_dir: Optional[Path] = None) -> None:
+        uri = str(uri).strip()
+        host_port = uri[len("http://"):].rstrip("/") if uri.startswith("http://") else ""
+        host, _, port = host_port.rpartition(":")
+        if not host or not port.isdigit():
+            raise MasterError(f"master URI {uri!r} is not of the form http://HOST:PORT/; "
+                              "e.g. http://localhost:11311/ (echo $ROS_MASTER_URI in the lab's terminal)")
+        env = dict(base_env if base_env is not None else os.environ)
+        super().__init__(port=int(port), base_env=env, work_dir=work_dir)
+        self.uri = f"http://{host_port}/"
+        self.env = dict(env)
+        self.env.update({"ROS_MASTER_URI": self.uri, "PYTHONUNBUFFERED": "1"})
+
+    def start(self, timeout_s: float = 3.0) -> "RunningMaster":
+        deadline = time.monotonic() + timeout_s
+        while not self.is_online():
+            if time.monotonic() >= deadline:
+                self.stop()
+                raise MasterError(f"no ROS master is running at {self.uri}: start it with `roscore` in another "
+                                  "terminal (or the lab's robot launch), check ROS_MASTER_URI, or record on a "
+                                  "private roscore instead (leave out --lab / --master-uri)")
+            time.sleep(0.1)
+        return self
+
+    def stop(self) -> None:
+        for child in reversed(self.children):
+            child.stop()
+        self.children.clear()
+        if self._own_dir:
+            shutil.rmtree(self.work_dir, ignore_errors=True)
+
+
 def run_reporting(call: Callable[[], int], name: str = "demo") -> int:
     """Run a command-line job that starts ROS processes; its failures become one line.
 

@@ -1,40 +1,77 @@
-"""Ex. 14's trials: record one with its metadata, plan a group's, load a folder of them.
+"""Ex. 14's trials: plan a group's, record one with its metadata, rehearse a session, analyse a folder.
 
 Why one command: a trial must be started, recorded and stopped the same way every time,
 with who/what/which condition stored *with* the recording, or the analysis cannot tell
-trials apart.  ``record`` starts a private roscore, ``rosbag record`` of the topics that
-matter and ``roslaunch hri_lab teleoperation.launch feedback:=...`` (``--sim``: the
-simulated lab, the object from the simulation's set), waits until the participant quits
-(square ends the launch), stops everything, and writes ``<folder>/<P>_t<NN>.bag`` plus
-``<P>_t<NN>.yaml`` with the metadata (also inside the bag, on ``/trial/metadata``).
+trials apart.  ``record`` starts ``rosbag record`` of the topics that matter and
+``roslaunch hri_lab teleoperation.launch feedback:=true|false`` (the condition: off, the
+pad never rumbles), waits until the participant quits (square ends the launch), stops
+what it started, and writes ``<folder>/<P>_t<NN>.bag`` plus the sidecar
+``<P>_t<NN>.yaml`` (:mod:`hri_teleop.experiment.sidecar`; the metadata is also inside the
+bag, on ``/trial/metadata``).  It then checks on the master that the teleoperation node
+really ran with the condition's ``feedback`` and stores that, and ``/max_sensor_force``
+(the calibration the analysis converts counts to newtons with), in the sidecar.
 
-    python -m hri_teleop.ros.trial plan --participants P01 P02 P03 P04 --objects egg sponge --out plan.csv
-    python -m hri_teleop.ros.trial record --participant P01 --trial 1 --object egg --condition no_feedback --sim
-    python -m hri_teleop.ros.trial outcome trials/P01_t01.yaml --lifted yes --crushed no   # in the lab
+Which master:
 
-This first version records on a private roscore, as the demo does; using the lab PC's
-running master is left for the experiment issue.
+* default: a private roscore on a free port, started and stopped with the trial
+  (home, CI);
+* ``--lab`` (``$ROS_MASTER_URI``) or ``--master-uri URI``: the lab PC's running master, where
+  rqt, live plots or the robot's own launch may already run.  The command launches
+  ``teleoperation.launch`` there itself, so the condition is applied, and refuses, before
+  starting anything, when a node that launch would start already runs on that master
+  (stop your own ``roslaunch hri_lab teleoperation.launch`` first; a ``franka_control``
+  started separately: add ``--launch-arg robot:=false``).  Afterwards it stops only what
+  it started; the master and everything else keep running.  The session's calibration
+  stays: a ``/max_sensor_force`` already on that master (the calibration widget's, or the
+  last trial's) is passed on as ``max_sensor_force:=`` unless ``--launch-arg`` gives one.
+
+``--sim`` replaces the robot, the object and the board by the simulated lab (lab_sim,
+the object from the simulation's set); ``rehearse`` runs a whole counterbalanced
+session that way, with simulated study participants (seeded pad scripts that squeeze
+more without feedback) or with you at a real pad.
+
+    python -m hri_teleop.ros.trial plan --participants P01 P02 P03 P04 --objects egg sponge --out trials/plan.csv
+    python -m hri_teleop.ros.trial record --participant P01 --trial 1 --object egg --condition no_feedback --lab
+    python -m hri_teleop.ros.trial outcome trials/P01_t01.yaml --lifted yes --crushed no   # lab trials
+    python -m hri_teleop.ros.trial tlx trials/P01_t01.yaml --mental 40 --physical 10 --temporal 30 \\
+        --performance 20 --effort 45 --frustration 15
+    python -m hri_teleop.ros.trial rehearse --participants 3 --objects egg --out trials   # at home, ~20 s a trial
+    python -m hri_teleop.ros.trial analyse trials
 """
 
 from __future__ import annotations
 
 import argparse
+import os
+import re
+import subprocess
 import sys
-from dataclasses import asdict
 from pathlib import Path
-from typing import Dict, List, Optional, Sequence, Tuple
+from typing import Any, Callable, Dict, List, Mapping, Optional, Sequence, Tuple, Union
 
 import yaml
 
+from hri_teleop.experiment.analysis import LoadedTrial, analyse_folder, measure_trial
 from hri_teleop.experiment.metrics import CONDITIONS, MetricsError, TrialMeta
 from hri_teleop.experiment.plan import counterbalanced_plan, write_plan
-from hri_teleop.ros.master import PrivateMaster, run_reporting
+from hri_teleop.experiment.sidecar import (META_KEYS, meta_from_sidecar, read_sidecar, sidecar_data,
+                                           update_sidecar, write_sidecar)
+from hri_teleop.experiment.tlx import SUBSCALES, TlxRatings, optional_tlx, store_tlx
+from hri_teleop.ros.bags import BagError
+from hri_teleop.ros.master import MasterError, PrivateMaster, RunningMaster, run_reporting
 from hri_teleop.ros.teleop_demo import DEFAULT_TIMEOUT_S, record_from_bag, record_teleop_launch
 from hri_teleop.sim.report import LabRecord
 
-__all__ = ["trial_stem", "record_trial", "load_trials", "main"]
+__all__ = ["METADATA_TOPIC", "PADS", "trial_stem", "trial_seed", "record_trial", "load_trial", "load_trials",
+           "lab_master",
+           "launch_nodes", "rehearse", "main"]
 
 METADATA_TOPIC = "/trial/metadata"
+#: How a rehearsal's participant operates: a simulated study participant (a seeded pad
+#: script on the virtual pad), or you at a real pad.
+PADS = ("script", "pygame")
+
+Progress = Callable[[str], None]
 
 
 def trial_stem(meta: TrialMeta) -> str:
@@ -42,36 +79,66 @@ def trial_stem(meta: TrialMeta) -> str:
     return f"{meta.participant}_t{meta.trial:02d}"
 
 
-def _write_sidecar(path: Path, meta: TrialMeta, extra: Dict[str, object]) -> None:
-    data = dict(asdict(meta))
-    data.update(extra)
-    path.write_text(yaml.safe_dump(data, sort_keys=False))
+def trial_seed(base_seed: int, participant_index: int, trial: int) -> int:
+    """The simulated participant's seed of a rehearsal trial: one per participant and trial number."""
+    return int(base_seed) + 1000 * int(participant_index) + int(trial)
 
 
-def record_trial(meta: TrialMeta, folder: Path, *, sim: bool = True, scenario: Optional[Path] = None,
-                 launch_args: Optional[Dict[str, str]] = None, timeout_s: float = DEFAULT_TIMEOUT_S,
-                 progress=lambda _m: None) -> Tuple[Path, LabRecord]:
-    """Run and record one trial (see the module doc); refuses to overwrite an earlier one."""
-    folder = Path(folder)
-    folder.mkdir(parents=True, exist_ok=True)
-    bag = folder / f"{trial_stem(meta)}.bag"
-    sidecar = bag.with_suffix(".yaml")
-    if bag.exists() or sidecar.exists():
-        raise MetricsError(f"{bag} exists: trial {meta.trial} of {meta.participant} is already recorded; "
-                           "give the next trial number or move the old files away")
-    args: Dict[str, object] = {"feedback": "true" if meta.condition == "feedback" else "false"}
-    if sim:
-        args.update({"sim": "true", "object": meta.object_name})
-        if scenario is not None:
-            args["scenario"] = str(Path(scenario).resolve())
-    args.update(launch_args or {})
-    with PrivateMaster() as master:
-        progress(f"{meta.label}: roscore on port {master.port}, recording to {bag}")
-        record = record_teleop_launch(master, bag, args, timeout_s, progress)
-    _add_metadata(bag, meta)
-    _write_sidecar(sidecar, meta, {"sim": sim, "launch_args": {k: str(v) for k, v in args.items()},
-                                   "ended_by": record.ended_by})
-    return bag, record
+# --------------------------------------------------------------------------- masters
+
+
+def lab_master(uri: Optional[str] = None, base_env: Optional[Mapping[str, str]] = None) -> RunningMaster:
+    """The running master at ``uri`` (default ``$ROS_MASTER_URI``), checked to answer."""
+    env = dict(base_env if base_env is not None else os.environ)
+    uri = uri or env.get("ROS_MASTER_URI", "")
+    if not uri:
+        raise MasterError("ROS_MASTER_URI is not set: source the lab's ROS setup (or tools/env.sh) in this terminal, "
+                          "or give the master with --master-uri http://localhost:11311/")
+    return RunningMaster(uri, base_env=env).start()
+
+
+_ANSI = re.compile(r"\x1b\[[0-9;]*m")
+
+
+def launch_nodes(master: PrivateMaster, args: Mapping[str, object]) -> List[str]:
+    """The node names ``teleoperation.launch`` with ``args`` would start (``roslaunch --nodes``; no master needed)."""
+    argv = ["roslaunch", "--nodes", "hri_lab", "teleoperation.launch"] + [f"{k}:={v}" for k, v in args.items()]
+    try:
+        proc = subprocess.run(argv, env=master.env, capture_output=True, text=True, timeout=60)
+    except FileNotFoundError:
+        raise MasterError("roslaunch not found on PATH: run 'make setup' (it installs ROS 1) or source tools/env.sh") \
+            from None
+    if proc.returncode != 0:
+        text = _ANSI.sub("", proc.stderr + proc.stdout)
+        first = next((line.strip() for line in text.splitlines() if line.strip() and not line.startswith("ROS path")),
+                     f"exit {proc.returncode}")
+        raise MasterError(f"teleoperation.launch cannot start with {' '.join(argv[4:])}: {first}; fix the launch "
+                          "arguments (--launch-arg) or ROS_PACKAGE_PATH (source tools/env.sh)")
+    return [line.strip() for line in proc.stdout.splitlines() if line.strip().startswith("/")]
+
+
+def _refuse_running_launch(master: PrivateMaster, args: Mapping[str, object]) -> None:
+    clash = sorted(set(launch_nodes(master, args)) & master.node_names())
+    if clash:
+        hint = (" (franka_control started separately? add --launch-arg robot:=false)"
+                if any("franka" in n for n in clash) else "")
+        raise MasterError(f"{', '.join(clash)} already running on {master.uri}: stop that launch first (Ctrl-C in "
+                          f"its terminal); the trial starts teleoperation.launch itself, feedback:={args['feedback']}"
+                          f"{hint}")
+
+
+def _is_count(value: Any) -> bool:
+    return isinstance(value, int) and not isinstance(value, bool) and 0 < value <= 1023
+
+
+def _param(master: PrivateMaster, name: str) -> Any:
+    try:
+        return master.get_param(name)
+    except (MasterError, OSError):
+        return None
+
+
+# --------------------------------------------------------------------------- one trial
 
 
 def _add_metadata(bag_path: Path, meta: TrialMeta) -> None:
@@ -82,27 +149,205 @@ def _add_metadata(bag_path: Path, meta: TrialMeta) -> None:
 
     with rosbag.Bag(str(bag_path), "a") as bag:
         start = bag.get_start_time() if bag.get_message_count() else 0.0
-        bag.write(METADATA_TOPIC, String(data=yaml.safe_dump(asdict(meta), sort_keys=False)),
+        bag.write(METADATA_TOPIC, String(data=yaml.safe_dump(sidecar_data(meta, {}), sort_keys=False)),
                   rospy.Time.from_sec(start))
 
 
-def load_trials(folder: Path) -> List[Tuple[TrialMeta, LabRecord, Dict[str, object]]]:
-    """Every trial in ``folder``: (metadata, record, the sidecar's other keys such as the outcome)."""
-    trials = []
-    for sidecar in sorted(Path(folder).glob("*.yaml")):
-        data = yaml.safe_load(sidecar.read_text()) or {}
+def _set_aside(bag: Path) -> Optional[Path]:
+    """A failed trial's partial bag is kept as ``<stem>.bag.failed`` (for the logs), out of the way of a retry."""
+    if not bag.exists():
+        return None
+    failed = bag.with_name(bag.name + ".failed")
+    os.replace(bag, failed)
+    return failed
+
+
+def record_trial(meta: TrialMeta, folder: Union[str, Path], *, sim: bool = True, scenario: Optional[Path] = None,
+                 launch_args: Optional[Mapping[str, object]] = None, timeout_s: float = DEFAULT_TIMEOUT_S,
+                 progress: Progress = lambda _m: None, master: Optional[PrivateMaster] = None,
+                 operator: Optional[Mapping[str, Any]] = None) -> Tuple[Path, LabRecord]:
+    """Run and record one trial (see the module doc); refuses to overwrite an earlier one.
+
+    ``master``: a started :class:`PrivateMaster` or :class:`RunningMaster` to record on
+    (left running); None starts a private roscore for this trial only.  ``operator``:
+    stored in the sidecar (who played the participant in a rehearsal: script and seed).
+    """
+    folder = Path(folder)
+    folder.mkdir(parents=True, exist_ok=True)
+    bag = folder / f"{trial_stem(meta)}.bag"
+    sidecar = bag.with_suffix(".yaml")
+    if bag.exists() or sidecar.exists():
+        raise MetricsError(f"{bag} exists: trial {meta.trial} of {meta.participant} is already recorded; "
+                           "give the next trial number or move the old files away")
+    feedback = meta.condition == "feedback"
+    args: Dict[str, object] = {}
+    if sim:
+        args.update({"sim": "true", "object": meta.object_name})
+        if scenario is not None:
+            args["scenario"] = str(Path(scenario).resolve())
+    extra = dict(launch_args or {})
+    if "feedback" in extra and str(extra["feedback"]).lower() != str(feedback).lower():
+        raise MetricsError(f"launch argument feedback:={extra['feedback']} contradicts the condition "
+                           f"{meta.condition}; leave feedback out, the condition sets it")
+    args.update(extra)
+    args["feedback"] = "true" if feedback else "false"
+
+    def run(on: PrivateMaster) -> Tuple[LabRecord, Any, Any]:
+        if isinstance(on, RunningMaster):
+            _refuse_running_launch(on, args)
+            session_calibration = _param(on, "/max_sensor_force")
+            if "max_sensor_force" not in args and _is_count(session_calibration):
+                args["max_sensor_force"] = int(session_calibration)  # keep the session's Ex. 11 value
+        progress(f"{meta.label}: recording on {on.uri} to {bag}")
         try:
-            meta = TrialMeta(str(data["participant"]), str(data["object_name"]), str(data["condition"]),
-                             int(data["trial"]))
-        except (KeyError, TypeError, ValueError) as exc:
-            raise MetricsError(f"{sidecar}: not a trial's metadata ({exc}); it needs participant, object_name, "
-                               "condition and trial") from None
-        bag = sidecar.with_suffix(".bag")
-        if not bag.exists():
-            raise MetricsError(f"{sidecar}: its recording {bag.name} is missing")
-        rest = {k: v for k, v in data.items() if k not in ("participant", "object_name", "condition", "trial")}
-        trials.append((meta, record_from_bag(bag), rest))
-    return trials
+            record = record_teleop_launch(on, bag, args, timeout_s, progress)
+        except BaseException:
+            _set_aside(bag)
+            raise
+        return record, _param(on, "/max_sensor_force"), _param(on, "/teleoperation/feedback")
+
+    if master is None:
+        with PrivateMaster() as private:
+            record, max_sensor_force, feedback_param = run(private)
+        where = "private"
+    else:
+        record, max_sensor_force, feedback_param = run(master)
+        where = "private" if not isinstance(master, RunningMaster) else master.uri
+    if feedback_param is not feedback:
+        failed = _set_aside(bag)
+        raise MasterError(f"the teleoperation node's ~feedback was {feedback_param!r}, not {feedback} as "
+                          f"{meta.condition} needs: the recording ({failed}) is not a valid trial; does your "
+                          "teleoperation.launch pass feedback:= to the node (hri_lab's does)?")
+    _add_metadata(bag, meta)
+    data: Dict[str, Any] = {
+        "sim": sim, "master": where, "launch_args": {k: str(v) for k, v in args.items()},
+        "max_sensor_force": max_sensor_force, "feedback_param": feedback_param, "ended_by": record.ended_by,
+        "duration_s": round(record.duration_s(), 3),
+    }
+    if operator:
+        data["operator"] = dict(operator)
+    write_sidecar(sidecar, sidecar_data(meta, data))
+    return bag, record
+
+
+def load_trial(sidecar: Union[str, Path]) -> LoadedTrial:
+    """One trial: its sidecar and the bag beside it (MetricsError naming the file and the fix)."""
+    sidecar = Path(sidecar)
+    data = read_sidecar(sidecar)
+    meta = meta_from_sidecar(data, sidecar)
+    bag = sidecar.with_suffix(".bag")
+    if not bag.exists():
+        raise MetricsError(f"{sidecar}: its recording {bag.name} is missing; put it back or move the sidecar away")
+    rest = {k: v for k, v in data.items() if k not in META_KEYS}
+    optional_tlx(rest, str(sidecar))
+    try:
+        record = record_from_bag(bag)
+    except BagError as exc:
+        raise MetricsError(str(exc)) from None
+    return LoadedTrial(meta, record, rest, sidecar)
+
+
+def load_trials(folder: Union[str, Path]) -> List[LoadedTrial]:
+    """Every trial in ``folder`` (each ``*.yaml`` sidecar with its ``*.bag``), in file-name order.
+
+    A sidecar that is not a trial's, a missing or unreadable bag, or a malformed
+    questionnaire is one MetricsError naming the file and the fix.
+    """
+    folder = Path(folder)
+    if not folder.is_dir():
+        raise MetricsError(f"{folder}: no such folder of trials; give the folder `trial record`/`rehearse` wrote")
+    return [load_trial(sidecar) for sidecar in sorted(folder.glob("*.yaml"))]
+
+
+# --------------------------------------------------------------------------- a whole session
+
+
+def _participant_codes(given: Sequence[str]) -> List[str]:
+    if len(given) == 1 and given[0].isdigit():
+        n = int(given[0])
+        if not 1 <= n <= 99:
+            raise MetricsError(f"--participants {n}: give 1..99 participants, or their codes (P01 P02 ...)")
+        return [f"P{i:02d}" for i in range(1, n + 1)]
+    return list(given)
+
+
+def _describe_trial(trial: LoadedTrial) -> str:
+    m = measure_trial(trial)
+    what = "crushed" if m.crushed else ("lifted, intact" if m.lifted else "not lifted")
+    return f"{what}; peak {m.peak_force_n:.2f} N, rumble {m.rumble_s:.1f} s, {m.duration_s:.1f} s"
+
+
+def rehearse(participants: Sequence[str], objects: Sequence[str], out: Union[str, Path], *, repetitions: int = 1,
+             pad: str = "script", seed: int = 0, quick: bool = False, resume: bool = False,
+             master: Optional[PrivateMaster] = None, timeout_s: float = 120.0, progress: Progress = print,
+             ask: Callable[[str], str] = input, analyse: bool = True):
+    """Record a whole counterbalanced session in the simulated lab, then analyse it (see the module doc).
+
+    ``pad`` ``script``: simulated study participants (:func:`hri_teleop.sim.operators.study_scenario`,
+    seed :func:`trial_seed`, ``quick``: short trials); ``pygame``: you at a real pad, asked
+    to press Enter before each trial.  One private roscore serves the whole session
+    unless ``master`` is given.  ``resume`` skips the plan's trials already in ``out``.
+    Returns the :class:`~hri_teleop.experiment.analysis.StudyResult` (None with
+    ``analyse`` False).
+    """
+    from hri_teleop.sim.hand import OBJECTS
+    from hri_teleop.sim.operators import study_scenario
+
+    if pad not in PADS:
+        raise MetricsError(f"pad {pad!r} is unknown; use one of {', '.join(PADS)}")
+    out = Path(out)
+    plan = counterbalanced_plan(list(participants), list(objects), repetitions)
+    unknown = sorted(set(objects) - set(OBJECTS))
+    if unknown:
+        raise MetricsError(f"object(s) {', '.join(unknown)} not in the simulation's set; "
+                           f"use {', '.join(sorted(OBJECTS))}")
+    done = [m for m in plan if (out / f"{trial_stem(m)}.yaml").exists() or (out / f"{trial_stem(m)}.bag").exists()]
+    if done and not resume:
+        raise MetricsError(f"{out / trial_stem(done[0])}.yaml exists: {out} holds an earlier session; give another "
+                           "--out, or --resume to record only the missing trials")
+    out.mkdir(parents=True, exist_ok=True)
+    write_plan(plan, out / "plan.csv")
+    index = {p: i for i, p in enumerate(participants)}
+    todo = [m for m in plan if m not in done]
+    progress(f"[rehearse] {len(plan)} trials ({len(todo)} to record) in {out}; plan: {out / 'plan.csv'}")
+
+    def session(on: PrivateMaster) -> None:
+        for k, meta in enumerate(todo, 1):
+            launch_args: Dict[str, object] = {}
+            scenario = None
+            operator: Dict[str, Any] = {}
+            if pad == "script":
+                trial_seed_ = trial_seed(seed, index[meta.participant], meta.trial)
+                data = study_scenario(meta.condition, trial_seed_, meta.object_name, quick=quick)
+                scenario = out / "scenarios" / f"{trial_stem(meta)}.yaml"
+                scenario.parent.mkdir(parents=True, exist_ok=True)
+                scenario.write_text(yaml.safe_dump(data, sort_keys=False))
+                operator = {"kind": "study_operator", "seed": trial_seed_, "quick": quick}
+            else:
+                launch_args["pad"] = pad
+                operator = {"kind": pad}
+                switch = "ON: the pad rumbles" if meta.condition == "feedback" else "OFF: no rumble"
+                ask(f"[rehearse] next: {meta.participant} trial {meta.trial}, grasp the {meta.object_name}, "
+                    f"feedback {switch}; square ends the trial. Press Enter to start ")
+            progress(f"[rehearse] {k}/{len(todo)} {meta.label} ...")
+            record_trial(meta, out, sim=True, scenario=scenario, launch_args=launch_args, timeout_s=timeout_s,
+                         master=on, operator=operator)
+            loaded = load_trial(out / f"{trial_stem(meta)}.yaml")
+            progress(f"[rehearse] {k}/{len(todo)} {meta.label}: {_describe_trial(loaded)}")
+
+    if master is None:
+        with PrivateMaster() as private:
+            session(private)
+    else:
+        session(master)
+    if not analyse:
+        return None
+    result = analyse_folder(out)
+    progress(result.report())
+    return result
+
+
+# --------------------------------------------------------------------------- command line
 
 
 def _yes_no(text: str) -> bool:
@@ -112,7 +357,29 @@ def _yes_no(text: str) -> bool:
     return value in ("yes", "true")
 
 
-def main(argv: Optional[Sequence[str]] = None) -> int:
+def _launch_arg(text: str) -> Tuple[str, str]:
+    key, sep, value = text.partition(":=")
+    if not sep:
+        key, sep, value = text.partition("=")
+    if not sep or not key.strip():
+        raise argparse.ArgumentTypeError(f"{text!r}: write a launch argument as name:=value, e.g. robot_ip:=172.16.0.2")
+    return key.strip(), value.strip()
+
+
+def _add_master_options(p: argparse.ArgumentParser) -> None:
+    group = p.add_mutually_exclusive_group()
+    group.add_argument("--lab", action="store_true",
+                       help="record on the running master at $ROS_MASTER_URI (the lab PC's roscore)")
+    group.add_argument("--master-uri", default="", help="record on the running master at this URI")
+
+
+def _master_from(args: argparse.Namespace) -> Optional[RunningMaster]:
+    if args.lab or args.master_uri:
+        return lab_master(args.master_uri or None)
+    return None
+
+
+def _parser() -> argparse.ArgumentParser:
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     sub = parser.add_subparsers(dest="command", required=True)
     p = sub.add_parser("plan", help="write a counterbalanced trial plan (CSV)")
@@ -128,31 +395,99 @@ def main(argv: Optional[Sequence[str]] = None) -> int:
     r.add_argument("--sim", action="store_true", help="the simulated lab (home rehearsal)")
     r.add_argument("--scenario", type=Path, default=None, help="with --sim: a scripted operator instead of a pad")
     r.add_argument("--pad", default="", help="pygame (a real pad) or virtual; empty: the launch's default")
+    r.add_argument("--launch-arg", "-a", type=_launch_arg, action="append", default=[], metavar="NAME:=VALUE",
+                   help="more teleoperation.launch arguments, e.g. robot_ip:=172.16.0.2 max_sensor_force:=690")
     r.add_argument("--timeout", type=float, default=120.0, help="longest trial, s")
     r.add_argument("--out", type=Path, default=Path("trials"))
+    _add_master_options(r)
     o = sub.add_parser("outcome", help="store the experimenter's judgement of a lab trial")
     o.add_argument("sidecar", type=Path)
     o.add_argument("--lifted", type=_yes_no, required=True)
     o.add_argument("--crushed", type=_yes_no, required=True)
-    args = parser.parse_args(argv)
+    t = sub.add_parser("tlx", help="store the participant's raw NASA-TLX ratings (0..100, steps of 5) of a trial")
+    t.add_argument("sidecar", type=Path)
+    for s in SUBSCALES:
+        t.add_argument(f"--{s.key}", type=int, required=True, help=f"{s.question} (0 {s.low} .. 100 {s.high})")
+    h = sub.add_parser("rehearse", help="a whole counterbalanced session in the simulated lab, then the analysis")
+    h.add_argument("--participants", nargs="+", default=["3"], help="how many (P01, P02, ...) or their codes")
+    h.add_argument("--objects", nargs="+", default=["egg"], help="from the simulation's set (egg, sponge, block, ...)")
+    h.add_argument("--repetitions", type=int, default=1)
+    h.add_argument("--pad", choices=PADS, default="script",
+                   help="script: simulated participants (seeded pad scripts); pygame: you, with a real pad")
+    h.add_argument("--seed", type=int, default=0, help="base seed of the simulated participants")
+    h.add_argument("--quick", action="store_true",
+                   help="short trials (the arm starts low; 7 s of trial instead of 16 s)")
+    h.add_argument("--resume", action="store_true", help="record only the trials missing in --out")
+    h.add_argument("--timeout", type=float, default=120.0, help="longest trial, s")
+    h.add_argument("--out", type=Path, default=Path("trials"))
+    _add_master_options(h)
+    a = sub.add_parser("analyse", help="metrics table, rates, paired test and study.png of a folder of trials")
+    a.add_argument("folder", type=Path, nargs="?", default=None, help="default: $HRI_TRIALS or trials/")
+    a.add_argument("--figure", type=Path, default=None, help="PNG path (default: <folder>/study.png)")
+    a.add_argument("--max-sensor-force", type=float, default=None, help="override every trial's calibration")
+    a.add_argument("--allow-unpaired", action="store_true",
+                   help="leave participants with one condition out of the test")
+    return parser
+
+
+def main(argv: Optional[Sequence[str]] = None) -> int:
+    args = _parser().parse_args(argv)
     try:
         if args.command == "plan":
             path = write_plan(counterbalanced_plan(args.participants, args.objects, args.repetitions), args.out)
             print(f"trial plan: {path}")
             return 0
         if args.command == "outcome":
-            data = yaml.safe_load(args.sidecar.read_text()) or {}
-            data["outcome"] = {"lifted": args.lifted, "crushed": args.crushed}
-            args.sidecar.write_text(yaml.safe_dump(data, sort_keys=False))
+            update_sidecar(args.sidecar, {"outcome": {"lifted": args.lifted, "crushed": args.crushed}})
             print(f"{args.sidecar}: lifted {args.lifted}, crushed {args.crushed}")
             return 0
+        if args.command == "tlx":
+            ratings = TlxRatings(**{s.key: getattr(args, s.key) for s in SUBSCALES})
+            store_tlx(args.sidecar, ratings)
+            print(f"{args.sidecar}: raw TLX {ratings.raw_tlx:.1f}")
+            return 0
+        if args.command == "analyse":
+            result = analyse_folder(args.folder, figure=args.figure or True, max_sensor_force=args.max_sensor_force,
+                                    allow_unpaired=args.allow_unpaired)
+            print(result.table())
+            print(result.report())
+            return 0
+        if args.command == "rehearse":
+            codes = _participant_codes(args.participants)
+
+            def run_session() -> int:
+                master = _master_from(args)
+                try:
+                    rehearse(codes, args.objects, args.out, repetitions=args.repetitions, pad=args.pad,
+                             seed=args.seed, quick=args.quick, resume=args.resume, master=master,
+                             timeout_s=args.timeout, progress=lambda m: print(m, flush=True))
+                finally:
+                    if master is not None:
+                        master.stop()
+                return 0
+
+            return run_reporting(run_session, "trial")
         meta = TrialMeta(args.participant, args.object, args.condition, args.trial)
-        extra = {"pad": args.pad} if args.pad else {}
+        extra: Dict[str, object] = dict(args.launch_arg)
+        if args.pad:
+            extra["pad"] = args.pad
 
         def run() -> int:
-            bag, record = record_trial(meta, args.out, sim=args.sim, scenario=args.scenario, launch_args=extra,
-                                       timeout_s=args.timeout, progress=lambda m: print(f"[trial] {m}", flush=True))
+            master = _master_from(args)
+            try:
+                bag, record = record_trial(meta, args.out, sim=args.sim, scenario=args.scenario, launch_args=extra,
+                                           timeout_s=args.timeout, master=master,
+                                           progress=lambda m: print(f"[trial] {m}", flush=True))
+            finally:
+                if master is not None:
+                    master.stop()
+            sidecar = bag.with_suffix(".yaml")
             print(f"{meta.label}: {bag} ({record.duration_s():.1f} s, ended by {record.ended_by})")
+            if args.sim:
+                print(f"  {_describe_trial(load_trial(sidecar))}")
+            else:
+                print(f"  next: python -m hri_teleop.ros.trial outcome {sidecar} --lifted yes|no --crushed yes|no")
+            print(f"  questionnaire: the TLX widget, or python -m hri_teleop.ros.trial tlx {sidecar} --mental ...")
             return 0
 
         return run_reporting(run, "trial")

@@ -14,6 +14,7 @@ ControllerView        pad (real or virtual) -> mode, gripper, twist, rumble (Ex.
 LivePlot              /pub_force, /force_mapped, /gripper_width, twist, live      yes
 CalibrationWidget     max /pub_force -> /max_sensor_force and your launch file    yes
 GraphView             nodes, topics and message types of the live system (Ex. 15) a master
+TlxWidget             raw NASA-TLX after a trial -> the trial's sidecar (Ex. 14)  no
 ====================  ==========================================================  =========
 
 Importing this package needs neither rospy nor pygame: the ROS widgets start ROS through
@@ -36,6 +37,7 @@ from .deadzone import DeadzoneExplorer, deadzone_curve, filter_stick
 from .fsr import FsrCurve, FsrExplorer, FsrReading, describe_reading, fsr_curve, fsr_reading
 from .graph import GraphView, RosGraph, draw_graph, graph_from_state, layered_layout, read_graph
 from .live import LivePlot, LiveTopics, TopicBuffer, TopicSpec, lab_topics, numeric_fields
+from .tlx import TlxWidget, trial_sidecars
 
 __all__ = [
     "WidgetError", "FigureView", "Ticker", "lab_teleop_config",
@@ -45,4 +47,5 @@ __all__ = [
     "LivePlot", "LiveTopics", "TopicBuffer", "TopicSpec", "lab_topics", "numeric_fields",
     "CalibrationWidget", "MaxRecorder",
     "GraphView", "RosGraph", "graph_from_state", "layered_layout", "draw_graph", "read_graph",
+    "TlxWidget", "trial_sidecars",
 ]

@@ -113,3 +113,38 @@ def test_a_trial_without_sensor_samples_is_named_in_the_error():
 
     with pytest.raises(MetricsError, match="P07 trial 3"):
         trial_metrics(LabRecord(), TrialMeta("P07", "egg", "feedback", 3), 700)
+
+
+@pytest.mark.parametrize("obj", ["egg", "sponge", "block"])
+def test_a_quick_study_trial_grasps_as_the_full_one_in_half_the_time(obj):
+    from hri_teleop.gamepad import parse_script
+    from hri_teleop.sim.config import world_config_from_dict
+    from hri_teleop.sim.operators import study_scenario
+
+    for condition, seed in (("feedback", 3), ("no_feedback", 0), ("no_feedback", 8), ("no_feedback", 1)):
+        params = replace_params(feedback=(condition == "feedback"))
+        runs = []
+        for quick in (False, True):
+            data = study_scenario(condition, seed, obj, quick=quick)
+            assert data["world"]["object"] == obj
+            runs.append(run_lab(parse_script(data["steps"]), world_config_from_dict(data["world"]), params,
+                                CONFIG.limits, max_sensor_force=MAX))
+        full, quick = runs
+        assert (quick.lifted, quick.crushed) == (full.lifted, full.crushed), (condition, seed)
+        assert max(v for _, v in quick.count) == pytest.approx(max(v for _, v in full.count), abs=3)
+        assert quick.duration_s() < 0.5 * full.duration_s() and quick.violations == 0
+
+
+def test_study_scenarios_refuse_an_object_outside_the_simulations_set():
+    from hri_teleop.sim.operators import study_operator, study_scenario
+
+    with pytest.raises(ValueError, match="not in the simulation's set; use one of block, egg"):
+        study_scenario("feedback", 1, "cup")
+    with pytest.raises(ValueError, match="skip_taps"):
+        study_operator("no_feedback", 1, skip_taps=6)
+
+
+def replace_params(**changes):
+    from dataclasses import replace
+
+    return replace(CONFIG.params, **changes)

@@ -50,7 +50,8 @@ CORE_TESTS = ["test_fsr.py", "test_mapping.py", "test_limits.py", "test_teleop.p
               "test_serial_protocol.py", "test_calibrate.py", "test_simavr_board.py",
               "test_gamepad_events.py", "test_grading_templates.py", "test_grading_cases.py",
               "test_grading_results.py", "test_grading_compare.py",
-              "test_experiment.py", "test_experiment_stats.py", "test_paramfile.py"]
+              "test_experiment.py", "test_experiment_stats.py", "test_paramfile.py",
+              "test_experiment_tlx.py", "test_experiment_analysis.py"]
 
 
 @pytest.mark.skipif(not (REPO / ".venv38" / "bin" / "python").exists(),
