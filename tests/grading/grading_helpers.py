@@ -3,7 +3,6 @@
 from __future__ import annotations
 
 import json
-import os
 import subprocess
 import sys
 from pathlib import Path
@@ -12,23 +11,16 @@ from typing import Dict, List, Optional
 import pytest
 import yaml
 
+from conftest import _ros_env  # tests/conftest.py, on sys.path under pytest
+
 REPO = Path(__file__).resolve().parents[2]
 SOLUTIONS = REPO / "solutions" / "hri_lab"
 CORPUS = Path(__file__).resolve().parent / "corpus"
 
 
 def grader_env(**extra: str) -> Dict[str, str]:
-    """tools/env.sh's environment (venv first on PATH, hri_lab findable) for hri-grade subprocesses."""
-    env = dict(os.environ)
-    venv_bin = str(REPO / ".venv" / "bin")
-    if venv_bin not in env.get("PATH", "").split(":"):
-        env["PATH"] = venv_bin + ":" + env.get("PATH", "")
-    paths = [p for p in env.get("ROS_PACKAGE_PATH", "").split(":") if p]
-    if str(REPO) not in paths:
-        paths.insert(0, str(REPO))
-    if not env.get("ROS_DISTRO") and "/usr/share" not in paths:
-        paths.append("/usr/share")
-    env["ROS_PACKAGE_PATH"] = ":".join(paths)
+    """tools/env.sh's environment (tests/conftest.py's formula) plus ``extra``, for hri-grade subprocesses."""
+    env = _ros_env()
     env.update(extra)
     return env
 
@@ -65,6 +57,56 @@ def corpus_entries() -> List[str]:
 
 def expectation(name: str) -> dict:
     return yaml.safe_load((CORPUS / name / "expect.yaml").read_text())
+
+
+class CorpusError(AssertionError):
+    """An entry's expect.yaml no longer fits the answer key (one line: the entry, the op, what is missing)."""
+
+
+def _mutate(entry: str, text: str, ops: List[dict]) -> str:
+    """``text`` with expect.yaml's ``mutate`` ops applied in order; each must match exactly ``count`` times."""
+    for index, op in enumerate(ops, 1):
+        where = f"corpus entry {entry}, mutate op {index}"
+        count = op.get("count", 1)
+        if "replace" in op:
+            old = op["replace"]
+            found = text.count(old)
+            if found != count:
+                raise CorpusError(f"{where}: {old!r} occurs {found} times in the answer key, not {count}: "
+                                  "update the op to the current solutions/hri_lab/ file")
+            text = text.replace(old, op.get("with", ""))
+        elif "delete_line" in op:
+            lines = text.splitlines(keepends=True)
+            keep = [line for line in lines if op["delete_line"] not in line]
+            if len(lines) - len(keep) != count:
+                raise CorpusError(f"{where}: {len(lines) - len(keep)} lines of the answer key contain "
+                                  f"{op['delete_line']!r}, not {count}: "
+                                  "update the op to the current solutions/hri_lab/ file")
+            text = "".join(keep)
+        else:
+            raise CorpusError(f"{where}: unknown op {sorted(op)}: use replace/with/count or delete_line/count")
+    return text
+
+
+def corpus_files(name: str) -> Dict[str, str]:
+    """The files of corpus entry ``name``: expect.yaml's ``file`` from the answer key with its ``mutate`` ops
+    applied (or its whole ``text``), and its ``unchanged`` answer-key files as they are."""
+    exp = expectation(name)
+    relative = exp["file"]
+    missing = [f for f in [relative, *exp.get("unchanged", [])] if not (SOLUTIONS / f).is_file()]
+    if missing:
+        raise CorpusError(f"corpus entry {name}: no {', '.join(missing)} in solutions/hri_lab/: update its expect.yaml")
+    files = {other: answer_text(other) for other in exp.get("unchanged", [])}
+    if "text" in exp:
+        files[relative] = exp["text"]
+    else:
+        files[relative] = _mutate(f"{name} ({relative})", answer_text(relative), exp["mutate"])
+    return files
+
+
+def write_corpus_entry(name: str, root: Path) -> Path:
+    """Corpus entry ``name`` written as a student's package at ``root / name``."""
+    return write_package(root / name, corpus_files(name))
 
 
 def part_keys(check: str) -> Dict[str, str]:
