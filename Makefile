@@ -32,7 +32,10 @@ clean:
 # Autograder (hri_teleop.grading; solutions/README.md). `make traces` rewrites the public
 # reference bags in grading/traces/ (byte-identical on every run), `make templates` the
 # student templates from solutions/ into build/templates/, and `make grade` grades every
-# submission in DIR (default nbgrader's notebooks/submitted/) into OUT (default out/grades).
+# submission in DIR (default nbgrader's notebooks/submitted/) into OUT (default out/grades):
+# an nbgrader course's submitted/<student>/<assignment>/ gets nbgrader's autograde and
+# generate_feedback as well (notebooks/README.md). JOBS=n at once (default: the cores),
+# TIMEOUT=s per submission, CHECKS=a,b limits the checks of the student files.
 traces: setup
 	@$(ENV) $(PY) -m hri_teleop.grading.cli traces
 
@@ -40,7 +43,7 @@ templates: setup
 	@$(ENV) $(PY) -m hri_teleop.grading.cli templates
 
 grade: setup
-	@$(ENV) $(PY) -m hri_teleop.grading.cli batch $(or $(DIR),notebooks/submitted) --out $(or $(OUT),out/grades) $(if $(JOBS),--jobs $(JOBS))
+	@$(ENV) $(PY) -m hri_teleop.grading.cli batch $(or $(DIR),notebooks/submitted) --out $(or $(OUT),out/grades) $(if $(JOBS),--jobs $(JOBS)) $(if $(TIMEOUT),--timeout $(TIMEOUT)) $(if $(CHECKS),--checks $(CHECKS))
 
 # Firmware (firmware/README.md): both Arduino sketches for the Uno with Debian's AVR
 # toolchain (flash and RAM use against 32 KB / 2 KB), and the simulated Uno (simavr) the

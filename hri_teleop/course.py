@@ -42,7 +42,7 @@ from pathlib import Path
 from typing import Any, Dict, Iterable, List, Optional, Sequence, Tuple, Union
 
 __all__ = [
-    "CourseError", "REPO", "COURSE_DIR", "SOLUTIONS", "ASSIGNMENTS", "STUDENT_PACKAGE",
+    "CourseError", "REPO", "COURSE_DIR", "SOLUTIONS", "ASSIGNMENTS", "ASSIGNMENT_CHECKS", "STUDENT_PACKAGE",
     "fast", "seconds", "score", "show_file", "stop_nodes", "run_provided_node", "run_student_node", "launch",
     "wait_for_publisher",
     "student_workspace", "launch_student", "import_student_file", "grade_teleoperation_parts", "grade_teleoperation_node",
@@ -59,6 +59,12 @@ SOLUTIONS = REPO / "solutions" / "hri_lab"
 STUDENT_PACKAGE = "hri_lab"
 #: nbgrader assignments: the preparation at home (Ex. 1-7), the lab session (Ex. 8-15).
 ASSIGNMENTS = ("preparation", "lab")
+#: The grader's checks of the student files each assignment's notebooks grade (``make grade`` runs
+#: them on ``submitted/<student>/<assignment>/hri_lab`` beside nbgrader's autograde).
+ASSIGNMENT_CHECKS: Dict[str, Tuple[str, ...]] = {
+    "preparation": ("robot-params", "mapping-node", "sensor-launch"),
+    "lab": ("teleoperation", "teleoperation-launch", "graph"),
+}
 #: Environment variables that make :func:`fast` true (nbgrader sets NBGRADER_EXECUTION).
 FAST_ENV = ("HRI_NOTEBOOK_FAST", "NBGRADER_EXECUTION")
 

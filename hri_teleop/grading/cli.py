@@ -4,7 +4,8 @@
         CHECK: robot-params, mapping-node, sensor-launch, teleoperation, teleoperation-launch, graph
         PATH: the student's file, or their hri_lab package folder
     hri-grade submission DIR [--json] [--seed N] [--out DIR]    every check on one package
-    hri-grade batch DIR [--out DIR] [--jobs N]                  every submission in DIR (make grade)
+    hri-grade batch DIR [--out DIR] [--jobs N] [--timeout S]    every submission in DIR (make grade):
+        an nbgrader course's submitted/ -> nbgrader autograde + generate_feedback, and the files
     hri-grade traces [--out DIR]                                the public reference traces (bags)
     hri-grade templates [--solutions DIR] [--out DIR]           student templates from solutions/
 
@@ -48,10 +49,14 @@ def _parser() -> argparse.ArgumentParser:
             p.add_argument("--checks", default="", help="comma-separated subset of checks (default: all)")
     b = sub.add_parser("batch", help="grade every submission in a folder, several at once")
     b.add_argument("path", nargs="?", default=str(_REPO / "notebooks" / "submitted"),
-                   help="folder of submissions, one subfolder per student (default: notebooks/submitted)")
+                   help="folder of submissions, one subfolder per student (default: notebooks/submitted); "
+                        "an nbgrader course's submitted/ is autograded with nbgrader")
     b.add_argument("--out", default=str(_REPO / "out" / "grades"), help="results folder (default: out/grades)")
     b.add_argument("--jobs", type=int, default=None, help="submissions graded at once (default: the CPU count)")
-    b.add_argument("--checks", default="", help="comma-separated subset of checks (default: all)")
+    b.add_argument("--checks", default="", help="comma-separated subset of the files' checks (default: all)")
+    b.add_argument("--timeout", type=float, default=None,
+                   help="seconds one submission may take before it is stopped and recorded as not graded "
+                        "(default: 1800 for an nbgrader autograde, 600 for the files)")
     t = sub.add_parser("traces", help="write the public reference traces")
     t.add_argument("--out", default=None, help="folder (default: grading/traces)")
     m = sub.add_parser("templates", help="write the student templates generated from solutions/")
@@ -101,9 +106,15 @@ def main(argv: Optional[List[str]] = None) -> int:
             return EXIT_PASSED
         if args.command == "batch":
             from hri_teleop.grading.batch import grade_all
+            from hri_teleop.grading.checks import CHECKS
 
             checks = [c.strip() for c in args.checks.split(",") if c.strip()] or None
-            return grade_all(Path(args.path), Path(args.out), jobs=args.jobs, checks=checks)
+            unknown = [c for c in checks or () if c not in CHECKS]
+            if unknown:
+                raise GradingError(f"unknown check(s) {', '.join(unknown)}; use {', '.join(CHECKS)}")
+            if args.timeout is not None and args.timeout <= 0:
+                raise GradingError(f"--timeout {args.timeout:g}: give the seconds one submission may take, e.g. 1800")
+            return grade_all(Path(args.path), Path(args.out), jobs=args.jobs, checks=checks, timeout_s=args.timeout)
         from hri_teleop.grading.checks import CHECKS, grade, grade_submission
 
         if not Path(args.path).expanduser().exists():
