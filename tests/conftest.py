@@ -17,17 +17,9 @@ os.environ.setdefault("PYGAME_HIDE_SUPPORT_PROMPT", "1")
 
 def _ros_env() -> dict:
     """The environment tools/env.sh gives: venv first on PATH, hri_lab on ROS_PACKAGE_PATH."""
-    env = dict(os.environ)
-    venv_bin = str(REPO / ".venv" / "bin")
-    if venv_bin not in env.get("PATH", "").split(":"):
-        env["PATH"] = venv_bin + ":" + env.get("PATH", "")
-    paths = [p for p in env.get("ROS_PACKAGE_PATH", "").split(":") if p]
-    if str(REPO) not in paths:
-        paths.insert(0, str(REPO))
-    if not env.get("ROS_DISTRO") and "/usr/share" not in paths:
-        paths.append("/usr/share")
-    env["ROS_PACKAGE_PATH"] = ":".join(paths)
-    return env
+    from hri_teleop.ros.master import lab_shell_env
+
+    return lab_shell_env(venv_bin=REPO / ".venv" / "bin", package_root=REPO)
 
 
 @pytest.fixture

@@ -30,6 +30,7 @@ from hri_teleop.grading import compare
 from hri_teleop.grading.results import CheckResult, GradingError, Part, feedback_text, not_judged
 from hri_teleop.grading.robot_params import compare_robot_params
 from hri_teleop.grading.sandbox import DEFAULT_LIMITS, StudentProcess, describe_exit, sandbox_mode, session_argv, student_uid
+from hri_teleop.ros.master import lab_shell_env
 from hri_teleop.grading.workspace import (DELIVERABLES, REPO, Workspace, find_package_root, prepare_workspace,
                                           ros_package_path)
 
@@ -54,10 +55,8 @@ def _require_ros() -> None:
 
 
 def _grader_env(package_path: str = "") -> Dict[str, str]:
-    env = dict(os.environ)
-    venv_bin = str(Path(sys.executable).parent)
-    if venv_bin not in env.get("PATH", "").split(":"):
-        env["PATH"] = venv_bin + ":" + env.get("PATH", "/usr/bin:/bin")
+    """tools/env.sh's environment with ``package_path`` (default: the lab's hri_lab) and no outside master."""
+    env = lab_shell_env(package_root=REPO)
     if package_path:
         env["ROS_PACKAGE_PATH"] = package_path
     for key in ("ROS_MASTER_URI", "ROS_IP"):
@@ -434,10 +433,6 @@ def live_graph(cache_file: Optional[PathLike] = None) -> Dict[str, Any]:
     session_dir = Path(tempfile.mkdtemp(prefix="hri-grade-graph-"))
     try:
         env = _grader_env()
-        paths = [str(REPO)] + [p for p in env.get("ROS_PACKAGE_PATH", "").split(":") if p and Path(p).resolve() != REPO]
-        if not env.get("ROS_DISTRO") and "/usr/share" not in paths:
-            paths.append("/usr/share")
-        env["ROS_PACKAGE_PATH"] = ":".join(paths)
         plan = {"kind": "live-graph", "session_dir": str(session_dir), "student_folder": "", "uid": None,
                 "python": sys.executable, "env": dict(env, TMPDIR=str(session_dir)),
                 "out": str(session_dir / "live-graph.out.json"),

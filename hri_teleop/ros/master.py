@@ -40,6 +40,28 @@ def _stop_all_at_exit() -> None:
 atexit.register(_stop_all_at_exit)
 
 
+def lab_shell_env(base: Optional[Mapping[str, str]] = None, venv_bin: Optional[Path] = None,
+                  package_root: Optional[Path] = None) -> Dict[str, str]:
+    """The environment ``tools/env.sh`` gives, for processes started from Python.
+
+    ``venv_bin`` first on PATH (default: this interpreter's folder, so a node's
+    ``#!/usr/bin/env python3`` finds rospy and hri_teleop), ``package_root`` (default: the
+    repository, for ``hri_lab``) first on ROS_PACKAGE_PATH, and Debian's ``/usr/share``
+    package manifests when no ROS distribution was sourced.
+    """
+    env = dict(os.environ if base is None else base)
+    venv = str(venv_bin if venv_bin is not None else Path(sys.executable).parent)
+    if venv not in env.get("PATH", "").split(":"):
+        env["PATH"] = venv + ":" + env.get("PATH", "/usr/bin:/bin")
+    root = Path(package_root if package_root is not None else Path(__file__).resolve().parents[2])
+    paths = [p for p in env.get("ROS_PACKAGE_PATH", "").split(":") if p and Path(p).resolve() != root.resolve()]
+    paths.insert(0, str(root))
+    if not env.get("ROS_DISTRO") and "/usr/share" not in paths:
+        paths.append("/usr/share")
+    env["ROS_PACKAGE_PATH"] = ":".join(paths)
+    return env
+
+
 def free_port() -> int:
     """A TCP port nobody listens on right now (the kernel's choice, never 11311)."""
     while True:

@@ -30,7 +30,7 @@ import math
 import time
 from dataclasses import dataclass, field
 from pathlib import Path
-from typing import Callable, List, Optional, Sequence, Tuple, Union
+from typing import Callable, Optional, Sequence, Tuple, Union
 
 from hri_teleop.gamepad import GamepadError, RumbleRequests, ScriptedPad, ScriptStep, load_script
 from hri_teleop.gripper import GoalThrottle
