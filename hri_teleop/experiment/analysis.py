@@ -8,8 +8,8 @@ the notebook only calls these:
   ``*.bag``) and :func:`analyse_trials` them;
 * :func:`analyse_trials` -- per-trial :class:`~hri_teleop.experiment.metrics.TrialMetrics`
   (force through the FSR model and each trial's own calibration, stored in its sidecar),
-  success and crush rates per condition, the paired comparison of peak force (and of the
-  raw TLX when every pair answered it), and the figure;
+  success and crush rates per condition, the paired comparisons of peak force and of the
+  crush rate (and of the raw TLX when every pair answered it), and the figure;
 * :class:`StudyResult` -- the answer, with :meth:`~StudyResult.table`,
   :meth:`~StudyResult.rates`, :meth:`~StudyResult.report` and :meth:`~StudyResult.write_csv`.
 
@@ -251,6 +251,14 @@ def analyse_trials(trials: Sequence[LoadedTrial], *, max_sensor_force: Optional[
         result.comparisons["peak_force_n"] = paired_comparison(without, with_fb)
     except StatsError as exc:
         result.notes.append(f"peak force not compared: {exc}")
+    # The crush rate carries the effect where the FSR saturates (1.77 N at full travel). With
+    # one trial per condition the differences are -1, 0 or +1, all tied, and the exact
+    # signed-rank test reduces to the exact sign test on the discordant pairs (McNemar's).
+    _c_both, crush_without, crush_with, _c_left = paired_by_participant(metrics, "crushed")
+    try:
+        result.comparisons["crush_rate"] = paired_comparison(crush_without, crush_with)
+    except StatsError as exc:
+        result.notes.append(f"crush rate not compared: {exc}")
     answered = [m for m in metrics if m.raw_tlx is not None]
     if answered:
         t_both, t_without, t_with, _ = paired_by_participant(answered, "raw_tlx")

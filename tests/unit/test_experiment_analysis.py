@@ -70,8 +70,12 @@ def test_a_study_is_measured_compared_and_drawn(tmp_path):
     assert c is not None and c.n_pairs == 3 and "raw_tlx" not in result.comparisons
     diffs = sorted(by[p, "no_feedback"].peak_force_n - by[p, "feedback"].peak_force_n for p in ("P01", "P02", "P03"))
     assert c.median_difference == pytest.approx(diffs[1])
+    crush = result.comparisons["crush_rate"]  # P01 crushed without feedback only: one discordant pair
+    assert (crush.n_pairs, crush.n_nonzero, crush.w_plus, crush.w_minus) == (3, 1, 1.0, 0.0)
+    assert crush.p_value == 1.0 and crush.rank_biserial == 1.0
     report = result.report()
     assert "Wilcoxon signed-rank, exact" in report and "symmetric about their median" in report
+    assert "crush_rate (no feedback - feedback)" in report
     assert "feedback     3 trials: success 100%, crushed 0%" in report
 
     assert result.figure == tmp_path / "study.png" and result.figure.read_bytes()[:8] == b"\x89PNG\r\n\x1a\n"

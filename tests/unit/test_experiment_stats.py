@@ -66,3 +66,17 @@ def test_swapping_the_conditions_flips_the_effect_and_keeps_p():
 def test_unusable_data_is_a_one_line_error(a, b, expected):
     with pytest.raises(StatsError, match=expected):
         paired_comparison(a, b)
+
+
+def test_on_one_trial_per_condition_outcomes_the_exact_test_is_the_exact_sign_test():
+    """Crushed yes/no per participant: all differences are +-1 (tied), so the p-value is the
+    two-sided binomial one of McNemar's exact test on the discordant pairs."""
+    from math import comb
+
+    without = [1.0] * 6 + [0.0] * 3 + [1.0]
+    with_fb = [0.0] * 6 + [0.0] * 3 + [1.0]  # 6 discordant pairs, all crushed only without feedback
+    result = paired_comparison(without, with_fb)
+    assert result.n_nonzero == 6 and result.p_value == pytest.approx(2 * comb(6, 6) / 2 ** 6)
+    mixed = paired_comparison([1.0, 1.0, 1.0, 1.0, 0.0, 0.0], [0.0, 0.0, 0.0, 0.0, 1.0, 0.0])
+    binomial = 2 * sum(comb(5, k) for k in range(0, 2)) / 2 ** 5  # 4 of 5 discordant one way
+    assert mixed.p_value == pytest.approx(min(1.0, binomial)) and mixed.rank_biserial == pytest.approx(3 / 5)
