@@ -106,7 +106,9 @@ def test_leak_check_finds_a_solution_line_in_a_template_and_in_a_notebook(course
 def test_a_check_cell_keeps_its_points_on_a_machine_without_bubblewrap(course, monkeypatch):
     """The grader's "no bubblewrap" note must not reach a check cell's stderr (nbgrader: 0 points)."""
     from hri_teleop.course import run_source
+    from hri_teleop.grading.compare import TELEOP_LAUNCH
 
     monkeypatch.setenv("HRI_GRADE_SANDBOX", "none")
     result = run_source(course["dir"] / "source" / "lab" / "ex12_13_teleoperation_launch.ipynb")
-    assert result["errors"] == [] and result["grades"] == {"ex12_launch": [10.0, 10.0]}
+    full = sum(points for _name, points in TELEOP_LAUNCH.values())
+    assert result["errors"] == [] and result["grades"] == {"ex12_launch": [full, full]}
