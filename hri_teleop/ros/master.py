@@ -19,6 +19,7 @@ import socket
 import subprocess
 import sys
 import tempfile
+import threading
 import time
 import xmlrpc.client
 from pathlib import Path
@@ -38,6 +39,26 @@ def _stop_all_at_exit() -> None:
 
 
 atexit.register(_stop_all_at_exit)
+
+
+def _stop_all_then_die(signum: int, _frame: object) -> None:
+    _stop_all_at_exit()
+    signal.signal(signum, signal.SIG_DFL)
+    os.kill(os.getpid(), signum)
+
+
+def _stop_children_on_sigterm() -> None:
+    """On SIGTERM, stop every child first, then die of SIGTERM as before.
+
+    Why: children run in sessions of their own (so a stop reaches what they spawn), which
+    also means they outlive a parent killed by SIGTERM -- a ``kill``, a CI or job-runner
+    timeout -- since Python's default SIGTERM action skips the exit hook. Only from the
+    main thread, and never over a handler the program installed itself.
+    """
+    if threading.current_thread() is not threading.main_thread():
+        return
+    if signal.getsignal(signal.SIGTERM) is signal.SIG_DFL:
+        signal.signal(signal.SIGTERM, _stop_all_then_die)
 
 
 def lab_shell_env(base: Optional[Mapping[str, str]] = None, venv_bin: Optional[Path] = None,
@@ -94,6 +115,7 @@ class ManagedProcess:
         )
         self.pgid = self.popen.pid  # start_new_session: the child leads its own group
         _LIVE.add(self)
+        _stop_children_on_sigterm()
 
     @property
     def running(self) -> bool:
