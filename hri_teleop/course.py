@@ -42,7 +42,7 @@ from pathlib import Path
 from typing import Any, Dict, Iterable, List, Optional, Sequence, Tuple, Union
 
 __all__ = [
-    "CourseError", "REPO", "COURSE_DIR", "SOLUTIONS", "ASSIGNMENTS", "ASSIGNMENT_CHECKS", "STUDENT_PACKAGE",
+    "CourseError", "REPO", "COURSE_DIR", "SOLUTIONS", "ASSIGNMENTS", "ASSIGNMENT_CHECKS", "STUDENT_PACKAGE", "nbgrader_env",
     "fast", "seconds", "score", "show_file", "stop_nodes", "run_provided_node", "run_student_node", "launch",
     "wait_for_publisher",
     "student_workspace", "launch_student", "import_student_file", "grade_teleoperation_parts", "grade_teleoperation_node",
@@ -429,10 +429,16 @@ def bundle_leaks(bundle: PathLike, texts: Optional[Dict[str, List[str]]] = None)
 
 # -- release -----------------------------------------------------------------------------------
 
+def nbgrader_env() -> Dict[str, str]:
+    """The environment nbgrader runs in: no Python warnings, since nbgrader scores a cell that
+    wrote to stderr with 0 points (a DeprecationWarning must not cost a student a grade)."""
+    return dict(os.environ, PYTHONWARNINGS="ignore")
+
+
 def _nbgrader(args: Sequence[str], course_dir: Path) -> str:
     argv = [sys.executable, "-m", "nbgrader", *args, f"--CourseDirectory.root={course_dir}"]
     proc = subprocess.run(argv, cwd=str(course_dir), stdout=subprocess.PIPE, stderr=subprocess.STDOUT,
-                          text=True, env=dict(os.environ, PYTHONWARNINGS="ignore"))
+                          text=True, env=nbgrader_env())
     if proc.returncode != 0:
         tail = "\n".join(proc.stdout.strip().splitlines()[-15:])
         raise CourseError(f"nbgrader {' '.join(args)} failed (exit {proc.returncode}):\n{tail}")

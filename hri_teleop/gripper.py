@@ -23,7 +23,7 @@ from __future__ import annotations
 
 import math
 import time
-from typing import Callable, Optional, Tuple
+from typing import Callable, Optional, Sequence, Tuple
 
 from hri_teleop.checks import is_finite_number, is_number
 from hri_teleop.teleop import GRIPPER_MAX_WIDTH_M
@@ -143,3 +143,14 @@ def usable_width_m(width_m: float, width_min_m: float = 0.0,
         return clamped, (f"gripper width {value:.4f} m outside [{width_min_m:.3f}, {width_max_m:.3f}] m: "
                          f"clamped to {clamped:.4f} m")
     return value, ""
+
+
+def width_from_joint_positions_m(positions: Sequence[float]) -> Optional[float]:
+    """The hand's opening from franka_gripper's ``joint_states`` (two finger joints, each half of it).
+
+    None when fewer than two finite positions arrived (a malformed or foreign message).
+    """
+    fingers = list(positions[:2])
+    if len(fingers) < 2 or not all(is_finite_number(v) for v in fingers):
+        return None
+    return float(fingers[0]) + float(fingers[1])

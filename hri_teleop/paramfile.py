@@ -22,9 +22,7 @@ value might go in somebody's file is worse than asking them to add the line.
 
 from __future__ import annotations
 
-import os
 import re
-import tempfile
 import xml.etree.ElementTree as ElementTree
 from dataclasses import dataclass
 from pathlib import Path
@@ -33,6 +31,7 @@ from typing import List, Optional, Tuple, Union
 import yaml
 
 from hri_teleop.checks import is_int
+from hri_teleop.files import replace_text
 from hri_teleop.mapping import ADC_MAX_COUNT
 
 __all__ = ["ParamFileError", "ParamEdit", "PARAM_NAME", "set_in_launch", "set_in_yaml", "write_max_sensor_force"]
@@ -274,15 +273,8 @@ def write_max_sensor_force(path: Union[str, Path], value: int) -> List[ParamEdit
     result, edits = setter(text, value, source)
     if result == text:
         return edits
-    mode = file.stat().st_mode & 0o7777
-    handle, temp = tempfile.mkstemp(prefix="." + file.name + ".", dir=str(file.parent))
     try:
-        with os.fdopen(handle, "wb") as out:
-            out.write(result.encode("utf-8"))
-        os.chmod(temp, mode)
-        os.replace(temp, file)
+        replace_text(file, result)
     except OSError as exc:
-        if os.path.exists(temp):
-            os.unlink(temp)
         raise ParamFileError(f"{source}: cannot write ({exc.strerror}); check the file's permissions") from None
     return edits

@@ -17,8 +17,6 @@ Pure: YAML files only, no ROS.
 
 from __future__ import annotations
 
-import os
-import tempfile
 from dataclasses import asdict
 from pathlib import Path
 from typing import Any, Dict, Mapping, Union
@@ -26,6 +24,7 @@ from typing import Any, Dict, Mapping, Union
 import yaml
 
 from hri_teleop.experiment.metrics import MetricsError, TrialMeta
+from hri_teleop.files import replace_text
 from hri_teleop.yamlfile import read_yaml
 
 __all__ = ["META_KEYS", "read_sidecar", "write_sidecar", "update_sidecar", "meta_from_sidecar", "sidecar_data"]
@@ -68,27 +67,11 @@ def sidecar_data(meta: TrialMeta, extra: Mapping[str, Any]) -> Dict[str, Any]:
 def write_sidecar(path: Union[str, Path], data: Mapping[str, Any]) -> Path:
     """Write ``data`` as YAML to ``path`` atomically (temporary file in the same folder, then rename)."""
     path = Path(path)
-    text = yaml.safe_dump(dict(data), sort_keys=False)
     try:
-        handle, temp = tempfile.mkstemp(prefix="." + path.name + ".", suffix=".tmp", dir=str(path.parent))
+        replace_text(path, yaml.safe_dump(dict(data), sort_keys=False))
     except OSError as exc:
-        raise MetricsError(f"{path}: cannot write ({exc.strerror}); check that {path.parent} exists and is "
-                           "writable") from None
-    try:
-        with os.fdopen(handle, "w", encoding="utf-8") as out:
-            out.write(text)
-            out.flush()
-            os.fsync(out.fileno())
-        if path.exists():
-            os.chmod(temp, path.stat().st_mode & 0o7777)
-        else:
-            os.chmod(temp, 0o644)
-        os.replace(temp, path)
-    except OSError as exc:
-        if os.path.exists(temp):
-            os.unlink(temp)
-        raise MetricsError(f"{path}: cannot write ({exc.strerror}); check the folder's permissions and free space") \
-            from None
+        raise MetricsError(f"{path}: cannot write ({exc.strerror}); check that {path.parent} exists, is writable "
+                           "and has free space") from None
     return path
 
 

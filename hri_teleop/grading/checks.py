@@ -25,6 +25,7 @@ from typing import Any, Callable, Dict, List, Optional, Sequence, Tuple, Union
 
 import yaml
 
+from hri_teleop.config import DEFAULT_TWIST_TOPIC
 from hri_teleop.grading import cases as C
 from hri_teleop.grading import compare
 from hri_teleop.grading.results import CheckResult, GradingError, Part, feedback_text, not_judged
@@ -43,7 +44,7 @@ __all__ = [
 
 PathLike = Union[str, Path]
 _PROBE_TIMEOUT_S = 20.0
-TWIST_TOPIC = "/cartesian_velocity_controller/cmd_vel"
+TWIST_TOPIC = DEFAULT_TWIST_TOPIC
 
 
 # -- shared machinery -----------------------------------------------------------------------
@@ -361,11 +362,10 @@ def _launch_sim_plan(run: _Run, parsed: Dict[str, Any]) -> Optional[Dict[str, An
     """The ``teleop-launch-sim`` session for a parsed teleoperation.launch; None without a teleoperation node."""
     from hri_teleop.grading.standins import BOARD_TOPIC
 
-    scripts = compare._nodes_by_script(parsed)
-    teleop = [n for n in scripts.get("teleoperation.py", []) if n["package"] == "hri_lab"]
-    if not teleop:
+    node = compare.teleop_node_name(parsed)
+    if node is None:
         return None
-    node = f"{teleop[0]['namespace'].rstrip('/')}/{teleop[0]['name']}"
+    scripts = compare._nodes_by_script(parsed)
     case = C.launch_sim_case()
     grader_dir = run.space.grader_dir
     scenario = grader_dir / "launch-sim.scenario.yaml"

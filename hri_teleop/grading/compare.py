@@ -18,10 +18,12 @@ import re
 from pathlib import Path
 from typing import Any, Dict, Iterable, List, Optional, Sequence, Set, Tuple
 
+from hri_teleop.config import DEFAULT_TWIST_TOPIC
 from hri_teleop.grading.cases import (ExpectedTick, MappingCase, TeleopNodeCase, TeleopPartsCase,
                                       public_mapping_case, reference_parts)
 from hri_teleop.grading.results import Part, not_judged
 from hri_teleop.grading.sandbox import OUTPUT_CAP_BYTES, describe_exit
+from hri_teleop.gripper import width_from_joint_positions_m
 from hri_teleop.mapping import ADC_MAX_COUNT
 from hri_teleop.teleop import TeleopController, TeleopParams
 
@@ -593,7 +595,7 @@ def _topic_of_type(facts: Dict[str, Any], kind: str, preferred: str, which: str 
 
 
 def compare_teleop_node(observation: Dict[str, Any], case: TeleopNodeCase,
-                        twist_topic: str = "/cartesian_velocity_controller/cmd_vel",
+                        twist_topic: str = DEFAULT_TWIST_TOPIC,
                         plot_dir: Optional[Path] = None) -> List[Part]:
     """The node parts: topics, types, and what came out while a scripted pad drove it."""
     T = TELEOP
@@ -857,11 +859,7 @@ def _series(observation: Dict[str, Any], topic: str) -> List[Tuple[float, Any]]:
 
 
 def _width_m(positions: Any) -> Optional[float]:
-    """franka_gripper's joint_states: two finger joints, each half the opening."""
-    if not isinstance(positions, list) or not positions:
-        return None
-    numbers = [_as_float(p) for p in positions[:2]]
-    return None if None in numbers else float(sum(numbers))  # type: ignore[arg-type]
+    return width_from_joint_positions_m(positions) if isinstance(positions, list) else None
 
 
 def _sim_plot(plot_dir: Optional[Path], observation: Dict[str, Any], teleop: str) -> List[str]:
@@ -869,7 +867,7 @@ def _sim_plot(plot_dir: Optional[Path], observation: Dict[str, Any], teleop: str
         return []
     from hri_teleop.grading.plots import timeline
 
-    twist = [(t, v[2]) for t, v in _series(observation, "/cartesian_velocity_controller/cmd_vel") if isinstance(v, list)]
+    twist = [(t, v[2]) for t, v in _series(observation, DEFAULT_TWIST_TOPIC) if isinstance(v, list)]
     z = [(t, v[2]) for t, v in _series(observation, "/lab_sim/ee_pose") if isinstance(v, list)]
     width = [(t, _width_m(v)) for t, v in _series(observation, "/franka_gripper/joint_states")]
     target = [(t, _as_float(v)) for t, v in _series(observation, "/gripper_width")]
@@ -880,6 +878,14 @@ def _sim_plot(plot_dir: Optional[Path], observation: Dict[str, Any], teleop: str
               ("force", [("/force_mapped", force), ("rumble", rumble)])]
     return [timeline(Path(plot_dir) / "teleoperation-launch-sim.png",
                      "teleoperation.launch in simulation: what the grader saw", panels)]
+
+
+def teleop_node_name(parsed: Dict[str, Any]) -> Optional[str]:
+    """The full name (``/ns/name``) of the launch file's teleoperation.py node of hri_lab, if it has one."""
+    for node in _nodes_by_script(parsed).get("teleoperation.py", []):
+        if node["package"] == "hri_lab":
+            return f"{node['namespace'].rstrip('/')}/{node['name']}"
+    return None
 
 
 def compare_teleop_launch_sim(parsed: Dict[str, Any], observation: Optional[Dict[str, Any]], case: Any,
@@ -895,13 +901,12 @@ def compare_teleop_launch_sim(parsed: Dict[str, Any], observation: Optional[Dict
     note = ""
     if observation.get("supplied"):
         note = "to judge the rest the grader supplied what the launch file lacks: " + ", ".join(observation["supplied"])
-    teleop = next((f"{n['namespace'].rstrip('/')}/{n['name']}" for n in parsed.get("nodes", [])
-                   if n["type"] == "teleoperation.py"), "/teleoperation")
+    teleop = teleop_node_name(parsed) or "/teleoperation"
     if observation.get("problem"):
         launch = dict(observation.get("launch", {}))
         launch["problem"] = observation["problem"]
         return _part(T, "sim", False, _explain_process(launch, "roslaunch"), note=note)
-    twist_topic = "/cartesian_velocity_controller/cmd_vel"
+    twist_topic = DEFAULT_TWIST_TOPIC
     problems: List[str] = []
     twists = [v for _, v in _series(observation, twist_topic)]
     if not twists:
@@ -954,7 +959,7 @@ def compare_teleop_launch_sim(parsed: Dict[str, Any], observation: Optional[Dict
 
 # -- Ex. 15: the graph --------------------------------------------------------------------------
 
-PIPELINE_TOPICS = ("/pub_force", "/force_mapped", "/gripper_width", "/cartesian_velocity_controller/cmd_vel")
+PIPELINE_TOPICS = ("/pub_force", "/force_mapped", "/gripper_width", DEFAULT_TWIST_TOPIC)
 _SENSOR_ALIASES = {"/serial_node", "/FSR_sensor"}  # the Arduino in the lab, its simulation at home
 _LAB_ONLY = re.compile(r"^/(franka|cartesian_velocity_controller|joint_state|robot_state|rosout|rqt|record|rosbag|rostopic)")
 
@@ -1026,7 +1031,7 @@ def compare_graph(answer: Any, live: Dict[str, Any], answer_error: str = "") -> 
         for role, live_side in (("publishers", pubs), ("subscribers", subs)):
             want = _canon(n for n in live_side.get(topic, []) if n in pipeline_nodes or n in _SENSOR_ALIASES)
             got = _canon(n for n in _names(entry.get(role)) if not _LAB_ONLY.match(n))
-            if topic == "/cartesian_velocity_controller/cmd_vel" and role == "subscribers":
+            if topic == DEFAULT_TWIST_TOPIC and role == "subscribers":
                 continue  # the robot's controller: not running without the robot
             if got != want:
                 problems.append(f"{topic} {role}: expected {', '.join(sorted(want)) or 'none'}, listed "

@@ -233,9 +233,9 @@ def _failure_reason(log: Path) -> str:
 
 
 def _nbgrader_env() -> Dict[str, str]:
-    # Warnings to stderr would cost an autograded cell its points (nbgrader scores a cell
-    # that wrote to stderr 0), as in hri_teleop.course's own nbgrader runs.
-    return dict(os.environ, PYTHONWARNINGS="ignore", ROS_MASTER_URI=_NO_MASTER)
+    from hri_teleop.course import nbgrader_env
+
+    return dict(nbgrader_env(), ROS_MASTER_URI=_NO_MASTER)
 
 
 def _submission_score(course: _Course, lock: threading.Lock, student: str,

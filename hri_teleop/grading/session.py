@@ -460,10 +460,10 @@ def run_teleop_launch_sim(session: Session) -> Dict[str, Any]:
             supplied.append(name)
         deadline = time.monotonic() + plan["run_s"]
         while time.monotonic() < deadline:
-            names = set(session.master.node_names())
-            nodes |= _student_nodes(session.master, session.baseline) - {"/lab_sim"}
-            if teleop not in names or not launch.running:
-                quit_in_time = teleop not in names
+            current = _student_nodes(session.master, session.baseline)
+            nodes |= current - {"/lab_sim"}
+            if teleop not in current or not launch.running:
+                quit_in_time = teleop not in current
                 break
             teleop_pub = _node_io(session.master, {teleop})[1] or teleop_pub
             time.sleep(0.1)

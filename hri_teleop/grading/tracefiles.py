@@ -30,6 +30,7 @@ from typing import Any, Dict, List, Tuple, Union
 
 import yaml
 
+from hri_teleop.config import DEFAULT_TWIST_TOPIC
 from hri_teleop.grading.cases import (MappingCase, PadTick, TeleopGains, TeleopNodeCase, TeleopPartsCase,
                                       public_mapping_case, public_teleop_node_case, public_teleop_parts_case,
                                       reference_parts)
@@ -117,7 +118,7 @@ def _node_messages(case: TeleopNodeCase) -> List[Tuple[str, Any, float]]:
         command = controller.step(pad.poll(), case.force, 0.0, dt)
         t = _T0 + now[0]
         out += [("/force_mapped", Float32(data=case.force), t),
-                ("/cartesian_velocity_controller/cmd_vel", _twist(command.twist), t),
+                (DEFAULT_TWIST_TOPIC, _twist(command.twist), t),
                 ("/gripper_width", Float32(data=command.gripper_width_m), t),
                 ("/teleoperation/rumble", Float32(data=command.rumble), t)]
         tick += 1

@@ -23,6 +23,7 @@ from pathlib import Path
 from typing import Any, Callable, Dict, List, Mapping, Optional
 
 from hri_teleop.config import DEFAULT_TWIST_TOPIC
+from hri_teleop.gripper import width_from_joint_positions_m
 from hri_teleop.plots import lab_timeline
 from hri_teleop.ros.bags import read_topics
 from hri_teleop.ros.master import MasterError, PrivateMaster, run_reporting
@@ -65,7 +66,8 @@ def record_from_bag(bag_path: Path) -> LabRecord:
     rec.mapped = [(t, float(m.data)) for t, m in topics["/force_mapped"]]
     rec.width_target = [(t, float(m.data)) for t, m in topics["/gripper_width"]]
     rec.rumble = [(t, float(m.data)) for t, m in topics["/teleoperation/rumble"]]
-    rec.width = [(t, float(sum(m.position[:2]))) for t, m in topics["/franka_gripper/joint_states"]]
+    widths = ((t, width_from_joint_positions_m(m.position)) for t, m in topics["/franka_gripper/joint_states"])
+    rec.width = [(t, w) for t, w in widths if w is not None]
     rec.speed = [(t, math.sqrt(m.twist.linear.x ** 2 + m.twist.linear.y ** 2 + m.twist.linear.z ** 2))
                  for t, m in topics["/lab_sim/ee_twist"]]
     rec.grip_force = [(t, float(m.data)) for t, m in topics["/lab_sim/grip_force"]]

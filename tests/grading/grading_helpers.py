@@ -120,3 +120,20 @@ def load_checks(out_dir: Path):
     from hri_teleop.grading.results import CheckResult
 
     return [CheckResult.from_dict(d) for d in json.loads((out_dir / "checks.json").read_text())]
+
+
+def open_folder(prefix: str):
+    """A fresh folder every uid can enter (pytest's own tmp_path is private to root), removed afterwards.
+
+    A generator for a fixture: ``yield from open_folder("hri-...")``. The sandboxed student
+    uid must reach its folder and read world-readable files, like the instructor's.
+    """
+    import shutil
+    import tempfile
+
+    path = Path(tempfile.mkdtemp(prefix=prefix))
+    path.chmod(0o755)
+    try:
+        yield path
+    finally:
+        shutil.rmtree(path, ignore_errors=True)

@@ -10,14 +10,12 @@ from __future__ import annotations
 
 import csv
 import os
-import shutil
-import tempfile
 import time
 from pathlib import Path
 
 import pytest
 
-from grading_helpers import answer_text, grader_env, hri_grade, write_package
+from grading_helpers import answer_text, grader_env, hri_grade, open_folder, write_package
 
 pytestmark = pytest.mark.ros
 
@@ -31,10 +29,7 @@ def _hostile(head: str) -> str:
 @pytest.fixture
 def outside():
     """A folder outside every submission (world-readable, like the instructor's files)."""
-    path = Path(tempfile.mkdtemp(prefix="hri-hostile-outside-"))
-    path.chmod(0o755)
-    yield path
-    shutil.rmtree(path, ignore_errors=True)
+    yield from open_folder("hri-hostile-outside-")
 
 
 def _submissions(root: Path, outside: Path, names) -> None:

@@ -3,24 +3,20 @@
 from __future__ import annotations
 
 import os
-import shutil
 import signal
 import sys
-import tempfile
 from pathlib import Path
 
 import pytest
 
+from grading_helpers import open_folder
 from hri_teleop.grading.sandbox import DEFAULT_LIMITS, Limits, StudentProcess, bwrap_problem, describe_exit, student_uid
 
 
 @pytest.fixture
 def tmp_path():
     """A folder the student's uid can enter (pytest's own is private to root)."""
-    path = Path(tempfile.mkdtemp(prefix="hri-sandbox-test-"))
-    path.chmod(0o755)
-    yield path
-    shutil.rmtree(path, ignore_errors=True)
+    yield from open_folder("hri-sandbox-test-")
 
 
 def _run(tmp_path: Path, code: str, limits: Limits = DEFAULT_LIMITS, timeout_s: float = 20.0):

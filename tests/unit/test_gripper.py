@@ -148,3 +148,12 @@ def test_usable_width_clamps_to_the_hand_and_drops_non_numbers(raw, expected):
     width, problem = usable_width_m(raw)
     assert width == expected
     assert (problem == "") == (raw == expected)
+
+
+def test_the_hand_width_is_the_sum_of_the_two_finger_joints_or_none_for_a_malformed_message():
+    from hri_teleop.gripper import width_from_joint_positions_m
+
+    assert width_from_joint_positions_m([0.02, 0.02]) == pytest.approx(0.04)
+    assert width_from_joint_positions_m((0.013, 0.013, 9.0)) == pytest.approx(0.026)
+    assert width_from_joint_positions_m([0.04]) is None
+    assert width_from_joint_positions_m([float("nan"), 0.01]) is None
