@@ -32,6 +32,10 @@ the fix. Keys (see teleop.yaml for units and defaults):
   ~script_wait_s float 10.0 with no subscriber, the script starts anyway after this (s)
   ~pad_index     int   0   which physical pad, with pad "pygame"
   ~stop_timeout_s float 3.0 longest ramp to zero at shutdown before giving up (s)
+  ~rumble_log    str   ""  a file that gets one line per rumble request the pad received:
+                           "time_s intensity duration_s", time from CLOCK_MONOTONIC taken
+                           when the pad's call returned (comparable with any process on the
+                           machine: `make bench` measures force-to-rumble latency with it)
 Publishes:
   <twist_topic>   geometry_msgs/Twist  every tick, limited (never steps, not even to zero)
   gripper_width   std_msgs/Float32     every tick, target opening in m (-> gripper_manager)
@@ -59,7 +63,7 @@ import math
 import signal
 import threading
 import time
-from typing import Any, Optional, Tuple
+from typing import Any, Optional, TextIO, Tuple
 
 import rosgraph
 import rospy
@@ -68,13 +72,14 @@ from sensor_msgs.msg import Joy
 from std_msgs.msg import Float32
 
 from hri_teleop.config import load_teleop_config
-from hri_teleop.gamepad import GamepadError, PadState, RumbleRequests, ScriptedPad, VirtualPad, open_gamepad
+from hri_teleop.gamepad import (RUMBLE_LOG_HEADER, GamepadError, PadState, RumbleRecord, RumbleRequests, ScriptedPad,
+                                VirtualPad, open_gamepad, rumble_log_line)
 from hri_teleop.limits import Watchdog
 from hri_teleop.ros.params import fail, get_param, package_file, private_params, run_node
 from hri_teleop.teleop import TeleopCommand, TeleopController
 
 #: Private parameters of this node that are not part of the teleop configuration.
-NODE_ONLY_KEYS = ("config", "pad_script", "pad_index", "stop_timeout_s", "script_wait_s")
+NODE_ONLY_KEYS = ("config", "pad_script", "pad_index", "stop_timeout_s", "script_wait_s", "rumble_log")
 
 
 def default_config_path() -> str:
@@ -133,6 +138,7 @@ class TeleoperationNode:
         self._abort = threading.Event()  # a second stop signal: give up the ramp
         self._stopped = threading.Event()
         self.rumble_requests = RumbleRequests()  # when to send the pad a request
+        self.rumble_log = self._open_rumble_log(get_param("~rumble_log", "", kind=str).strip())
         self._poll_error_logged = False
         self._quit_logged = False
         self.last_command: Optional[TeleopCommand] = None
@@ -263,6 +269,19 @@ class TeleoperationNode:
         request = self.rumble_requests.update(intensity, now)
         if request is not None:
             self.pad.rumble(*request)
+            if self.rumble_log is not None:
+                self.rumble_log.write(rumble_log_line(RumbleRecord(time.monotonic(), *request)) + "\n")
+
+    @staticmethod
+    def _open_rumble_log(path: str) -> Optional[TextIO]:
+        if not path:
+            return None
+        try:
+            log = open(path, "w", buffering=1)  # line-buffered: a killed node loses nothing
+        except OSError as exc:
+            fail(f"cannot write the rumble log {path!r} ({exc.strerror}); set ~rumble_log to a writable file or ''")
+        log.write(RUMBLE_LOG_HEADER + "\n")
+        return log
 
     # -- running and stopping ---------------------------------------------------------
     def request_stop(self, *_args: object) -> None:
@@ -309,6 +328,8 @@ class TeleoperationNode:
             self._stopped.set()
             self.pad.rumble(0.0, 0.0)
             self.pad.close()
+            if self.rumble_log is not None:
+                self.rumble_log.close()
 
     def _ramp_to_zero(self) -> None:
         """Keep publishing with the pad ignored until the limited twist is exactly zero."""

@@ -18,7 +18,8 @@ from .layout import (DEFAULT_LAYOUT, LAYOUT_DIR, AxisMap, Layout, available_layo
 from .pygame_pad import NO_GAMEPAD_MESSAGE, PygamePad
 from .rumble import RumblePolicy, RumbleRequests
 from .state import AXES, BUTTON_LABELS, BUTTONS, STICK_AXES, TRIGGER_AXES, Gamepad, GamepadError, PadState
-from .virtual import RumbleRecord, ScriptedPad, ScriptStep, VirtualPad, load_script, parse_script
+from .virtual import (RUMBLE_LOG_HEADER, RumbleRecord, ScriptedPad, ScriptStep, VirtualPad, load_script, parse_script,
+                      read_rumble_log, rumble_log_line)
 
 __all__ = [
     "AXES", "BUTTONS", "STICK_AXES", "TRIGGER_AXES", "BUTTON_LABELS",
@@ -27,6 +28,7 @@ __all__ = [
     "DEFAULT_LAYOUT", "LAYOUT_DIR",
     "normalize_analog_input", "check_deadzone",
     "VirtualPad", "ScriptedPad", "ScriptStep", "RumbleRecord", "load_script", "parse_script",
+    "RUMBLE_LOG_HEADER", "rumble_log_line", "read_rumble_log",
     "PygamePad", "NO_GAMEPAD_MESSAGE",
     "open_gamepad", "PAD_KINDS",
     "RumblePolicy", "RumbleRequests",

@@ -43,7 +43,7 @@ from .layout import Layout, as_layout
 from .state import (AXES, BUTTONS, TRIGGER_AXES, GamepadError, PadState, check_axis_value,
                     clean_duration, clean_intensity, unknown_axis_error, unknown_button_error)
 
-__all__ = ["RumbleRecord", "VirtualPad", "ScriptStep", "ScriptedPad", "load_script", "parse_script"]
+__all__ = ["RumbleRecord", "RUMBLE_LOG_HEADER", "rumble_log_line", "read_rumble_log", "VirtualPad", "ScriptStep", "ScriptedPad", "load_script", "parse_script"]
 
 Clock = Callable[[], float]
 
@@ -55,6 +55,35 @@ class RumbleRecord:
     time_s: float
     intensity: float
     duration_s: float
+
+
+#: First line of a rumble log (see :func:`rumble_log_line`).
+RUMBLE_LOG_HEADER = "# time_s intensity duration_s  (time: CLOCK_MONOTONIC, comparable across processes)"
+
+
+def rumble_log_line(record: RumbleRecord) -> str:
+    """One request as a line of the teleoperation node's ``~rumble_log``.
+
+    Why a file of monotonic times: a benchmark or a lab engineer compares them with the
+    moment a force was published in another process; CLOCK_MONOTONIC is one clock for
+    every process on the machine, and a file adds no hop to what is measured.
+    """
+    return f"{record.time_s:.6f} {record.intensity:.6f} {record.duration_s:.6f}"
+
+
+def read_rumble_log(path: Union[str, Path]) -> List[RumbleRecord]:
+    """The records of a rumble log, in order; GamepadError naming the file and line if malformed."""
+    records = []
+    for number, line in enumerate(Path(path).read_text().splitlines(), start=1):
+        if not line.strip() or line.startswith("#"):
+            continue
+        try:
+            time_s, intensity, duration_s = (float(v) for v in line.split())
+        except ValueError:
+            raise GamepadError(f"{path}:{number}: not a rumble log line ('time_s intensity duration_s'): "
+                               f"{line[:60]!r}; the file must come from the node's ~rumble_log") from None
+        records.append(RumbleRecord(time_s, intensity, duration_s))
+    return records
 
 
 class VirtualPad:
