@@ -51,6 +51,7 @@ __all__ = [
     "TeleopParams",
     "TeleopCommand",
     "TeleopController",
+    "next_tick_s",
 ]
 
 #: The Franka Hand opens from 0 to 0.08 m (design.md).
@@ -363,3 +364,14 @@ class TeleopController:
             mode=self._mode,
             stopping=stopping,
         )
+
+
+def next_tick_s(previous_s: float, now_s: float, period_s: float) -> float:
+    """When the next control tick is due (monotonic s), one period after the previous one.
+
+    A loop that fell more than a period behind (the process was starved) starts its
+    schedule again from ``now_s`` instead of firing a burst of ticks to catch up: a burst
+    would hand the robot several commands at once, which the limiter treats as one step.
+    """
+    due = previous_s + period_s
+    return due if due >= now_s - period_s else now_s

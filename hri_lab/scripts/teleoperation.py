@@ -42,9 +42,10 @@ Publishes:
   joy             sensor_msgs/Joy      every tick, the pad's raw axes/buttons in the layout's order
   ~rumble         std_msgs/Float32     every tick, the rumble intensity 0..1 sent to the pad
 Subscribes:
-  force_mapped    std_msgs/Float32     latest value and its arrival time; the rumble follows it
-                                       at the next tick (at most 1/rate later) and drops to 0
-                                       when it is older than force_timeout
+  force_mapped    std_msgs/Float32     latest value and its arrival time; the pad's rumble
+                                       follows it at once (between ticks too: the loop sleeps
+                                       waiting for it) and drops to 0 when it is older than
+                                       force_timeout
   ~virtual_joy    sensor_msgs/Joy      only with pad "virtual" and no pad_script: drives the
                                        virtual pad (raw axes/buttons in the layout's order, as
                                        on /joy); no message for input_timeout -> ramp to zero
@@ -76,7 +77,7 @@ from hri_teleop.gamepad import (RUMBLE_LOG_HEADER, GamepadError, PadState, Rumbl
                                 VirtualPad, open_gamepad, rumble_log_line)
 from hri_teleop.limits import Watchdog
 from hri_teleop.ros.params import fail, get_param, package_file, private_params, run_node
-from hri_teleop.teleop import TeleopCommand, TeleopController
+from hri_teleop.teleop import TeleopCommand, TeleopController, next_tick_s
 
 #: Private parameters of this node that are not part of the teleop configuration.
 NODE_ONLY_KEYS = ("config", "pad_script", "pad_index", "stop_timeout_s", "script_wait_s", "rumble_log")
@@ -134,6 +135,7 @@ class TeleoperationNode:
                                 if self.topic_driven else None)
 
         self._force: Optional[Tuple[float, float]] = None  # (value, monotonic arrival time)
+        self._force_arrived = threading.Event()  # wakes the loop between ticks (see _sleep_until)
         self._stop_requested = threading.Event()
         self._abort = threading.Event()  # a second stop signal: give up the ramp
         self._stopped = threading.Event()
@@ -157,6 +159,7 @@ class TeleoperationNode:
     # -- inputs -----------------------------------------------------------------------
     def on_force(self, msg: Float32) -> None:
         self._force = (float(msg.data), time.monotonic())
+        self._force_arrived.set()
 
     def on_virtual_joy(self, msg: Joy) -> None:
         """Raw axes/buttons in the layout's order (as this node publishes on /joy)."""
@@ -283,6 +286,30 @@ class TeleoperationNode:
         log.write(RUMBLE_LOG_HEADER + "\n")
         return log
 
+    def _sleep_until(self, due_s: float) -> None:
+        """Sleep until the tick due at ``due_s``, answering each force that arrives meanwhile.
+
+        Why not rospy.Rate: a force would then wait for the next tick before the operator
+        feels it, on average half a period and up to a whole one (10 and 20 ms at 50 Hz),
+        which `make bench` measured as most of the force-to-rumble latency. The pad is
+        still only touched from this thread; the callback only wakes it.
+        """
+        while not rospy.is_shutdown() and not self._stop_requested.is_set():
+            remaining = due_s - time.monotonic()
+            if remaining <= 0:
+                return
+            if self._force_arrived.wait(remaining):
+                self._force_arrived.clear()
+                self._rumble_on_arrival()
+
+    def _rumble_on_arrival(self) -> None:
+        """The rumble for the force that just arrived, by the controller's rule; none while stopping."""
+        last, force = self.last_command, self._force
+        if last is None or last.stopping or force is None:
+            return
+        now = time.monotonic()
+        self._rumble(self.controller.rumble_for(force[0], now - force[1]), now)
+
     # -- running and stopping ---------------------------------------------------------
     def request_stop(self, *_args: object) -> None:
         """SIGINT/SIGTERM: ramp to zero first; a second signal abandons the ramp at once.
@@ -303,17 +330,15 @@ class TeleoperationNode:
 
     def run(self) -> int:
         rospy.on_shutdown(self._on_rospy_shutdown)
-        rate = rospy.Rate(self.controller.params.rate_hz)
+        due_s = time.monotonic()
         try:
             while not rospy.is_shutdown() and not self._stop_requested.is_set():
                 self.tick()
                 if self.controller.finished:
                     rospy.loginfo("twist is zero after quit: teleoperation ends")
                     return 0
-                try:
-                    rate.sleep()
-                except rospy.ROSTimeMovedBackwardsException:
-                    pass  # simulated time restarted: keep going
+                due_s = next_tick_s(due_s, time.monotonic(), self.dt_s)
+                self._sleep_until(due_s)
             self._ramp_to_zero()
             return 0
         except rospy.ROSInterruptException:

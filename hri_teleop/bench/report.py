@@ -60,9 +60,14 @@ def _ratio_text(ratio: float) -> str:
     return f"{ratio:.3g}×" if ratio < 100 else f"{ratio:.0f}×"
 
 
+def _cell(text: str) -> str:
+    return text.replace("|", "\\|")  # a "|" inside a cell would split the Markdown row
+
+
 def format_row(row: BenchRow) -> str:
     """The row as a Markdown table line: ``| name | figure | reference | 2.5× (p50 / floor) |``."""
-    return f"| {row.benchmark} | {row.figure} | {row.reference} | {_ratio_text(row.ratio)} ({row.ratio_means}) |"
+    cells = (row.benchmark, row.figure, row.reference, f"{_ratio_text(row.ratio)} ({row.ratio_means})")
+    return "| " + " | ".join(_cell(c) for c in cells) + " |"
 
 
 def machine_summary() -> str:

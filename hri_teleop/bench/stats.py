@@ -85,7 +85,7 @@ class PeriodStats:
     missed: int  # nominal periods with no message (a gap of 2.6 periods misses 2)
 
     def text(self) -> str:
-        return (f"period p50 {self.p50_period_ms:.2f} ms, |dev| p50 {self.p50_dev_ms:.2f} / p99 {self.p99_dev_ms:.2f} / "
+        return (f"period p50 {self.p50_period_ms:.2f} ms, deviation p50 {self.p50_dev_ms:.2f} / p99 {self.p99_dev_ms:.2f} / "
                 f"max {self.max_dev_ms:.1f} ms, missed {self.missed}/{self.n_periods + self.missed}")
 
 
