@@ -2,12 +2,13 @@
 SHELL := /bin/bash
 ENV := . tools/env.sh &&
 PY := .venv/bin/python
+comma := ,
 # Headless pygame everywhere we run without a screen.
 export SDL_VIDEODRIVER ?= dummy
 export SDL_AUDIODRIVER ?= dummy
 export PYGAME_HIDE_SUPPORT_PROMPT := 1
 
-.PHONY: setup demo demo-sensor test lint clean
+.PHONY: setup demo demo-sensor test lint clean bench
 
 setup:
 	@bash tools/setup.sh
@@ -22,6 +23,13 @@ demo-sensor: setup
 
 test: setup
 	@$(ENV) $(PY) -m pytest -q -p no:cacheprovider $(PYTEST_ARGS)
+
+# Benchmarks (README "Performance"): force-to-rumble latency, twist timing, simulation speed,
+# grading throughput, notebooks and setup; each row beside its reference from the same run.
+# BENCH=latency,timing,... picks some (default: all); results in out/bench/results.{md,json}.
+# Not part of `make test`, which runs each benchmark in its smoke size (tests/bench/).
+bench: setup
+	@$(ENV) $(PY) -m hri_teleop.bench $(subst $(comma), ,$(BENCH)) --out out/bench $(if $(JOBS),--jobs $(JOBS))
 
 lint: setup
 	@$(ENV) catkin_lint --offline -W2 --strict hri_lab

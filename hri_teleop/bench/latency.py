@@ -23,12 +23,13 @@ from .nodes import MeasuredNodes
 from .report import BenchError, BenchOptions, BenchRow
 from .stats import ForceStep, Summary, match_rumbles, summarise_ms
 
-#: Force steps per phase (full run, smoke run).
-STEPS = {False: 200, True: 6}
+#: Force steps per phase (full run, smoke run). The smoke run's 20 direct steps take ~2 s
+#: and make its median a fair test of "answered at once, not at the next tick".
+STEPS = {False: 200, True: 20}
 #: The handout's sketch waits 300 ms per loop; ours publishes every 10 ms.
 BOARD_PERIODS_MS = (0.0, 10.0, 300.0)
-#: Steps of the 300 ms phase are slow (~0.6 s each): fewer of them.
-SLOW_PHASE_STEPS = {False: 60, True: 4}
+#: Steps of the board phases (~0.1 s and ~0.6 s each): fewer of them in the smoke run.
+BOARD_PHASE_STEPS = {(10.0, False): 200, (10.0, True): 6, (300.0, False): 60, (300.0, True): 4}
 
 
 def _phase_latencies(phase: Dict, rumbles) -> List[Optional[float]]:
@@ -50,7 +51,7 @@ def measure(options: BenchOptions, progress: Callable[[str], None]) -> Dict[str,
     with MeasuredNodes(options.out_dir / "latency") as nodes:
         results: Dict[str, object] = {}
         for period_ms in BOARD_PERIODS_MS:
-            n = steps if period_ms < 100 else SLOW_PHASE_STEPS[options.smoke]
+            n = steps if period_ms == 0.0 else BOARD_PHASE_STEPS[(period_ms, options.smoke)]
             progress(f"latency: {n} force steps, board period {period_ms:g} ms")
             data = nodes.probe(["latency", "--rumble-log", str(nodes.rumble_log), "--steps", str(n),
                                 "--board-periods-ms", f"{period_ms:g}"], f"probe-latency-{period_ms:g}ms",
