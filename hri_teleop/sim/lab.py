@@ -39,7 +39,7 @@ from hri_teleop.mapping import map_force
 from hri_teleop.sim.hand import GoalRecord, MoveCommand
 from hri_teleop.sim.report import LabRecord
 from hri_teleop.sim.world import LIFTED_M, LabWorld, WorldConfig
-from hri_teleop.teleop import TeleopController, TeleopParams
+from hri_teleop.teleop import TeleopCommand, TeleopController, TeleopParams
 
 __all__ = ["LabRunError", "ManagerParams", "run_lab"]
 
@@ -125,17 +125,23 @@ def run_lab(
     next_timer = MANAGER_TIMER_S
     next_record = 0.0
     ended_by = "max_duration"
+    last_cmd: Optional[TeleopCommand] = None
     k = 0
     while True:
         now = k * dt
         if now > max_duration_s + 1e-9:
             break
-        # The world up to this tick: board samples -> mapping_node.
+        # The world up to this tick: board samples -> mapping_node -> the pad's rumble at
+        # once, as the node answers a force between its ticks (before this tick's poll).
         for t_sample, count in lab.advance(now):
             value = float(map_force(count, max_sensor_force))
             rec.count.append((t_sample, float(count)))
             rec.mapped.append((t_sample, value))
             force = (value, t_sample)
+            if last_cmd is not None and not last_cmd.stopping:
+                request = rumble_requests.update(controller.rumble_for(value, 0.0), t_sample)
+                if request is not None:
+                    pad.rumble(*request)
         while next_timer <= now + 1e-9:
             gripper.maybe_send(next_timer if next_timer > lab.time_s else lab.time_s)
             next_timer += MANAGER_TIMER_S
@@ -149,7 +155,7 @@ def run_lab(
             if watchdog.is_stale(now):
                 state = None
         value, age = (force[0], now - force[1]) if force is not None else (None, math.inf)
-        cmd = controller.step(state, value, age, dt)
+        cmd = last_cmd = controller.step(state, value, age, dt)
         request = rumble_requests.update(cmd.rumble, now)
         if request is not None:
             pad.rumble(*request)
