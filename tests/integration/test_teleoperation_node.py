@@ -152,6 +152,7 @@ def test_sigint_mid_motion_ramps_to_zero_before_exit(ros_master, tmp_path):
     (["_pad:=pygame"], "no gamepad"),
     (["_layout:=nintendo64"], "nintendo64"),
     (["_k_trans:=-1"], "k_trans"),
+    (["_rumble_log:=/nonexistent-dir/rumble.log"], "cannot write the rumble log '/nonexistent-dir/rumble.log'"),
 ])
 def test_bad_setup_stops_the_node_with_one_line_and_no_traceback(ros_master, args, words):
     node = ros_master.run([str(TELEOP), *(["_pad:=virtual"] if "_pad:=pygame" not in args else []), *args],
