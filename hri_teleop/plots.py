@@ -107,6 +107,33 @@ def lab_timeline(record: "LabRecord", path: Path, title: str = "") -> Path:
     return save_figure(fig, path)
 
 
+def latency_cdf(curves: Sequence[Tuple[str, Sequence[float]]], path: Path, title: str = "") -> Path:
+    """Cumulative distributions of latencies (given in s, drawn in ms on a log axis), one curve each.
+
+    Why a CDF: p50/p99 hide the shape; a polling loop shows as a straight ramp one period
+    wide, a sampling board as a ramp one sample period wide, a hop floor as a near-vertical step.
+    """
+    import matplotlib
+
+    matplotlib.use("Agg")
+    import matplotlib.pyplot as plt
+    import numpy as np
+
+    fig, ax = plt.subplots(figsize=(7, 4))
+    for label, values in curves:
+        ms = np.sort(np.asarray(values, dtype=float)) * 1e3
+        if ms.size:
+            ax.step(ms, np.arange(1, ms.size + 1) / ms.size, where="post", label=f"{label} (n={ms.size})")
+    ax.set_xscale("log")
+    ax.set_xlabel("latency (ms, log scale)")
+    ax.set_ylabel("fraction of force steps")
+    ax.grid(True, which="both", alpha=0.3)
+    ax.legend(loc="lower right", fontsize=8)
+    if title:
+        ax.set_title(title, fontsize=10)
+    return save_figure(fig, path)
+
+
 def save_figure(fig, path: Path) -> Path:
     """Write the figure as a PNG (creating its folder) and free it."""
     import matplotlib.pyplot as plt

@@ -13,11 +13,13 @@ a step waits for the next sample before anyone knows of it.
 
 from __future__ import annotations
 
+from pathlib import Path
 from typing import Callable, Dict, List, Optional
 
 import numpy as np
 
 from hri_teleop.gamepad import read_rumble_log
+from hri_teleop.plots import latency_cdf
 
 from .nodes import MeasuredNodes
 from .report import BenchError, BenchOptions, BenchRow
@@ -101,5 +103,18 @@ def rows_from(results: Dict[str, object]) -> List[BenchRow]:
     return rows
 
 
+def plot(results: Dict[str, object], path: Path) -> Path:
+    """The CDF of every phase beside the hop floor (latency.png next to the results)."""
+    curves = [("one rospy hop (floor)", results["hop_s"]), ("/force_mapped (two hops)", results["mapped_s"])]
+    for period_ms in BOARD_PERIODS_MS:
+        latencies = [v for v in results[f"board_{period_ms:g}ms"] if v is not None]  # type: ignore[union-attr]
+        curves.append(("rumble, nodes only" if period_ms == 0.0 else f"rumble, board every {period_ms:g} ms",
+                       latencies))
+    return latency_cdf(curves, path, "force step on /pub_force -> rumble request at the pad")  # type: ignore[arg-type]
+
+
 def run(options: BenchOptions, progress: Callable[[str], None]) -> List[BenchRow]:
-    return rows_from(measure(options, progress))
+    results = measure(options, progress)
+    rows = rows_from(results)
+    progress(f"latency: plot in {plot(results, options.out_dir / 'latency.png')}")
+    return rows

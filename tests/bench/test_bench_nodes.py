@@ -45,6 +45,7 @@ def test_force_reaches_the_pad_within_a_few_ms_and_sampling_adds_its_period(tmp_
     assert board300["p50_ms"] > board10["p50_ms"]
     assert board300["max_ms"] < 300.0 + 100.0
     assert (tmp_path / "latency" / "rumble.log").read_text().startswith("#")
+    assert (tmp_path / "latency.png").stat().st_size > 10_000
 
 
 def test_twist_arrives_every_period_idle_and_loaded(tmp_path):
