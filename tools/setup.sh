@@ -3,7 +3,7 @@
 #
 # Why a script and not only Makefile rules: the decision "use the lab's /opt/ros/noetic
 # or Debian's ROS 1 packages" and "root, sudo or tell the user" is easier to read here.
-# Idempotent: a second run only checks (dpkg-query, a stamp file) and takes about a second.
+# Idempotent: a second run only checks (dpkg-query, a stamp file) and takes about half a second (`make bench notebooks` measures it).
 set -euo pipefail
 
 here="$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)"
