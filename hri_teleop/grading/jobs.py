@@ -155,6 +155,17 @@ def reap_main(argv: Sequence[str]) -> int:
     return code if code >= 0 else 128 - code
 
 
+def reaped(argv: Sequence[str]) -> List[str]:
+    """``argv`` run under a reaper (``python -m hri_teleop.grading.jobs reap -- ...``): stopping
+    the reaper with :func:`stop_job` stops everything the command started, in any session."""
+    return [sys.executable, "-m", "hri_teleop.grading.jobs", "reap", "--", *argv]
+
+
+def stop_job(proc: subprocess.Popen) -> None:
+    """Stop a process started with :func:`reaped` argv and everything below it."""
+    _stop(proc)
+
+
 def _stop(proc: subprocess.Popen) -> None:
     """Stop a reaper and its job: SIGTERM (it kills its descendants), then SIGKILL whatever is left."""
     try:
@@ -175,7 +186,7 @@ def _stop(proc: subprocess.Popen) -> None:
 def run_job(argv: Sequence[str], log: Path, timeout_s: float, *, cwd: Optional[Path] = None,
          env: Optional[Dict[str, str]] = None, capture: bool = False) -> Run:
     """Run ``argv`` under a reaper in a session of its own; stderr (and stdout unless ``capture``) into ``log``."""
-    wrapped = [sys.executable, "-m", "hri_teleop.grading.jobs", "reap", "--", *argv]
+    wrapped = reaped(argv)
     started = time.monotonic()
     log.parent.mkdir(parents=True, exist_ok=True)
     with open(log, "wb") as fh:
