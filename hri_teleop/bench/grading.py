@@ -16,7 +16,7 @@ Three rows, every figure from real runs of the grader's own command lines:
 * **make grade, 1 worker** and **make grade, N workers**: ``hri-grade batch submitted --jobs
   1`` (what ``make grade JOBS=1`` runs) and ``--jobs N`` (N = ``--jobs``, else the CPU
   count) on an nbgrader course with 20 submissions of the whole ``preparation`` assignment
-  (smoke: 2 submissions of its two cheap notebooks, Ex. 1 and Ex. 4, and ``--checks
+  (smoke: 2 submissions of its cheapest notebook, Ex. 1, and ``--checks
   robot-params``). ``HRI_BENCH_SUBMISSIONS=K`` grades K submissions instead of 20.
   *Reference*: nbgrader's own ``python -m nbgrader autograde preparation --student S`` for
   every student, one after another, in the environment the grader gives it -- what an
@@ -64,7 +64,7 @@ __all__ = ["ASSIGNMENT", "SMOKE_NOTEBOOKS", "SMOKE_CHECKS", "FULL_SUBMISSIONS", 
 Progress = Callable[[str], None]
 
 ASSIGNMENT = "preparation"
-#: The preparation's two cheap notebooks (Ex. 1 runs no ROS, Ex. 4 grades robot_params.yaml).
+#: The preparation's cheapest notebook (Ex. 1 runs no ROS): what smoke runs grade, to keep make test short.
 SMOKE_NOTEBOOKS = ("ex01_fsr_and_arduino",)
 #: The cheapest check (no ROS session): what smoke runs of the files grade.
 SMOKE_CHECKS = ("robot-params",)

@@ -1,7 +1,7 @@
 """Benchmark 4 (grading throughput) in smoke sizes: it runs, its rows add up, and what it timed was real grading.
 
 Smoke sizes (hri_teleop.bench.grading): one ``hri-grade submission --checks robot-params``
-on the answer key, and an nbgrader course of Ex. 1 and Ex. 4 with two submissions (the
+on the answer key, and an nbgrader course of Ex. 1 with two submissions (the
 answer key and the untouched release) graded three times: nbgrader's autograde one after
 another, ``hri-grade batch --jobs 1`` and ``--jobs 2``.
 """
