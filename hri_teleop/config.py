@@ -37,6 +37,7 @@ __all__ = [
     "DEFAULT_LAYOUT",
     "DEFAULT_PAD",
     "DEFAULT_TWIST_TOPIC",
+    "LAB_TELEOP_CONFIG",
     "PAD_KINDS",
     "CONFIG_KEYS",
     "load_yaml",
@@ -47,6 +48,8 @@ __all__ = [
 DEFAULT_PAD = "pygame"  # one of hri_teleop.gamepad.PAD_KINDS; DEFAULT_LAYOUT comes from there too
 #: The Cartesian velocity controller's command topic (geometry_msgs/Twist).
 DEFAULT_TWIST_TOPIC = "/cartesian_velocity_controller/cmd_vel"
+#: The lab's teleoperation config in a checkout (what teleoperation.py reads by default).
+LAB_TELEOP_CONFIG = Path(__file__).resolve().parents[1] / "hri_lab" / "config" / "teleop.yaml"
 
 # YAML key -> (TeleopParams field, meaning for messages)
 _NUMBER_KEYS: Dict[str, tuple] = {

@@ -39,7 +39,7 @@ import subprocess
 import sys
 import tarfile
 from pathlib import Path
-from typing import Any, Dict, Iterable, List, Optional, Sequence, Tuple, Union
+from typing import Any, Dict, Iterable, List, Mapping, Optional, Sequence, Tuple, Union
 
 __all__ = [
     "CourseError", "REPO", "COURSE_DIR", "SOLUTIONS", "ASSIGNMENTS", "ASSIGNMENT_CHECKS", "STUDENT_PACKAGE", "nbgrader_env",
@@ -429,10 +429,11 @@ def bundle_leaks(bundle: PathLike, texts: Optional[Dict[str, List[str]]] = None)
 
 # -- release -----------------------------------------------------------------------------------
 
-def nbgrader_env() -> Dict[str, str]:
-    """The environment nbgrader runs in: no Python warnings, since nbgrader scores a cell that
-    wrote to stderr with 0 points (a DeprecationWarning must not cost a student a grade)."""
-    return dict(os.environ, PYTHONWARNINGS="ignore")
+def nbgrader_env(base: Optional[Mapping[str, str]] = None) -> Dict[str, str]:
+    """The environment nbgrader runs in (``base``: default this process's): no Python warnings, since
+    nbgrader scores a cell that wrote to stderr with 0 points (a DeprecationWarning must not cost a
+    student a grade)."""
+    return dict(os.environ if base is None else base, PYTHONWARNINGS="ignore")
 
 
 def _nbgrader(args: Sequence[str], course_dir: Path) -> str:
@@ -579,8 +580,12 @@ def _validate_job(job: Tuple[str, str]) -> Tuple[str, str, Dict[str, Any]]:
     return kind, path, result
 
 
-def prepare_course_copy(work_dir: PathLike, course_dir: PathLike = COURSE_DIR) -> Path:
-    """A copy of the course under ``work_dir/course`` with the student versions generated (and the kernel installed)."""
+def prepare_course_copy(work_dir: PathLike, course_dir: PathLike = COURSE_DIR, release: bool = True) -> Path:
+    """A copy of the course under ``work_dir/course`` with the student versions generated (and the kernel installed).
+
+    ``release=False``: only the source half, each assignment linked to the answer key, for
+    running the source notebooks (nbgrader's generate_assignment takes ~10 s).
+    """
     from hri_teleop.labkernel import install_kernelspec
 
     course = Path(work_dir) / "course"
@@ -591,7 +596,10 @@ def prepare_course_copy(work_dir: PathLike, course_dir: PathLike = COURSE_DIR) -
     for assignment in ASSIGNMENTS:
         shutil.copytree(Path(course_dir) / "source" / assignment, course / "source" / assignment,
                         ignore=shutil.ignore_patterns(STUDENT_PACKAGE, ".ipynb_checkpoints"))
-    generate_assignments(course)
+    if release:
+        generate_assignments(course)
+    else:
+        link_answer_key(course)
     install_kernelspec()  # the notebooks' kernel: .venv's Python in the lab's shell (tools/kernel.sh)
     return course
 

@@ -255,6 +255,7 @@ class TeleopController:
         self._width_m = self._params.initial_width_m
         self._quit = False
         self._toggle_was_pressed = False
+        self._stopping = True  # until the first tick: no rumble before the node has run once
 
     # -- state ------------------------------------------------------------------------
 
@@ -324,6 +325,15 @@ class TeleopController:
         force = min(1.0, max(0.0, force))
         return force if force > self._params.rumble_threshold else 0.0
 
+    def rumble_between_ticks(self, mapped_force: Optional[float], force_age_s: Optional[float]) -> float:
+        """The rumble for a force that arrives between two ticks: :meth:`rumble_for`, or 0 while
+        the last tick was stopping (pad lost, quit) or before the first tick.
+
+        Why: the operator should feel a force as it arrives, not up to a tick later, but a
+        stopped node must not start rumbling on its own.
+        """
+        return 0.0 if self._stopping else self.rumble_for(mapped_force, force_age_s)
+
     def step(
         self,
         pad: Optional[PadState],
@@ -352,7 +362,7 @@ class TeleopController:
                 step_m = p.gripper_step_m
                 delta = (step_m if pad.pressed(p.open_button) else 0.0) - (step_m if pad.pressed(p.close_button) else 0.0)
                 self._width_m = min(p.width_max_m, max(p.width_min_m, self._width_m + delta))
-        stopping = (not connected) or self._quit
+        stopping = self._stopping = (not connected) or self._quit
         target = _ZERO_TWIST if stopping else self.target_twist(pad)
         twist = self._limiter.step(target, float(dt_s))
         rumble = 0.0 if stopping else self.rumble_for(mapped_force, force_age_s)

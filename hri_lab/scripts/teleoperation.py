@@ -303,12 +303,12 @@ class TeleoperationNode:
                 self._rumble_on_arrival()
 
     def _rumble_on_arrival(self) -> None:
-        """The rumble for the force that just arrived, by the controller's rule; none while stopping."""
-        last, force = self.last_command, self._force
-        if last is None or last.stopping or force is None:
+        """The rumble for the force that just arrived, by the controller's rule (none while stopping)."""
+        force = self._force
+        if force is None:
             return
         now = time.monotonic()
-        self._rumble(self.controller.rumble_for(force[0], now - force[1]), now)
+        self._rumble(self.controller.rumble_between_ticks(force[0], now - force[1]), now)
 
     # -- running and stopping ---------------------------------------------------------
     def request_stop(self, *_args: object) -> None:

@@ -45,15 +45,12 @@ import math
 import os
 import shutil
 import statistics
-import subprocess
 import sys
-import threading
-import time
 from dataclasses import dataclass
 from pathlib import Path
 from typing import Callable, Dict, List, Mapping, Optional, Sequence, Tuple
 
-from hri_teleop.grading import jobs
+from hri_teleop.grading import jobs, nbgrader_batch
 
 from .report import BenchError, BenchOptions, BenchRow
 
@@ -190,44 +187,19 @@ class _Ran:
 
 def _run(argv: Sequence[str], *, what: str, log: Path, timeout_s: float, env: Mapping[str, str],
          cwd: Optional[Path] = None, on_line: Optional[Callable[[str], None]] = None) -> _Ran:
-    """Run ``argv`` in a session of its own (stderr into ``log``), timed from start to exit.
+    """``argv`` through make grade's own job runner (stderr into ``log``), timed from start to exit.
 
     BenchError when it outlives ``timeout_s`` (it is stopped, with all it started); on
     Ctrl-C it is stopped the same way and KeyboardInterrupt goes on.
     """
-    log.parent.mkdir(parents=True, exist_ok=True)
-    expired: List[bool] = []
-    lines: List[str] = []
-    with open(log, "w", encoding="utf-8") as err:
-        started = time.monotonic()
-        proc = subprocess.Popen(jobs.reaped(argv), cwd=str(cwd) if cwd else None, env=dict(env), stdin=subprocess.DEVNULL,
-                                stdout=subprocess.PIPE, stderr=err, text=True, errors="replace",
-                                start_new_session=True)
-
-        def expire() -> None:
-            expired.append(True)
-            jobs.stop_job(proc)
-
-        watchdog = threading.Timer(timeout_s, expire)
-        watchdog.daemon = True
-        watchdog.start()
-        try:
-            assert proc.stdout is not None
-            for line in proc.stdout:
-                lines.append(line.rstrip("\n"))
-                if on_line is not None:
-                    on_line(lines[-1])
-            proc.wait()
-        except BaseException:
-            watchdog.cancel()
-            jobs.stop_job(proc)
-            raise
-        finally:
-            watchdog.cancel()
-        seconds = time.monotonic() - started
-    if expired:
+    try:
+        run = jobs.run_job(argv, log, timeout_s, cwd=cwd, env=dict(env), on_line=on_line)
+    except BaseException:
+        jobs.stop_running()
+        raise
+    if run.timed_out:
         raise BenchError(f"{what} took longer than {timeout_s:.0f} s and was stopped (its stderr: {log})")
-    return _Ran(proc.returncode, seconds, "\n".join(lines))
+    return _Ran(int(run.returncode or 0), run.seconds, run.stdout.decode("utf-8", "replace").rstrip("\n"))
 
 
 def _tail(ran: _Ran, log: Path, lines: int = 8) -> str:
@@ -243,14 +215,6 @@ def _lab_env() -> Dict[str, str]:
     env = lab_shell_env(package_root=REPO)
     env.setdefault("ROS_HOSTNAME", "127.0.0.1")
     return env
-
-
-def _nbgrader_env(env: Mapping[str, str]) -> Dict[str, str]:
-    """What make grade gives each nbgrader autograde (course.nbgrader_env(): no Python warnings; no reachable
-    master, so each kernel starts a private roscore): the reference runs in the same."""
-    from hri_teleop.grading import nbgrader_batch
-
-    return dict(env, PYTHONWARNINGS="ignore", ROS_MASTER_URI=nbgrader_batch._NO_MASTER)
 
 
 # -- 1. hri-grade submission ----------------------------------------------------------------------
@@ -356,7 +320,7 @@ def build_course(root: Path, notebooks: Optional[Sequence[str]], plan: Sequence[
     log = root.parent / "generate_assignment.log"
     ran = _run([sys.executable, "-m", "nbgrader", "generate_assignment", ASSIGNMENT, "--create", "--force",
                 f"--CourseDirectory.root={root}"], what="nbgrader generate_assignment", log=log,
-               timeout_s=_SETUP_TIMEOUT_S, env=_nbgrader_env(env), cwd=root)
+               timeout_s=_SETUP_TIMEOUT_S, env=nbgrader_batch.nbgrader_job_env(env), cwd=root)
     if ran.returncode != 0:
         raise BenchError(f"nbgrader generate_assignment {ASSIGNMENT} failed (exit {ran.returncode}): {_tail(ran, log)}")
     release = root / "release" / ASSIGNMENT
@@ -388,7 +352,7 @@ def _reference_run(course: Path, plan: Sequence[Student], auto: float, total: fl
     """nbgrader's own autograde of every student one after another; total seconds (checked with the gradebook)."""
     from nbgrader.api import Gradebook, MissingEntry
 
-    nb_env = _nbgrader_env(env)
+    nb_env = nbgrader_batch.nbgrader_job_env(env)
     total_s = 0.0
     for index, student in enumerate(plan, 1):
         log = course.parent / "logs" / f"autograde.{student.name}.log"

@@ -39,11 +39,6 @@ def _launch_xml(pad_script: Path, rumble_log: Path) -> str:
 """
 
 
-def default_teleop_config() -> Path:
-    """The teleop.yaml the launched node reads (hri_lab/config/teleop.yaml of this checkout)."""
-    return Path(__file__).resolve().parents[2] / "hri_lab" / "config" / "teleop.yaml"
-
-
 class MeasuredNodes:
     """A private master with mapping_node and teleoperation launched on it; a context manager."""
 

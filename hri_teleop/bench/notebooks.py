@@ -211,25 +211,10 @@ def _stop_leftovers(marker: str, grace_s: float = LEFTOVER_GRACE_S) -> List[str]
 # -- row 1: the notebooks ---------------------------------------------------------------------------
 
 def _source_course(work_dir: Path) -> Path:
-    """The course's source notebooks in ``work_dir/course/source``, each assignment with its ``hri_lab``.
+    """The course's source half in ``work_dir/course`` (the student versions are not run here)."""
+    from hri_teleop.course import prepare_course_copy
 
-    Only the source half of :func:`hri_teleop.course.prepare_course_copy`: the student versions
-    (nbgrader's generate_assignment, ~10 s) are not run here, so not generated either. The
-    answer key is linked by the course's own :func:`~hri_teleop.course.link_answer_key`.
-    """
-    from hri_teleop.course import ASSIGNMENTS, COURSE_DIR, STUDENT_PACKAGE, link_answer_key
-    from hri_teleop.labkernel import install_kernelspec
-
-    course = work_dir / "course"
-    if course.exists():
-        shutil.rmtree(course)
-    (course / "source").mkdir(parents=True)
-    for assignment in ASSIGNMENTS:
-        shutil.copytree(COURSE_DIR / "source" / assignment, course / "source" / assignment,
-                        ignore=shutil.ignore_patterns(STUDENT_PACKAGE, ".ipynb_checkpoints"))
-    link_answer_key(course)
-    install_kernelspec()
-    return course
+    return prepare_course_copy(work_dir, release=False)
 
 
 def _floor_notebook(path: Path) -> Path:

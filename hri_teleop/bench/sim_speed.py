@@ -12,12 +12,11 @@ import statistics
 from pathlib import Path
 from typing import Callable, List, Tuple
 
-from hri_teleop.config import load_teleop_config
+from hri_teleop.config import LAB_TELEOP_CONFIG, load_teleop_config
 from hri_teleop.gamepad import load_script
 from hri_teleop.sim.config import default_sim_yaml, load_world_config
 from hri_teleop.sim.lab import run_lab
 
-from .nodes import default_teleop_config
 from .report import BenchError, BenchOptions, BenchRow
 
 SCENARIOS = Path(__file__).resolve().parents[2] / "hri_lab" / "scenarios"
@@ -27,7 +26,7 @@ REPEATS = {False: 5, True: 1}
 
 def run_scenario(path: Path) -> Tuple[float, float, int]:
     """(simulated s, wall s, ticks) of one flat-out run of a scenario."""
-    config = load_teleop_config(default_teleop_config())
+    config = load_teleop_config(LAB_TELEOP_CONFIG)
     world = load_world_config(default_sim_yaml() or "", scenario=path)
     record = run_lab(load_script(path), world, config.params, config.limits,
                      max_sensor_force=world.attachment.full_travel_count)

@@ -12,6 +12,8 @@ from typing import List, Optional, Sequence, Tuple
 
 import numpy as np
 
+from hri_teleop.traces import percentile_ms
+
 from .report import BenchError
 
 __all__ = ["Summary", "summarise_ms", "ForceStep", "match_rumbles", "PeriodStats", "period_stats"]
@@ -34,8 +36,7 @@ def summarise_ms(durations_s: Sequence[float], what: str = "durations") -> Summa
     values = np.asarray(list(durations_s), dtype=float)
     if values.size == 0:
         raise BenchError(f"no {what} were measured: nothing to summarise")
-    return Summary(int(values.size), float(np.percentile(values, 50) * 1e3), float(np.percentile(values, 99) * 1e3),
-                   float(values.max() * 1e3))
+    return Summary(int(values.size), percentile_ms(values, 50), percentile_ms(values, 99), percentile_ms(values, 100))
 
 
 @dataclass(frozen=True)
@@ -99,6 +100,5 @@ def period_stats(arrivals_s: Sequence[float], nominal_s: float) -> PeriodStats:
     gaps = np.diff(t)
     dev = np.abs(gaps - nominal_s)
     missed = int(np.sum(np.maximum(0, np.floor(gaps / nominal_s + 0.5) - 1)))
-    return PeriodStats(int(gaps.size), nominal_s * 1e3, float(np.percentile(gaps, 50) * 1e3),
-                       float(np.percentile(dev, 50) * 1e3), float(np.percentile(dev, 99) * 1e3),
-                       float(dev.max() * 1e3), missed)
+    return PeriodStats(int(gaps.size), nominal_s * 1e3, percentile_ms(gaps, 50), percentile_ms(dev, 50),
+                       percentile_ms(dev, 99), percentile_ms(dev, 100), missed)

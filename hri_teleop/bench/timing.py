@@ -14,10 +14,10 @@ import sys
 from pathlib import Path
 from typing import Callable, List
 
-from hri_teleop.config import DEFAULT_TWIST_TOPIC, load_teleop_config
+from hri_teleop.config import DEFAULT_TWIST_TOPIC, LAB_TELEOP_CONFIG, load_teleop_config
 from hri_teleop.ros.master import ManagedProcess
 
-from .nodes import MeasuredNodes, default_teleop_config
+from .nodes import MeasuredNodes
 from .report import BenchOptions, BenchRow
 from .stats import PeriodStats, period_stats
 
@@ -50,7 +50,7 @@ def _record(nodes: MeasuredNodes, seconds: float, name: str) -> List[float]:
 
 
 def run(options: BenchOptions, progress: Callable[[str], None]) -> List[BenchRow]:
-    rate_hz = load_teleop_config(default_teleop_config()).params.rate_hz
+    rate_hz = load_teleop_config(LAB_TELEOP_CONFIG).params.rate_hz
     nominal_s = 1.0 / rate_hz
     seconds = SECONDS[options.smoke]
     cores = options.jobs or os.cpu_count() or 1

@@ -161,11 +161,6 @@ def reaped(argv: Sequence[str]) -> List[str]:
     return [sys.executable, "-m", "hri_teleop.grading.jobs", "reap", "--", *argv]
 
 
-def stop_job(proc: subprocess.Popen) -> None:
-    """Stop a process started with :func:`reaped` argv and everything below it."""
-    _stop(proc)
-
-
 def _stop(proc: subprocess.Popen) -> None:
     """Stop a reaper and its job: SIGTERM (it kills its descendants), then SIGKILL whatever is left."""
     try:
@@ -184,28 +179,63 @@ def _stop(proc: subprocess.Popen) -> None:
 
 
 def run_job(argv: Sequence[str], log: Path, timeout_s: float, *, cwd: Optional[Path] = None,
-         env: Optional[Dict[str, str]] = None, capture: bool = False) -> Run:
-    """Run ``argv`` under a reaper in a session of its own; stderr (and stdout unless ``capture``) into ``log``."""
-    wrapped = reaped(argv)
+            env: Optional[Dict[str, str]] = None, capture: bool = False,
+            on_line: Optional[Callable[[str], None]] = None) -> Run:
+    """Run ``argv`` under a reaper in a session of its own; stderr (and stdout unless ``capture``) into ``log``.
+
+    ``on_line`` (implies ``capture``): called with each stdout line as it comes, for progress.
+    """
+    capture = capture or on_line is not None
     started = time.monotonic()
     log.parent.mkdir(parents=True, exist_ok=True)
     with open(log, "wb") as fh:
-        proc = subprocess.Popen(wrapped, stdin=subprocess.DEVNULL, stdout=subprocess.PIPE if capture else fh,
+        proc = subprocess.Popen(reaped(argv), stdin=subprocess.DEVNULL, stdout=subprocess.PIPE if capture else fh,
                                 stderr=fh, cwd=str(cwd) if cwd else None, env=env, start_new_session=True)
         with _RUNNING_LOCK:
             _RUNNING[proc.pid] = proc
         try:
-            try:
-                stdout, _ = proc.communicate(timeout=timeout_s)
-                timed_out = False
-            except subprocess.TimeoutExpired:
-                timed_out = True
-                _stop(proc)
-                stdout, _ = proc.communicate()
+            if on_line is None:
+                try:
+                    stdout, _ = proc.communicate(timeout=timeout_s)
+                    timed_out = False
+                except subprocess.TimeoutExpired:
+                    timed_out = True
+                    _stop(proc)
+                    stdout, _ = proc.communicate()
+            else:
+                stdout, timed_out = _stream(proc, timeout_s, on_line)
         finally:
             with _RUNNING_LOCK:
                 _RUNNING.pop(proc.pid, None)
     return Run(None if timed_out else proc.returncode, stdout or b"", time.monotonic() - started, timed_out)
+
+
+def _stream(proc: subprocess.Popen, timeout_s: float, on_line: Callable[[str], None]) -> Tuple[bytes, bool]:
+    """Read ``proc``'s stdout line by line until it ends; a timer stops it at ``timeout_s``."""
+    expired: List[bool] = []
+
+    def expire() -> None:
+        expired.append(True)
+        _stop(proc)
+
+    timer = threading.Timer(timeout_s, expire)
+    timer.daemon = True
+    timer.start()
+    lines: List[bytes] = []
+    try:
+        assert proc.stdout is not None
+        for raw in proc.stdout:
+            lines.append(raw)
+            on_line(raw.decode("utf-8", "replace").rstrip("\n"))
+        proc.wait()
+    finally:
+        timer.cancel()
+    return b"".join(lines), bool(expired)
+
+
+def stop_running() -> None:
+    """Stop every job :func:`run_job` is running (Ctrl-C in a caller that is not :func:`run_all`)."""
+    _stop_all_running()
 
 
 def _stop_all_running() -> None:

@@ -38,13 +38,13 @@ import threading
 import time
 from dataclasses import asdict, dataclass
 from pathlib import Path
-from typing import Any, Callable, Dict, List, Optional, Sequence, Tuple
+from typing import Any, Callable, Dict, List, Mapping, Optional, Sequence, Tuple
 
 from hri_teleop.grading.batch import (PER_SUBMISSION_TIMEOUT_S, BatchError, grade_one, live_graph_cache,
                                       submissions_in)
 from hri_teleop.grading.jobs import Progress, job_count, print_line, run_all, run_job
 
-__all__ = ["BatchError", "JobOutcome", "course_layout", "course_submissions", "grade_course"]
+__all__ = ["BatchError", "JobOutcome", "course_layout", "course_submissions", "grade_course", "nbgrader_job_env"]
 
 _NOTEBOOK_TIMEOUT_S = 1800.0        # nbgrader autograde of one (student, assignment); a cell has 300 s of its own
 _DB_BUSY_TIMEOUT_S = 60             # SQLite busy timeout of every nbgrader process
@@ -232,10 +232,12 @@ def _failure_reason(log: Path) -> str:
     return f"nbgrader autograde failed{where}: {cause}"[:300]
 
 
-def _nbgrader_env() -> Dict[str, str]:
+def nbgrader_job_env(base: Optional[Mapping[str, str]] = None) -> Dict[str, str]:
+    """What each nbgrader autograde runs in: course.nbgrader_env, and no reachable ROS master,
+    so that every kernel starts a private roscore (benchmarks run their reference in the same)."""
     from hri_teleop.course import nbgrader_env
 
-    return dict(nbgrader_env(), ROS_MASTER_URI=_NO_MASTER)
+    return dict(nbgrader_env(base), ROS_MASTER_URI=_NO_MASTER)
 
 
 def _submission_score(course: _Course, lock: threading.Lock, student: str,
@@ -279,7 +281,7 @@ def _autograde(course: _Course, student: str, assignment: str, out: Path, timeou
     log = out / "autograde.log"
     seconds = 0.0
     for attempt in range(1, _DB_ATTEMPTS + 1):
-        run = run_job(argv, log, timeout_s, cwd=course.root, env=_nbgrader_env())
+        run = run_job(argv, log, timeout_s, cwd=course.root, env=nbgrader_job_env())
         seconds += run.seconds
         if run.timed_out:
             _forget_outputs(course, student, assignment)
@@ -310,7 +312,7 @@ def _generate_feedback(course: _Course, assignment: str, out: Path) -> Tuple[boo
     """``nbgrader generate_feedback`` for every autograded student of ``assignment``: (ok, {student: failure})."""
     log = out / f"generate_feedback.{assignment}.log"
     run = run_job(course.nbgrader_argv("generate_feedback", assignment, "--force"), log, 600.0, cwd=course.root,
-               env=_nbgrader_env())
+               env=nbgrader_job_env())
     text = log.read_text(errors="replace")
     failed = {m.group(2): "nbgrader generate_feedback failed (see " + str(log) + ")"
               for m in re.finditer(r"error processing assignment '([^']+)' for student '([^']+)'", text)}

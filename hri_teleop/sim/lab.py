@@ -39,7 +39,7 @@ from hri_teleop.mapping import map_force
 from hri_teleop.sim.hand import GoalRecord, MoveCommand
 from hri_teleop.sim.report import LabRecord
 from hri_teleop.sim.world import LIFTED_M, LabWorld, WorldConfig
-from hri_teleop.teleop import TeleopCommand, TeleopController, TeleopParams
+from hri_teleop.teleop import TeleopController, TeleopParams
 
 __all__ = ["LabRunError", "ManagerParams", "run_lab"]
 
@@ -125,7 +125,6 @@ def run_lab(
     next_timer = MANAGER_TIMER_S
     next_record = 0.0
     ended_by = "max_duration"
-    last_cmd: Optional[TeleopCommand] = None
     k = 0
     while True:
         now = k * dt
@@ -138,10 +137,9 @@ def run_lab(
             rec.count.append((t_sample, float(count)))
             rec.mapped.append((t_sample, value))
             force = (value, t_sample)
-            if last_cmd is not None and not last_cmd.stopping:
-                request = rumble_requests.update(controller.rumble_for(value, 0.0), t_sample)
-                if request is not None:
-                    pad.rumble(*request)
+            request = rumble_requests.update(controller.rumble_between_ticks(value, 0.0), t_sample)
+            if request is not None:
+                pad.rumble(*request)
         while next_timer <= now + 1e-9:
             gripper.maybe_send(next_timer if next_timer > lab.time_s else lab.time_s)
             next_timer += MANAGER_TIMER_S
@@ -155,7 +153,7 @@ def run_lab(
             if watchdog.is_stale(now):
                 state = None
         value, age = (force[0], now - force[1]) if force is not None else (None, math.inf)
-        cmd = last_cmd = controller.step(state, value, age, dt)
+        cmd = controller.step(state, value, age, dt)
         request = rumble_requests.update(cmd.rumble, now)
         if request is not None:
             pad.rumble(*request)

@@ -23,19 +23,16 @@ import sys
 import threading
 import time
 import weakref
-from pathlib import Path
 from typing import Any, Callable, Optional, Tuple
 
 import ipywidgets as widgets
 from matplotlib.figure import Figure
 
-from hri_teleop.config import ConfigError, TeleopConfig, load_teleop_config
+from hri_teleop.config import LAB_TELEOP_CONFIG, ConfigError, TeleopConfig, load_teleop_config
 
 __all__ = ["WidgetError", "FigureView", "Ticker", "LAB_TELEOP_CONFIG", "lab_teleop_config", "message_html",
            "current_cell_id", "replace_in_cell"]
 
-#: The lab's teleoperation config in a checkout (hri_lab/config/teleop.yaml).
-LAB_TELEOP_CONFIG = Path(__file__).resolve().parents[2] / "hri_lab" / "config" / "teleop.yaml"
 
 FIGURE_MODES = ("auto", "ipympl", "image")
 
