@@ -21,8 +21,11 @@ demo: setup
 demo-sensor: setup
 	@$(ENV) $(PY) -m hri_teleop.ros.sensor_demo
 
+# TEST_JOBS test workers (default 2, one per core of the CI machine; TEST_JOBS=0 runs in
+# one process), each test file on one worker.
+TEST_JOBS ?= 2
 test: setup
-	@$(ENV) $(PY) -m pytest -q -p no:cacheprovider $(PYTEST_ARGS)
+	@$(ENV) $(PY) -m pytest -q -p no:cacheprovider $(if $(filter-out 0,$(TEST_JOBS)),-n $(TEST_JOBS) --dist loadfile) $(PYTEST_ARGS)
 
 # Benchmarks (README "Performance"): force-to-rumble latency, twist timing, simulation speed,
 # grading throughput, notebooks and setup; each row beside its reference from the same run.

@@ -23,6 +23,7 @@ Everything but :class:`SimulatedUno`, :func:`build_firmware` and :func:`main` is
 from __future__ import annotations
 
 import argparse
+import fcntl
 import math
 import os
 import shutil
@@ -187,8 +188,14 @@ def build_firmware(timeout_s: float = 600.0) -> str:
     problem = toolchain_problem()
     if problem:
         raise SimavrBoardError(f"cannot build the firmware: {problem}")
-    proc = subprocess.run(["make", "--no-print-directory", "-C", str(FIRMWARE_DIR)], capture_output=True,
-                          text=True, timeout=timeout_s)
+    # One build at a time: two test workers (or two notebooks) running make in the same
+    # build folder would overwrite each other's objects.
+    lock_path = FIRMWARE_DIR / "build" / ".build.lock"
+    lock_path.parent.mkdir(parents=True, exist_ok=True)
+    with open(lock_path, "w") as lock:
+        fcntl.flock(lock, fcntl.LOCK_EX)
+        proc = subprocess.run(["make", "--no-print-directory", "-C", str(FIRMWARE_DIR)], capture_output=True,
+                              text=True, timeout=timeout_s)
     if proc.returncode != 0:
         tail = (proc.stdout + proc.stderr).strip().splitlines()[-5:]
         raise SimavrBoardError("make -C firmware failed: " + " | ".join(tail))
