@@ -78,6 +78,9 @@ _MIN_LEAK_CHARS = 8
 class CourseError(RuntimeError):
     """A release or validation step failed (one line: what and the fix)."""
 
+    def _render_traceback_(self) -> List[str]:  # IPython shows the one line, not a traceback
+        return [f"{type(self).__name__}: {self}"]
+
 
 # -- in a notebook ------------------------------------------------------------------------------
 
@@ -200,12 +203,19 @@ def _ros_args(params: Dict[str, Any]) -> List[str]:
 
 
 def _start(argv: Sequence[str], name: str, extra_env: Optional[Dict[str, str]] = None,
-           cwd: Optional[Path] = None) -> Any:
+           cwd: Optional[Path] = None, nodes: Optional[Sequence[str]] = None) -> Any:
+    """Start ``argv`` (its ROS node names ``nodes``, default ``[name]``), unless one of them runs already."""
+    from hri_teleop.modes import duplicate_refusal
+    from hri_teleop.notebook_ros import running_nodes
     from hri_teleop.ros.master import ManagedProcess
 
     if not os.environ.get("ROS_MASTER_URI"):
         raise CourseError("no ROS master for this kernel: run ensure_ros() (hri_teleop.notebook_ros) first; "
                           "it says in one line what is missing")
+    wanted = list(nodes) if nodes is not None else [name]
+    refusal = duplicate_refusal(wanted, running_nodes(among=wanted))
+    if refusal:
+        raise CourseError(refusal)
     env = dict(os.environ)
     env.update({"PYTHONUNBUFFERED": "1", **(extra_env or {})})
     log = _scratch("hri-notebook-node-") / f"{name}.log"
@@ -240,10 +250,22 @@ def run_student_node(path: PathLike, name: str = "", **params: Any) -> Any:
                   cwd=script.resolve().parent)
 
 
+def _launch_nodes(where: Sequence[str], extra_env: Optional[Dict[str, str]] = None) -> List[str]:
+    """The node names ``roslaunch`` would start (``roslaunch --nodes``); [] when it cannot tell."""
+    env = dict(os.environ, **(extra_env or {}))
+    try:
+        proc = subprocess.run(["roslaunch", "--nodes", *where], env=env, capture_output=True, text=True, timeout=30)
+    except (OSError, subprocess.TimeoutExpired):
+        return []
+    if proc.returncode != 0:
+        return []  # the launch itself will say what is wrong with the file
+    return [line.strip() for line in proc.stdout.splitlines() if line.strip().startswith("/")]
+
+
 def launch(package: str, launch_file: str, **args: Any) -> Any:
     """``roslaunch PACKAGE FILE name:=value ...`` of an installed package (the lab's ``hri_lab``)."""
-    return _start(["roslaunch", "--wait", package, launch_file, *[f"{k}:={v}" for k, v in args.items()]],
-                  Path(launch_file).stem)
+    where = [package, launch_file, *[f"{k}:={v}" for k, v in args.items()]]
+    return _start(["roslaunch", "--wait", *where], Path(launch_file).stem, nodes=_launch_nodes(where))
 
 
 def wait_for_publisher(topic: str, process: Any = None, timeout_s: float = 20.0) -> bool:
@@ -297,8 +319,10 @@ def launch_student(launch_file: str, package: PathLike = STUDENT_PACKAGE, **args
     path = ws / "hri_lab" / "launch" / launch_file
     if not path.is_file():
         raise CourseError(f"{Path(package) / 'launch' / launch_file}: no such file; write it first")
-    return _start(["roslaunch", "--wait", str(path), *[f"{k}:={v}" for k, v in args.items()]], Path(launch_file).stem,
-                  extra_env={"ROS_PACKAGE_PATH": ros_package_path(ws)})
+    where = [str(path), *[f"{k}:={v}" for k, v in args.items()]]
+    extra_env = {"ROS_PACKAGE_PATH": ros_package_path(ws)}
+    return _start(["roslaunch", "--wait", *where], Path(launch_file).stem, extra_env=extra_env,
+                  nodes=_launch_nodes(where, extra_env))
 
 
 # -- the course's files -------------------------------------------------------------------------

@@ -89,6 +89,28 @@ def master_call(method: str, *args: Any, uri: Optional[str] = None, timeout_s: f
     return value
 
 
+def running_nodes(among: Optional[List[str]] = None, uri: Optional[str] = None, timeout_s: float = 1.0) -> List[str]:
+    """Nodes registered on the master that still answer (optionally only those ``among``).
+
+    A node killed with SIGKILL stays registered; asking it for its pid tells the two apart,
+    so a stale registration never blocks a restart.
+    """
+    state = master_call("getSystemState", uri=uri)
+    names = sorted({node for section in state for _topic, nodes in section for node in nodes})
+    if among is not None:
+        wanted = {name if name.startswith("/") else "/" + name for name in among}
+        names = [name for name in names if name in wanted]
+    alive = []
+    for name in names:
+        try:
+            node_uri = master_call("lookupNode", name, uri=uri)
+            xmlrpc.client.ServerProxy(node_uri, transport=_TimeoutTransport(timeout_s)).getPid(_CALLER_ID)
+        except (NotebookRosError, OSError, xmlrpc.client.Error):
+            continue
+        alive.append(name)
+    return alive
+
+
 def master_reachable(uri: Optional[str] = None, timeout_s: float = 1.0) -> bool:
     """True if a ROS master answers at ``uri`` (default: :func:`master_uri`) within ``timeout_s``."""
     try:
@@ -111,6 +133,7 @@ class RosSession:
     master_uri: str = ""
     node_name: str = ""
     started_master: bool = False
+    mode: str = "home"
     _master: Any = field(default=None, repr=False, compare=False)
 
     def __bool__(self) -> bool:
@@ -121,9 +144,9 @@ class RosSession:
         if not self.available:
             return f"ROS: {self.problem}"
         if self.started_master:
-            return (f"ROS: node {self.node_name} on a private roscore at {self.master_uri} (it stops with the "
-                    f"kernel); in a terminal: export ROS_MASTER_URI={self.master_uri}")
-        return f"ROS: node {self.node_name} on the master at {self.master_uri}"
+            return (f"ROS ({self.mode} mode): node {self.node_name} on a private roscore at {self.master_uri} (it "
+                    f"stops with the kernel); in a terminal: export ROS_MASTER_URI={self.master_uri}")
+        return f"ROS ({self.mode} mode): node {self.node_name} on the master at {self.master_uri}"
 
 
 _SESSION: Optional[RosSession] = None
@@ -170,13 +193,23 @@ atexit.register(_shutdown_at_exit)
 
 
 def _start(node_name: str, anonymous: bool, start_master: bool, timeout_s: float) -> RosSession:
+    from hri_teleop.modes import LAB, ModeError, mode_from_env  # noqa: PLC0415 - keeps import light
+
+    try:
+        mode = mode_from_env(os.environ)
+    except ModeError as exc:
+        raise NotebookRosError(str(exc)) from None
     rospy = _import_rospy()
     if rospy.core.is_initialized():
         # Somebody (a student's cell) already called rospy.init_node: use that node.
-        return RosSession(True, master_uri=master_uri(), node_name=rospy.get_name())
+        return RosSession(True, master_uri=master_uri(), node_name=rospy.get_name(), mode=mode)
     uri = master_uri()
     master = None
     if not master_reachable(uri):
+        if mode == LAB:
+            # In the lab a private roscore would leave the student's nodes away from the robot.
+            raise NotebookRosError(f"lab mode: no ROS master at {uri}: start the lab's roscore/launch first "
+                                   "(at home, set HRI_MODE=home)")
         if not start_master:
             raise NotebookRosError(f"no ROS master at {uri}: start roscore (or the lab's launch file) in a "
                                    "terminal, or call ensure_ros(start_master=True)")
@@ -199,7 +232,7 @@ def _start(node_name: str, anonymous: bool, start_master: bool, timeout_s: float
             _stop_master(master)
         raise NotebookRosError(f"rospy.init_node({node_name!r}) failed: {exc}".replace("\n", " ")) from None
     session = RosSession(True, master_uri=uri, node_name=rospy.get_name(), started_master=master is not None,
-                         _master=master)
+                         mode=mode, _master=master)
     if master is not None:
         _FINALIZERS.append(weakref.finalize(session, _stop_master, master))
     return session

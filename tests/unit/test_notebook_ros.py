@@ -35,3 +35,20 @@ def test_without_a_master_and_not_allowed_to_start_one_it_returns_a_false_sessio
     assert err.count("\n") == 1 and err.startswith("ROS: no ROS master at")
     with pytest.raises(NotebookRosError):
         ensure_ros(start_master=False, required=True)
+
+
+def test_in_lab_mode_without_the_labs_master_no_private_master_starts_and_one_line_says_why(monkeypatch):
+    pytest.importorskip("rospy")
+    monkeypatch.setenv("HRI_MODE", "lab")
+    monkeypatch.setenv("ROS_MASTER_URI", f"http://127.0.0.1:{free_port()}/")
+    monkeypatch.setattr(notebook_ros, "_SESSION", None)
+    session = ensure_ros(quiet=True)   # start_master=True: at home it would start one
+    assert not session and not session.started_master
+    assert session.problem.startswith("lab mode: no ROS master at") and "HRI_MODE=home" in session.problem
+
+
+def test_an_unknown_mode_is_a_false_session_naming_the_modes(monkeypatch):
+    monkeypatch.setenv("HRI_MODE", "school")
+    monkeypatch.setattr(notebook_ros, "_SESSION", None)
+    session = ensure_ros(quiet=True)
+    assert not session and "set it to home, lab or grading" in session.problem

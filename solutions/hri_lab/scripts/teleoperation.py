@@ -22,7 +22,8 @@ Run it:
                                                            # no gamepad: a scripted virtual pad
 Parameters (private, with their defaults): ~rate 50.0 (Hz), ~k_trans 0.1 (m/s at full
 stick), ~k_rot 0.3 (rad/s at full stick), ~k_gripper 0.04 (m/s), ~deadzone 0.1,
-~pad pygame|virtual, ~layout dualshock4|dualsense|xbox, ~pad_script "" (virtual pad only).
+~pad pygame|virtual, ~layout dualshock4|dualsense|xbox, ~pad_script "" (virtual pad only),
+~wait_for_robot_s 5.0 (s: how long the pad waits for the robot to listen before it starts).
 """
 
 import signal
@@ -171,6 +172,20 @@ class Teleoperation:
         # with a reflex error. The limiter ramps every command inside safe limits.
         self.limiter = TwistLimiter()
 
+    def wait_for_robot(self, timeout_s=5.0):
+        """Wait (at most timeout_s) until the robot listens to the velocity command.
+
+        A scripted pad starts playing at the first poll: commands sent before the robot (or
+        the simulated one) is connected would be lost, and the hand would not move.
+        """
+        publisher = getattr(self, "twist_pub", None)
+        deadline = time.monotonic() + timeout_s
+        while publisher is not None and publisher.get_num_connections() == 0 and not rospy.is_shutdown():
+            if time.monotonic() > deadline:
+                rospy.logwarn("nobody listens on %s yet: is the robot (or lab_sim) running?", publisher.resolved_name)
+                return
+            time.sleep(0.02)
+
     def request_quit(self, *_args):
         """Ctrl-C or rosnode kill: leave the loop, bring the robot to rest, then end."""
         self.quit = True
@@ -233,6 +248,7 @@ def main():
     node.open_pad(rospy.get_param("~pad", "pygame"), rospy.get_param("~layout", "dualshock4"),
                   rospy.get_param("~pad_script", ""))
     node.connect()
+    node.wait_for_robot(float(rospy.get_param("~wait_for_robot_s", 5.0)))
     # Ctrl-C and rosnode kill bring the robot to rest first (rospy would stop publishing at once).
     signal.signal(signal.SIGINT, node.request_quit)
     signal.signal(signal.SIGTERM, node.request_quit)
