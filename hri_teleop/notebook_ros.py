@@ -186,7 +186,11 @@ def _shutdown_at_exit() -> None:
         except Exception:  # noqa: BLE001
             pass
     for finalizer in list(_FINALIZERS):
-        finalizer()
+        # detach(), not finalizer(): once weakref's own exit hook has run, calling a finalizer does nothing
+        info = finalizer.detach()
+        if info is not None:
+            _, func, args, _kwargs = info
+            func(*args)
 
 
 atexit.register(_shutdown_at_exit)
@@ -234,7 +238,9 @@ def _start(node_name: str, anonymous: bool, start_master: bool, timeout_s: float
     session = RosSession(True, master_uri=uri, node_name=rospy.get_name(), started_master=master is not None,
                          mode=mode, _master=master)
     if master is not None:
-        _FINALIZERS.append(weakref.finalize(session, _stop_master, master))
+        finalizer = weakref.finalize(session, _stop_master, master)
+        finalizer.atexit = False  # at exit _shutdown_at_exit stops it, after rospy's last log line
+        _FINALIZERS.append(finalizer)
     return session
 
 

@@ -352,7 +352,7 @@ def grade_teleoperation(path: PathLike, *, seed: Optional[int] = None, out_dir: 
             os.chown(script_path, run.uid, run.uid)
         plan = {"kind": "teleop-node", "script": str(run.space.files["teleoperation"]), "pad_script": str(script_path),
                 "gains": node_case.gains.as_dict(), "force": node_case.force, "start_timeout_s": 10.0,
-                "run_s": node_case.quit_s + 4.0, "quit_grace_s": 5.0}
+                "run_s": node_case.quit_s + 4.0, "quit_grace_s": 5.0, "record": [TWIST_TOPIC, "/gripper_width"]}
         observation = run.session(plan, timeout_s=90.0)
         parts += compare.compare_teleop_node(observation, node_case, TWIST_TOPIC, run.out_dir)
     return _finish("teleoperation", run, parts, seed)

@@ -391,10 +391,12 @@ def run_teleop_node(session: Session) -> Dict[str, Any]:
     params = [f"_{k}:={v}" for k, v in plan["gains"].items()]
     argv = [plan["python"], plan["script"], "_pad:=virtual", "_layout:=dualshock4",
             f"_pad_script:={plan['pad_script']}", *params]
+    recorder = _Recorder()
+    for topic in plan.get("record", []):  # subscribed before the node starts: the pad script plays from its start
+        recorder.add(topic)
     proc = session.start_student(argv, "teleoperation")
     nodes, sub, pub, ok = _wait_for_node(session, proc, plan["start_timeout_s"], lambda s, p: bool(p))
     problem = "" if ok else _start_problem(proc, plan["start_timeout_s"], "advertising a topic")
-    recorder = _Recorder()
     started = time.monotonic()
     if ok:
         deadline = started + plan["run_s"]

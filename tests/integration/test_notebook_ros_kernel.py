@@ -74,19 +74,21 @@ def test_without_a_master_a_private_roscore_starts_and_stops_when_the_process_ex
         session = ensure_ros("private")
         assert ensure_ros() is session
         print(session.master_uri, os.environ["ROS_MASTER_URI"], session.started_master,
-              master_reachable(session.master_uri), flush=True)
+              master_reachable(session.master_uri), session._master.work_dir, flush=True)
     """)
     unused = free_port()
     env = dict(os.environ, ROS_MASTER_URI=f"http://127.0.0.1:{unused}/", ROS_LOG_DIR=str(tmp_path))
     out = subprocess.run([PYTHON, "-c", code], env=env, capture_output=True, text=True, timeout=120)
     assert out.returncode == 0, out.stderr
     report, values = out.stdout.splitlines()
-    uri, env_uri, started, reachable = values.split()
+    uri, env_uri, started, reachable, work_dir = values.split()
     assert uri == env_uri and uri != f"http://127.0.0.1:{unused}/" and ":11311" not in uri
     assert started == "True" and reachable == "True"
-    assert report.startswith("ROS: node /private_") and f"private roscore at {uri}" in report
+    assert report.startswith("ROS (home mode): node /private_") and f"private roscore at {uri}" in report
     assert f"export ROS_MASTER_URI={uri}" in report
     assert _wait_closed(_port_of(uri)), f"the private roscore at {uri} outlived its process"
+    assert not Path(work_dir).exists(), "the private roscore's folder (logs, pid) outlived its process"
+    assert "Traceback" not in out.stderr, f"the exit printed a traceback: {out.stderr}"
 
 
 def test_in_a_jupyter_kernel_rerunning_the_cell_keeps_one_node_and_stopping_the_kernel_stops_roscore(tmp_path):
