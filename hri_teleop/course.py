@@ -1,6 +1,6 @@
 """The nbgrader course of Task 4 (``notebooks/``): what its notebooks call, and what the instructor runs.
 
-Why a module: design.md keeps logic out of the notebooks, and the release has rules that
+Why a module: the notebooks carry no logic of their own, and the release has rules that
 must hold every time (templates generated from ``solutions/``, no solution text in the
 student bundle, no outputs in committed notebooks). Both halves live here:
 

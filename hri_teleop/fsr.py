@@ -6,7 +6,7 @@ same physics the real board has, so that a simulated press looks like a real one
 (steep at light touch, saturating under a firm press) and so that a count can be read
 back as an estimated force.
 
-The chain (design.md, "Facts the code must respect"):
+The chain (docs/lab-facts.md, "The force sensor and the board"):
 
 * force -> resistance: the FSR 402 follows roughly a power law ``R = R1 * F**-n``.  We fit
   it by least squares in log-log space to the datasheet points in :data:`FSR402_POINTS`.
@@ -82,7 +82,7 @@ class PowerLaw:
 
 
 #: FSR 402 datasheet points (force in N, resistance in ohm), from Adafruit's FSR guide
-#: as quoted in design.md.  No force is an open circuit and is not a point of the fit.
+#: as listed in docs/lab-facts.md.  No force is an open circuit and is not a point of the fit.
 FSR402_POINTS: Tuple[Tuple[float, float], ...] = ((0.2, 30e3), (1.0, 6e3), (10.0, 1e3), (100.0, 250.0))
 
 #: The lab's divider: 10 kOhm pull-down, 5 V supply, the Uno's 10-bit ADC.

@@ -1,7 +1,7 @@
 """Cartesian velocity, acceleration and jerk limits, and the filter that keeps a twist inside them.
 
 Why: the Panda differentiates every command at 1 kHz and stops with a reflex error as
-soon as the commanded velocity, acceleration or jerk exceeds its limits (design.md).  A
+soon as the commanded velocity, acceleration or jerk exceeds its limits (docs/lab-facts.md).  A
 gamepad is a step input -- a stick let go, a mode switch, a lost pad, a quit -- so the
 teleoperation node never sends the operator's wish directly.  It sends the output of
 :class:`TwistLimiter`, which follows the wish as fast as the configured limits allow and
@@ -101,7 +101,7 @@ class AxisLimits:
             if not is_positive_number(value):
                 raise LimitsError(
                     f"limit {f.name} must be a positive finite number, got {value!r}; "
-                    "set a value inside the Panda's limits (design.md)"
+                    "set a value inside the Panda's limits (docs/lab-facts.md)"
                 )
             object.__setattr__(self, f.name, float(value))
 
@@ -149,7 +149,7 @@ PANDA_LIMITS = CartesianLimits(AxisLimits(1.7, 13.0, 6500.0), AxisLimits(2.5, 25
 DEFAULT_LIMITS = CartesianLimits(AxisLimits(0.25, 0.3, 2.0), AxisLimits(0.5, 0.6, 4.0))
 
 
-#: The Franka control loop: the robot differentiates every command at 1 kHz (design.md).
+#: The Franka control loop: the robot differentiates every command at 1 kHz (docs/lab-facts.md).
 ROBOT_PERIOD_S = 0.001
 
 
@@ -339,7 +339,7 @@ class TwistLimiter:
             details = ", ".join(
                 f"{name}={_get(limits, name):g} > {_get(hard_limits, name):g}" for name in too_high
             )
-            raise LimitsError(f"limits exceed the robot's ({details}); lower them in the teleop config (Panda limits in design.md)")
+            raise LimitsError(f"limits exceed the robot's ({details}); lower them in the teleop config (the Panda's limits: docs/lab-facts.md)")
         self._limits = limits
         self._groups = (_GroupLimiter(limits.translation), _GroupLimiter(limits.rotation))
 

@@ -36,7 +36,7 @@ from hri_teleop.mapping import ADC_MAX_COUNT
 
 __all__ = ["ParamFileError", "ParamEdit", "PARAM_NAME", "set_in_launch", "set_in_yaml", "write_max_sensor_force"]
 
-#: The parameter Ex. 11 calibrates (design.md: an int, ADC counts).
+#: The parameter Ex. 11 calibrates (docs/lab-facts.md: an int, ADC counts).
 PARAM_NAME = "max_sensor_force"
 
 

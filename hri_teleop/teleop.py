@@ -5,7 +5,7 @@ the grader and in the tests.  :class:`TeleopController` has no clock, no rospy a
 pygame; each call to :meth:`TeleopController.step` gets the pad's state, the latest
 mapped force with its age and the time step, and returns a :class:`TeleopCommand`.
 
-The rules (Ex. 8, design.md):
+The rules (Ex. 8, docs/lab-facts.md):
 
 * The sticks drive the velocity: which stick axis drives which twist component, and with
   which sign, is configuration (:class:`AxisAssignment`); each stick passes the dead
@@ -54,7 +54,7 @@ __all__ = [
     "next_tick_s",
 ]
 
-#: The Franka Hand opens from 0 to 0.08 m (design.md).
+#: The Franka Hand opens from 0 to 0.08 m (docs/lab-facts.md).
 GRIPPER_MAX_WIDTH_M = 0.08
 
 Twist = Tuple[float, float, float, float, float, float]

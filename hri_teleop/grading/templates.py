@@ -1,6 +1,6 @@
 """Student templates from the answer key: the marked solution regions of ``solutions/`` removed.
 
-Why generated: design.md gives student deliverables one source of truth, the completed
+Why generated: student deliverables have one source of truth, the completed
 files in ``solutions/``. A template edited by hand drifts from the answer key (a renamed
 method, a new parameter) and students then fill in code the grader no longer calls.
 Removing the regions mechanically keeps both in step, and a template can be proven to

@@ -14,7 +14,7 @@ The cycle, every ``ROBOT_PERIOD_S`` (1 ms):
 2. *Judge* it as Control does: it differentiates the commanded signal with backward
    Euler, ``a_k = (v_k - v_{k-1}) / 1 ms`` and ``j_k = (a_k - a_{k-1}) / 1 ms`` (Franka
    docs, libfranka.rst, "Errors due to noncompliant commanded values"), and compares the
-   norm of each group (translation, rotation) with its limit (design.md's table,
+   norm of each group (translation, rotation) with its limit (docs/lab-facts.md's table,
    :data:`hri_teleop.limits.PANDA_LIMITS`).  The arithmetic is the same as
    :func:`hri_teleop.limits.limit_violations` (same tolerance, same operations), so the
    two agree bit for bit on any sequence; a test checks it.
@@ -50,8 +50,8 @@ Judged strictly, i.e. as libfranka with its rate limiter *off*.  franka_ros turn
 libfranka's rate limiter and a 100 Hz low-pass filter *on* by default
 (franka_control_node.yaml), which would smooth a small step instead of refusing it; the
 Franka docs warn against relying on that ("a robustness feature ... to be used after you
-have already designed a smooth motion generator") and design.md's rule is "never step the
-velocity".  A stream this sim accepts is accepted with or without the rate limiter.
+have already designed a smooth motion generator") and the lab's rule is "never step the
+velocity" (docs/lab-facts.md).  A stream this sim accepts is accepted with or without the rate limiter.
 
 Command timeout (a sim decision, documented because the real stack varies): no command
 for longer than ``timeout_s`` means the node is gone, so the controller commands zero.  A
@@ -195,7 +195,7 @@ def _vector(name: str, value: object, length: int) -> tuple:
 class SimArmConfig:
     """What the simulated arm judges against and where it starts; every number has a reason.
 
-    * ``limits``: the robot's Cartesian limits (design.md), judged every 1 ms.
+    * ``limits``: the robot's Cartesian limits (docs/lab-facts.md), judged every 1 ms.
     * ``timeout_s`` 0.1 s: the teleoperation node publishes at 50 Hz, so this is five
       missed messages -- long enough for a busy laptop, short enough that a dead node
       stops the arm within a tenth of a second.

@@ -21,7 +21,7 @@ so an empty file is :class:`~hri_teleop.sim.world.WorldConfig` ``()`` -- no obje
     attachment: {piston_travel_m, spring_n_per_m}
     board: {rate_hz, noise_counts, seed}
 
-Not configurable, on purpose: the Panda's Cartesian limits (facts of the robot, design.md;
+Not configurable, on purpose: the Panda's Cartesian limits (facts of the robot, docs/lab-facts.md;
 the simulation judges commands against them) and the FSR's wiring (hri_teleop.fsr's
 model of the lab's divider).
 

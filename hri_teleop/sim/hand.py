@@ -11,7 +11,7 @@ What is modelled, and the numbers (every one a field of a dataclass, so a node c
 a parameter):
 
 **The hand** (:class:`HandParams`).  Width = distance between the fingers, 0 ..
-``GRIPPER_MAX_WIDTH_M`` (0.08 m, design.md).  Speed of the width at most 0.1 m/s
+``GRIPPER_MAX_WIDTH_M`` (0.08 m, docs/lab-facts.md).  Speed of the width at most 0.1 m/s
 (franka_gripper's ``default_speed`` is 0.1 m/s, ``franka_gripper_node.yaml``; frankx,
 a libfranka wrapper, has ``Gripper::max_speed = 0.1``).  Force at most 70 N (handout: "can
 apply forces up to 70 N"; the Franka Hand's continuous grasping force; its short-term peak

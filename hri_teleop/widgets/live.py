@@ -50,7 +50,7 @@ class TopicSpec:
 
 
 def lab_topics(config: Any = None) -> List[TopicSpec]:
-    """The lab's four topics (design.md's contract); the twist topic comes from the teleop config."""
+    """The lab's four topics (the topics of docs/lab-facts.md); the twist topic comes from the teleop config."""
     twist = lab_teleop_config(config).twist_topic
     return [
         TopicSpec("/pub_force", "std_msgs/Int16", (-20.0, 1043.0), "ADC count"),

@@ -30,7 +30,7 @@ from hri_teleop.fsr import (
 SETTINGS = settings(max_examples=150, deadline=None)
 forces = st.floats(min_value=1e-3, max_value=1e3, allow_nan=False)
 
-# design.md: "0.2 N -> 30 kOhm, 1.3 V; 1 N -> 6 kOhm, 3.1 V; 10 N -> 1 kOhm, 4.5 V; 100 N -> 250 Ohm, 4.9 V"
+# docs/lab-facts.md: "0.2 N -> 30 kOhm, 1.3 V; 1 N -> 6 kOhm, 3.1 V; 10 N -> 1 kOhm, 4.5 V; 100 N -> 250 Ohm, 4.9 V"
 DESIGN_VOLTAGES = ((0.2, 1.3), (1.0, 3.1), (10.0, 4.5), (100.0, 4.9))
 
 
@@ -40,7 +40,7 @@ def test_lab_constants():
 
 
 def test_fit_is_a_falling_power_law_near_the_datasheet_points():
-    # The datasheet curve is roughly R ~ F^-0.8 (design.md).
+    # The datasheet curve is roughly R ~ F^-0.8 (docs/lab-facts.md).
     assert 0.7 < FSR402.exponent < 0.85
     for force_n, resistance_ohm in FSR402_POINTS:
         assert force_to_resistance(force_n) == pytest.approx(resistance_ohm, rel=0.25)

@@ -1,0 +1,57 @@
+"""The project stands alone: no file points at material outside the repository.
+
+The lab's facts live in docs/lab-facts.md; the handout is cited by its title and exercise
+number. A path into a neighbouring folder works on one machine and nowhere else.
+"""
+
+from __future__ import annotations
+
+import re
+from pathlib import Path
+
+ROOT = Path(__file__).resolve().parents[2]
+SKIP_DIRS = {".git", ".venv", ".venv38", "out", "build", "__pycache__", ".pytest_cache", "hri_teleop.egg-info"}
+TEXT = {".py", ".md", ".yaml", ".yml", ".launch", ".ipynb", ".txt", ".cfg", ".toml", ".sh", ".xml", ".cpp", ".h",
+        ".ino", ".json", ".in", ""}
+OUTSIDE = re.compile(r"\.\./shared|/work/shared|\bdesign\.md\b|shared/handout")
+
+
+def _project_files():
+    for path in ROOT.rglob("*"):
+        rel = path.relative_to(ROOT)
+        if any(part in SKIP_DIRS for part in rel.parts) or not path.is_file() or path.suffix not in TEXT:
+            continue
+        if path.name == Path(__file__).name:
+            continue
+        yield rel, path
+
+
+def test_no_project_file_refers_to_material_outside_the_repository():
+    hits = []
+    for rel, path in _project_files():
+        try:
+            text = path.read_text(encoding="utf-8")
+        except (UnicodeDecodeError, OSError):
+            continue
+        for number, line in enumerate(text.splitlines(), 1):
+            if OUTSIDE.search(line):
+                hits.append(f"{rel}:{number}: {line.strip()[:100]}")
+    assert hits == [], "files refer outside the project (cite docs/lab-facts.md or the handout by title):\n" + "\n".join(hits)
+
+
+def test_the_pattern_catches_each_outside_reference():
+    for line in ("see ../shared/design.md", "limits (design.md)", "the handout (shared/handout/task4.md)"):
+        assert OUTSIDE.search(line), line
+    assert not OUTSIDE.search("see docs/lab-facts.md and the handout, Ex. 8")
+
+
+def test_the_lab_facts_page_quotes_the_limits_the_code_enforces():
+    from hri_teleop.limits import PANDA_LIMITS
+    from hri_teleop.teleop import GRIPPER_MAX_WIDTH_M
+
+    facts = (ROOT / "docs" / "lab-facts.md").read_text(encoding="utf-8")
+    t, r = PANDA_LIMITS.translation, PANDA_LIMITS.rotation
+    row_t = f"| translation | {t.velocity:g} m/s | {t.acceleration:g} m/s² | {t.jerk:g} m/s³ |"
+    row_r = f"| rotation | {r.velocity:g} rad/s | {r.acceleration:g} rad/s² | {r.jerk:g} rad/s³ |"
+    assert row_t in facts and row_r in facts
+    assert f"0..{GRIPPER_MAX_WIDTH_M:g} m" in facts
