@@ -48,7 +48,7 @@ __all__ = ["BatchError", "JobOutcome", "course_layout", "course_submissions", "g
 
 _NOTEBOOK_TIMEOUT_S = 1800.0        # nbgrader autograde of one (student, assignment); a cell has 300 s of its own
 _DB_BUSY_TIMEOUT_S = 60             # SQLite busy timeout of every nbgrader process
-_DB_ATTEMPTS = 3                    # autograde runs of one submission when the gradebook was locked
+_DB_ATTEMPTS = 3                    # autograde runs of one submission when the machine failed it (_RETRY_CAUSES)
 #: Notebook kernels start a private roscore only when no master is reachable: never share
 #: one (the lab's on 11311, say) between students graded at the same time.
 _NO_MASTER = "http://127.0.0.1:1/"
@@ -268,6 +268,18 @@ def _forget_outputs(course: _Course, student: str, assignment: str) -> None:
             pass
 
 
+#: Failures of the grading machine, not of the submission: the run is repeated (``--force`` starts it clean).
+#: A kernel that never answers its first request has run none of the student's code yet
+#: (under load, two kernels started at once can lose their connection on a busy loopback).
+_RETRY_CAUSES = (("database is locked", "the gradebook was locked"),
+                 ("Kernel didn't respond in", "the notebook's kernel did not start"))
+
+
+def _retry_cause(log_text: str) -> str:
+    """Why an autograde run is worth repeating ("" when the failure is the submission's)."""
+    return next((why for needle, why in _RETRY_CAUSES if needle in log_text), "")
+
+
 def _autograde(course: _Course, student: str, assignment: str, out: Path, timeout_s: float,
                db_lock: threading.Lock, progress: Progress) -> JobOutcome:
     folder = course.submitted / student / assignment
@@ -292,9 +304,10 @@ def _autograde(course: _Course, student: str, assignment: str, out: Path, timeou
         if run.returncode == 0:
             score, maximum, manual = _submission_score(course, db_lock, student, assignment)
             return JobOutcome(student, assignment, "notebooks", score, maximum, "graded", seconds, "", manual)
-        if "database is locked" in log.read_text(errors="replace") and attempt < _DB_ATTEMPTS:
+        cause = _retry_cause(log.read_text(errors="replace"))
+        if cause and attempt < _DB_ATTEMPTS:
             shutil.copy(log, log.with_name(f"autograde.attempt{attempt}.log"))
-            progress(f"      {student} {assignment}: the gradebook was locked; autograding again "
+            progress(f"      {student} {assignment}: {cause}; autograding again "
                      f"(attempt {attempt + 1} of {_DB_ATTEMPTS})")
             continue
         break
