@@ -44,6 +44,9 @@ CONDITIONS = ("feedback", "no_feedback")
 class MetricsError(ValueError):
     """A trial cannot be measured (the message names the trial and what is missing)."""
 
+    def _render_traceback_(self) -> List[str]:  # IPython shows the one line, not a traceback
+        return [f"{type(self).__name__}: {self}"]
+
 
 @dataclass(frozen=True)
 class TrialMeta:

@@ -14,7 +14,12 @@ from typing import List, Sequence, Union
 
 from hri_teleop.experiment.metrics import CONDITIONS, MetricsError, TrialMeta
 
-__all__ = ["counterbalanced_plan", "write_plan", "read_plan"]
+__all__ = ["counterbalanced_plan", "trial_seed", "write_plan", "read_plan"]
+
+
+def trial_seed(base_seed: int, participant_index: int, trial: int) -> int:
+    """The simulated participant's seed of a trial: one per participant and trial number."""
+    return int(base_seed) + 1000 * int(participant_index) + int(trial)
 
 
 def counterbalanced_plan(participants: Sequence[str], objects: Sequence[str], repetitions: int = 1) -> List[TrialMeta]:

@@ -53,7 +53,7 @@ import yaml
 
 from hri_teleop.experiment.analysis import LoadedTrial, analyse_folder, measure_trial
 from hri_teleop.experiment.metrics import CONDITIONS, MetricsError, TrialMeta
-from hri_teleop.experiment.plan import counterbalanced_plan, write_plan
+from hri_teleop.experiment.plan import counterbalanced_plan, trial_seed, write_plan
 from hri_teleop.experiment.sidecar import (META_KEYS, meta_from_sidecar, read_sidecar, sidecar_data,
                                            update_sidecar, write_sidecar)
 from hri_teleop.experiment.tlx import SUBSCALES, TlxRatings, optional_tlx, store_tlx
@@ -77,11 +77,6 @@ Progress = Callable[[str], None]
 def trial_stem(meta: TrialMeta) -> str:
     """File name stem of a trial: ``P01_t03``."""
     return f"{meta.participant}_t{meta.trial:02d}"
-
-
-def trial_seed(base_seed: int, participant_index: int, trial: int) -> int:
-    """The simulated participant's seed of a rehearsal trial: one per participant and trial number."""
-    return int(base_seed) + 1000 * int(participant_index) + int(trial)
 
 
 # --------------------------------------------------------------------------- masters

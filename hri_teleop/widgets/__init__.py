@@ -15,6 +15,7 @@ LivePlot              /pub_force, /force_mapped, /gripper_width, twist, live    
 CalibrationWidget     max /pub_force -> /max_sensor_force and your launch file    yes
 GraphView             nodes, topics and message types of the live system (Ex. 15) a master
 TlxWidget             raw NASA-TLX after a trial -> the trial's sidecar (Ex. 14)  no
+RehearsalOffer        a folder's trials, or a simulated session rehearsed into it  to rehearse
 ====================  ==========================================================  =========
 
 Importing this package needs neither rospy nor pygame: the ROS widgets start ROS through
@@ -37,6 +38,7 @@ from .deadzone import DeadzoneExplorer, deadzone_curve, filter_stick
 from .fsr import FsrCurve, FsrExplorer, FsrReading, describe_reading, fsr_curve, fsr_reading
 from .graph import GraphView, RosGraph, draw_graph, graph_from_state, layered_layout, read_graph
 from .live import LivePlot, LiveTopics, TopicBuffer, TopicSpec, lab_topics, numeric_fields
+from .rehearsal import RehearsalOffer, count_trials
 from .tlx import TlxWidget, trial_sidecars
 
 __all__ = [
@@ -47,5 +49,5 @@ __all__ = [
     "LivePlot", "LiveTopics", "TopicBuffer", "TopicSpec", "lab_topics", "numeric_fields",
     "CalibrationWidget", "MaxRecorder",
     "GraphView", "RosGraph", "graph_from_state", "layered_layout", "draw_graph", "read_graph",
-    "TlxWidget", "trial_sidecars",
+    "TlxWidget", "trial_sidecars", "RehearsalOffer", "count_trials",
 ]

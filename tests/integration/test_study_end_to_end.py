@@ -282,3 +282,25 @@ def test_the_analysis_notebook_runs_on_the_recorded_folder(study, monkeypatch):
     assert any("image/png" in o.get("data", {}) for o in cells["figure"].outputs)
     assert "Wilcoxon signed-rank, exact" in text("comparison") and "assumptions:" in text("comparison")
     assert any("application/vnd.jupyter.widget-view+json" in o.get("data", {}) for o in cells["tlx"].outputs)
+
+
+def test_a_fresh_analysis_notebook_offers_a_rehearsal_and_says_in_one_line_what_is_missing(tmp_path, monkeypatch):
+    import nbformat
+    from nbclient import NotebookClient
+
+    from hri_teleop.labkernel import KERNEL_NAME, install_kernelspec
+
+    install_kernelspec()
+    empty = tmp_path / "no_trials_yet"
+    monkeypatch.setenv("HRI_TRIALS", str(empty))
+    nb = nbformat.read(str(NOTEBOOK), as_version=4)
+    NotebookClient(nb, timeout=120, startup_timeout=120, kernel_name=KERNEL_NAME, allow_errors=True).execute()
+    cells = {c.get("id"): c for c in nb.cells}
+    setup = cells["setup"].outputs
+    assert any("application/vnd.jupyter.widget-view+json" in o.get("data", {}) for o in setup), "no rehearsal offer"
+    trials_text = "".join(o.get("text", "") for o in cells["trials"].outputs if o.output_type == "stream")
+    assert trials_text.startswith(f"no trials in {empty} yet: press Rehearse")
+    errors = [o for o in cells["metrics"].outputs if o.output_type == "error"]
+    assert len(errors) == 1 and errors[0]["ename"] == "MetricsError"
+    assert errors[0]["traceback"] == ["MetricsError: no trials to analyse; record some first "
+                                      "(python -m hri_teleop.ros.trial rehearse)"]

@@ -171,3 +171,28 @@ def test_solution_texts_hold_the_answer_key_and_the_notebook_solutions():
     assert any("ex03_parameter_server.ipynb#cell" in where for where in texts)
     flat = [line for lines in texts.values() for line in lines]
     assert any("rospy.get_param" in line for line in flat)
+
+
+def _points_in(cell_text: str) -> int:
+    """Points a README table cell lists: '(2)' each, '(3 × 1)' as 3; the first number of '(10; ...)'."""
+    total = 0
+    for group in re.findall(r"\(([^()]*)\)", cell_text):
+        product = re.match(r"\s*(\d+)\s*×\s*(\d+)", group)
+        first = re.match(r"\s*(\d+)\b", group)
+        total += int(product.group(1)) * int(product.group(2)) if product else int(first.group(1)) if first else 0
+    return total
+
+
+def test_the_readme_table_gives_each_notebook_the_points_its_cells_carry():
+    readme = (COURSE_DIR / "README.md").read_text(encoding="utf-8")
+    rows = {}
+    for line in readme.splitlines():
+        cells = [c.strip() for c in line.strip().strip("|").split("|")]
+        if len(cells) == 5 and cells[0].startswith("`") and "/ex" in cells[0]:
+            rows[cells[0].strip("`").split("/")[-1]] = (_points_in(cells[3]), _points_in(cells[4]))
+    actual = {}
+    for path in NOTEBOOKS:
+        graded = [_nbgrader(c) for c in _cells(path) if _nbgrader(c).get("grade")]
+        actual[path.stem] = (sum(m["points"] for m in graded if not m.get("solution")),
+                             sum(m["points"] for m in graded if m.get("solution")))
+    assert rows == actual
