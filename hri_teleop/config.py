@@ -38,6 +38,8 @@ __all__ = [
     "DEFAULT_PAD",
     "DEFAULT_TWIST_TOPIC",
     "LAB_TELEOP_CONFIG",
+    "LAB_CALIBRATION",
+    "lab_max_sensor_force",
     "PAD_KINDS",
     "CONFIG_KEYS",
     "load_yaml",
@@ -50,6 +52,8 @@ DEFAULT_PAD = "pygame"  # one of hri_teleop.gamepad.PAD_KINDS; DEFAULT_LAYOUT co
 DEFAULT_TWIST_TOPIC = "/cartesian_velocity_controller/cmd_vel"
 #: The lab's teleoperation config in a checkout (what teleoperation.py reads by default).
 LAB_TELEOP_CONFIG = Path(__file__).resolve().parents[1] / "hri_lab" / "config" / "teleop.yaml"
+#: The lab's calibration value, /max_sensor_force (Ex. 11), in one file (docs/instructors.md).
+LAB_CALIBRATION = LAB_TELEOP_CONFIG.with_name("calibration.yaml")
 
 # YAML key -> (TeleopParams field, meaning for messages)
 _NUMBER_KEYS: Dict[str, tuple] = {
@@ -258,3 +262,16 @@ def load_teleop_config(path: Union[str, Path], overrides: Optional[Mapping[str, 
     settings.update(overrides or {})
     where = f"{overrides_source} over {path}" if str(path) else overrides_source
     return teleop_config_from_dict(settings, source=where)
+
+
+def lab_max_sensor_force(path: Union[str, Path] = LAB_CALIBRATION) -> int:
+    """The lab's /max_sensor_force: ``max_sensor_force`` of the calibration file, a whole count 1..1023."""
+    from hri_teleop.mapping import ADC_MAX_COUNT  # noqa: PLC0415 - mapping imports nothing of this module
+
+    data = read_yaml(path, ConfigError, what="calibration file",
+                     missing_fix="restore hri_lab/config/calibration.yaml (max_sensor_force: 700)")
+    value = data.get("max_sensor_force") if isinstance(data, dict) else None
+    if isinstance(value, bool) or not isinstance(value, int) or not 0 < value <= ADC_MAX_COUNT:
+        raise ConfigError(f"{path}: max_sensor_force must be a whole count 1..{ADC_MAX_COUNT}, got {value!r}; "
+                          "write the count at full piston travel, e.g. max_sensor_force: 700")
+    return value

@@ -14,13 +14,13 @@ from pathlib import Path
 from typing import Any, Dict, List, Sequence
 from xml.sax.saxutils import quoteattr
 
-from hri_teleop.config import DEFAULT_TWIST_TOPIC
+from hri_teleop.config import DEFAULT_TWIST_TOPIC, lab_max_sensor_force
 from hri_teleop.ros.master import ManagedProcess, MasterError, PrivateMaster, lab_shell_env
 
 from .report import BenchError
 
 #: The calibration the probe's counts are mapped with (the lab's typical /max_sensor_force).
-MAX_SENSOR_FORCE = 700
+MAX_SENSOR_FORCE = lab_max_sensor_force()
 #: An idle operator: one step far in the future, so the script never ends and the pad stays connected.
 IDLE_SCRIPT = "- {t: 86400.0, release: south}\n"
 

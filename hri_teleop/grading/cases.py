@@ -19,6 +19,7 @@ from dataclasses import dataclass, field
 from pathlib import Path
 from typing import Dict, FrozenSet, List, Optional, Sequence, Tuple, Union
 
+from hri_teleop.config import lab_max_sensor_force
 from hri_teleop.gamepad import AXES, PadState
 from hri_teleop.mapping import ADC_MAX_COUNT, map_force
 from hri_teleop.teleop import Mode, TeleopController, TeleopParams
@@ -32,7 +33,7 @@ __all__ = [
 ]
 
 #: The value of /max_sensor_force in the public traces (the lab's typical calibration).
-PUBLIC_MAX_SENSOR_FORCE = 700
+PUBLIC_MAX_SENSOR_FORCE = lab_max_sensor_force()  # the lab's calibration (hri_lab/config/calibration.yaml)
 _PUBLIC_SEED = 20240415  # fixed: the public traces must be the same on every machine
 
 

@@ -18,6 +18,7 @@ from typing import Callable, Dict, List, Mapping, Optional, Tuple
 
 import numpy as np
 
+from hri_teleop.config import lab_max_sensor_force
 from hri_teleop.mapping import map_force
 from hri_teleop.plots import sensor_timeline
 from hri_teleop.traces import pair_outputs, percentile_ms, rate_hz
@@ -119,7 +120,8 @@ def run(duration_s: float, max_sensor_force: int, rate_hz_param: float, out_dir:
 def main(argv: Optional[List[str]] = None) -> int:
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     parser.add_argument("--duration", type=float, default=5.0, help="recording time, s")
-    parser.add_argument("--max-sensor-force", type=int, default=700, help="/max_sensor_force, ADC counts")
+    parser.add_argument("--max-sensor-force", type=int, default=lab_max_sensor_force(),
+                        help="/max_sensor_force, ADC counts (default: hri_lab/config/calibration.yaml)")
     parser.add_argument("--rate", type=float, default=50.0, help="FSR_sensor.py publish rate, Hz")
     parser.add_argument("--press-max", type=int, default=800,
                         help="top count of a simulated press; above --max-sensor-force shows the clipping")

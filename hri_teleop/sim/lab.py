@@ -94,7 +94,7 @@ def run_lab(
     params: Optional[TeleopParams] = None,
     limits: CartesianLimits = DEFAULT_LIMITS,
     *,
-    max_sensor_force: float = 700.0,
+    max_sensor_force: Optional[float] = None,
     manager: ManagerParams = ManagerParams(),
     max_duration_s: float = 120.0,
     record_every_s: float = 0.01,
@@ -107,6 +107,10 @@ def run_lab(
     how long it took (the speed-up is ``duration_s() / wall_s``).
     """
     wall0 = time.perf_counter()
+    if max_sensor_force is None:  # the lab's calibration (hri_lab/config/calibration.yaml)
+        from hri_teleop.config import lab_max_sensor_force  # noqa: PLC0415 - config imports this package's peers
+
+        max_sensor_force = float(lab_max_sensor_force())
     params = params if params is not None else TeleopParams()
     if not (max_duration_s > 0 and math.isfinite(max_duration_s)):
         raise LabRunError(f"max_duration_s must be a positive number of seconds, got {max_duration_s!r}")

@@ -17,6 +17,7 @@ from __future__ import annotations
 from pathlib import Path
 from typing import Callable, List, Optional, Sequence, Union
 
+from hri_teleop.config import lab_max_sensor_force
 from hri_teleop.experiment.analysis import LoadedTrial, StudyResult, analyse_trials
 from hri_teleop.experiment.metrics import TrialMeta
 from hri_teleop.experiment.plan import counterbalanced_plan, trial_seed
@@ -28,10 +29,6 @@ from hri_teleop.sim.operators import study_scenario
 from hri_teleop.teleop import TeleopParams
 
 __all__ = ["StudyError", "participant_codes", "simulate_trial", "simulate_study"]
-
-#: The calibration of the simulated board (its count at full piston travel; the lab's value).
-SIM_MAX_SENSOR_FORCE = 700.0
-
 
 class StudyError(ValueError):
     """A simulated study was asked for something it cannot run (the message says what to pass)."""
@@ -56,7 +53,7 @@ def simulate_trial(meta: TrialMeta, seed: int, *, quick: bool = True,
     world = world_config_from_dict(scenario["world"], f"simulated trial {meta.label}")
     steps = list(operator) if operator is not None else parse_script(scenario["steps"])
     params = TeleopParams(feedback=meta.condition == "feedback")
-    return run_lab(steps, world, params, max_sensor_force=SIM_MAX_SENSOR_FORCE, max_duration_s=60.0)
+    return run_lab(steps, world, params, max_sensor_force=float(lab_max_sensor_force()), max_duration_s=60.0)
 
 
 def simulate_study(participants: Union[int, Sequence[str]] = 6, objects: Sequence[str] = ("egg",), *,
@@ -78,7 +75,7 @@ def simulate_study(participants: Union[int, Sequence[str]] = 6, objects: Sequenc
     for k, meta in enumerate(plan, 1):
         record = simulate_trial(meta, trial_seed(seed, index[meta.participant], meta.trial), quick=quick,
                                 operator=operator)
-        trials.append(LoadedTrial(meta, record, {"max_sensor_force": SIM_MAX_SENSOR_FORCE, "sim": True},
+        trials.append(LoadedTrial(meta, record, {"max_sensor_force": float(lab_max_sensor_force()), "sim": True},
                                   Path(f"{meta.participant}_t{meta.trial:02d} (simulated)")))
         if progress is not None:
             progress(f"[study] {k}/{len(plan)} {meta.label}: {record.ended_by}, "

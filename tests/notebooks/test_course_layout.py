@@ -196,3 +196,29 @@ def test_the_readme_table_gives_each_notebook_the_points_its_cells_carry():
         actual[path.stem] = (sum(m["points"] for m in graded if not m.get("solution")),
                              sum(m["points"] for m in graded if m.get("solution")))
     assert rows == actual
+
+
+def test_the_instructors_guide_gives_each_assignment_its_points():
+    guide = (COURSE_DIR.parent / "docs" / "instructors.md").read_text(encoding="utf-8")
+    listed = {}
+    for line in guide.splitlines():
+        cells = [c.strip() for c in line.strip().strip("|").split("|")]
+        if len(cells) == 5 and cells[2].isdigit():
+            listed[cells[0].split("`")[1] if "`" in cells[0] else cells[0]] = tuple(int(c) for c in cells[2:])
+    actual = {}
+    for path in NOTEBOOKS:
+        graded = [_nbgrader(c) for c in _cells(path) if _nbgrader(c).get("grade")]
+        auto = sum(m["points"] for m in graded if not m.get("solution"))
+        manual = sum(m["points"] for m in graded if m.get("solution"))
+        for key in (path.parent.name, "course"):
+            a, m, t = actual.get(key, (0, 0, 0))
+            actual[key] = (a + auto, m + manual, t + auto + manual)
+    assert listed == actual
+
+
+def test_the_rubric_covers_every_answer_graded_by_hand():
+    guide = (COURSE_DIR.parent / "docs" / "instructors.md").read_text(encoding="utf-8")
+    rubric = dict(re.findall(r"^\| `(\w+)`[^|]*\| (\d+) \|", guide, re.M))
+    manual = {_nbgrader(c)["grade_id"]: str(_nbgrader(c)["points"]) for p in NOTEBOOKS for c in _cells(p)
+              if _nbgrader(c).get("grade") and _nbgrader(c).get("solution")}
+    assert rubric == manual
