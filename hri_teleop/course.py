@@ -43,7 +43,7 @@ from typing import Any, Dict, Iterable, List, Mapping, Optional, Sequence, Tuple
 
 __all__ = [
     "CourseError", "REPO", "COURSE_DIR", "SOLUTIONS", "ASSIGNMENTS", "ASSIGNMENT_CHECKS", "STUDENT_PACKAGE", "nbgrader_env",
-    "fast", "seconds", "score", "show_file", "stop_nodes", "run_provided_node", "run_student_node", "launch",
+    "fast", "seconds", "score", "show_file", "stop_nodes", "run_provided_node", "run_student_node", "rosrun_student", "launch",
     "wait_for_publisher",
     "student_workspace", "launch_student", "import_student_file", "grade_teleoperation_parts", "grade_teleoperation_node",
     "student_files", "exclude_overwriting", "link_answer_key", "source_notebooks", "solution_texts",
@@ -57,13 +57,15 @@ COURSE_DIR = REPO / "notebooks"
 SOLUTIONS = REPO / "solutions" / "hri_lab"
 #: The student's package folder beside the notebooks of every assignment.
 STUDENT_PACKAGE = "hri_lab"
+#: Scripts the handout has students make executable (Ex. 9, Ex. 12 c): released without the bit.
+STUDENT_MAKES_EXECUTABLE = ("scripts/teleoperation.py", "scripts/gripper_manager.py")
 #: nbgrader assignments: the preparation at home (Ex. 1-7), the lab session (Ex. 8-15).
 ASSIGNMENTS = ("preparation", "lab")
 #: The grader's checks of the student files each assignment's notebooks grade (``make grade`` runs
 #: them on ``submitted/<student>/<assignment>/hri_lab`` beside nbgrader's autograde).
 ASSIGNMENT_CHECKS: Dict[str, Tuple[str, ...]] = {
     "preparation": ("robot-params", "mapping-node", "sensor-launch"),
-    "lab": ("teleoperation", "teleoperation-launch", "graph"),
+    "lab": ("teleoperation", "teleoperation-launch", "graph", "catkin-package"),
 }
 #: Environment variables that make :func:`fast` true (nbgrader sets NBGRADER_EXECUTION).
 FAST_ENV = ("HRI_NOTEBOOK_FAST", "NBGRADER_EXECUTION")
@@ -250,6 +252,12 @@ def run_student_node(path: PathLike, name: str = "", **params: Any) -> Any:
                   cwd=script.resolve().parent)
 
 
+def rosrun_student(workspace: Any, script: str, name: str = "", **params: Any) -> Any:
+    """``rosrun hri_lab SCRIPT`` in the student's built workspace (:func:`hri_teleop.catkin_ws.build_workspace`)."""
+    node = name or Path(script).stem
+    return _start(["rosrun", "hri_lab", script, f"__name:={node}", *_ros_args(params)], node, extra_env=workspace.env())
+
+
 def _launch_nodes(where: Sequence[str], extra_env: Optional[Dict[str, str]] = None) -> List[str]:
     """The node names ``roslaunch`` would start (``roslaunch --nodes``); [] when it cannot tell."""
     env = dict(os.environ, **(extra_env or {}))
@@ -336,7 +344,7 @@ def student_files() -> List[str]:
 
 def exclude_overwriting() -> Dict[str, List[str]]:
     """nbgrader's ``Autograde.exclude_overwriting``: autograde never puts the instructor's file over the student's."""
-    return {assignment: student_files() for assignment in ASSIGNMENTS}
+    return {assignment: student_files() + [f"{STUDENT_PACKAGE}/CMakeLists.txt"] for assignment in ASSIGNMENTS}
 
 
 def link_answer_key(course_dir: PathLike = COURSE_DIR, solutions: PathLike = SOLUTIONS) -> List[Path]:
@@ -480,7 +488,7 @@ def generate_assignments(course_dir: PathLike = COURSE_DIR) -> List[Path]:
     for assignment in ASSIGNMENTS:
         _nbgrader(["generate_assignment", assignment, "--force", "--create"], course)
         folder = course / "release" / assignment
-        generate_templates(SOLUTIONS, folder / STUDENT_PACKAGE)
+        generate_templates(SOLUTIONS, folder / STUDENT_PACKAGE, not_executable=STUDENT_MAKES_EXECUTABLE)
         released.append(folder)
     return released
 

@@ -24,7 +24,7 @@ c.Autograde.exclude_overwriting = exclude_overwriting()
 
 # Files the notebooks write next to themselves while they run (a parameter dump, pad
 # scripts, plots) are the student's scratch, never part of a release.
-c.CourseDirectory.ignore = [".ipynb_checkpoints", "*.pyc", "__pycache__", "feedback",
+c.CourseDirectory.ignore = [".ipynb_checkpoints", "*.pyc", "__pycache__", "feedback", "catkin_ws",
                             "new_robot_params.yaml", "ex[0-9][0-9]_*.yaml", "ex[0-9][0-9]_*.png"]
 
 # Execution: a check runs the student's nodes on a private ROS master (up to ~30 s on a

@@ -20,7 +20,7 @@ apt_packages=(
   python3-std-msgs python3-geometry-msgs python3-sensor-msgs
   python3-diagnostic-msgs python3-std-srvs
   python3-actionlib python3-actionlib-msgs python3-genpy
-  rospack-tools python3-venv catkin-lint bubblewrap
+  rospack-tools rosbash catkin python3-venv catkin-lint bubblewrap
   # `make firmware` and its tests: the Uno's toolchain and Arduino core, simavr with its
   # library (the simulated Uno), a host compiler (the harness, the sketches' host tests).
   gcc-avr avr-libc binutils-avr arduino-core-avr simavr libsimavr-dev gcc g++ make

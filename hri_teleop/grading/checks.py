@@ -28,6 +28,8 @@ import yaml
 from hri_teleop.config import DEFAULT_TWIST_TOPIC
 from hri_teleop.grading import cases as C
 from hri_teleop.grading import compare
+from hri_teleop.grading.package_check import grade_catkin_package
+from hri_teleop.grading.reference_guard import reference_uses, refusal
 from hri_teleop.grading.results import CheckResult, GradingError, Part, feedback_text, not_judged
 from hri_teleop.grading.robot_params import compare_robot_params
 from hri_teleop.grading.sandbox import DEFAULT_LIMITS, StudentProcess, describe_exit, sandbox_mode, session_argv, student_uid
@@ -249,6 +251,23 @@ def _start(check: str, path: PathLike, out_dir: Optional[PathLike], seed: Option
     return _Run(check, root if given is None else given, out_dir, key, given or found), None, seed
 
 
+def _refuse_reference(run: _Run, check: str, table: Dict[str, Tuple[str, float]], seed: Optional[int]
+                      ) -> Optional[CheckResult]:
+    """Every part failed when the student's file uses the lab's reference rules (None: it does not)."""
+    target = run.space.files[_KEY[check]]
+    try:
+        uses = reference_uses(target.read_text(encoding="utf-8")) if target is not None else []
+    except (OSError, UnicodeDecodeError):
+        uses = []  # the check itself says the file cannot be read
+    if not uses:
+        return None
+    entries = list(table.values())
+    message = refusal(Path(DELIVERABLES[_KEY[check]]).name, uses)
+    parts = [Part(entries[0][0], entries[0][1], False, message)]
+    parts += [not_judged(name, points, "the file uses the lab's reference implementation") for name, points in entries[1:]]
+    return _finish(check, run, parts, seed)
+
+
 # -- the checks --------------------------------------------------------------------------------
 
 @_closing
@@ -269,12 +288,20 @@ def grade_robot_params(path: PathLike, *, seed: Optional[int] = None, out_dir: O
 
 
 @_closing
-def grade_mapping_node(path: PathLike, *, seed: Optional[int] = None, out_dir: Optional[PathLike] = None) -> CheckResult:
-    """Ex. 5: the node for real on a private master: topics, type, every value, the range from the parameter."""
+def grade_mapping_node(path: PathLike, *, seed: Optional[int] = None, out_dir: Optional[PathLike] = None,
+                       reference_allowed: bool = False) -> CheckResult:
+    """Ex. 5: the node for real on a private master: topics, type, every value, the range from the parameter.
+
+    ``reference_allowed``: judge a file that uses the lab's reference rule too (the lab's own
+    node, when the grader's agreement with it is tested); students' files never are.
+    """
     _require_ros()
     run, missing, seed = _start("mapping-node", path, out_dir, seed)
     if run is None:
         return missing  # type: ignore[return-value]
+    refused = None if reference_allowed else _refuse_reference(run, "mapping-node", compare.MAPPING, seed)
+    if refused is not None:
+        return refused
     cases = [C.public_mapping_case()] + C.hidden_mapping_cases(seed)
     plan = {"kind": "mapping-node", "script": str(run.space.files["mapping_node"]),
             "cases": [{"label": c.label, "max_sensor_force": c.max_sensor_force, "counts": list(c.counts)} for c in cases],
@@ -323,6 +350,9 @@ def grade_teleoperation(path: PathLike, *, seed: Optional[int] = None, out_dir: 
     run, missing, seed = _start("teleoperation", path, out_dir, seed)
     if run is None:
         return missing  # type: ignore[return-value]
+    refused = _refuse_reference(run, "teleoperation", compare.TELEOP, seed)
+    if refused is not None:
+        return refused
     cases = [C.public_teleop_parts_case(), C.hidden_teleop_parts_case(seed)]
     plan_cases = []
     for case in cases:
@@ -481,6 +511,7 @@ CHECKS: Dict[str, Callable[..., CheckResult]] = {
     "teleoperation": grade_teleoperation,
     "teleoperation-launch": grade_teleoperation_launch,
     "graph": grade_graph,
+    "catkin-package": grade_catkin_package,
 }
 
 

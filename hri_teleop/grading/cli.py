@@ -1,7 +1,8 @@
 """``hri-grade``: the autograder from the command line.
 
     hri-grade CHECK PATH [--json] [--seed N] [--out DIR]
-        CHECK: robot-params, mapping-node, sensor-launch, teleoperation, teleoperation-launch, graph
+        CHECK: robot-params, mapping-node, sensor-launch, teleoperation, teleoperation-launch, graph,
+               catkin-package (Ex. 9 and 12 c: executable bits, CMakeLists entries)
         PATH: the student's file, or their hri_lab package folder
     hri-grade submission DIR [--json] [--seed N] [--out DIR]    every check on one package
     hri-grade batch DIR [--out DIR] [--jobs N] [--timeout S]    every submission in DIR (make grade):

@@ -11,10 +11,11 @@ file's language (nbgrader's markers, so the notebooks can use the same ones):
 
 * Python and YAML: ``### BEGIN SOLUTION`` ... ``### END SOLUTION``
 * XML (launch files): ``<!-- ### BEGIN SOLUTION -->`` ... ``<!-- ### END SOLUTION -->``
+* CMake (``CMakeLists.txt``): ``### BEGIN SOLUTION`` ... ``### END SOLUTION``
 
 In the template a region becomes a hint at the marker's indentation: ``# YOUR CODE HERE``
 plus ``raise NotImplementedError()`` in Python (so an unfinished method fails loudly, not
-silently), ``# YOUR CODE HERE`` in YAML and ``<!-- YOUR CODE HERE -->`` in XML. Comments
+silently), ``# YOUR CODE HERE`` in YAML and CMake, ``<!-- YOUR CODE HERE -->`` in XML. Comments
 written just above a marker stay: they are the exercise's instructions.
 """
 
@@ -24,7 +25,7 @@ import re
 import shutil
 from dataclasses import dataclass
 from pathlib import Path
-from typing import List, Tuple, Union
+from typing import List, Sequence, Tuple, Union
 
 __all__ = ["TemplateError", "KINDS", "kind_of", "make_template", "make_answer", "has_markers",
            "generate_templates", "GeneratedFile"]
@@ -35,6 +36,8 @@ _ANY_MARKER = re.compile(r"(BEGIN|END) SOLUTION")
 
 #: File suffix -> language of the hint.
 KINDS = {".py": "python", ".yaml": "yaml", ".yml": "yaml", ".launch": "xml", ".xml": "xml"}
+#: Files whose language is in their name, not their suffix.
+NAMED_KINDS = {"CMakeLists.txt": "cmake"}
 
 
 class TemplateError(ValueError):
@@ -43,6 +46,8 @@ class TemplateError(ValueError):
 
 def kind_of(path: Union[str, Path]) -> str:
     """"python", "yaml" or "xml" for a file name; TemplateError for other suffixes."""
+    if Path(path).name in NAMED_KINDS:
+        return NAMED_KINDS[Path(path).name]
     suffix = Path(path).suffix.lower()
     if suffix not in KINDS:
         raise TemplateError(f"{path}: no template rule for '{suffix}' files; use one of {', '.join(sorted(KINDS))} "
@@ -53,7 +58,7 @@ def kind_of(path: Union[str, Path]) -> str:
 def _hint(kind: str, indent: str) -> List[str]:
     if kind == "python":
         return [f"{indent}# YOUR CODE HERE", f"{indent}raise NotImplementedError()"]
-    if kind == "yaml":
+    if kind in ("yaml", "cmake"):
         return [f"{indent}# YOUR CODE HERE"]
     return [f"{indent}<!-- YOUR CODE HERE -->"]
 
@@ -116,11 +121,14 @@ class GeneratedFile:
     regions: int
 
 
-def generate_templates(solutions_dir: Union[str, Path], out_dir: Union[str, Path]) -> List[GeneratedFile]:
+def generate_templates(solutions_dir: Union[str, Path], out_dir: Union[str, Path],
+                       not_executable: Sequence[str] = ()) -> List[GeneratedFile]:
     """Write the template of every file under ``solutions_dir`` to the same place under ``out_dir``.
 
     Files without markers are copied as they are (README.md is the instructors' and is
-    skipped). Executable bits are kept, so a template script runs with ``rosrun``.
+    skipped); a link is copied as the file it points at. Executable bits are kept, so a
+    template script runs with ``rosrun``, except for the ``not_executable`` paths (relative
+    to the package): the handout has students ``chmod +x`` those themselves.
     ``out_dir`` is replaced, never merged: a file removed from the answer key must not
     linger in the student bundle.
     """
@@ -142,5 +150,7 @@ def generate_templates(solutions_dir: Union[str, Path], out_dir: Union[str, Path
         count = len(_regions(text.split("\n"), str(path))) if has_markers(text) else 0
         target.write_text(make_template(text, kind_of(path), str(path)) if count else text, encoding="utf-8")
         shutil.copymode(path, target)
+        if relative.as_posix() in not_executable:
+            target.chmod(target.stat().st_mode & ~0o111)
         written.append(GeneratedFile(path, target, count))
     return written

@@ -27,8 +27,11 @@ def test_solutions_pass_every_check_with_full_marks(tmp_path):
 
 def test_the_labs_own_robot_params_and_mapping_node_pass_the_same_checks(tmp_path):
     params = grade_robot_params(REPO / "hri_lab" / "config" / "robot_params.yaml", out_dir=tmp_path)
-    node = grade_mapping_node(REPO / "hri_lab" / "scripts" / "mapping_node.py", out_dir=tmp_path, seed=11)
+    lab_node = REPO / "hri_lab" / "scripts" / "mapping_node.py"
+    node = grade_mapping_node(lab_node, out_dir=tmp_path, seed=11, reference_allowed=True)
     assert params.passed and node.passed, feedback_text([params, node])
+    refused = grade_mapping_node(lab_node, out_dir=tmp_path, seed=11)  # the reference itself, handed in by a student
+    assert refused.score == 0 and "uses the lab's reference implementation" in refused.parts[0].message
 
 
 def test_the_generated_templates_are_gradable_and_say_what_to_fill_in(tmp_path):

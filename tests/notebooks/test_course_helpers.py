@@ -74,7 +74,8 @@ def test_exclude_overwriting_names_every_student_file_in_both_assignments():
     files = course.exclude_overwriting()
     assert set(files) == set(course.ASSIGNMENTS)
     for listed in files.values():
-        assert sorted(listed) == sorted(f"hri_lab/{sub}" for sub in DELIVERABLES.values())
+        # the six deliverables, and the CMakeLists.txt students add their scripts to (Ex. 9, 12 c)
+        assert sorted(listed) == sorted([f"hri_lab/{sub}" for sub in DELIVERABLES.values()] + ["hri_lab/CMakeLists.txt"])
 
 
 def test_link_answer_key_refuses_a_copy_of_the_answer_key_in_source(tmp_path):

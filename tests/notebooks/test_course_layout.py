@@ -109,6 +109,7 @@ def test_autograded_cells_call_the_toolkit_and_carry_no_logic(path):
 
 def test_file_checks_have_the_points_of_the_graders_parts():
     from hri_teleop.grading.compare import GRAPH, MAPPING, SENSOR_LAUNCH, TELEOP, TELEOP_LAUNCH
+    from hri_teleop.grading.package_check import CATKIN_PACKAGE, EXERCISE_PARTS
     from hri_teleop.grading.robot_params import POINTS
 
     def total(table, node=None):
@@ -116,7 +117,9 @@ def test_file_checks_have_the_points_of_the_graders_parts():
 
     expected = {"ex4_file": 1 + sum(POINTS.values()), "ex5_node": total(MAPPING), "ex6_launch": total(SENSOR_LAUNCH),
                 "ex8_parts": total(TELEOP, node=False), "ex9_node": total(TELEOP, node=True),
-                "ex12_launch": total(TELEOP_LAUNCH), "ex15_graph": total(GRAPH)}
+                "ex12_launch": total(TELEOP_LAUNCH), "ex15_graph": total(GRAPH),
+                "ex9_package": sum(CATKIN_PACKAGE[k][1] for k in EXERCISE_PARTS[9]),
+                "ex12_package": sum(CATKIN_PACKAGE[k][1] for k in EXERCISE_PARTS[12])}
     points = {_nbgrader(c)["grade_id"]: _nbgrader(c)["points"] for p in NOTEBOOKS for c in _cells(p)
               if _nbgrader(c).get("grade")}
     assert {k: points.get(k) for k in expected} == expected
@@ -140,7 +143,7 @@ def test_nbgrader_config_keeps_the_students_files_and_sets_timeouts():
     assert config.Execute.timeout >= 120
     excluded = config.Autograde.exclude_overwriting
     for assignment in ASSIGNMENTS:
-        assert set(excluded[assignment]) == set(student_files())
+        assert set(excluded[assignment]) == set(student_files()) | {"hri_lab/CMakeLists.txt"}
     assert "hri_lab/scripts/mapping_node.py" in excluded["preparation"]
     assert "hri_lab/launch/teleoperation.launch" in excluded["lab"]
     assert exclude_overwriting() == dict(excluded)
@@ -159,7 +162,7 @@ def test_nbgrader_ignores_the_scratch_files_notebooks_write_but_not_the_students
     def ignored(name):
         return any(fnmatch.fnmatch(name, pattern) for pattern in ignore)
 
-    for scratch in ("new_robot_params.yaml", "ex09_pad_script.yaml", "ex10_drive.yaml", "ex14_mine.png"):
+    for scratch in ("new_robot_params.yaml", "ex09_pad_script.yaml", "ex10_drive.yaml", "ex14_mine.png", "catkin_ws"):
         assert ignored(scratch), scratch
     for kept in ("robot_params.yaml", "graph.yaml", "mapping_node.py", "teleoperation.launch", "hri_lab"):
         assert not ignored(kept), kept

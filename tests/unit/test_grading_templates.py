@@ -61,16 +61,31 @@ def test_unbalanced_markers_name_the_line_and_the_fix(text, words):
 def test_unknown_file_types_are_refused():
     with pytest.raises(TemplateError, match="no template rule"):
         kind_of("notes.txt")
+    assert kind_of("hri_lab/CMakeLists.txt") == "cmake"
+
+
+def test_the_provided_scripts_of_the_answer_key_are_the_labs_own():
+    for name in ("FSR_sensor.py", "gripper_manager.py", "teleoperation_subscriber_publisher.py"):
+        copy, lab = SOLUTIONS / "scripts" / name, REPO / "hri_lab" / "scripts" / name
+        assert not copy.is_symlink(), f"{copy}: a real file (catkin_install_python cannot install a link)"
+        assert copy.read_bytes() == lab.read_bytes(), f"{copy} differs from {lab}: copy the lab's over it"
+
+
+PROVIDED = {"scripts/FSR_sensor.py", "scripts/gripper_manager.py", "scripts/teleoperation_subscriber_publisher.py",
+            "package.xml"}
 
 
 def test_templates_of_the_answer_key_hold_no_solution_and_still_parse(tmp_path):
     out = tmp_path / "templates" / "hri_lab"
-    written = generate_templates(SOLUTIONS, out)
+    written = generate_templates(SOLUTIONS, out, not_executable=("scripts/teleoperation.py",))
     names = {w.target.relative_to(out).as_posix() for w in written}
     assert names == {"config/robot_params.yaml", "scripts/mapping_node.py", "scripts/teleoperation.py",
-                     "launch/sensor.launch", "launch/teleoperation.launch", "graph.yaml"}
+                     "launch/sensor.launch", "launch/teleoperation.launch", "graph.yaml", "CMakeLists.txt"} | PROVIDED
     for item in written:
         text = item.target.read_text()
+        if item.target.relative_to(out).as_posix() in PROVIDED:
+            assert item.regions == 0 and text == item.source.read_text(), "provided files ship as they are"
+            continue
         assert item.regions >= 1, f"{item.source} has no solution region"
         assert not has_markers(text), item.target
         solution = item.source.read_text()
@@ -81,9 +96,12 @@ def test_templates_of_the_answer_key_hold_no_solution_and_still_parse(tmp_path):
         if item.target.suffix == ".py":
             ast.parse(text)
             assert "raise NotImplementedError()" in text
-            assert item.target.stat().st_mode & 0o111, "scripts keep their executable bit"
+            executable = bool(item.target.stat().st_mode & 0o111)
+            assert executable == (item.target.name != "teleoperation.py"), "only not_executable scripts lose the bit"
         elif item.target.suffix == ".yaml":
             assert yaml.safe_load(text) is None  # only comments left
+        elif item.target.name == "CMakeLists.txt":
+            assert "  # YOUR CODE HERE\n  DESTINATION" in text
         else:
             ET.fromstring(text)
 

@@ -1,0 +1,49 @@
+"""Student files may not use the lab's reference rules; the templates' given imports stay allowed."""
+
+from __future__ import annotations
+
+from pathlib import Path
+
+import pytest
+
+from hri_teleop.grading.reference_guard import reference_uses, refusal
+
+ROOT = Path(__file__).resolve().parents[2]
+
+
+@pytest.mark.parametrize("source, hit", [
+    ("from hri_teleop.mapping import map_force\n", "line 1: from hri_teleop.mapping import map_force"),
+    ("import hri_teleop.teleop as t\n", "line 1: import hri_teleop.teleop"),
+    ("from hri_teleop import mapping\n", "line 1: from hri_teleop import mapping"),
+    ("from hri_teleop.grading.cases import x\n", "line 1: from hri_teleop.grading.cases import x"),
+    ("import hri_teleop\nv = hri_teleop.mapping.map_force(1, 2)\n", "line 2: hri_teleop.mapping"),
+    ("import importlib\nm = importlib.import_module('hri_teleop.teleop')\n", "line 2: 'hri_teleop.teleop'"),
+    ("from somewhere import TeleopController\n", "line 1: from somewhere import TeleopController"),
+])
+def test_each_way_to_reach_a_reference_rule_is_found_with_its_line(source, hit):
+    assert hit in reference_uses(source)
+
+
+@pytest.mark.parametrize("source", [
+    "from hri_teleop.gamepad import PadState, normalize_analog_input, open_gamepad\n",
+    "from hri_teleop.limits import TwistLimiter\n",
+    "import rospy\nfrom std_msgs.msg import Float32\n",
+    "mapping = {'a': 1}\nteleop = mapping['a']\n",
+    "def broken(:\n",  # a syntax error is the check's to report
+    "class Node:\n    def map_force(self, c):\n        return c\n    def cb(self, m):\n        return self.map_force(m)\n",
+])
+def test_the_given_imports_and_plain_names_are_allowed(source):
+    assert reference_uses(source) == []
+
+
+@pytest.mark.parametrize("path", ["solutions/hri_lab/scripts/mapping_node.py", "solutions/hri_lab/scripts/teleoperation.py"])
+def test_the_answer_key_writes_its_rules_itself(path):
+    assert reference_uses((ROOT / path).read_text()) == []
+
+
+def test_the_refusal_is_one_line_with_the_file_the_uses_and_the_fix():
+    message = refusal("mapping_node.py", ["line 3: from hri_teleop.mapping import map_force", "line 9: .map_force",
+                                          "line 10: .map_force", "line 11: .map_force"])
+    assert message == ("mapping_node.py uses the lab's reference implementation (line 3: from hri_teleop.mapping "
+                       "import map_force; line 9: .map_force; line 10: .map_force): the exercise is to write that "
+                       "rule yourself; remove the import and write it in your file")
