@@ -112,18 +112,13 @@ def score(result: Any) -> float:
 def _sandbox_note_on_stdout() -> None:
     """Say once, on stdout, when student code will run without bubblewrap.
 
-    hri_teleop.grading prints that note on stderr at the first check of a process, and
-    nbgrader scores a test cell that wrote to stderr with 0 points: on a machine without
-    bubblewrap (a student's laptop) the first check cell would lose every point. Said here,
-    when a notebook imports this module (its setup cell), the check cells stay quiet.
+    Said when a notebook imports this module (its setup cell), so that the check cells stay
+    quiet (the checks' feedback repeats it as a note).
     """
-    import contextlib
-
     from hri_teleop.grading.sandbox import SandboxError, sandbox_mode
 
     try:
-        with contextlib.redirect_stderr(sys.stdout):
-            sandbox_mode()
+        sandbox_mode()
     except SandboxError as exc:  # HRI_GRADE_SANDBOX set wrongly: the check cells will say so
         print(f"hri-grade: {exc}")
 

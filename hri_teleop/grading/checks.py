@@ -89,7 +89,7 @@ class _Run:
     """One check's scratch folder (a fresh workspace) and where its plots and logs go."""
 
     def __init__(self, check: str, submission: PathLike, out_dir: Optional[PathLike], key: str,
-                 single_file: Optional[Path]) -> None:
+                 single_file: Optional[Path], reference: Sequence[str] = ()) -> None:
         self.check = check
         self.session_dir = Path(tempfile.mkdtemp(prefix=f"hri-grade-{check}-"))
         # Without out_dir, plots of failed parts go to a fresh temp path (created only if one is drawn)
@@ -102,7 +102,8 @@ class _Run:
         self.uid = student_uid()
         self.closed = False
         _OPEN_RUNS.append(self)
-        self.space: Workspace = prepare_workspace(submission, self.session_dir, self.uid, single_file, key)
+        self.space: Workspace = prepare_workspace(submission, self.session_dir, self.uid, single_file, key,
+                                                  reference=reference)
         self.started = time.monotonic()
 
     def close(self) -> None:
@@ -220,12 +221,19 @@ def _finish(check: str, run: _Run, parts: List[Part], seed: Optional[int], notes
     target = run.space.originals.get(_KEY[check])
     mode = sandbox_mode(warn=False)
     all_notes = list(notes) + ([] if mode == "bwrap" else ["student code ran without bubblewrap (limits only)"])
+    if run.space.substituted:
+        names = ", ".join(Path(DELIVERABLES[k]).name for k in run.space.substituted)
+        all_notes.append(f"ran the lab's {names} in place of yours: each is graded in its own check, so a mistake "
+                         "there costs points there only")
     result = CheckResult(check, str(target) if target else "", parts, seed, time.monotonic() - run.started,
                          tuple(all_notes))
     run.close()
     return result
 
 
+#: Other exercises' deliverables a check's run needs: the lab's versions stand in for the student's.
+_REFERENCE_FOR: Dict[str, Tuple[str, ...]] = {"sensor-launch": ("mapping_node", "robot_params"),
+                                              "teleoperation-launch": ("mapping_node", "teleoperation")}
 _KEY = {"robot-params": "robot_params", "mapping-node": "mapping_node", "sensor-launch": "sensor_launch",
         "teleoperation": "teleoperation", "teleoperation-launch": "teleoperation_launch", "graph": "graph"}
 
@@ -248,7 +256,8 @@ def _start(check: str, path: PathLike, out_dir: Optional[PathLike], seed: Option
         hidden = check in ("mapping-node", "teleoperation")
         return None, _missing_result(check, key, _table_for(check), root, seed if hidden else None), seed
     sandbox_mode()  # says once when bubblewrap is missing
-    return _Run(check, root if given is None else given, out_dir, key, given or found), None, seed
+    return _Run(check, root if given is None else given, out_dir, key, given or found,
+                reference=_REFERENCE_FOR.get(check, ())), None, seed
 
 
 def _refuse_reference(run: _Run, check: str, table: Dict[str, Tuple[str, float]], seed: Optional[int]

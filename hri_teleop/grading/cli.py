@@ -117,7 +117,10 @@ def main(argv: Optional[List[str]] = None) -> int:
                 raise GradingError(f"--timeout {args.timeout:g}: give the seconds one submission may take, e.g. 1800")
             return grade_all(Path(args.path), Path(args.out), jobs=args.jobs, checks=checks, timeout_s=args.timeout)
         from hri_teleop.grading.checks import CHECKS, grade, grade_submission
+        from hri_teleop.grading.sandbox import sandbox_mode
 
+        if args.json:  # stdout is the results' JSON: the sandbox note, if any, goes beside it
+            sandbox_mode(stream=sys.stderr)
         if not Path(args.path).expanduser().exists():
             raise GradingError(f"{args.path}: no such file or folder; give the student's file or hri_lab folder")
         out_dir = Path(args.out) if args.out else Path(tempfile.mkdtemp(prefix="hri-grade-"))

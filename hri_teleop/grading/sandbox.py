@@ -32,10 +32,11 @@ import shutil
 import signal
 import subprocess
 import sys
+import tempfile
 import time
 from dataclasses import dataclass
 from pathlib import Path
-from typing import Dict, List, Mapping, Optional, Sequence
+from typing import Dict, List, Mapping, Optional, Sequence, TextIO
 
 __all__ = ["SandboxError", "Limits", "DEFAULT_LIMITS", "sandbox_mode", "bwrap_problem", "session_argv",
            "StudentProcess", "student_uid", "student_environment", "OUTPUT_CAP_BYTES", "describe_exit"]
@@ -76,17 +77,23 @@ def _probe_bwrap() -> str:
     exe = shutil.which("bwrap")
     if exe is None:
         return "bubblewrap (bwrap) is not installed; `apt-get install bubblewrap` (tools/setup.sh does)"
-    inner = _student_argv(["true"], Path("/tmp"), nested=True, exe=exe)
+    # The probe's student folder is a fresh one, bound like a session's: nothing else under /tmp
+    # is hidden, so a checkout (and its .venv) under /tmp is probed where it lies.
+    folder = Path(tempfile.mkdtemp(prefix="hri-grade-probe-"))
+    folder.chmod(0o777)
+    inner = _student_argv(["true"], folder, nested=True, exe=exe)
     uid = student_uid()
     if uid is not None:
         inner = [sys.executable, "-c", "import os, sys; os.setgroups([]); os.setgid(%d); os.setuid(%d); "
                  "os.execvp(sys.argv[1], sys.argv[1:])" % (uid, uid)] + inner
     outer = [exe, "--unshare-net", "--unshare-pid", "--die-with-parent", "--ro-bind", "/", "/",
-             "--dev", "/dev", "--proc", "/proc", "--tmpfs", "/tmp", "--"] + inner
+             "--dev", "/dev", "--proc", "/proc", "--bind", str(folder), str(folder), "--"] + inner
     try:
         proc = subprocess.run(outer, stdin=subprocess.DEVNULL, capture_output=True, text=True, timeout=20)
     except (OSError, subprocess.TimeoutExpired) as exc:
         return f"bwrap failed to start ({exc})"
+    finally:
+        shutil.rmtree(folder, ignore_errors=True)
     if proc.returncode != 0:
         line = (proc.stderr.strip().splitlines() or ["exit status %d" % proc.returncode])[-1]
         return f"bwrap cannot create the namespaces here ({line}); user namespaces may be disabled"
@@ -108,14 +115,18 @@ def bwrap_problem() -> str:
     return _bwrap_state["problem"]
 
 
-def sandbox_mode(warn: bool = True) -> str:
-    """'bwrap' or 'limits-only'; the first call without bubblewrap prints the reason once."""
+def sandbox_mode(warn: bool = True, stream: Optional[TextIO] = None) -> str:
+    """'bwrap' or 'limits-only'; the first call without bubblewrap prints the reason once.
+
+    The note goes to stdout (``stream`` to change it): nbgrader scores a cell that wrote to
+    stderr with 0 points, and the check's feedback repeats the note anyway.
+    """
     problem = bwrap_problem()
     if problem and warn and not _bwrap_state.get("warned"):
         _bwrap_state["warned"] = "1"
         print(f"hri-grade: student code runs without bubblewrap ({problem}): resource limits, process "
               "groups and file permissions only; network and files outside the student's folder are "
-              "not shielded", file=sys.stderr, flush=True)
+              "not shielded", file=stream if stream is not None else sys.stdout, flush=True)
     return "limits-only" if problem else "bwrap"
 
 

@@ -17,7 +17,7 @@ import os
 import shutil
 from dataclasses import dataclass, field
 from pathlib import Path
-from typing import Dict, List, Optional, Union
+from typing import Dict, List, Optional, Sequence, Union
 
 __all__ = ["WorkspaceError", "DELIVERABLES", "REPO", "REFERENCE_PACKAGE", "PROVIDED", "find_package_root",
            "locate", "Workspace", "prepare_workspace", "ros_package_path", "FRANKA_MARKER_PARAM"]
@@ -104,6 +104,8 @@ class Workspace:
     package: Path
     files: Dict[str, Optional[Path]] = field(default_factory=dict)  # key -> copied file (or None)
     originals: Dict[str, Optional[Path]] = field(default_factory=dict)
+    #: deliverables of other exercises run as the lab's reference, not the student's (see prepare_workspace)
+    substituted: List[str] = field(default_factory=list)
 
     @property
     def grader_dir(self) -> Path:
@@ -174,11 +176,16 @@ def _copy_package(root: Path, target: Path) -> None:
 
 
 def prepare_workspace(submission: Union[str, Path], session_dir: Path, uid: Optional[int] = None,
-                      single_file: Optional[Path] = None, single_key: str = "") -> Workspace:
+                      single_file: Optional[Path] = None, single_key: str = "",
+                      reference: Sequence[str] = ()) -> Workspace:
     """Copy the student's package into ``session_dir/ws/hri_lab``, with the lab's provided files.
 
     ``single_file``/``single_key``: grade exactly this file as that deliverable (the
-    ``hri-grade CHECK FILE`` form), wherever it lies.
+    ``hri-grade CHECK FILE`` form), wherever it lies. ``reference``: keys of other
+    exercises' deliverables the run needs (a launch file starts mapping_node.py, loads
+    robot_params.yaml): the lab's own versions are put in their place, so that a file is
+    judged on its own, the same alone as in its package, and a mistake in another
+    exercise costs points there only.
     """
     root = find_package_root(single_file or submission)
     ws = session_dir / "ws"
@@ -198,6 +205,13 @@ def prepare_workspace(submission: Union[str, Path], session_dir: Path, uid: Opti
         if original.resolve() != dest.resolve():
             shutil.copyfile(original, dest)
         space.files[key] = dest
+    for key in reference:
+        if key == single_key:
+            continue
+        dest = package / DELIVERABLES[key]
+        dest.parent.mkdir(parents=True, exist_ok=True)
+        shutil.copyfile(REFERENCE_PACKAGE / DELIVERABLES[key], dest)
+        space.substituted.append(key)
     for sub in PROVIDED:
         source = REFERENCE_PACKAGE / sub
         if source.is_file():

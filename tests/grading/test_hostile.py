@@ -101,7 +101,8 @@ def test_without_bubblewrap_the_grader_says_so_once_and_still_contains_them(tmp_
     proc = hri_grade("batch", str(tmp_path / "submitted"), "--out", str(tmp_path / "grades"), "--jobs", "2",
                      "--checks", "mapping-node", env=grader_env(HRI_GRADE_SANDBOX="none"), timeout=300)
     assert proc.returncode == 0, proc.stdout + proc.stderr
-    assert proc.stderr.count("without bubblewrap") == 1, proc.stderr
+    assert proc.stdout.count("without bubblewrap") == 1, proc.stdout
+    assert "without bubblewrap" not in proc.stderr, "notes go to stdout (nbgrader scores stderr as a failure)"
     grades = _grades(tmp_path / "grades")
     assert grades["good"]["score"] == "20" and grades["sys_exit_at_import"]["score"] == "0"
     assert "output limit" in (tmp_path / "grades" / "huge_output" / "feedback.txt").read_text()

@@ -86,3 +86,26 @@ def test_student_code_sees_only_the_variables_ros_and_python_need():
     env = student_environment({"PATH": "/bin", "ROS_MASTER_URI": "http://127.0.0.1:1/", "LC_ALL": "C",
                                "GITHUB_TOKEN": "secret", "AWS_SECRET_ACCESS_KEY": "x", "HOME": "/root"})
     assert env == {"PATH": "/bin", "ROS_MASTER_URI": "http://127.0.0.1:1/", "LC_ALL": "C", "HOME": "/root"}
+
+
+def test_bubblewrap_is_used_for_a_checkout_whose_python_lies_under_tmp(tmp_path):
+    """The probe once hid /tmp behind a tmpfs, so a checkout under /tmp fell back to no sandbox."""
+    import subprocess
+    import sys
+    import venv
+
+    from hri_teleop.grading import sandbox
+
+    if sandbox.bwrap_problem() and "HRI_GRADE_SANDBOX" not in os.environ:
+        pytest.skip(f"no bubblewrap here: {sandbox.bwrap_problem()}")
+    assert str(tmp_path).startswith("/tmp/"), tmp_path
+    venv.EnvBuilder(system_site_packages=True, with_pip=False).create(tmp_path / ".venv")
+    code = ("import importlib.util, sys; spec = importlib.util.spec_from_file_location('sb', sys.argv[1]); "
+            "m = importlib.util.module_from_spec(spec); sys.modules['sb'] = m; spec.loader.exec_module(m); "
+            "print(repr(m.bwrap_problem()))")
+    env = {k: v for k, v in os.environ.items() if k != "HRI_GRADE_SANDBOX"}
+    out = subprocess.run([str(tmp_path / ".venv" / "bin" / "python"), "-c", code, sandbox.__file__],
+                         capture_output=True, text=True, timeout=60, env=env)
+    assert out.returncode == 0, out.stderr
+    assert out.stdout.strip() == "''", f"python under /tmp: {out.stdout.strip()}"
+    assert sys.executable  # the test's own interpreter is not the one probed
