@@ -37,7 +37,6 @@ import re
 import shutil
 import subprocess
 import sys
-import tarfile
 from pathlib import Path
 from typing import Any, Dict, Iterable, List, Mapping, Optional, Sequence, Tuple, Union
 
@@ -503,11 +502,15 @@ def build_release(course_dir: PathLike = COURSE_DIR, archive: Optional[PathLike]
     leaks = bundle_leaks(release, solution_texts(SOLUTIONS, course))
     if leaks:
         raise CourseError("the student bundle holds solution text; nothing was packed:\n" + "\n".join(leaks[:20]))
+    from hri_teleop.bundle import answer_files, assemble_bundle, pack_bundle, toolkit_leaks
+
     target = Path(archive) if archive else REPO / "out" / "task4-student-bundle.tar.gz"
-    target.parent.mkdir(parents=True, exist_ok=True)
-    with tarfile.open(target, "w:gz") as tar:
-        for assignment in ASSIGNMENTS:
-            tar.add(release / assignment, arcname=f"task4/{assignment}")
+    folder = assemble_bundle(release, target.parent / "task4-student-bundle", ASSIGNMENTS)
+    leaks = toolkit_leaks(folder, solution_texts(SOLUTIONS, course), answer_files())
+    if leaks:
+        raise CourseError("the student bundle's toolkit holds answers; nothing was packed:\n" + "\n".join(leaks[:20]))
+    pack_bundle(folder, target)
+    shutil.rmtree(folder)
     return release, target
 
 

@@ -10,10 +10,11 @@ from __future__ import annotations
 
 import os
 import time
-from typing import Any, Optional
+from pathlib import Path
+from typing import Any, Dict, Optional, Union
 
 from hri_teleop.config import DEFAULT_TWIST_TOPIC
-from hri_teleop.course import CourseError, launch, run_provided_node
+from hri_teleop.course import STUDENT_PACKAGE, CourseError, launch, run_provided_node, run_student_node
 from hri_teleop.modes import HARDWARE_NODES, LAB, mode_from_env, pad_params, simulation_refusal
 
 __all__ = ["mode", "start_robot", "start_board", "start_pipeline", "wait_for_subscriber", "hand_z_m",
@@ -91,18 +92,78 @@ def start_board(timeout_s: float = 60.0, **params: Any) -> Any:
     return board
 
 
-def start_pipeline(timeout_s: float = 60.0, **args: Any) -> Any:
-    """The lab's pipeline without hardware (``teleoperation.launch``); None in the lab, where it runs."""
+class NodeGroup:
+    """Several started nodes as one: ``running`` while all run, ``output()`` of each, ``stop()`` all."""
+
+    def __init__(self, processes: Dict[str, Any]) -> None:
+        self.processes = processes
+
+    @property
+    def running(self) -> bool:
+        return all(p.running for p in self.processes.values())
+
+    def output(self) -> str:
+        return "\n".join(f"[{name}] {p.output()}" for name, p in self.processes.items())
+
+    def stop(self) -> None:
+        for process in self.processes.values():
+            process.stop()
+
+
+def _home_pipeline(package: Path) -> NodeGroup:
+    """The pipeline without the lab's launch file (the student bundle has none): the provided
+    nodes, and the student's own mapping_node.py and teleoperation.py of ``package``."""
+    from hri_teleop.config import LAB_TELEOP_CONFIG, lab_max_sensor_force
+    from hri_teleop.notebook_ros import master_call
+
+    scripts = package / "scripts"
+    for script in ("mapping_node.py", "teleoperation.py"):
+        if not (scripts / script).is_file():
+            raise CourseError(f"{scripts / script}: not found; the pipeline runs your nodes: run this notebook "
+                              "next to your hri_lab package")
+    master_call("setParam", "/max_sensor_force", lab_max_sensor_force())
+    processes: Dict[str, Any] = {}
+    try:
+        processes["FSR_sensor"] = run_provided_node("FSR_sensor.py", rate_hz=10.0)
+        processes["mapping_node"] = run_student_node(scripts / "mapping_node.py", "mapping_node")
+        processes["gripper_manager"] = run_provided_node("gripper_manager.py")
+        processes["teleoperation"] = run_student_node(scripts / "teleoperation.py", "teleoperation",
+                                                      config=str(LAB_TELEOP_CONFIG), pad="virtual",
+                                                      pad_script="", script_wait_s=0.0)
+    except CourseError:
+        for process in processes.values():
+            process.stop()
+        raise
+    return NodeGroup(processes)
+
+
+def lab_launch_file() -> Path:
+    """The lab's own teleoperation.launch (instructors' checkout; the student bundle leaves it out)."""
+    from hri_teleop.grading.workspace import REFERENCE_PACKAGE
+
+    return REFERENCE_PACKAGE / "launch" / "teleoperation.launch"
+
+
+def start_pipeline(timeout_s: float = 60.0, package: Union[str, Path] = STUDENT_PACKAGE, **args: Any) -> Any:
+    """The pipeline without hardware; None in the lab, where it runs.
+
+    The lab's ``teleoperation.launch robot:=false arduino:=false pad:=virtual`` where it is
+    installed; in the student bundle the same nodes started one by one, with the student's
+    own ``mapping_node.py`` and ``teleoperation.py`` from ``package``.
+    """
     refusal = _refusal("pipeline (teleoperation.launch without hardware)")
     if refusal:
         print(refusal + "; look at the lab's running pipeline instead")
         return None
-    settings = {"robot": "false", "arduino": "false", "pad": "virtual", **args}
-    pipeline = launch("hri_lab", "teleoperation.launch", **settings)
+    if lab_launch_file().is_file():
+        settings = {"robot": "false", "arduino": "false", "pad": "virtual", **args}
+        pipeline = launch("hri_lab", "teleoperation.launch", **settings)
+    else:
+        pipeline = _home_pipeline(Path(package))
     deadline = time.monotonic() + timeout_s
     while not _topic_nodes("/gripper_width", publishers=True)[0]:
         if not pipeline.running:
-            raise CourseError(f"teleoperation.launch ended while starting: {pipeline.output()[-300:]!r}")
+            raise CourseError(f"the pipeline ended while starting: {pipeline.output()[-300:]!r}")
         if time.monotonic() > deadline:
             pipeline.stop()
             raise CourseError(f"the pipeline did not come up within {timeout_s:.0f} s: run the cell again")

@@ -8,7 +8,7 @@ starts ``tools/kernel.sh``, which sources ``tools/env.sh`` and then runs ``.venv
 Python. It is installed into ``.venv`` (``sys.prefix``), never into the user's home, so
 removing ``.venv`` removes it, and it is rewritten only when it changed.
 
-    python -m hri_teleop.labkernel [--install-only] [jupyter lab options...]
+    python -m hri_teleop.labkernel [--install-only] [--notebooks FOLDER] [jupyter lab options...]
 """
 
 from __future__ import annotations
@@ -68,6 +68,14 @@ def main(argv: Optional[Sequence[str]] = None) -> int:
     args = list(sys.argv[1:] if argv is None else argv)
     install_only = "--install-only" in args
     args = [a for a in args if a != "--install-only"]
+    notebooks = REPO / "notebooks"
+    if "--notebooks" in args:  # the student bundle: JupyterLab on the bundle's folder
+        at = args.index("--notebooks")
+        if at + 1 >= len(args):
+            print("lab: --notebooks needs a folder, e.g. --notebooks $(pwd)", file=sys.stderr)
+            return 1
+        notebooks = Path(args[at + 1])
+        del args[at:at + 2]
     try:
         import jupyterlab  # noqa: F401, PLC0415 - only to say what is missing
         import ipykernel  # noqa: F401, PLC0415
@@ -83,7 +91,6 @@ def main(argv: Optional[Sequence[str]] = None) -> int:
     print(f"lab: kernel {KERNEL_NAME!r} ({folder})", flush=True)
     if install_only:
         return 0
-    notebooks = REPO / "notebooks"
     notebooks.mkdir(exist_ok=True)
     command = lab_command(notebooks, args)
     os.execv(command[0], command)

@@ -25,9 +25,21 @@ apt_packages=(
   # library (the simulated Uno), a host compiler (the harness, the sketches' host tests).
   gcc-avr avr-libc binutils-avr arduino-core-avr simavr libsimavr-dev gcc g++ make
 )
+# HRI_SETUP_EDITION=student (the student bundle's `make setup`): the toolkit without its test
+# tools, the firmware toolchain or the Python 3.8 test environment.
+edition="${HRI_SETUP_EDITION:-project}"
+if [ "$edition" = student ]; then
+  apt_packages=(
+    ros-core python3-rospy python3-roslaunch python3-rosbag python3-rosgraph
+    python3-std-msgs python3-geometry-msgs python3-sensor-msgs
+    python3-diagnostic-msgs python3-std-srvs
+    python3-actionlib python3-actionlib-msgs python3-genpy
+    rospack-tools rosbash catkin python3-venv bubblewrap
+  )
+fi
 # `make lab`'s browser test (tests/integration/test_jupyterlab_browser.py): headless Chromium
 # and its WebDriver. Debian's packages; Ubuntu ships Chromium only as a snap (the test skips there).
-if grep -qs '^ID=debian' /etc/os-release; then apt_packages+=(chromium chromium-driver); fi
+if [ "$edition" != student ] && grep -qs '^ID=debian' /etc/os-release; then apt_packages+=(chromium chromium-driver); fi
 # Tests check the "no root" path with a package list of their own.
 if [ -n "${HRI_SETUP_APT_PACKAGES:-}" ]; then read -r -a apt_packages <<<"$HRI_SETUP_APT_PACKAGES"; fi
 uid="$(id -u)"
@@ -94,12 +106,13 @@ if [ "$want" != "$have" ] || ! "$venv/bin/python" -c 'import hri_teleop' 2>/dev/
     "$venv/bin/python" -m pip install -q --disable-pip-version-check "pip>=21.3"
   fi
   say "installing hri-teleop and its dependencies into .venv"
-  "$venv/bin/python" -m pip install -q --disable-pip-version-check -e ".[test]"
+  if [ "$edition" = student ]; then extras=""; else extras="[test]"; fi
+  "$venv/bin/python" -m pip install -q --disable-pip-version-check -e ".$extras"
   echo "$want" > "$stamp"
 fi
 
 # Noetic machines may lack catkin_lint (not part of ros-noetic-desktop): take it from PyPI.
-if [ -n "${ROS_DISTRO:-}" ] && ! command -v catkin_lint >/dev/null 2>&1 && [ ! -x "$venv/bin/catkin_lint" ]; then
+if [ "$edition" != student ] && [ -n "${ROS_DISTRO:-}" ] && ! command -v catkin_lint >/dev/null 2>&1 && [ ! -x "$venv/bin/catkin_lint" ]; then
   say "installing catkin_lint into .venv"
   "$venv/bin/python" -m pip install -q --disable-pip-version-check "catkin_lint>=1.6"
 fi
@@ -112,6 +125,7 @@ fi
 # on 3.8, a small ROS-free .venv38 lets `make test` run the core's unit tests on 3.8 too.
 # The stamp is checked first: looking for python3.8 costs ~0.15 s (pyenv's shim is a shell
 # script) and only matters when .venv38 is to be built.
+[ "$edition" != student ] || { say "ready ($("$venv/bin/python" --version), ROS from ${ROS_DISTRO:-Debian packages})"; exit 0; }
 want38="$(printf '%s' "$want" | sha256sum | cut -c1-16)"
 py38=""
 if [ "$(cat .venv38/.stamp 2>/dev/null || true)" != "$want38" ]; then

@@ -733,9 +733,9 @@ def _check_max_param(params: Dict[str, Any]) -> Tuple[bool, str]:
         private = [k for k in params if k.endswith("/max_sensor_force")]
         if private:
             return False, (f"max_sensor_force is set as {private[0]} (inside a node: private); mapping_node reads the "
-                           "global /max_sensor_force: put <param name=\"max_sensor_force\" value=\"700\"/> outside "
-                           "the <node> tags")
-        return False, "the launch file does not set /max_sensor_force: add <param name=\"max_sensor_force\" value=\"700\"/>"
+                           "global /max_sensor_force: put its <param> outside the <node> elements")
+        return False, ("the launch file does not set /max_sensor_force: set it with a <param> element outside "
+                       "the <node> elements (handout Ex. 6)")
     if isinstance(value, bool) or not isinstance(value, (int, float)):
         return False, (f"/max_sensor_force is {value!r} ({type(value).__name__}); it must be a number of counts: "
                        "write value=\"700\" without type=\"str\"")
@@ -754,13 +754,15 @@ def compare_sensor_launch(parsed: Dict[str, Any], observation: Optional[Dict[str
         reason = parsed.get("error") or _explain_process(parse_facts or {}, "parsing")
         return [_part(T, "parse", False, f"roslaunch cannot load it: {reason}")] + \
             [_nj(T, k, "the file does not parse") for k in ("nodes", "param", "yaml", "flow")]
-    parts = [_part(T, "parse", True)]
+    empty = not parsed.get("nodes") and not parsed.get("params")
+    parts = [_part(T, "parse", not empty, "it parses but starts no node and sets no parameter: write the launch "
+                   "file (handout Ex. 6)" if empty else "")]
     scripts = _nodes_by_script(parsed)
     missing = []
     for script in ("FSR_sensor.py", "mapping_node.py"):
         found = scripts.get(script, [])
         if not found:
-            missing.append(f"no node runs {script}: add <node name=\"{script[:-3]}\" pkg=\"hri_lab\" type=\"{script}\"/>")
+            missing.append(f"no node runs {script} of hri_lab: start it with a <node> element (handout Ex. 6)")
         elif not any(n["package"] in _PACKAGES for n in found):
             missing.append(f"{script} is started from package {found[0]['package']!r}; it is in hri_lab")
     parts.append(_part(T, "nodes", not missing, "\n".join(missing)))
@@ -781,6 +783,10 @@ def compare_sensor_launch(parsed: Dict[str, Any], observation: Optional[Dict[str
     if observation.get("supplied"):
         note = ("to judge the flow the grader supplied what the launch file lacks: "
                 + ", ".join(observation["supplied"]))
+    if {"FSR_sensor.py", "mapping_node.py"} <= set(observation.get("supplied", [])):
+        parts.append(_part(T, "flow", False, "the launch file starts neither node: the grader started both, so "
+                           "nothing that flowed came from your launch file", note=note))
+        return parts
     if not values:
         launch = dict(observation.get("launch", {}))
         launch["problem"] = observation.get("problem", "")
@@ -811,29 +817,30 @@ def compare_teleop_launch(parsed: Dict[str, Any], parse_facts: Optional[Dict[str
             reason += " (the grader provides franka_control: write $(find franka_control)/launch/franka_control_cartesian_velocity.launch)"
         return [_part(T, "parse", False, f"roslaunch cannot load it: {reason}")] + \
             [_nj(T, k, "the file does not parse") for k in ("nodes", "serial", "param", "include")]
-    parts = [_part(T, "parse", True)]
+    empty = not parsed.get("nodes") and not parsed.get("params")
+    parts = [_part(T, "parse", not empty, "it parses but starts no node and sets no parameter: write the launch "
+                   "file (handout Ex. 12-13)" if empty else "")]
     scripts = _nodes_by_script(parsed)
     problems = []
     for script in ("teleoperation.py", "gripper_manager.py", "mapping_node.py"):
         found = scripts.get(script, [])
         if not found:
-            problems.append(f"no node runs {script}: add <node name=\"{script[:-3]}\" pkg=\"hri_lab\" type=\"{script}\"/>")
+            problems.append(f"no node runs {script} of hri_lab: start it with a <node> element (handout Ex. 12 e)")
         elif not any(n["package"] == "hri_lab" for n in found):
             problems.append(f"{script} is started from package {found[0]['package']!r}; in the lab it is in hri_lab")
     parts.append(_part(T, "nodes", not problems, "\n".join(problems)))
     params = parsed.get("params", {})
     serial = [n for n in scripts.get("serial_node.py", []) if n["package"] == "rosserial_python"]
     if not serial:
-        parts.append(_part(T, "serial", False, "no node runs rosserial_python's serial_node.py: add the <node "
-                                               "name=\"serial_node\" pkg=\"rosserial_python\" type=\"serial_node.py\"> "
-                                               "of Ex. 12 f)"))
+        parts.append(_part(T, "serial", False, "no node runs rosserial_python's serial_node.py: the Arduino's "
+                                               "node of Ex. 12 f)"))
     else:
         node = serial[0]
         key = f"{node['namespace'].rstrip('/')}/{node['name']}/port"
         port = params.get(key)
         if port is None:
-            parts.append(_part(T, "serial", False, f"serial_node has no private parameter port ({key}): put <param "
-                                                   "name=\"port\" type=\"string\" value=\"/dev/ttyACM0\"/> inside its <node>"))
+            parts.append(_part(T, "serial", False, f"serial_node has no private parameter port ({key}): give it the "
+                                                   "Arduino's serial port (Ex. 11), a string <param> inside its <node>"))
         elif not isinstance(port, str) or not port.startswith("/dev/tty"):
             parts.append(_part(T, "serial", False, f"{key} is {port!r}; it must be the Arduino's serial port, the "
                                                    "string /dev/ttyACM0"))
@@ -843,8 +850,8 @@ def compare_teleop_launch(parsed: Dict[str, Any], parse_facts: Optional[Dict[str
     parts.append(_part(T, "param", ok, message))
     included = FRANKA_MARKER_PARAM in params
     parts.append(_part(T, "include", included, "" if included else (
-        "franka_control_cartesian_velocity.launch is not included: add <include file=\"$(find franka_control)"
-        "/launch/franka_control_cartesian_velocity.launch\"/> (Ex. 13)")))
+        "franka_control_cartesian_velocity.launch of franka_control is not included: the robot's launch file "
+        "of Ex. 13, with an <include> element")))
     return parts
 
 

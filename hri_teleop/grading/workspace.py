@@ -206,8 +206,8 @@ def prepare_workspace(submission: Union[str, Path], session_dir: Path, uid: Opti
             shutil.copyfile(original, dest)
         space.files[key] = dest
     for key in reference:
-        if key == single_key:
-            continue
+        if key == single_key or not (REFERENCE_PACKAGE / DELIVERABLES[key]).is_file():
+            continue  # the student bundle's toolkit has no lab deliverables: the student's own run
         dest = package / DELIVERABLES[key]
         dest.parent.mkdir(parents=True, exist_ok=True)
         shutil.copyfile(REFERENCE_PACKAGE / DELIVERABLES[key], dest)
