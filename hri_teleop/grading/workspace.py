@@ -206,9 +206,17 @@ def prepare_workspace(submission: Union[str, Path], session_dir: Path, uid: Opti
             shutil.copyfile(original, dest)
         space.files[key] = dest
     for key in reference:
-        if key == single_key or not (REFERENCE_PACKAGE / DELIVERABLES[key]).is_file():
-            continue  # the student bundle's toolkit has no lab deliverables: the student's own run
         dest = package / DELIVERABLES[key]
+        if key == single_key:
+            continue
+        if not (REFERENCE_PACKAGE / DELIVERABLES[key]).is_file():
+            # The student bundle's toolkit has no lab deliverables: the student's own run. A YAML
+            # the launch file loads (Ex. 7) and nobody has is an empty one, so Ex. 7 counts as not
+            # done instead of the whole file failing to parse.
+            if key == "robot_params" and not dest.exists():
+                dest.parent.mkdir(parents=True, exist_ok=True)
+                dest.write_text("{}\n", encoding="utf-8")
+            continue
         dest.parent.mkdir(parents=True, exist_ok=True)
         shutil.copyfile(REFERENCE_PACKAGE / DELIVERABLES[key], dest)
         space.substituted.append(key)

@@ -59,3 +59,24 @@ def test_the_students_own_file_is_never_replaced_by_the_lab_one(tmp_path):
                               reference=("mapping_node", "robot_params"))
     assert space.substituted == ["robot_params"]
     assert (space.package / "scripts" / "mapping_node.py").read_text() == BROKEN_NODE
+
+
+def test_without_the_labs_yaml_an_ex7_load_counts_as_ex7_not_done_not_as_a_parse_failure(tmp_path, monkeypatch):
+    """The student bundle's toolkit has no robot_params.yaml: a launch file graded alone still parses."""
+    import shutil
+
+    import hri_teleop.grading.workspace as workspace
+    from hri_teleop.bundle import LAB_DELIVERABLES
+    from hri_teleop.grading.checks import grade_sensor_launch
+
+    toolkit_lab = tmp_path / "toolkit" / "hri_lab"
+    shutil.copytree(workspace.REFERENCE_PACKAGE, toolkit_lab)
+    for relative in LAB_DELIVERABLES:
+        (tmp_path / "toolkit" / relative).unlink()
+    monkeypatch.setattr(workspace, "REFERENCE_PACKAGE", toolkit_lab)
+    launch = tmp_path / "sensor.launch"
+    launch.write_text(answer_text("launch/sensor.launch"))
+    result = grade_sensor_launch(launch, seed=1)
+    assert result.part(result.parts[0].name).passed, result.parts[0].message
+    assert "Ex. 7 (voluntary) not done" in result.parts[3].note
+    assert not any("in place of yours" in n for n in result.notes)

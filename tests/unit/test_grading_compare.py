@@ -272,6 +272,38 @@ def test_sensor_launch_values_outside_0_1_fail_the_flow():
     assert list(failed) == [compare.SENSOR_LAUNCH["flow"][0]] and "outside [0, 1]" in failed[compare.SENSOR_LAUNCH["flow"][0]]
 
 
+def test_an_empty_launch_file_parses_but_earns_no_point():
+    empty = _launch([], {})
+    sensor = compare.compare_sensor_launch(empty, {"force_mapped": [[0.0, "std_msgs/Float32", 0.5]] * 5,
+                                                   "supplied": ["/max_sensor_force", "FSR_sensor.py", "mapping_node.py"]})
+    assert [p.score for p in sensor] == [0] * len(sensor)
+    assert "starts no node" in sensor[0].message
+    teleop = compare.compare_teleop_launch(empty)
+    assert teleop[0].score == 0 and "starts no node" in teleop[0].message
+    one_param = compare.compare_sensor_launch(_launch([], {"/max_sensor_force": 700}), None)
+    assert one_param[0].passed  # something written: the parse part is earned
+
+
+@pytest.mark.parametrize("supplied, flow_passes", [
+    ([], True), (["FSR_sensor.py"], True), (["mapping_node.py"], True), (["/max_sensor_force"], True),
+    (["FSR_sensor.py", "mapping_node.py"], False),
+])
+def test_the_flow_is_the_launch_files_only_when_it_started_a_node_of_the_pipeline(supplied, flow_passes):
+    parsed = _launch([("FSR_sensor", "hri_lab", "FSR_sensor.py")], {"/max_sensor_force": 700})
+    observation = {"force_mapped": [[0.0, "std_msgs/Float32", 0.5]] * 5, "supplied": supplied}
+    flow = compare.compare_sensor_launch(parsed, observation)[-1]
+    assert flow.passed is flow_passes
+    if not flow_passes:
+        assert "neither node" in flow.message
+
+
+def test_launch_hints_name_the_element_and_exercise_not_the_answer_line():
+    parts = compare.compare_teleop_launch(_launch([("x", "hri_lab", "other.py")], {"/other": 1}))
+    text = " ".join(p.message for p in parts)
+    assert "<node name=" not in text and "<param name=" not in text and "<include file=" not in text
+    assert "Ex. 12 e)" in text and "Ex. 13" in text
+
+
 # -- Ex. 15 -----------------------------------------------------------------------------------------
 
 LIVE = {
