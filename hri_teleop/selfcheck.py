@@ -13,6 +13,7 @@ from __future__ import annotations
 
 import argparse
 import os
+import subprocess
 import sys
 import time
 from pathlib import Path
@@ -50,8 +51,10 @@ def notebook_points(path: Path, timeout_s: int = 600) -> Dict[str, Any]:
     started = time.monotonic()
     error = ""
     try:
+        # The kernel's own log (ipykernel's start-up warnings) is not the student's business:
+        # what the cells print comes back through the kernel's channels, not its stderr.
         NotebookClient(nb, timeout=timeout_s, startup_timeout=120, allow_errors=True,
-                       resources={"metadata": {"path": str(path.parent)}}).execute()
+                       resources={"metadata": {"path": str(path.parent)}}).execute(stderr=subprocess.DEVNULL)
     except Exception as exc:  # noqa: BLE001 - a dead kernel or a timeout: say it, keep the points so far
         error = f"{type(exc).__name__}: {str(exc).strip().splitlines()[0] if str(exc).strip() else ''}"
     grades: Dict[str, List[float]] = {}

@@ -166,3 +166,12 @@ def test_with_the_answer_key_copied_in_the_bundle_gets_full_marks(installed, cou
     assert done.returncode == 0, done.stdout[-3000:] + done.stderr[-3000:]
     scores = _points(done.stdout)
     assert len(scores) == 3 and all(got == most > 0 for got, most in scores.values()), done.stdout
+
+
+def test_make_lab_serves_the_bundle_with_the_toolkits_kernel(installed):
+    done = _make(installed, "lab", "LAB_ARGS=--version", timeout=300)
+    assert done.returncode == 0, done.stdout[-2000:] + done.stderr[-2000:]
+    kernel = json.loads(next((installed / "toolkit" / ".venv" / "share" / "jupyter" / "kernels").glob(
+        "hri-teleop/kernel.json")).read_text())
+    assert kernel["argv"][1] == str(installed / "toolkit" / "tools" / "kernel.sh")
+    assert done.stderr.strip() == ""
