@@ -363,6 +363,7 @@ def grade_teleoperation(path: PathLike, *, seed: Optional[int] = None, out_dir: 
     if refused is not None:
         return refused
     cases = [C.public_teleop_parts_case(), C.hidden_teleop_parts_case(seed)]
+    notes: List[str] = []
     plan_cases = []
     for case in cases:
         ticks, previous = [], None
@@ -391,10 +392,14 @@ def grade_teleoperation(path: PathLike, *, seed: Optional[int] = None, out_dir: 
             os.chown(script_path, run.uid, run.uid)
         plan = {"kind": "teleop-node", "script": str(run.space.files["teleoperation"]), "pad_script": str(script_path),
                 "gains": node_case.gains.as_dict(), "force": node_case.force, "start_timeout_s": 10.0,
-                "run_s": node_case.quit_s + 4.0, "quit_grace_s": 5.0, "record": [TWIST_TOPIC, "/gripper_width"]}
+                "run_s": node_case.quit_s + 4.0, "quit_grace_s": 5.0, "record": [TWIST_TOPIC, "/gripper_width"],
+                "clock": "grader"}
         observation = run.session(plan, timeout_s=90.0)
         parts += compare.compare_teleop_node(observation, node_case, TWIST_TOPIC, run.out_dir)
-    return _finish("teleoperation", run, parts, seed)
+        if observation.get("clock") == "real time" and not observation.get("problem"):
+            notes.append("the node did not tick with the grader's /clock (a loop paced by rospy.Rate does; "
+                         "time.sleep does not), so it was run in real time")
+    return _finish("teleoperation", run, parts, seed, notes)
 
 
 def _launch_sim_plan(run: _Run, parsed: Dict[str, Any]) -> Optional[Dict[str, Any]]:

@@ -24,7 +24,7 @@ import sys
 import threading
 import time
 from pathlib import Path
-from typing import Any, Callable, Dict, List, Optional, Set, Tuple
+from typing import Any, Callable, Dict, List, Optional, Sequence, Set, Tuple
 
 __all__ = ["main", "run_plan"]
 
@@ -96,10 +96,11 @@ def _wait(condition: Callable[[], bool], timeout_s: float, poll_s: float = 0.02)
 class _Recorder:
     """Subscribes to topics of any type and keeps (time, type, decoded value) per topic."""
 
-    def __init__(self) -> None:
+    def __init__(self, clock: Callable[[], float] = time.monotonic) -> None:
         import rospy
 
         self._rospy = rospy
+        self._clock = clock  # the grader's /clock when it owns the time: messages stamped in simulated time
         self.subs: Dict[str, Any] = {}
         self.messages: Dict[str, List[Tuple[float, str, Any]]] = {}
         self.lock = threading.Lock()
@@ -116,7 +117,7 @@ class _Recorder:
         return topic in self.subs and self.subs[topic].get_num_connections() > 0
 
     def _callback(self, msg: Any, topic: str) -> None:
-        now = time.monotonic()
+        now = self._clock()
         kind = msg._connection_header.get("type", "")
         value = _decode(kind, msg._buff)
         with self.lock:
@@ -194,12 +195,12 @@ class Session:
                     "SDL_VIDEODRIVER": "dummy", "SDL_AUDIODRIVER": "dummy"})
         return env
 
-    def start_student(self, argv: List[str], name: str) -> Any:
+    def start_student(self, argv: List[str], name: str, extra_env: Optional[Dict[str, str]] = None) -> Any:
         from hri_teleop.grading.sandbox import StudentProcess
 
         assert self.folder is not None
-        proc = StudentProcess(argv, self.folder, self.student_env(), self.dir / "logs" / f"{name}.log",
-                              self.limits, uid=self.uid, nested=True)
+        proc = StudentProcess(argv, self.folder, dict(self.student_env(), **(extra_env or {})),
+                              self.dir / "logs" / f"{name}.log", self.limits, uid=self.uid, nested=True)
         self.started.append(proc)
         return proc
 
@@ -372,6 +373,59 @@ def run_sensor_launch(session: Session) -> Dict[str, Any]:
     }
 
 
+class _GraderClock:
+    """The grader owns the time: ``/use_sim_time`` is set and /clock advances one tick at a time.
+
+    Each step moves the clock by one period of the node's rate and waits until the node has
+    published on the lockstep topic, so what the node does per tick no longer depends on
+    how busy the machine is, and a run lasts as long as the node computes. A node that
+    publishes nothing after a step (it does not follow rospy.Rate) gets real-time pacing:
+    the clock then moves one period per period of wall time, as before.
+    """
+
+    def __init__(self, session: Session, start_s: float = 1.0) -> None:
+        import rospy
+        from rosgraph_msgs.msg import Clock
+
+        self._rospy, self._Clock = rospy, Clock
+        self._master = session.master
+        session.master.set_param("/use_sim_time", True)  # before the student's node starts
+        self._pub = rospy.Publisher("/clock", Clock, queue_size=10, latch=True, tcp_nodelay=True)
+        # Whole nanoseconds: rospy.Rate steps its deadline by int(1e9 / rate) ns, so a clock kept
+        # in floats (1.14 -> 1.139999999 s) would miss a tick now and then.
+        self._now_ns = int(round(start_s * 1e9))
+        self.paced = False
+        self._publish()
+
+    def _publish(self) -> None:
+        self._pub.publish(self._Clock(clock=self._rospy.Time(self._now_ns // 10**9, self._now_ns % 10**9)))
+
+    def now(self) -> float:
+        return self._now_ns / 1e9
+
+    @staticmethod
+    def student_env() -> Dict[str, str]:
+        from hri_teleop.gamepad.factory import PAD_CLOCK_ENV
+
+        return {PAD_CLOCK_ENV: "ros"}  # the virtual pad's script on ROS time, as the node's loop
+
+    def wait_for_listener(self, nodes: Set[str], proc: Any, timeout_s: float) -> bool:
+        """Until one of ``nodes`` subscribes /clock (then the latched time reached it)."""
+        return _wait(lambda: bool(set(self._master.subscribers("/clock")) & set(nodes)) or not proc.running,
+                     timeout_s, 0.005)
+
+    def step(self, rate_hz: float, recorder: _Recorder, topics: Sequence[str], proc: Any) -> None:
+        """One period of a loop at ``rate_hz`` (rospy.Rate's own arithmetic), then wait for the tick's messages."""
+        before = [recorder.count(t) for t in topics]
+        self._now_ns += int(1e9 / rate_hz)
+        self._publish()
+        if self.paced:
+            time.sleep(1.0 / rate_hz)
+        elif not _wait(lambda: all(recorder.count(t) > b for t, b in zip(topics, before)) or not proc.running,
+                       1.0, 0.0002):
+            self.paced = True
+
+
 def run_teleop_node(session: Session) -> Dict[str, Any]:
     """The student's teleoperation.py with a scripted virtual pad and a steady /force_mapped."""
     import rospy
@@ -391,21 +445,45 @@ def run_teleop_node(session: Session) -> Dict[str, Any]:
     params = [f"_{k}:={v}" for k, v in plan["gains"].items()]
     argv = [plan["python"], plan["script"], "_pad:=virtual", "_layout:=dualshock4",
             f"_pad_script:={plan['pad_script']}", *params]
-    recorder = _Recorder()
+    clock = _GraderClock(session) if plan.get("clock") == "grader" else None
+    recorder = _Recorder(clock.now if clock else time.monotonic)
     for topic in plan.get("record", []):  # subscribed before the node starts: the pad script plays from its start
         recorder.add(topic)
-    proc = session.start_student(argv, "teleoperation")
+    proc = session.start_student(argv, "teleoperation", clock.student_env() if clock else None)
     nodes, sub, pub, ok = _wait_for_node(session, proc, plan["start_timeout_s"], lambda s, p: bool(p))
     problem = "" if ok else _start_problem(proc, plan["start_timeout_s"], "advertising a topic")
-    started = time.monotonic()
-    if ok:
+    started = clock.now() if clock else time.monotonic()
+
+    def follow_node() -> None:
+        """Add what the node registered since: a node that is shutting down has unregistered its
+        topics already, so a later reading never replaces an earlier one."""
+        nonlocal nodes, sub, pub
+        nodes2, sub2, pub2, _ = _wait_for_node(session, proc, 0.0, lambda s, p: True)
+        if nodes2:
+            nodes = set(nodes) | set(nodes2)
+            sub = sub + [x for x in sub2 if x not in sub]
+            pub = pub + [x for x in pub2 if x not in pub]
+        for topic, _kind in pub:
+            recorder.add(topic)
+
+    if ok and clock is not None:
+        clock.wait_for_listener(nodes, proc, plan["start_timeout_s"])
+        # The loop's first tick comes at the start time, before any step: step only after it,
+        # so tick k is always at start + k periods (stepping earlier would race the node's start).
+        _wait(lambda: recorder.count(plan["record"][0]) > 0 or not proc.running, plan["start_timeout_s"], 0.0005)
+        _wait(lambda: all(recorder.count(t) > 0 for t in plan["record"]) or not proc.running, 0.2, 0.0005)
+        lockstep = [t for t in plan["record"] if recorder.count(t) > 0] or plan["record"][:1]
+        tick = 0
+        while clock.now() - started < plan["run_s"] and proc.running:
+            if tick % 25 == 0:
+                follow_node()
+            tick += 1
+            clock.step(float(plan["gains"]["rate"]), recorder, lockstep, proc)
+        proc.wait(plan["quit_grace_s"])
+    elif ok:
         deadline = started + plan["run_s"]
         while time.monotonic() < deadline and proc.running:
-            nodes2, sub2, pub2, _ = _wait_for_node(session, proc, 0.0, lambda s, p: True)
-            if nodes2:
-                nodes, sub, pub = nodes2, sub2, pub2
-            for topic, _kind in pub:
-                recorder.add(topic)
+            follow_node()
             time.sleep(0.1)
         proc.wait(plan["quit_grace_s"])
     exited = not proc.running
@@ -416,6 +494,7 @@ def run_teleop_node(session: Session) -> Dict[str, Any]:
     recorder.close()
     return {
         "kind": "teleop-node", "problem": problem, "quit_in_time": exited,
+        "clock": "real time" if clock is None or clock.paced else "grader",
         "node": _facts(proc, nodes, sub, pub, problem, exited), "exit_code": exit_code,
         "messages": {t: [[round(ts - started, 4), k, v] for ts, k, v in msgs] for t, msgs in recorder.messages.items()},
     }

@@ -70,7 +70,7 @@ class Teleoperation:
         self.gripper_width = GRIPPER_MAX_WIDTH      # m, starts open
         self.cartesian_velocity = [0.0] * 6         # [v_x, v_y, v_z, w_x, w_y, w_z], m/s and rad/s
         self.force = 0.0                            # latest value on /force_mapped, 0..1
-        self.force_time = None                      # when it arrived (time.monotonic())
+        self.force_time = None                      # when it arrived (ROS time, rospy.get_time())
         self.rumble = 0.0                           # vibration intensity 0..1
 
     # -- the gamepad ------------------------------------------------------------------
@@ -155,7 +155,7 @@ class Teleoperation:
         ### BEGIN SOLUTION
         self.force = msg.data
         ### END SOLUTION
-        self.force_time = time.monotonic()
+        self.force_time = rospy.get_time()  # ROS time: the grader's clock when it owns the time
 
     def publish(self, velocity):
         """Ex. 9: build the Twist from velocity ([v_x, v_y, v_z, w_x, w_y, w_z]) and the
@@ -195,7 +195,7 @@ class Teleoperation:
 
     def send(self):
         """Rumble the pad, then publish the velocity (ramped by the limiter) and the width."""
-        fresh = self.force_time is not None and time.monotonic() - self.force_time <= FORCE_TIMEOUT
+        fresh = self.force_time is not None and rospy.get_time() - self.force_time <= FORCE_TIMEOUT
         rumble = self.rumble if fresh else 0.0
         self.pad.rumble(rumble, 0.0)
         self.rumble_pub.publish(Float32(rumble))

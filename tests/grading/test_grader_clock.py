@@ -1,0 +1,61 @@
+"""The teleoperation node under grading runs on the grader's clock (/use_sim_time, /clock one tick at a
+time): as fast as the node computes, and with the same messages however busy the machine is."""
+
+from __future__ import annotations
+
+import pytest
+
+from grading_helpers import answer_text, write_package
+
+pytestmark = pytest.mark.ros
+
+SEED = 407054861
+
+
+def _package(tmp_path, text):
+    return write_package(tmp_path / "hri_lab", {"package.xml": answer_text("package.xml"),
+                                                "scripts/teleoperation.py": text})
+
+
+def test_the_answer_key_runs_faster_than_its_pad_script_and_gets_full_marks(tmp_path):
+    from hri_teleop.grading import cases as C
+    from hri_teleop.grading.checks import grade_teleoperation
+
+    result = grade_teleoperation(_package(tmp_path, answer_text("scripts/teleoperation.py")), seed=SEED)
+    assert result.score == result.max_score, result.failed_parts
+    assert not any("real time" in n for n in result.notes)
+    # The parts' import probe and start-up take a few seconds; the script alone lasts quit_s.
+    assert result.duration_s < C.hidden_teleop_node_case(SEED).quit_s + 2.0
+
+
+def test_a_loop_paced_by_time_sleep_is_judged_all_the_same(tmp_path):
+    """Such a loop ignores /clock; each step then waits for its next message, so the pad script
+    still advances one period per published tick and the node is judged on what it does."""
+    from hri_teleop.grading.checks import grade_teleoperation
+
+    text = answer_text("scripts/teleoperation.py")
+    assert "            rate.sleep()" in text
+    text = text.replace("            rate.sleep()", "            time.sleep(1.0 / self.rate)")
+    result = grade_teleoperation(_package(tmp_path, text), seed=SEED)
+    assert result.score == result.max_score, result.failed_parts
+
+
+def test_the_grader_clock_gives_the_same_messages_run_after_run(tmp_path):
+    from hri_teleop.grading import compare
+    from hri_teleop.grading.checks import grade_teleoperation
+
+    seen = []
+    original = compare.compare_teleop_node
+
+    def spy(observation, *args, **kwargs):
+        seen.append({t: [(ts, v) for ts, _k, v in msgs] for t, msgs in observation["messages"].items()})
+        return original(observation, *args, **kwargs)
+
+    package = _package(tmp_path, answer_text("scripts/teleoperation.py"))
+    with pytest.MonkeyPatch.context() as patch:
+        patch.setattr(compare, "compare_teleop_node", spy)
+        for _ in range(2):
+            grade_teleoperation(package, seed=SEED)
+    twist = "/cartesian_velocity_controller/cmd_vel"
+    assert seen[0][twist] and seen[0][twist] == seen[1][twist]
+    assert seen[0]["/gripper_width"] == seen[1]["/gripper_width"]
