@@ -343,7 +343,8 @@ def grade_sensor_launch(path: PathLike, *, seed: Optional[int] = None, out_dir: 
                 "run_fsr_sensor": "FSR_sensor.py" not in scripts, "fsr_sensor": str(package / "scripts" / "FSR_sensor.py"),
                 "run_mapping_node": "mapping_node.py" not in scripts and (package / "scripts" / "mapping_node.py").is_file(),
                 "mapping_node": str(package / "scripts" / "mapping_node.py"),
-                "start_timeout_s": 15.0, "record_s": 3.0}
+                "start_timeout_s": 15.0, "record_s": 3.0,
+                "record_messages": 10}
         observation = run.session(plan, timeout_s=90.0)
     parts = compare.compare_sensor_launch(parsed, observation, facts)
     return _finish("sensor-launch", run, parts, None)
