@@ -186,6 +186,7 @@ class PrivateMaster:
 
     def __init__(self, port: Optional[int] = None, base_env: Optional[Mapping[str, str]] = None,
                  work_dir: Optional[Path] = None) -> None:
+        self._auto_port = port is None  # a port of our own choice may be taken again: start() picks another
         self.port = port or free_port()
         self.uri = f"http://127.0.0.1:{self.port}/"
         self._own_dir = work_dir is None
@@ -205,19 +206,38 @@ class PrivateMaster:
         self.started: List[ManagedProcess] = []  # everything ever started here, for leak checks
 
     # -- lifecycle -------------------------------------------------------------------
-    def start(self, timeout_s: float = 20.0) -> "PrivateMaster":
-        self.core = ManagedProcess(["roscore", "-p", str(self.port)], self.env,
-                                   self.work_dir / "roscore.log")
-        self.started.append(self.core)
-        deadline = time.monotonic() + timeout_s
-        while time.monotonic() < deadline:
-            if not self.core.running:
-                raise MasterError(f"roscore on port {self.port} exited: {self.core.output().strip()[-400:]}")
-            if self.is_online() and self.node_names() and "/rosout" in self.node_names():
-                return self
-            time.sleep(0.1)
-        self.stop()
-        raise MasterError(f"roscore on port {self.port} did not come up within {timeout_s:.0f} s")
+    def start(self, timeout_s: float = 20.0, attempts: int = 3) -> "PrivateMaster":
+        """Start roscore and wait until /rosout is up.
+
+        Between free_port() and roscore's bind, any process may take the port for an outgoing
+        connection (ROS nodes open many): then, on a port of our own choice, a fresh one is tried.
+        """
+        for attempt in range(attempts):
+            self.core = ManagedProcess(["roscore", "-p", str(self.port)], self.env,
+                                       self.work_dir / "roscore.log")
+            self.started.append(self.core)
+            deadline = time.monotonic() + timeout_s
+            while time.monotonic() < deadline:
+                if not self.core.running:
+                    output = self.core.output().strip()
+                    self.core.stop()  # its rosmaster/rosout children too
+                    self.core = None
+                    if self._auto_port and "Address already in use" in output and attempt + 1 < attempts:
+                        self._move_to(free_port())
+                        break
+                    raise MasterError(f"roscore on port {self.port} exited: {output[-400:]}")
+                if self.is_online() and self.node_names() and "/rosout" in self.node_names():
+                    return self
+                time.sleep(0.1)
+            else:
+                self.stop()
+                raise MasterError(f"roscore on port {self.port} did not come up within {timeout_s:.0f} s")
+        raise MasterError(f"roscore found no free port in {attempts} attempts")  # pragma: no cover
+
+    def _move_to(self, port: int) -> None:
+        self.port = port
+        self.uri = f"http://127.0.0.1:{port}/"
+        self.env["ROS_MASTER_URI"] = self.uri
 
     def stop(self) -> None:
         for child in reversed(self.children):
