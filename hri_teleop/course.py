@@ -555,14 +555,15 @@ def strip_outputs(paths: Iterable[PathLike]) -> List[Path]:
 
 def validate_release(notebook: PathLike, timeout_s: int = 300) -> Dict[str, Any]:
     """nbgrader's ``validate --invert`` on one student version: the autograded cells that PASS (should be none)."""
-    from traitlets.config import Config
     from nbgrader.validator import Validator
 
-    config = Config()
-    config.Validator.invert = True
-    config.Execute.timeout = timeout_s
-    config.Execute.startup_timeout = 120
-    return Validator(config=config).validate(str(notebook))
+    from hri_teleop.labkernel import ipc_kernel_config
+
+    with ipc_kernel_config() as config:
+        config.Validator.invert = True
+        config.Execute.timeout = timeout_s
+        config.Execute.startup_timeout = 120
+        return Validator(config=config).validate(str(notebook))
 
 
 def run_source(notebook: PathLike, timeout_s: int = 300) -> Dict[str, Any]:
@@ -577,11 +578,14 @@ def run_source(notebook: PathLike, timeout_s: int = 300) -> Dict[str, Any]:
     from nbclient import NotebookClient
     from nbgrader.utils import determine_grade, is_grade, is_solution
 
+    from hri_teleop.labkernel import ipc_kernel_config
+
     path = Path(notebook)
     nb = nbformat.read(str(path), as_version=4)
     started = time.monotonic()
-    NotebookClient(nb, timeout=timeout_s, startup_timeout=120, allow_errors=True,
-                   resources={"metadata": {"path": str(path.parent)}}).execute()
+    with ipc_kernel_config() as config:
+        NotebookClient(nb, config=config, timeout=timeout_s, startup_timeout=120, allow_errors=True,
+                       resources={"metadata": {"path": str(path.parent)}}).execute()
     errors, grades = [], {}
     for number, cell in enumerate(nb.cells):
         if cell.cell_type != "code":

@@ -15,11 +15,15 @@ from __future__ import annotations
 
 import json
 import os
+import shutil
 import sys
+import tempfile
+from contextlib import contextmanager
 from pathlib import Path
-from typing import Dict, List, Optional, Sequence
+from typing import Any, Dict, Iterator, List, Optional, Sequence
 
-__all__ = ["KERNEL_NAME", "LabError", "kernelspec", "install_kernelspec", "lab_command", "main"]
+__all__ = ["KERNEL_NAME", "LabError", "kernelspec", "install_kernelspec", "lab_command", "ipc_kernel_config",
+           "ipc_kernel_argv", "main"]
 
 KERNEL_NAME = "hri-teleop"
 REPO = Path(__file__).resolve().parents[1]
@@ -53,6 +57,32 @@ def install_kernelspec(repo: Path = REPO, prefix: Optional[Path] = None) -> Path
         raise LabError(f"cannot write the kernelspec {target} ({exc.strerror}): check that {folder.parent} "
                        "is writable, or run `make clean setup`") from None
     return folder
+
+
+@contextmanager
+def ipc_kernel_config() -> Iterator[Any]:
+    """A traitlets Config whose kernels talk over Unix sockets in a private folder (removed after).
+
+    Jupyter's default TCP transport picks five free ports and closes them before the kernel
+    binds them: with kernels, roscores and nodes starting side by side another process can
+    take one first and the kernel dies ("Kernel died before replying to kernel_info").
+    Socket files in a folder of our own have no such race.
+    """
+    from traitlets.config import Config
+
+    folder = tempfile.mkdtemp(prefix="hri-kernel-")
+    config = Config()
+    config.KernelManager.transport = "ipc"
+    config.KernelManager.ip = os.path.join(folder, "k")
+    try:
+        yield config
+    finally:
+        shutil.rmtree(folder, ignore_errors=True)
+
+
+def ipc_kernel_argv(folder: Path) -> List[str]:
+    """The same as command-line options for a Jupyter app (nbgrader) run as a subprocess, sockets in ``folder``."""
+    return ["--KernelManager.transport=ipc", f"--KernelManager.ip={folder / 'k'}"]
 
 
 def lab_command(notebook_dir: Path, extra: Sequence[str] = ()) -> List[str]:

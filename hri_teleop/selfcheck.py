@@ -47,14 +47,17 @@ def notebook_points(path: Path, timeout_s: int = 600) -> Dict[str, Any]:
     import nbformat
     from nbclient import NotebookClient
 
+    from hri_teleop.labkernel import ipc_kernel_config
+
     nb = nbformat.read(str(path), as_version=4)
     started = time.monotonic()
     error = ""
     try:
         # The kernel's own log (ipykernel's start-up warnings) is not the student's business:
         # what the cells print comes back through the kernel's channels, not its stderr.
-        NotebookClient(nb, timeout=timeout_s, startup_timeout=120, allow_errors=True,
-                       resources={"metadata": {"path": str(path.parent)}}).execute(stderr=subprocess.DEVNULL)
+        with ipc_kernel_config() as config:
+            NotebookClient(nb, config=config, timeout=timeout_s, startup_timeout=120, allow_errors=True,
+                           resources={"metadata": {"path": str(path.parent)}}).execute(stderr=subprocess.DEVNULL)
     except Exception as exc:  # noqa: BLE001 - a dead kernel or a timeout: say it, keep the points so far
         error = f"{type(exc).__name__}: {str(exc).strip().splitlines()[0] if str(exc).strip() else ''}"
     grades: Dict[str, List[float]] = {}

@@ -34,6 +34,7 @@ import os
 import re
 import shutil
 import sys
+import tempfile
 import threading
 import time
 from dataclasses import asdict, dataclass
@@ -43,6 +44,7 @@ from typing import Any, Callable, Dict, List, Mapping, Optional, Sequence, Tuple
 from hri_teleop.grading.batch import (PER_SUBMISSION_TIMEOUT_S, BatchError, grade_one, live_graph_cache,
                                       submissions_in)
 from hri_teleop.grading.jobs import Progress, job_count, print_line, run_all, run_job
+from hri_teleop.labkernel import ipc_kernel_argv
 
 __all__ = ["BatchError", "JobOutcome", "course_layout", "course_submissions", "grade_course", "nbgrader_job_env"]
 
@@ -289,7 +291,17 @@ def _autograde(course: _Course, student: str, assignment: str, out: Path, timeou
         return JobOutcome(student, assignment, "notebooks", 0.0, 0.0, "not graded", 0.0,
                           f"{links[0]} links outside the submission (nbgrader would copy that file into the "
                           "feedback); the student must hand in the file itself")
-    argv = course.nbgrader_argv("autograde", assignment, "--student", student, "--force")
+    sockets = Path(tempfile.mkdtemp(prefix="hri-kernel-"))  # the kernels' Unix sockets (no TCP port race)
+    try:
+        return _autograde_in(course, student, assignment, out, timeout_s, db_lock, progress,
+                             course.nbgrader_argv("autograde", assignment, "--student", student, "--force",
+                                                  *ipc_kernel_argv(sockets)))
+    finally:
+        shutil.rmtree(sockets, ignore_errors=True)
+
+
+def _autograde_in(course: _Course, student: str, assignment: str, out: Path, timeout_s: float,
+                  db_lock: threading.Lock, progress: Progress, argv: List[str]) -> JobOutcome:
     log = out / "autograde.log"
     seconds = 0.0
     for attempt in range(1, _DB_ATTEMPTS + 1):

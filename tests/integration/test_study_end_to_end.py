@@ -261,14 +261,15 @@ def test_the_analysis_notebook_runs_on_the_recorded_folder(study, monkeypatch):
     import nbformat
     from nbclient import NotebookClient
 
-    from hri_teleop.labkernel import KERNEL_NAME, install_kernelspec
+    from hri_teleop.labkernel import KERNEL_NAME, install_kernelspec, ipc_kernel_config
 
     install_kernelspec()
     monkeypatch.setenv("HRI_TRIALS", str(study.folder))
     nb = nbformat.read(str(NOTEBOOK), as_version=4)
     assert all(not c.get("outputs") for c in nb.cells if c.cell_type == "code"), "commit the notebook without outputs"
     started = time.monotonic()
-    NotebookClient(nb, timeout=120, startup_timeout=120, kernel_name=KERNEL_NAME).execute()
+    with ipc_kernel_config() as config:
+        NotebookClient(nb, config=config, timeout=120, startup_timeout=120, kernel_name=KERNEL_NAME).execute()
     print(f"\nanalysis notebook: {time.monotonic() - started:.1f} s")
     cells = {c.get("id"): c for c in nb.cells}
 
@@ -288,13 +289,15 @@ def test_a_fresh_analysis_notebook_offers_a_rehearsal_and_says_in_one_line_what_
     import nbformat
     from nbclient import NotebookClient
 
-    from hri_teleop.labkernel import KERNEL_NAME, install_kernelspec
+    from hri_teleop.labkernel import KERNEL_NAME, install_kernelspec, ipc_kernel_config
 
     install_kernelspec()
     empty = tmp_path / "no_trials_yet"
     monkeypatch.setenv("HRI_TRIALS", str(empty))
     nb = nbformat.read(str(NOTEBOOK), as_version=4)
-    NotebookClient(nb, timeout=120, startup_timeout=120, kernel_name=KERNEL_NAME, allow_errors=True).execute()
+    with ipc_kernel_config() as config:
+        NotebookClient(nb, config=config, timeout=120, startup_timeout=120, kernel_name=KERNEL_NAME,
+                       allow_errors=True).execute()
     cells = {c.get("id"): c for c in nb.cells}
     setup = cells["setup"].outputs
     assert any("application/vnd.jupyter.widget-view+json" in o.get("data", {}) for o in setup), "no rehearsal offer"

@@ -55,3 +55,24 @@ def test_make_lab_runs_setup_then_the_lab_module():
     assert out.returncode == 0, out.stderr
     assert "tools/setup.sh" in out.stdout
     assert "-m hri_teleop.labkernel --port=9999" in out.stdout
+
+
+def test_notebook_kernels_talk_over_private_unix_sockets_with_no_tcp_port_to_lose(tmp_path):
+    """TCP kernels pick five ports and release them before binding: a roscore starting beside
+    them can take one and the kernel dies. Our runs use socket files in a folder of their own."""
+    import nbformat
+    from nbclient import NotebookClient
+
+    from hri_teleop.labkernel import ipc_kernel_argv, ipc_kernel_config
+
+    install_kernelspec()
+    nb = nbformat.v4.new_notebook()
+    nb.cells = [nbformat.v4.new_code_cell("from ipykernel import get_connection_info; print(get_connection_info())")]
+    with ipc_kernel_config() as first, ipc_kernel_config() as second:
+        folder = Path(first.KernelManager.ip).parent
+        assert first.KernelManager.ip != second.KernelManager.ip
+        NotebookClient(nb, config=first, kernel_name=KERNEL_NAME, timeout=60, startup_timeout=120).execute()
+        info = json.loads(nb.cells[0].outputs[0]["text"])
+        assert info["transport"] == "ipc" and info["ip"] == first.KernelManager.ip
+    assert not folder.exists(), "the sockets' folder outlived the run"
+    assert ipc_kernel_argv(tmp_path) == ["--KernelManager.transport=ipc", f"--KernelManager.ip={tmp_path / 'k'}"]
