@@ -11,6 +11,8 @@ Time: the simulation time is time.monotonic() since start. The main loop wakes e
 ``~loop_period_s`` and runs every 1 ms cycle due; each incoming command first runs the
 world up to its arrival, so a command is held from the millisecond it arrived even when
 the loop is late (two commands never merge into one step the robot would refuse).
+With ``/use_sim_time`` set (the autograder owns the clock) the simulation time is ROS
+time since start instead: the loop runs whenever /clock moves, and nothing is skipped.
 
 Parameters (private):
   ~config           str    ""     sim.yaml to read ("" = hri_lab/config/sim.yaml): object, start
@@ -61,6 +63,9 @@ Publishes:
                     reflex (message: the libfranka error names); values: state, violations,
                     one count per libfranka error, ignored_commands, reflex_errors, position_m
   ~violations       std_msgs/UInt32      latched: limit violations so far (0 in a good run)
+  ~command_time_s   std_msgs/Float64     the simulation time (s since start) each velocity
+                    command was applied at, one message per command (the autograder steps
+                    its clock only once the command of the tick has been taken)
   ~object           diagnostic_msgs/DiagnosticStatus  the object: name, height_m,
                     between_fingers, in_contact, held, grasped, lifted, crushed, grip_force_n,
                     peak_grip_force_n, ever_grasped, ever_lifted (ERROR once crushed)
@@ -84,11 +89,12 @@ import rospy
 from diagnostic_msgs.msg import DiagnosticStatus, KeyValue
 from geometry_msgs.msg import PoseStamped, Twist, TwistStamped
 from sensor_msgs.msg import JointState
-from std_msgs.msg import Float32, Header, Int16, UInt32
+from std_msgs.msg import Float32, Float64, Header, Int16, UInt32
 from std_srvs.srv import Trigger, TriggerResponse
 
 from hri_teleop.config import DEFAULT_TWIST_TOPIC
 from hri_teleop.ros import franka_gripper_msgs as fg
+from hri_teleop.ros.clock import ClockError, NodeClock
 from hri_teleop.ros.params import fail, get_param, package_file, private_params, run_node
 from hri_teleop.sim.arm import (ACCELERATION_DISCONTINUITY, EVENT_RECOVERED, EVENT_REFLEX,
                                 NON_FINITE_COMMAND, STATE_REFLEX, STATE_TIMEOUT,
@@ -191,6 +197,7 @@ class LabSimNode:
         self.grip_pub = rospy.Publisher("~grip_force", Float32, queue_size=5)
         self.status_pub = rospy.Publisher("~arm_status", DiagnosticStatus, queue_size=5)
         self.violations_pub = rospy.Publisher("~violations", UInt32, queue_size=1, latch=True)
+        self.command_time_pub = rospy.Publisher("~command_time_s", Float64, queue_size=100, tcp_nodelay=True)
         self.object_pub = rospy.Publisher("~object", DiagnosticStatus, queue_size=5)
 
         # The world and its clock; every callback and the loop touch it under this lock.
@@ -198,7 +205,12 @@ class LabSimNode:
         # cancel callbacks), never the other way round: goal results are sent outside it.
         self._lock = threading.Lock()
         self.world = LabWorld(self.config, start_s=0.0)
-        self._t0 = time.monotonic()
+        self.clock = NodeClock()
+        self.sim_time = self.clock.sim_time
+        try:
+            self._t0 = self.clock.wait_started()
+        except ClockError as exc:
+            fail(str(exc))
         self._clock_lock = threading.Lock()
         self._last_wall = self._t0
         self._skipped_s = 0.0
@@ -236,6 +248,8 @@ class LabSimNode:
         gap would judge a command timeout and then a step that never happened, so the
         simulated time skips the stall (and says so, at most every 5 s).
         """
+        if self.sim_time:
+            return rospy.get_time() - self._t0
         with self._clock_lock:
             wall = time.monotonic()
             gap = wall - self._last_wall
@@ -262,6 +276,7 @@ class LabSimNode:
         with self._lock:
             self._advance_locked(now)
             self.world.command_twist(twist, now)
+        self.command_time_pub.publish(Float64(data=now))
 
     def _on_goal(self, action: str, handle: Any) -> None:
         _spec, result_cls = ACTIONS[action]
@@ -306,6 +321,8 @@ class LabSimNode:
 
     def run(self) -> int:
         period = self.loop_period_s
+        if self.sim_time:
+            return self._run_on_ros_time(period)
         wake = time.monotonic()
         while not rospy.is_shutdown():
             self.tick()
@@ -315,6 +332,18 @@ class LabSimNode:
                 time.sleep(delay)
             else:
                 wake = time.monotonic()  # late: carry on from now, never in a burst
+        return 0
+
+    def _run_on_ros_time(self, period: float) -> int:
+        """One tick each time /clock has moved by at least ``period`` (however far it jumped)."""
+        while not rospy.is_shutdown():
+            self.tick()
+            try:
+                rospy.sleep(period)
+            except rospy.exceptions.ROSTimeMovedBackwardsException:
+                continue
+            except rospy.ROSInterruptException:
+                break
         return 0
 
     def _due(self, key: str, now: float) -> bool:

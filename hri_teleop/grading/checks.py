@@ -398,8 +398,7 @@ def grade_teleoperation(path: PathLike, *, seed: Optional[int] = None, out_dir: 
         observation = run.session(plan, timeout_s=90.0)
         parts += compare.compare_teleop_node(observation, node_case, TWIST_TOPIC, run.out_dir)
         if observation.get("clock") == "real time" and not observation.get("problem"):
-            notes.append("the node did not tick with the grader's /clock (a loop paced by rospy.Rate does; "
-                         "time.sleep does not), so it was run in real time")
+            notes.append(_REAL_TIME_NOTE)
     return _finish("teleoperation", run, parts, seed, notes)
 
 
@@ -440,7 +439,27 @@ def _launch_sim_plan(run: _Run, parsed: Dict[str, Any]) -> Optional[Dict[str, An
                         f"/pub_force:={BOARD_TOPIC}"],
             "record": [TWIST_TOPIC, "/force_mapped", "/pub_force", "/gripper_width", "/franka_gripper/joint_states",
                        "/lab_sim/ee_pose", "/lab_sim/object", f"{node}/rumble"],
-            "start_timeout_s": 20.0, "run_s": case.quit_s + 12.0}
+            "start_timeout_s": 20.0, "run_s": case.quit_s + 12.0, "clock": "grader", "settle_timeout_s": 10.0,
+            "applied_topic": "/lab_sim/command_time_s",
+            "expect_nodes": sorted({f"{n['namespace'].rstrip('/')}/{n['name']}" for n in parsed.get("nodes", [])}
+                                   | {f"/{name}" for name in supply}),
+            "default_rate_hz": _lab_rate_hz()}
+
+
+def _lab_rate_hz() -> float:
+    """The teleoperation node's loop rate when the launch file sets none: the lab's teleop.yaml."""
+    from hri_teleop.config import ConfigError, load_teleop_config
+    from hri_teleop.teleop import TeleopParams
+
+    path = REPO / "hri_lab" / "config" / "teleop.yaml"
+    try:
+        return load_teleop_config(path).params.rate_hz if path.is_file() else TeleopParams().rate_hz
+    except ConfigError:
+        return TeleopParams().rate_hz
+
+
+_REAL_TIME_NOTE = ("the node did not tick with the grader's /clock (a loop paced by rospy.Rate does; time.sleep "
+                   "does not), so it was run in real time")
 
 
 @_closing
@@ -457,7 +476,11 @@ def grade_teleoperation_launch(path: PathLike, *, seed: Optional[int] = None,
     plan = _launch_sim_plan(run, parsed) if parsed.get("ok") else None
     observation = run.session(plan, timeout_s=120.0) if plan is not None else None
     parts.append(compare.compare_teleop_launch_sim(parsed, observation, C.launch_sim_case(), run.out_dir))
-    return _finish("teleoperation-launch", run, parts, None)
+    notes = []
+    if observation and observation.get("clock") == "real time" and not observation.get("problem") \
+            and not observation.get("session_error"):
+        notes.append(f"teleoperation.launch: {_REAL_TIME_NOTE}")
+    return _finish("teleoperation-launch", run, parts, None, notes)
 
 
 _LIVE_GRAPH: Dict[str, Dict[str, Any]] = {}

@@ -385,6 +385,10 @@ class _GraderClock:
     the clock then moves one period per period of wall time, as before.
     """
 
+    #: How long a step waits for the tick's messages, s of wall time (a loaded machine
+    #: answers within milliseconds; a node that ignores /clock never does).
+    STEP_TIMEOUT_S = 2.0
+
     def __init__(self, session: Session, start_s: float = 1.0) -> None:
         import rospy
         from rosgraph_msgs.msg import Clock
@@ -416,16 +420,20 @@ class _GraderClock:
         return _wait(lambda: bool(set(self._master.subscribers("/clock")) & set(nodes)) or not proc.running,
                      timeout_s, 0.005)
 
-    def step(self, rate_hz: float, recorder: _Recorder, topics: Sequence[str], proc: Any) -> None:
-        """One period of a loop at ``rate_hz`` (rospy.Rate's own arithmetic), then wait for the tick's messages."""
+    def step(self, rate_hz: float, recorder: _Recorder, topics: Sequence[str], proc: Any) -> bool:
+        """One period of a loop at ``rate_hz`` (rospy.Rate's own arithmetic), then wait for the tick's messages.
+
+        False when they did not come within ``STEP_TIMEOUT_S``: the caller decides whether
+        the node ignores the clock (``paced`` from then on) or has just ended.
+        """
         before = [recorder.count(t) for t in topics]
         self._now_ns += int(1e9 / rate_hz)
         self._publish()
         if self.paced:
             time.sleep(1.0 / rate_hz)
-        elif not _wait(lambda: all(recorder.count(t) > b for t, b in zip(topics, before)) or not proc.running,
-                       1.0, 0.0002):
-            self.paced = True
+            return True
+        return _wait(lambda: all(recorder.count(t) > b for t, b in zip(topics, before)) or not proc.running,
+                     self.STEP_TIMEOUT_S, 0.0002)
 
 
 def run_teleop_node(session: Session) -> Dict[str, Any]:
@@ -480,7 +488,8 @@ def run_teleop_node(session: Session) -> Dict[str, Any]:
             if tick % 25 == 0:
                 follow_node()
             tick += 1
-            clock.step(float(plan["gains"]["rate"]), recorder, lockstep, proc)
+            if not clock.step(float(plan["gains"]["rate"]), recorder, lockstep, proc) and proc.running:
+                clock.paced = True
         proc.wait(plan["quit_grace_s"])
     elif ok:
         deadline = started + plan["run_s"]
@@ -502,6 +511,35 @@ def run_teleop_node(session: Session) -> Dict[str, Any]:
     }
 
 
+def _wait_until_settled(session: Session, expected: Set[str], proc: Any, timeout_s: float,
+                        quiet_s: float = 0.2) -> bool:
+    """Until ``expected`` nodes are registered and the graph has not changed for ``quiet_s``."""
+    deadline = time.monotonic() + timeout_s
+    previous: Any = None
+    since = time.monotonic()
+    while time.monotonic() < deadline and proc.running:
+        state = session.master.system_state()
+        reading = (sorted((t, sorted(n)) for t, n in state[0]), sorted((t, sorted(n)) for t, n in state[1]))
+        names = {n for _t, ns in list(state[0]) + list(state[1]) + list(state[2]) for n in ns}
+        if reading != previous or not expected <= names:
+            previous, since = reading, time.monotonic()
+        elif time.monotonic() - since >= quiet_s:
+            return True
+        time.sleep(0.02)
+    return False
+
+
+def _node_rate_hz(session: Session, node: str, default_hz: float) -> float:
+    """The loop rate a node was given (its private ``rate``), else the lab's default."""
+    from hri_teleop.ros.master import MasterError
+
+    try:
+        value = float(session.master.get_param(f"{node}/rate"))  # type: ignore[arg-type]
+    except (MasterError, TypeError, ValueError):
+        return default_hz
+    return value if 0.0 < value <= 1000.0 else default_hz
+
+
 def run_teleop_launch_sim(session: Session) -> Dict[str, Any]:
     """roslaunch the student's teleoperation.launch with the simulated lab and a scripted operator.
 
@@ -518,6 +556,7 @@ def run_teleop_launch_sim(session: Session) -> Dict[str, Any]:
     if plan.get("set_max_sensor_force") is not None:
         session.master.set_param("/max_sensor_force", plan["set_max_sensor_force"])
         supplied.append("/max_sensor_force")
+    clock = _GraderClock(session) if plan.get("clock") == "grader" else None  # before anything reads /use_sim_time
     lab = session.master.run([plan["python"], *plan["lab_sim"]], "grader_lab_sim")
     ready = _wait(lambda: "/lab_sim" in session.master.subscribers(plan["twist_topic"]) or not lab.running,
                   plan["start_timeout_s"], 0.05)
@@ -525,12 +564,14 @@ def run_teleop_launch_sim(session: Session) -> Dict[str, Any]:
         out = lab.output()[-1500:]
         lab.stop()
         return {"kind": "teleop-launch-sim", "session_error": f"the simulated lab did not start: {out}"}
-    recorder = _Recorder()
+    now = clock.now if clock else time.monotonic
+    recorder = _Recorder(now)
     for topic in plan["record"]:
         recorder.add(topic)
-    launch = session.start_student(["roslaunch", "--wait", plan["launch_file"], plan["params_launch"]], "roslaunch")
+    launch = session.start_student(["roslaunch", "--wait", plan["launch_file"], plan["params_launch"]], "roslaunch",
+                                   clock.student_env() if clock else None)
     teleop = plan["teleop_node"]
-    started = time.monotonic()
+    started = now()
     up = _wait(lambda: teleop in session.master.node_names() or not launch.running, plan["start_timeout_s"], 0.05)
     problem = "" if up and launch.running else _start_problem(launch, plan["start_timeout_s"], f"starting {teleop}")
     extra: List[Any] = []
@@ -541,15 +582,43 @@ def run_teleop_launch_sim(session: Session) -> Dict[str, Any]:
         for name, argv in plan.get("supply", {}).items():  # now: the launch file's parameters are set
             extra.append(session.start_student([plan["python"], *argv], f"grader_{name}"))
             supplied.append(name)
-        deadline = time.monotonic() + plan["run_s"]
-        while time.monotonic() < deadline:
+        def still_up() -> bool:
+            nonlocal nodes, teleop_pub, quit_in_time
             current = _student_nodes(session.master, session.baseline)
             nodes |= current - {"/lab_sim"}
             if teleop not in current or not launch.running:
                 quit_in_time = teleop not in current
-                break
+                return False
             teleop_pub = _node_io(session.master, {teleop})[1] or teleop_pub
-            time.sleep(0.1)
+            return True
+
+        if clock is not None:
+            # Time stands still until every node is up and connected: at the simulation's
+            # speed a node still importing would otherwise miss seconds of the operator.
+            _wait_until_settled(session, set(plan.get("expect_nodes", [])), launch, plan["settle_timeout_s"])
+            # Step once the node's twists reach the recorder: a tick published before that
+            # connection is lost, and the node would wait for a step that never comes.
+            twist = plan["twist_topic"]
+            _wait(lambda: recorder.connected(twist) or not launch.running, plan["start_timeout_s"], 0.0005)
+            rate_hz = _node_rate_hz(session, teleop, plan["default_rate_hz"])
+            # The tick's twist, and lab_sim's word that it applied it (once it is connected):
+            # the next step must not reach lab_sim before the command of this one.
+            applied = plan["applied_topic"]
+            recorder.add(applied)
+            tick = 0
+            while clock.now() - started < plan["run_s"]:
+                if tick % 10 == 0 and not still_up():
+                    break
+                tick += 1
+                lockstep = [twist, applied] if recorder.count(applied) else [twist]
+                if not clock.step(rate_hz, recorder, lockstep, launch) and not clock.paced:
+                    if not still_up():
+                        break
+                    clock.paced = True
+        else:
+            deadline = time.monotonic() + plan["run_s"]
+            while time.monotonic() < deadline and still_up():
+                time.sleep(0.1)
     pubs, subs, types = _graph(session.master)
     recorder.close()
     exited = not launch.running
@@ -559,11 +628,13 @@ def run_teleop_launch_sim(session: Session) -> Dict[str, Any]:
     lab.stop()
     return {
         "kind": "teleop-launch-sim", "supplied": supplied, "problem": problem, "nodes": sorted(nodes),
-        "quit_in_time": quit_in_time, "run_s": round(time.monotonic() - started, 3), "teleop_publications": teleop_pub,
+        "quit_in_time": quit_in_time, "run_s": round(now() - started, 3), "teleop_publications": teleop_pub,
+        "clock": "grader" if clock is not None and not clock.paced else "real time",
         "publishers": {t: sorted(n) for t, n in pubs.items() if t not in _IGNORED_TOPICS},
         "subscribers": {t: sorted(n) for t, n in subs.items() if t not in _IGNORED_TOPICS},
         "types": {t: k for t, k in types.items() if t not in _IGNORED_TOPICS},
-        "messages": {t: [[round(ts - started, 4), k, v] for ts, k, v in msgs] for t, msgs in recorder.messages.items()},
+        "messages": {t: [[round(ts - started, 4), k, v] for ts, k, v in msgs] for t, msgs in recorder.messages.items()
+                     if t != plan.get("applied_topic")},
         "launch": {"exit_code": launch.returncode, "exited_by_itself": exited, "output_tail": launch.output_tail(),
                    "output_bytes": launch.output_size()},
         "lab_sim_log": lab.output()[-1500:],

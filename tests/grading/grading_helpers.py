@@ -137,3 +137,20 @@ def open_folder(prefix: str):
         yield path
     finally:
         shutil.rmtree(path, ignore_errors=True)
+
+
+class busy_cores:
+    """Keep ``n`` cores spinning (separate processes) while the block runs: the loaded machine."""
+
+    def __init__(self, n: int = 2) -> None:
+        self.n = n
+        self.procs: List[subprocess.Popen] = []
+
+    def __enter__(self) -> "busy_cores":
+        self.procs = [subprocess.Popen([sys.executable, "-c", "while True: pass"]) for _ in range(self.n)]
+        return self
+
+    def __exit__(self, *exc: object) -> None:
+        for proc in self.procs:
+            proc.kill()
+            proc.wait()

@@ -182,12 +182,15 @@ class Teleoperation:
         the simulated one) is connected would be lost, and the hand would not move.
         """
         publisher = getattr(self, "twist_pub", None)
-        deadline = time.monotonic() + timeout_s
-        while publisher is not None and publisher.get_num_connections() == 0 and not rospy.is_shutdown():
-            if time.monotonic() > deadline:
-                rospy.logwarn("nobody listens on %s yet: is the robot (or lab_sim) running?", publisher.resolved_name)
+        if publisher is None:
+            return
+        # Counted in wall-clock sleeps on purpose: under the autograder's /clock, ROS time
+        # stands still until this node's loop runs.
+        for _ in range(int(timeout_s / 0.02)):
+            if publisher.get_num_connections() > 0 or rospy.is_shutdown():
                 return
             time.sleep(0.02)
+        rospy.logwarn("nobody listens on %s yet: is the robot (or lab_sim) running?", publisher.resolved_name)
 
     def request_quit(self, *_args):
         """Ctrl-C or rosnode kill: leave the loop, bring the robot to rest, then end."""
@@ -224,11 +227,12 @@ class Teleoperation:
         """Ramp the velocity to zero inside the limits (never a step), then stop the rumble."""
         self.cartesian_velocity = [0.0] * 6
         self.rumble = 0.0
-        deadline = time.monotonic() + STOP_TIMEOUT
+        deadline = rospy.get_time() + STOP_TIMEOUT  # ROS time, as the loop's rate
+        rate = rospy.Rate(self.rate)
         try:
-            while any(v != 0.0 for v in self.limiter.velocity) and time.monotonic() < deadline:
+            while any(v != 0.0 for v in self.limiter.velocity) and rospy.get_time() < deadline:
                 self.send()
-                time.sleep(1.0 / self.rate)
+                rate.sleep()
             self.send()
         except rospy.ROSException:
             pass  # rospy already shut down (rosnode kill): nothing can be published any more

@@ -1,0 +1,53 @@
+"""teleoperation.launch under grading runs on the grader's clock: lab_sim, the lab's teleoperation
+node and gripper_manager follow /clock, and each step waits until lab_sim has applied the tick's
+command. The same twists and the same arm path come out idle and with both cores busy."""
+
+from __future__ import annotations
+
+import pytest
+
+from grading_helpers import answer_text, busy_cores, write_package
+
+pytestmark = pytest.mark.ros
+
+TWIST = "/cartesian_velocity_controller/cmd_vel"
+
+
+def _observe(package, loaded: bool):
+    from hri_teleop.grading import compare
+    from hri_teleop.grading.checks import grade_teleoperation_launch
+
+    seen = []
+    original = compare.compare_teleop_launch_sim
+
+    def spy(parsed, observation, *args, **kwargs):
+        seen.append(observation)
+        return original(parsed, observation, *args, **kwargs)
+
+    with pytest.MonkeyPatch.context() as patch:
+        patch.setattr(compare, "compare_teleop_launch_sim", spy)
+        if loaded:
+            with busy_cores(2):
+                result = grade_teleoperation_launch(package)
+        else:
+            result = grade_teleoperation_launch(package)
+    return result, seen[0]
+
+
+def test_the_launch_check_gives_the_same_twists_and_arm_path_idle_and_loaded(tmp_path):
+    package = write_package(tmp_path / "hri_lab", {"package.xml": answer_text("package.xml"),
+                                                   "launch/teleoperation.launch": answer_text("launch/teleoperation.launch")})
+    runs = [_observe(package, loaded) for loaded in (False, True)]
+    for result, observation in runs:
+        assert result.score == result.max_score, result.failed_parts
+        assert observation["clock"] == "grader", observation.get("lab_sim_log")
+        assert not any("real time" in n for n in result.notes)
+    (_, idle), (_, loaded) = runs
+    twists = [[(t, v) for t, _k, v in o["messages"][TWIST]] for o in (idle, loaded)]
+    assert twists[0] and twists[0] == twists[1]
+    # The arm's path depends on when lab_sim applied each command; the poses' publication
+    # times do not matter. Where it went and where it stopped are the same.
+    z = [[v[2] for _t, _k, v in o["messages"]["/lab_sim/ee_pose"]] for o in (idle, loaded)]
+    assert max(z[0]) - z[0][0] > 0.02  # the pad lifted the arm
+    assert max(z[0]) == pytest.approx(max(z[1]), abs=1e-9)
+    assert z[0][-1] == pytest.approx(z[1][-1], abs=1e-9)
