@@ -21,7 +21,10 @@ from hri_teleop.checks import is_finite_number, is_int
 from hri_teleop.fsr import count_to_force, force_to_count
 from hri_teleop.mapping import ADC_MAX_COUNT
 
-__all__ = ["SensorProfileError", "press_profile_count"]
+__all__ = ["FSR_SENSOR_RATE_HZ", "SensorProfileError", "press_profile_count"]
+
+#: FSR_sensor.py's publish rate when its ~rate_hz is not set, Hz.
+FSR_SENSOR_RATE_HZ = 10.0
 
 
 class SensorProfileError(ValueError):

@@ -1,6 +1,6 @@
 """Benchmark 4 (issue 8): grading throughput.
 
-Three rows, every figure from real runs of the grader's own command lines:
+Four rows, every figure from real runs of the grader's own command lines:
 
 * **hri-grade submission**: wall time of ``hri-grade submission solutions/hri_lab`` (the
   answer key, so every check runs to its end), the median of 3 runs (smoke: 1 run of
@@ -13,6 +13,9 @@ Three rows, every figure from real runs of the grader's own command lines:
   files). A roscore start+stop times the number of sessions would be a floor as well, but
   the grader does not report how many sessions a check starts, and a count written here
   would go stale silently.
+* **hri-grade submission, real time**: the same, as grading ran before the grader owned the
+  clock (``HRI_GRADE_CLOCK=real``: the nodes in real time, the lab's graph computed in every
+  run). *Reference*: the row above, from the same ``make bench``: before and after side by side.
 * **make grade, 1 worker** and **make grade, N workers**: ``hri-grade batch submitted --jobs
   1`` (what ``make grade JOBS=1`` runs) and ``--jobs N`` (N = ``--jobs``, else the CPU
   count) on an nbgrader course with 20 submissions of the whole ``preparation`` assignment
@@ -220,17 +223,22 @@ def _lab_env() -> Dict[str, str]:
 # -- 1. hri-grade submission ----------------------------------------------------------------------
 
 def measure_submission(work_dir: Path, runs: int = SUBMISSION_RUNS, checks: Sequence[str] = (),
-                       progress: Progress = lambda _m: None) -> BenchRow:
+                       progress: Progress = lambda _m: None, real_time: bool = False) -> BenchRow:
     """``hri-grade submission solutions/hri_lab`` ``runs`` times (``checks``: a subset, default all).
 
     Figure: the median wall time of a run; reference: the median of the sums of the
     checks' own ``duration_s`` in the same runs (see the module's docstring for why).
+    ``real_time``: as before the grader owned the clock (``HRI_GRADE_CLOCK=real``, and a
+    cache folder of its own, so the lab's graph is computed as it was in every run).
     """
     from hri_teleop.course import SOLUTIONS
-    from hri_teleop.grading.checks import CHECKS
+    from hri_teleop.grading.checks import CHECKS, CLOCK_ENV
 
     wanted = list(checks) or list(CHECKS)
     env = _lab_env()
+    if real_time:
+        env = dict(env, **{CLOCK_ENV: "real"})
+    label = "hri-grade submission, real time" if real_time else "hri-grade submission"
     walls: List[float] = []
     sums: List[float] = []
     per_check: Dict[str, List[float]] = {}
@@ -238,10 +246,14 @@ def measure_submission(work_dir: Path, runs: int = SUBMISSION_RUNS, checks: Sequ
         out = work_dir / f"run{index}"
         if out.exists():
             shutil.rmtree(out)
+        if real_time:
+            cache = work_dir / f"cache{index}"
+            shutil.rmtree(cache, ignore_errors=True)
+            env["XDG_CACHE_HOME"] = str(cache)
         argv = [sys.executable, "-m", "hri_teleop.grading.cli", "submission", str(SOLUTIONS), "--out", str(out)]
         if checks:
             argv += ["--checks", ",".join(checks)]
-        progress(f"hri-grade submission: run {index}/{runs} ({', '.join(wanted)})")
+        progress(f"{label}: run {index}/{runs} ({', '.join(wanted)})")
         log = work_dir / f"run{index}.stderr"
         ran = _run(argv, what="hri-grade submission", log=log, timeout_s=_SUBMISSION_TIMEOUT_S, env=env)
         if ran.returncode != 0:
@@ -259,7 +271,7 @@ def measure_submission(work_dir: Path, runs: int = SUBMISSION_RUNS, checks: Sequ
         sums.append(sum(float(r["duration_s"]) for r in results))
         for r in results:
             per_check.setdefault(r["check"], []).append(float(r["duration_s"]))
-        progress(f"hri-grade submission: run {index}/{runs} took {ran.seconds:.1f} s "
+        progress(f"{label}: run {index}/{runs} took {ran.seconds:.1f} s "
                  f"(checks {sums[-1]:.1f} s)")
     wall_s, checks_s = round(statistics.median(walls), 3), round(statistics.median(sums), 3)
     slowest = max(per_check, key=lambda c: statistics.median(per_check[c]))
@@ -267,7 +279,7 @@ def measure_submission(work_dir: Path, runs: int = SUBMISSION_RUNS, checks: Sequ
               "checks_sum_s": checks_s, "runs": float(runs), "checks": float(len(wanted)),
               **{f"check_{c.replace('-', '_')}_s": round(statistics.median(v), 3) for c, v in per_check.items()}}
     return BenchRow(
-        benchmark="hri-grade submission",
+        benchmark=label,
         figure=(f"{wall_s:.1f} s per submission (answer key, {len(wanted)} check(s), median of {runs}; "
                 f"slowest: {slowest} {statistics.median(per_check[slowest]):.1f} s)"),
         reference=f"the checks' own time {checks_s:.1f} s (sum of checks.json duration_s)",
@@ -480,8 +492,16 @@ def run(options: BenchOptions, progress: Progress) -> List[BenchRow]:
         shutil.rmtree(work)
     work.mkdir(parents=True)
     smoke = options.smoke
-    rows = [measure_submission(work / "submission", SMOKE_SUBMISSION_RUNS if smoke else SUBMISSION_RUNS,
-                               SMOKE_CHECKS if smoke else (), progress)]
+    runs, checks = (SMOKE_SUBMISSION_RUNS, SMOKE_CHECKS) if smoke else (SUBMISSION_RUNS, ())
+    after = measure_submission(work / "submission", runs, checks, progress)
+    before = measure_submission(work / "submission-real-time", runs, checks, progress, real_time=True)
+    # Before and after in one run: the grader's clock against real time, on the same machine.
+    before_s, after_s = before.values["per_submission_s"], after.values["per_submission_s"]
+    before = BenchRow(benchmark=before.benchmark, figure=before.figure + " [before: HRI_GRADE_CLOCK=real]",
+                      reference=f"the grader's clock, same run: {after_s:.1f} s per submission",
+                      ratio=_ratio(before_s, after_s), ratio_means="real time / grader's clock",
+                      values=dict(before.values, grader_clock_s=after_s))
+    rows = [after, before]
     rows += measure_make_grade(work / "make_grade", submission_count(smoke),
                                SMOKE_NOTEBOOKS if smoke else None, options.jobs,
                                SMOKE_CHECKS if smoke else (), progress)

@@ -34,6 +34,7 @@ from hri_teleop.grading.results import CheckResult, GradingError, Part, feedback
 from hri_teleop.grading.robot_params import compare_robot_params
 from hri_teleop.grading.sandbox import DEFAULT_LIMITS, StudentProcess, describe_exit, sandbox_mode, session_argv, student_uid
 from hri_teleop.ros.master import lab_shell_env
+from hri_teleop.sensor_profile import FSR_SENSOR_RATE_HZ
 from hri_teleop.grading.workspace import (DELIVERABLES, REPO, Workspace, find_package_root, prepare_workspace,
                                           ros_package_path)
 
@@ -325,6 +326,25 @@ def _parse_launch(run: _Run, key: str) -> Tuple[Dict[str, Any], Dict[str, Any]]:
     return (data if data is not None else {"ok": False, "error": ""}), facts
 
 
+#: ``HRI_GRADE_CLOCK=real`` runs the nodes in real time, as before the grader owned the clock
+#: (to compare, or to rule the clock out when a node behaves differently under grading).
+CLOCK_ENV = "HRI_GRADE_CLOCK"
+
+
+def grading_clock() -> str:
+    """"grader" (the default: /use_sim_time, /clock stepped by the grader) or "real time"."""
+    value = os.environ.get(CLOCK_ENV, "grader").strip() or "grader"
+    if value not in ("grader", "real"):
+        raise GradingError(f"{CLOCK_ENV} is {value!r}; use grader (the default: the grader owns /clock) or real "
+                           "(the nodes run in real time)")
+    return "grader" if value == "grader" else "real time"
+
+
+def _full_name(node: Dict[str, Any]) -> str:
+    """A parsed launch node's ROS name, ``/ns/name``."""
+    return f"{node['namespace'].rstrip('/')}/{node['name']}"
+
+
 @_closing
 def grade_sensor_launch(path: PathLike, *, seed: Optional[int] = None, out_dir: Optional[PathLike] = None) -> CheckResult:
     """Ex. 6-7: parsed with roslaunch's loader, then launched: /force_mapped flows and stays in [0, 1]."""
@@ -338,16 +358,26 @@ def grade_sensor_launch(path: PathLike, *, seed: Optional[int] = None, out_dir: 
         scripts = {n["type"] for n in parsed.get("nodes", [])}
         param_ok, _ = compare._check_max_param(parsed.get("params", {}))
         package = run.space.package
+        run_mapping = "mapping_node.py" not in scripts and (package / "scripts" / "mapping_node.py").is_file()
         plan = {"kind": "sensor-launch", "launch_file": str(run.space.files["sensor_launch"]),
                 "set_max_sensor_force": None if param_ok else C.PUBLIC_MAX_SENSOR_FORCE,
                 "run_fsr_sensor": "FSR_sensor.py" not in scripts, "fsr_sensor": str(package / "scripts" / "FSR_sensor.py"),
-                "run_mapping_node": "mapping_node.py" not in scripts and (package / "scripts" / "mapping_node.py").is_file(),
+                "run_mapping_node": run_mapping,
                 "mapping_node": str(package / "scripts" / "mapping_node.py"),
                 "start_timeout_s": 15.0, "record_s": 3.0,
-                "record_messages": 10}
+                "record_messages": 10, "clock": grading_clock(), "settle_timeout_s": 10.0,
+                "fsr_node": next((_full_name(n) for n in parsed.get("nodes", []) if n["type"] == "FSR_sensor.py"),
+                                 "/FSR_sensor"),
+                "default_fsr_rate_hz": FSR_SENSOR_RATE_HZ,
+                "mapping_node_name": next((_full_name(n) for n in parsed.get("nodes", [])
+                                           if n["type"] == "mapping_node.py"), "/mapping_node"),
+                "expect_nodes": sorted({_full_name(n) for n in parsed.get("nodes", [])}
+                                       | ({"/FSR_sensor"} if "FSR_sensor.py" not in scripts else set())
+                                       | ({"/mapping_node"} if run_mapping else set()))}
         observation = run.session(plan, timeout_s=90.0)
     parts = compare.compare_sensor_launch(parsed, observation, facts)
-    return _finish("sensor-launch", run, parts, None)
+    notes = _clock_notes(observation, "sensor.launch: ")
+    return _finish("sensor-launch", run, parts, None, notes)
 
 
 @_closing
@@ -394,11 +424,10 @@ def grade_teleoperation(path: PathLike, *, seed: Optional[int] = None, out_dir: 
         plan = {"kind": "teleop-node", "script": str(run.space.files["teleoperation"]), "pad_script": str(script_path),
                 "gains": node_case.gains.as_dict(), "force": node_case.force, "start_timeout_s": 10.0,
                 "run_s": node_case.quit_s + 4.0, "quit_grace_s": 5.0, "record": [TWIST_TOPIC, "/gripper_width"],
-                "clock": "grader"}
+                "clock": grading_clock()}
         observation = run.session(plan, timeout_s=90.0)
         parts += compare.compare_teleop_node(observation, node_case, TWIST_TOPIC, run.out_dir)
-        if observation.get("clock") == "real time" and not observation.get("problem"):
-            notes.append(_REAL_TIME_NOTE)
+        notes += _clock_notes(observation)
     return _finish("teleoperation", run, parts, seed, notes)
 
 
@@ -439,10 +468,9 @@ def _launch_sim_plan(run: _Run, parsed: Dict[str, Any]) -> Optional[Dict[str, An
                         f"/pub_force:={BOARD_TOPIC}"],
             "record": [TWIST_TOPIC, "/force_mapped", "/pub_force", "/gripper_width", "/franka_gripper/joint_states",
                        "/lab_sim/ee_pose", "/lab_sim/object", f"{node}/rumble"],
-            "start_timeout_s": 20.0, "run_s": case.quit_s + 12.0, "clock": "grader", "settle_timeout_s": 10.0,
+            "start_timeout_s": 20.0, "run_s": case.quit_s + 12.0, "clock": grading_clock(), "settle_timeout_s": 10.0,
             "applied_topic": "/lab_sim/command_time_s",
-            "expect_nodes": sorted({f"{n['namespace'].rstrip('/')}/{n['name']}" for n in parsed.get("nodes", [])}
-                                   | {f"/{name}" for name in supply}),
+            "expect_nodes": sorted({_full_name(n) for n in parsed.get("nodes", [])} | {f"/{name}" for name in supply}),
             "default_rate_hz": _lab_rate_hz()}
 
 
@@ -456,6 +484,15 @@ def _lab_rate_hz() -> float:
         return load_teleop_config(path).params.rate_hz if path.is_file() else TeleopParams().rate_hz
     except ConfigError:
         return TeleopParams().rate_hz
+
+
+def _clock_notes(observation: Optional[Dict[str, Any]], prefix: str = "") -> List[str]:
+    """A note when the grader meant to own the clock and a node made it fall back to real time."""
+    if not observation or observation.get("problem") or observation.get("session_error"):
+        return []
+    if observation.get("clock") == "real time" and grading_clock() == "grader":
+        return [prefix + _REAL_TIME_NOTE]
+    return []
 
 
 _REAL_TIME_NOTE = ("the node did not tick with the grader's /clock (a loop paced by rospy.Rate does; time.sleep "
@@ -476,10 +513,7 @@ def grade_teleoperation_launch(path: PathLike, *, seed: Optional[int] = None,
     plan = _launch_sim_plan(run, parsed) if parsed.get("ok") else None
     observation = run.session(plan, timeout_s=120.0) if plan is not None else None
     parts.append(compare.compare_teleop_launch_sim(parsed, observation, C.launch_sim_case(), run.out_dir))
-    notes = []
-    if observation and observation.get("clock") == "real time" and not observation.get("problem") \
-            and not observation.get("session_error"):
-        notes.append(f"teleoperation.launch: {_REAL_TIME_NOTE}")
+    notes = _clock_notes(observation, "teleoperation.launch: ")
     return _finish("teleoperation-launch", run, parts, None, notes)
 
 
@@ -487,18 +521,41 @@ _LIVE_GRAPH: Dict[str, Dict[str, Any]] = {}
 LIVE_GRAPH_NODES = ("/FSR_sensor", "/mapping_node", "/gripper_manager", "/teleoperation")
 
 
+def graph_cache_file(reference: Path = REPO / "hri_lab") -> Path:
+    """Where the lab's live graph is kept between runs: named after what shapes it.
+
+    The key is a digest of the reference package's launch, script and config files, the
+    ROS distribution and the Python version, so a changed pipeline is read afresh.
+    """
+    import hashlib
+
+    digest = hashlib.sha256(f"{os.environ.get('ROS_DISTRO', '')} {sys.version_info[:2]}".encode())
+    for folder in ("launch", "scripts", "config"):
+        for path in sorted((reference / folder).glob("*")):
+            if path.is_file():
+                digest.update(f"{folder}/{path.name}\0".encode() + path.read_bytes() + b"\0")
+    base = Path(os.environ.get("XDG_CACHE_HOME") or Path.home() / ".cache")
+    return base / "hri-teleop" / f"live-graph-{digest.hexdigest()[:16]}.json"
+
+
 def live_graph(cache_file: Optional[PathLike] = None) -> Dict[str, Any]:
     """The graph of the lab's pipeline (hri_lab teleoperation.launch without hardware), once per process.
 
-    ``cache_file``: read it if it exists, else write it (``make grade`` computes it once for all).
+    ``cache_file``: read it if it exists, else write it (``make grade`` computes it once for
+    all). Without one, :func:`graph_cache_file` keeps it between runs (written if it can be).
     """
     if "graph" in _LIVE_GRAPH:
         return _LIVE_GRAPH["graph"]
-    if cache_file and Path(cache_file).is_file():
-        _LIVE_GRAPH["graph"] = json.loads(Path(cache_file).read_text(encoding="utf-8"))
-        return _LIVE_GRAPH["graph"]
     from hri_teleop.grading.workspace import REFERENCE_PACKAGE
 
+    if cache_file is None and (REFERENCE_PACKAGE / "launch" / "teleoperation.launch").is_file():
+        cache_file = graph_cache_file(REFERENCE_PACKAGE)
+    if cache_file and Path(cache_file).is_file():
+        try:
+            _LIVE_GRAPH["graph"] = json.loads(Path(cache_file).read_text(encoding="utf-8"))
+            return _LIVE_GRAPH["graph"]
+        except (OSError, ValueError):
+            pass  # unreadable or cut short: compute it again
     if not (REFERENCE_PACKAGE / "launch" / "teleoperation.launch").is_file():
         return _graph_of_running_master()  # the student bundle: the pipeline its notebook started
     _require_ros()
@@ -517,8 +574,13 @@ def live_graph(cache_file: Optional[PathLike] = None) -> Dict[str, Any]:
         raise GradingError(f"could not read the lab's live graph: {graph.get('session_error') or graph.get('problem')}")
     _LIVE_GRAPH["graph"] = graph
     if cache_file:
-        Path(cache_file).parent.mkdir(parents=True, exist_ok=True)
-        Path(cache_file).write_text(json.dumps(graph, sort_keys=True), encoding="utf-8")
+        try:
+            Path(cache_file).parent.mkdir(parents=True, exist_ok=True)
+            partial = Path(cache_file).with_suffix(f".{os.getpid()}.tmp")
+            partial.write_text(json.dumps(graph, sort_keys=True), encoding="utf-8")
+            partial.replace(cache_file)  # whole or not at all: graders running side by side read it
+        except OSError:
+            pass  # a read-only home: the graph is computed again next time
     return graph
 
 

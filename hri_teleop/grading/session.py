@@ -205,10 +205,11 @@ class Session:
         return proc
 
     def stop(self) -> None:
-        for proc in self.started:
-            if proc.running:
-                proc.stop()
-        self.master.stop()
+        """Every student process at once (each gets its SIGINT grace), then the grader's helpers and the master."""
+        from hri_teleop.ros.master import stop_side_by_side
+
+        stop_side_by_side(self.started)
+        self.master.stop(quick=True)
 
 
 def _start_problem(proc: Any, timeout_s: float, what: str) -> str:
@@ -327,22 +328,48 @@ def _lockstep(publisher: Any, recorder: _Recorder, out_topic: str, counts: List[
     return responses
 
 
+def _record_sensor_on_clock(session: Session, clock: "_GraderClock", recorder: _Recorder, launch: Any,
+                            want: int) -> None:
+    """Step the clock one sensor period at a time until ``want`` values came out of /force_mapped.
+
+    Each step waits for the tick's count on /pub_force and its mapping on /force_mapped
+    (once each has spoken), so every count is paired with its own mapping, idle or busy.
+    """
+    plan = session.plan
+    _wait_until_settled(session, set(plan.get("expect_nodes", [])), launch, plan["settle_timeout_s"])
+    _wait(lambda: (recorder.connected("/pub_force") and recorder.connected("/force_mapped")
+                   and _inbound_connections(session, plan["mapping_node_name"], "/pub_force") > 0)
+          or not launch.running, 5.0, 0.002)
+    rate_hz = _node_rate_hz(session, plan["fsr_node"], plan["default_fsr_rate_hz"], "rate_hz")
+    clock.start()  # the sensor's first count, with everything connected: the same in every run
+    _wait(lambda: recorder.count("/force_mapped") > 0 or not launch.running, _GraderClock.STEP_TIMEOUT_S, 0.0005)
+    for _ in range(int(plan["record_s"] * rate_hz)):
+        if (want and recorder.count("/force_mapped") >= want) or not launch.running:
+            break
+        lockstep = [t for t in ("/pub_force", "/force_mapped") if recorder.count(t)] or ["/pub_force"]
+        if not clock.step(rate_hz, recorder, lockstep, launch) and not clock.paced and launch.running:
+            clock.paced = True
+
+
 def run_sensor_launch(session: Session) -> Dict[str, Any]:
     """roslaunch the student's sensor.launch; supply what it lacks so the flow can still be judged."""
     plan = session.plan
     supplied: List[str] = []
+    # Before anything reads /use_sim_time; time starts once every node is up and connected.
+    clock = _GraderClock(session, started=False) if plan.get("clock") == "grader" else None
     if plan.get("set_max_sensor_force") is not None:
         session.master.set_param("/max_sensor_force", plan["set_max_sensor_force"])
         supplied.append("/max_sensor_force")
     extra: List[Any] = []
-    launch = session.start_student(["roslaunch", "--wait", plan["launch_file"]], "roslaunch")
+    launch = session.start_student(["roslaunch", "--wait", plan["launch_file"]], "roslaunch",
+                                   clock.student_env() if clock else None)
     if plan.get("run_fsr_sensor"):
         extra.append(session.master.run([plan["python"], plan["fsr_sensor"]], "grader_FSR_sensor"))
         supplied.append("FSR_sensor.py")
     if plan.get("run_mapping_node"):
         extra.append(session.start_student([plan["python"], plan["mapping_node"]], "grader_mapping_node"))
         supplied.append("mapping_node.py")
-    recorder = _Recorder()
+    recorder = _Recorder(clock.now if clock else time.monotonic)
     ok = _wait(lambda: bool(session.master.publishers("/force_mapped")) or not launch.running,
                plan["start_timeout_s"], 0.05) and launch.running
     problem = "" if ok else _start_problem(launch, plan["start_timeout_s"], "anything publishing /force_mapped")
@@ -350,10 +377,14 @@ def run_sensor_launch(session: Session) -> Dict[str, Any]:
         recorder.add("/force_mapped")
         recorder.add("/pub_force")
         _wait(lambda: recorder.connected("/force_mapped"), 5.0)
-        _wait(lambda: recorder.count("/force_mapped") > 0 or not launch.running, plan["start_timeout_s"])
-        # Enough messages to judge, not a fixed time: a busy machine records the same number.
         want = plan.get("record_messages", 0)
-        _wait(lambda: (want and recorder.count("/force_mapped") >= want) or not launch.running, plan["record_s"], 0.01)
+        if clock is not None:
+            _record_sensor_on_clock(session, clock, recorder, launch, want)
+        else:
+            _wait(lambda: recorder.count("/force_mapped") > 0 or not launch.running, plan["start_timeout_s"])
+            # Enough messages to judge, not a fixed time: a busy machine records the same number.
+            _wait(lambda: (want and recorder.count("/force_mapped") >= want) or not launch.running,
+                  plan["record_s"], 0.01)
     nodes = sorted(_student_nodes(session.master, session.baseline))
     pubs, subs, types = _graph(session.master)
     recorder.close()
@@ -367,6 +398,7 @@ def run_sensor_launch(session: Session) -> Dict[str, Any]:
         proc.stop()
     return {
         "kind": "sensor-launch", "supplied": supplied, "problem": problem, "nodes": nodes,
+        "clock": "grader" if clock is not None and not clock.paced else "real time",
         "types": {t: k for t, k in types.items() if t not in _IGNORED_TOPICS},
         "force_mapped": [[t, k, v] for t, k, v in recorder.messages.get("/force_mapped", [])],
         "pub_force": [[t, k, v] for t, k, v in recorder.messages.get("/pub_force", [])],
@@ -389,7 +421,8 @@ class _GraderClock:
     #: answers within milliseconds; a node that ignores /clock never does).
     STEP_TIMEOUT_S = 2.0
 
-    def __init__(self, session: Session, start_s: float = 1.0) -> None:
+    def __init__(self, session: Session, start_s: float = 1.0, started: bool = True) -> None:
+        """``started`` False: ROS time stays 0 (nodes that wait for the clock wait) until :meth:`start`."""
         import rospy
         from rosgraph_msgs.msg import Clock
 
@@ -401,6 +434,11 @@ class _GraderClock:
         # in floats (1.14 -> 1.139999999 s) would miss a tick now and then.
         self._now_ns = int(round(start_s * 1e9))
         self.paced = False
+        if started:
+            self._publish()
+
+    def start(self) -> None:
+        """The first reading (``start_s``): every node waiting for the clock begins at this instant."""
         self._publish()
 
     def _publish(self) -> None:
@@ -420,8 +458,10 @@ class _GraderClock:
         return _wait(lambda: bool(set(self._master.subscribers("/clock")) & set(nodes)) or not proc.running,
                      timeout_s, 0.005)
 
-    def step(self, rate_hz: float, recorder: _Recorder, topics: Sequence[str], proc: Any) -> bool:
-        """One period of a loop at ``rate_hz`` (rospy.Rate's own arithmetic), then wait for the tick's messages.
+    def step(self, rate_hz: float, recorder: _Recorder, topics: Sequence[str], proc: Any,
+             also: Callable[[], bool] = lambda: True) -> bool:
+        """One period of a loop at ``rate_hz`` (rospy.Rate's own arithmetic), then wait for the tick's messages
+        (a new one on each of ``topics``) and for ``also``.
 
         False when they did not come within ``STEP_TIMEOUT_S``: the caller decides whether
         the node ignores the clock (``paced`` from then on) or has just ended.
@@ -432,8 +472,8 @@ class _GraderClock:
         if self.paced:
             time.sleep(1.0 / rate_hz)
             return True
-        return _wait(lambda: all(recorder.count(t) > b for t, b in zip(topics, before)) or not proc.running,
-                     self.STEP_TIMEOUT_S, 0.0002)
+        return _wait(lambda: (all(recorder.count(t) > b for t, b in zip(topics, before)) and also())
+                     or not proc.running, self.STEP_TIMEOUT_S, 0.0002)
 
 
 def run_teleop_node(session: Session) -> Dict[str, Any]:
@@ -529,12 +569,37 @@ def _wait_until_settled(session: Session, expected: Set[str], proc: Any, timeout
     return False
 
 
-def _node_rate_hz(session: Session, node: str, default_hz: float) -> float:
-    """The loop rate a node was given (its private ``rate``), else the lab's default."""
+def _last_value(recorder: _Recorder, topic: str, default: float) -> float:
+    with recorder.lock:
+        messages = recorder.messages.get(topic) or []
+        value = messages[-1][2] if messages else default
+    return float(value) if isinstance(value, (int, float)) else default
+
+
+def _inbound_connections(session: Session, node: str, topic: str) -> int:
+    """How many publishers of ``topic`` ``node`` is connected to now (its own bus info, as rosnode info reads it).
+
+    The master only knows who registered; a subscriber may still be connecting, and under
+    the grader's clock ticks would pass meanwhile.
+    """
+    import xmlrpc.client
+
+    try:
+        code, _msg, uri = xmlrpc.client.ServerProxy(session.master.uri).lookupNode(GRADER_NODE, node)
+        if code != 1:
+            return 0
+        code, _msg, bus = xmlrpc.client.ServerProxy(uri).getBusInfo(GRADER_NODE)
+    except (OSError, xmlrpc.client.Error):
+        return 0
+    return sum(1 for c in bus if code == 1 and len(c) > 5 and c[2] == "i" and c[4] == topic and c[5])
+
+
+def _node_rate_hz(session: Session, node: str, default_hz: float, param: str = "rate") -> float:
+    """The loop rate a node was given (its private ``param``), else the lab's default."""
     from hri_teleop.ros.master import MasterError
 
     try:
-        value = float(session.master.get_param(f"{node}/rate"))  # type: ignore[arg-type]
+        value = float(session.master.get_param(f"{node}/{param}"))  # type: ignore[arg-type]
     except (MasterError, TypeError, ValueError):
         return default_hz
     return value if 0.0 < value <= 1000.0 else default_hz
@@ -556,7 +621,8 @@ def run_teleop_launch_sim(session: Session) -> Dict[str, Any]:
     if plan.get("set_max_sensor_force") is not None:
         session.master.set_param("/max_sensor_force", plan["set_max_sensor_force"])
         supplied.append("/max_sensor_force")
-    clock = _GraderClock(session) if plan.get("clock") == "grader" else None  # before anything reads /use_sim_time
+    # Before anything reads /use_sim_time; time starts once every node is up and connected.
+    clock = _GraderClock(session, started=False) if plan.get("clock") == "grader" else None
     lab = session.master.run([plan["python"], *plan["lab_sim"]], "grader_lab_sim")
     ready = _wait(lambda: "/lab_sim" in session.master.subscribers(plan["twist_topic"]) or not lab.running,
                   plan["start_timeout_s"], 0.05)
@@ -596,22 +662,28 @@ def run_teleop_launch_sim(session: Session) -> Dict[str, Any]:
             # Time stands still until every node is up and connected: at the simulation's
             # speed a node still importing would otherwise miss seconds of the operator.
             _wait_until_settled(session, set(plan.get("expect_nodes", [])), launch, plan["settle_timeout_s"])
-            # Step once the node's twists reach the recorder: a tick published before that
-            # connection is lost, and the node would wait for a step that never comes.
-            twist = plan["twist_topic"]
-            _wait(lambda: recorder.connected(twist) or not launch.running, plan["start_timeout_s"], 0.0005)
-            rate_hz = _node_rate_hz(session, teleop, plan["default_rate_hz"])
-            # The tick's twist, and lab_sim's word that it applied it (once it is connected):
-            # the next step must not reach lab_sim before the command of this one.
-            applied = plan["applied_topic"]
+            # Step once the node's twists reach the recorder and lab_sim: a tick published before
+            # a connection is lost (to lab_sim: a velocity out of the blue, which the arm refuses).
+            twist, applied = plan["twist_topic"], plan["applied_topic"]
             recorder.add(applied)
+            _wait(lambda: (recorder.connected(twist) and recorder.connected(applied)
+                           and _inbound_connections(session, "/lab_sim", twist) > 0)
+                  or not launch.running, plan["start_timeout_s"], 0.002)
+            rate_hz = _node_rate_hz(session, teleop, plan["default_rate_hz"])
+            # Each step waits for the tick's twist and for lab_sim's word that it applied it at
+            # this tick's time: the next step must not reach lab_sim before this command.
+            def applied_now() -> bool:
+                return _last_value(recorder, applied, 0.0) >= clock.now() - 1e-6
+
+            clock.start()  # tick 0, with everything connected: the same first tick in every run
+            _wait(lambda: (recorder.count(twist) > 0 and applied_now()) or not launch.running,
+                  _GraderClock.STEP_TIMEOUT_S, 0.0005)
             tick = 0
             while clock.now() - started < plan["run_s"]:
                 if tick % 10 == 0 and not still_up():
                     break
                 tick += 1
-                lockstep = [twist, applied] if recorder.count(applied) else [twist]
-                if not clock.step(rate_hz, recorder, lockstep, launch) and not clock.paced:
+                if not clock.step(rate_hz, recorder, [twist], launch, applied_now) and not clock.paced:
                     if not still_up():
                         break
                     clock.paced = True

@@ -46,7 +46,7 @@ class NodeClock:
     def now(self) -> float:
         return rospy.get_time() if self.sim_time else time.monotonic()
 
-    def wait_started(self, timeout_s: float = 10.0) -> float:
+    def wait_started(self, timeout_s: float = 60.0) -> float:
         """The first reading, once /clock has given one (at once on the wall clock)."""
         if not self.sim_time:
             return self.now()

@@ -23,7 +23,7 @@ import threading
 import time
 import xmlrpc.client
 from pathlib import Path
-from typing import Callable, Dict, List, Mapping, Optional, Sequence, Set, Tuple
+from typing import Any, Callable, Dict, List, Mapping, Optional, Sequence, Set, Tuple
 
 
 class MasterError(RuntimeError):
@@ -81,6 +81,15 @@ def lab_shell_env(base: Optional[Mapping[str, str]] = None, venv_bin: Optional[P
         paths.append("/usr/share")
     env["ROS_PACKAGE_PATH"] = ":".join(paths)
     return env
+
+
+def stop_side_by_side(procs: Sequence[Any]) -> None:
+    """``proc.stop()`` of each at once (threads): their grace periods overlap instead of adding up."""
+    threads = [threading.Thread(target=proc.stop, daemon=True) for proc in procs if proc.running]
+    for thread in threads:
+        thread.start()
+    for thread in threads:
+        thread.join()
 
 
 def free_port() -> int:
@@ -161,6 +170,14 @@ class ManagedProcess:
             self._log.close()
         return self.popen.returncode
 
+    def kill(self) -> Optional[int]:
+        """SIGKILL the whole group at once: for what nobody needs a clean exit of (a grading master)."""
+        try:
+            os.killpg(os.getpgid(self.popen.pid), signal.SIGKILL)
+        except ProcessLookupError:
+            pass
+        return self.stop(timeout_s=3.0)
+
     def wait(self, timeout_s: float) -> Optional[int]:
         try:
             return self.popen.wait(timeout=timeout_s)
@@ -239,12 +256,22 @@ class PrivateMaster:
         self.uri = f"http://127.0.0.1:{port}/"
         self.env["ROS_MASTER_URI"] = self.uri
 
-    def stop(self) -> None:
+    def stop(self, quick: bool = False) -> None:
+        """Stop what was started here, newest first, then roscore.
+
+        ``quick``: the children are stopped side by side and roscore is killed rather than
+        asked (its clean shutdown takes 0.6 s and keeps nothing anyone reads): the grader's way.
+        """
+        if quick:
+            stop_side_by_side(list(self.children))
         for child in reversed(self.children):
             child.stop()
         self.children.clear()
         if self.core is not None:
-            self.core.stop()
+            if quick:
+                self.core.kill()
+            else:
+                self.core.stop()
             self.core = None
         if self._own_dir:
             shutil.rmtree(self.work_dir, ignore_errors=True)

@@ -31,13 +31,18 @@ def test_grading_benchmark_smoke_measures_real_grading(tmp_path):
     for row in rows:
         print(format_row(row))
 
-    assert [r.benchmark for r in rows] == ["hri-grade submission", "make grade, 1 worker", "make grade, 2 workers"]
+    assert [r.benchmark for r in rows] == ["hri-grade submission", "hri-grade submission, real time",
+                                           "make grade, 1 worker", "make grade, 2 workers"]
     for row in rows:
         assert _finite_positive(row.ratio), row
         assert all(_finite_positive(v) for v in row.values.values()), row
         assert row.figure and row.reference and row.ratio_means, row
 
-    submission, one, two = rows
+    submission, real_time, one, two = rows
+    # Before and after in one run: the real-time row's reference is the grader's-clock row.
+    assert real_time.values["grader_clock_s"] == submission.values["per_submission_s"]
+    assert real_time.ratio == pytest.approx(real_time.values["per_submission_s"] / submission.values["per_submission_s"])
+    assert (tmp_path / "grading" / "submission-real-time" / "run1" / "checks.json").is_file()
     v = submission.values
     assert v["runs"] == 1 and v["checks"] == 1 and set(v) >= {"per_submission_s", "checks_sum_s", "check_robot_params_s"}
     assert submission.ratio == pytest.approx(v["per_submission_s"] / v["checks_sum_s"], rel=1e-9)

@@ -59,3 +59,16 @@ def test_the_grader_clock_gives_the_same_messages_run_after_run(tmp_path):
     twist = "/cartesian_velocity_controller/cmd_vel"
     assert seen[0][twist] and seen[0][twist] == seen[1][twist]
     assert seen[0]["/gripper_width"] == seen[1]["/gripper_width"]
+
+
+def test_hri_grade_clock_real_runs_the_node_in_real_time_with_the_same_verdict(tmp_path, monkeypatch):
+    """HRI_GRADE_CLOCK=real: grading as it was before the grader owned the clock (make bench's
+    "before" row), judged the same and with no note about the clock."""
+    from hri_teleop.grading import cases as C
+    from hri_teleop.grading.checks import CLOCK_ENV, grade_teleoperation
+
+    monkeypatch.setenv(CLOCK_ENV, "real")
+    result = grade_teleoperation(_package(tmp_path, answer_text("scripts/teleoperation.py")), seed=SEED)
+    assert result.score == result.max_score, result.failed_parts
+    assert not result.notes
+    assert result.duration_s > C.hidden_teleop_node_case(SEED).quit_s  # the pad script in real time

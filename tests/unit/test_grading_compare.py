@@ -348,3 +348,16 @@ def test_graph_mistakes_fail_their_part(change, key, words):
 def test_an_unreadable_graph_fails_the_format_part_first():
     parts = compare.compare_graph(["not", "a", "mapping"], LIVE)
     assert not parts[0].passed and "nodes:" in parts[0].message
+
+
+def test_the_grading_clock_is_the_graders_unless_real_time_is_asked_for(monkeypatch):
+    from hri_teleop.grading.checks import CLOCK_ENV, grading_clock
+    from hri_teleop.grading.results import GradingError
+
+    monkeypatch.delenv(CLOCK_ENV, raising=False)
+    assert grading_clock() == "grader"
+    monkeypatch.setenv(CLOCK_ENV, "real")
+    assert grading_clock() == "real time"
+    monkeypatch.setenv(CLOCK_ENV, "sim")
+    with pytest.raises(GradingError, match="HRI_GRADE_CLOCK is 'sim'; use grader"):
+        grading_clock()

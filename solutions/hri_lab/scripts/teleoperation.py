@@ -227,12 +227,11 @@ class Teleoperation:
         """Ramp the velocity to zero inside the limits (never a step), then stop the rumble."""
         self.cartesian_velocity = [0.0] * 6
         self.rumble = 0.0
-        deadline = rospy.get_time() + STOP_TIMEOUT  # ROS time, as the loop's rate
-        rate = rospy.Rate(self.rate)
+        deadline = rospy.get_time() + STOP_TIMEOUT  # ROS time, as the loop's
         try:
             while any(v != 0.0 for v in self.limiter.velocity) and rospy.get_time() < deadline:
                 self.send()
-                rate.sleep()
+                rospy.sleep(1.0 / self.rate)
             self.send()
         except rospy.ROSException:
             pass  # rospy already shut down (rosnode kill): nothing can be published any more
