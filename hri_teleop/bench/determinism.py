@@ -21,7 +21,7 @@ from typing import Callable, Dict, List, Sequence, Tuple
 
 from .report import BenchError, BenchOptions, BenchRow
 
-__all__ = ["WRONG_PACKAGES", "FULL_RUNS", "package_variants", "part_scores", "run"]
+__all__ = ["BusyCores", "WRONG_PACKAGES", "FULL_RUNS", "package_variants", "part_scores", "run"]
 
 Progress = Callable[[str], None]
 
@@ -79,14 +79,14 @@ def _grade(package: Path, out: Path, checks: Sequence[str], env: Dict[str, str])
     return part_scores(data.get("tests", []))
 
 
-class _BusyCores:
+class BusyCores:
     """One spinning process per core while the block runs."""
 
     def __init__(self, n: int) -> None:
         self.n = n
         self.procs: List[subprocess.Popen] = []
 
-    def __enter__(self) -> "_BusyCores":
+    def __enter__(self) -> "BusyCores":
         self.procs = [subprocess.Popen([sys.executable, "-c", "while True: pass"]) for _ in range(self.n)]
         return self
 
@@ -114,7 +114,7 @@ def run(options: BenchOptions, progress: Progress) -> List[BenchRow]:
             progress(f"determinism: run {index + 1}/{runs} ({'loaded' if loaded else 'idle'}) of {name}")
             out = work / "runs" / f"{name}-{index + 1}"
             if loaded:
-                with _BusyCores(cores):
+                with BusyCores(cores):
                     seen[name].append(_grade(package, out, checks, env))
             else:
                 seen[name].append(_grade(package, out, checks, env))

@@ -139,18 +139,9 @@ def open_folder(prefix: str):
         shutil.rmtree(path, ignore_errors=True)
 
 
-class busy_cores:
-    """Keep ``n`` cores spinning (separate processes) while the block runs: the loaded machine."""
 
-    def __init__(self, n: int = 2) -> None:
-        self.n = n
-        self.procs: List[subprocess.Popen] = []
+def busy_cores(n: int = 2):
+    """One spinning process per core while the block runs: the loaded machine (make bench's own)."""
+    from hri_teleop.bench.determinism import BusyCores
 
-    def __enter__(self) -> "busy_cores":
-        self.procs = [subprocess.Popen([sys.executable, "-c", "while True: pass"]) for _ in range(self.n)]
-        return self
-
-    def __exit__(self, *exc: object) -> None:
-        for proc in self.procs:
-            proc.kill()
-            proc.wait()
+    return BusyCores(n)
