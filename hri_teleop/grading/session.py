@@ -342,7 +342,8 @@ def _record_sensor_on_clock(session: Session, clock: "_GraderClock", recorder: _
           or not launch.running, 5.0, 0.002)
     rate_hz = _node_rate_hz(session, plan["fsr_node"], plan["default_fsr_rate_hz"], "rate_hz")
     clock.start()  # the sensor's first count, with everything connected: the same in every run
-    _wait(lambda: recorder.count("/force_mapped") > 0 or not launch.running, _GraderClock.STEP_TIMEOUT_S, 0.0005)
+    _wait(lambda: (recorder.count("/pub_force") > 0 and recorder.count("/force_mapped") > 0) or not launch.running,
+          _GraderClock.STEP_TIMEOUT_S, 0.0005)
     for _ in range(int(plan["record_s"] * rate_hz)):
         if (want and recorder.count("/force_mapped") >= want) or not launch.running:
             break
