@@ -338,7 +338,9 @@ def _record_sensor_on_clock(session: Session, clock: "_GraderClock", recorder: _
     plan = session.plan
     _wait_until_settled(session, set(plan.get("expect_nodes", [])), launch, plan["settle_timeout_s"])
     _wait(lambda: (recorder.connected("/pub_force") and recorder.connected("/force_mapped")
-                   and _inbound_connections(session, plan["mapping_node_name"], "/pub_force") > 0)
+                   and _connections(session, plan["mapping_node_name"], "/pub_force") > 0
+                   and _connections(session, plan["fsr_node"], "/pub_force", "o") >= 2
+                   and _connections(session, plan["mapping_node_name"], "/force_mapped", "o") >= 1)
           or not launch.running, 5.0, 0.002)
     rate_hz = _node_rate_hz(session, plan["fsr_node"], plan["default_fsr_rate_hz"], "rate_hz")
     clock.start()  # the sensor's first count, with everything connected: the same in every run
@@ -522,7 +524,10 @@ def run_teleop_node(session: Session) -> Dict[str, Any]:
         # The loop's first tick comes at the start time, before any step: step only after it,
         # so tick k is always at start + k periods (stepping earlier would race the node's start).
         _wait(lambda: recorder.count(plan["record"][0]) > 0 or not proc.running, plan["start_timeout_s"], 0.0005)
-        _wait(lambda: all(recorder.count(t) > 0 for t in plan["record"]) or not proc.running, 0.2, 0.0005)
+        # Every topic of tick 0 before the first step (a message that arrived after it would be
+        # stamped a tick late); a topic the node never publishes costs one step timeout, once.
+        _wait(lambda: all(recorder.count(t) > 0 for t in plan["record"]) or not proc.running,
+              _GraderClock.STEP_TIMEOUT_S, 0.0005)
         lockstep = [t for t in plan["record"] if recorder.count(t) > 0] or plan["record"][:1]
         tick = 0
         while clock.now() - started < plan["run_s"] and proc.running:
@@ -577,11 +582,13 @@ def _last_value(recorder: _Recorder, topic: str, default: float) -> float:
     return float(value) if isinstance(value, (int, float)) else default
 
 
-def _inbound_connections(session: Session, node: str, topic: str) -> int:
-    """How many publishers of ``topic`` ``node`` is connected to now (its own bus info, as rosnode info reads it).
+def _connections(session: Session, node: str, topic: str, direction: str = "i") -> int:
+    """How many connections ``node`` has on ``topic`` now, by its own bus info (as ``rosnode info``
+    reads it): ``direction`` "i" to publishers it subscribes to, "o" to subscribers of what it publishes.
 
-    The master only knows who registered; a subscriber may still be connecting, and under
-    the grader's clock ticks would pass meanwhile.
+    The master only knows who registered; a connection may still be forming, and under the
+    grader's clock ticks would pass meanwhile (a publisher sends a message only to the
+    connections it has counted).
     """
     import xmlrpc.client
 
@@ -592,7 +599,7 @@ def _inbound_connections(session: Session, node: str, topic: str) -> int:
         code, _msg, bus = xmlrpc.client.ServerProxy(uri).getBusInfo(GRADER_NODE)
     except (OSError, xmlrpc.client.Error):
         return 0
-    return sum(1 for c in bus if code == 1 and len(c) > 5 and c[2] == "i" and c[4] == topic and c[5])
+    return sum(1 for c in bus if code == 1 and len(c) > 5 and c[2] == direction and c[4] == topic and c[5])
 
 
 def _node_rate_hz(session: Session, node: str, default_hz: float, param: str = "rate") -> float:
@@ -667,8 +674,10 @@ def run_teleop_launch_sim(session: Session) -> Dict[str, Any]:
             # a connection is lost (to lab_sim: a velocity out of the blue, which the arm refuses).
             twist, applied = plan["twist_topic"], plan["applied_topic"]
             recorder.add(applied)
+            # Both ends counted: the node starts its pad script at the first tick with a listener.
             _wait(lambda: (recorder.connected(twist) and recorder.connected(applied)
-                           and _inbound_connections(session, "/lab_sim", twist) > 0)
+                           and _connections(session, "/lab_sim", twist) > 0
+                           and _connections(session, teleop, twist, "o") >= 2)
                   or not launch.running, plan["start_timeout_s"], 0.002)
             rate_hz = _node_rate_hz(session, teleop, plan["default_rate_hz"])
             # Each step waits for the tick's twist and for lab_sim's word that it applied it at
