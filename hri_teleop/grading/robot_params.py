@@ -132,7 +132,11 @@ def compare_robot_params(params: Optional[Mapping[str, Any]], load_error: str = 
         for key in TABLE_1:
             parts.append(Part(table[key][0], POINTS[key], False, "not judged: the file does not load (see above)"))
         return parts
-    parts.append(Part(LOAD_PART, _LOAD_POINTS, True))
+    if not params:  # comments only (the untouched template): it loads, but nothing was written
+        parts.append(Part(LOAD_PART, _LOAD_POINTS, False, "it loads but sets no parameter: write Table 1's "
+                          "parameters, one `key: value` line each (handout Ex. 4)"))
+    else:
+        parts.append(Part(LOAD_PART, _LOAD_POINTS, True))
     for key, want in TABLE_1.items():
         name = table[key][0]
         if key not in params:

@@ -171,6 +171,9 @@ class Session:
         from hri_teleop.ros.master import PrivateMaster
 
         self.plan = plan
+        self._t0 = time.monotonic()
+        #: Wall seconds from the session's start to each named phase: where a slow check spends its time.
+        self.phases: Dict[str, float] = {}
         self.dir = Path(plan["session_dir"])
         self.folder = Path(plan["student_folder"]) if plan.get("student_folder") else None
         self.limits = Limits(**plan.get("limits", {}))
@@ -185,6 +188,10 @@ class Session:
         rospy.init_node(GRADER_NODE.strip("/"), disable_signals=True, disable_rosout=True)
         self.baseline = set(self.master.node_names())
         self.started: List[Any] = []
+        self.phase("master up")
+
+    def phase(self, name: str) -> None:
+        self.phases[name] = round(time.monotonic() - self._t0, 3)
 
     def student_env(self) -> Dict[str, str]:
         env = dict(self.master.env)
@@ -634,6 +641,7 @@ def run_teleop_launch_sim(session: Session) -> Dict[str, Any]:
     lab = session.master.run([plan["python"], *plan["lab_sim"]], "grader_lab_sim")
     ready = _wait(lambda: "/lab_sim" in session.master.subscribers(plan["twist_topic"]) or not lab.running,
                   plan["start_timeout_s"], 0.05)
+    session.phase("lab_sim up")
     if not ready or not lab.running:
         out = lab.output()[-1500:]
         lab.stop()
@@ -647,6 +655,7 @@ def run_teleop_launch_sim(session: Session) -> Dict[str, Any]:
     teleop = plan["teleop_node"]
     started = now()
     up = _wait(lambda: teleop in session.master.node_names() or not launch.running, plan["start_timeout_s"], 0.05)
+    session.phase("teleoperation node registered")
     problem = "" if up and launch.running else _start_problem(launch, plan["start_timeout_s"], f"starting {teleop}")
     extra: List[Any] = []
     nodes: Set[str] = set()
@@ -670,6 +679,7 @@ def run_teleop_launch_sim(session: Session) -> Dict[str, Any]:
             # Time stands still until every node is up and connected: at the simulation's
             # speed a node still importing would otherwise miss seconds of the operator.
             _wait_until_settled(session, set(plan.get("expect_nodes", [])), launch, plan["settle_timeout_s"])
+            session.phase("graph settled")
             # Step once the node's twists reach the recorder and lab_sim: a tick published before
             # a connection is lost (to lab_sim: a velocity out of the blue, which the arm refuses).
             twist, applied = plan["twist_topic"], plan["applied_topic"]
@@ -685,6 +695,7 @@ def run_teleop_launch_sim(session: Session) -> Dict[str, Any]:
             def applied_now() -> bool:
                 return _last_value(recorder, applied, 0.0) >= clock.now() - 1e-6
 
+            session.phase("connected")
             clock.start()  # tick 0, with everything connected: the same first tick in every run
             _wait(lambda: (recorder.count(twist) > 0 and applied_now()) or not launch.running,
                   _GraderClock.STEP_TIMEOUT_S, 0.0005)
@@ -697,6 +708,7 @@ def run_teleop_launch_sim(session: Session) -> Dict[str, Any]:
                     if not still_up():
                         break
                     clock.paced = True
+            session.phase("steps done")
         else:
             deadline = time.monotonic() + plan["run_s"]
             while time.monotonic() < deadline and still_up():
@@ -755,9 +767,12 @@ _KINDS = {"mapping-node": run_mapping_node, "sensor-launch": run_sensor_launch, 
 def run_plan(plan: Dict[str, Any]) -> Dict[str, Any]:
     session = Session(plan)
     try:
-        return _KINDS[plan["kind"]](session)
+        result = _KINDS[plan["kind"]](session)
+        session.phase("observed")
     finally:
         session.stop()
+    session.phase("stopped")
+    return dict(result, phases_s=session.phases)
 
 
 def main(argv: Optional[List[str]] = None) -> int:

@@ -58,6 +58,13 @@ def test_a_file_that_does_not_load_fails_every_part_with_the_reason_first():
     assert "mapping values" in parts[0].message and "not judged" in parts[1].message
 
 
+def test_a_file_that_sets_no_parameter_earns_no_point_and_one_key_earns_the_load_point():
+    empty = compare_robot_params({})
+    assert not any(p.passed for p in empty) and "sets no parameter" in empty[0].message
+    one = compare_robot_params({"robot_name": "FER"})
+    assert [p.name for p in one if p.passed] == [one[0].name, one[1].name]
+
+
 # -- mapping_node.py ---------------------------------------------------------------------------
 
 def _run(case, outputs, topic="/force_mapped", kind="std_msgs/Float32", subs=(("/pub_force", "std_msgs/Int16"),)):
