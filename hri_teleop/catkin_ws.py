@@ -20,6 +20,7 @@ from pathlib import Path
 from typing import Dict, List, Optional, Union
 
 from hri_teleop.catkin_files import explain_build_failure
+from hri_teleop.ros.master import finds_hri_lab
 
 __all__ = ["CatkinError", "CatkinWorkspace", "build_workspace", "WORKSPACE_NAME"]
 
@@ -62,8 +63,7 @@ class CatkinWorkspace:
             self._env = {k: v for k, v in pairs if k in _PATH_VARIABLES and v and os.environ.get(k) != v}
             # devel/setup.bash puts src/ alone on the package path: keep the system's packages after it
             # (rosserial_python, ...), but never another hri_lab (the lab's) that would shadow the student's.
-            others = [e for e in os.environ.get("ROS_PACKAGE_PATH", "").split(":")
-                      if e and not (Path(e) / "hri_lab" / "package.xml").is_file()]
+            others = [e for e in os.environ.get("ROS_PACKAGE_PATH", "").split(":") if e and not finds_hri_lab(e)]
             self._env["ROS_PACKAGE_PATH"] = ":".join(dict.fromkeys([str(self.root / "src"), *others]))
         return dict(self._env)
 

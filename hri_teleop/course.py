@@ -221,9 +221,12 @@ def _start(argv: Sequence[str], name: str, extra_env: Optional[Dict[str, str]] =
 
 
 def stop_nodes() -> None:
-    """Stop every node and launch this notebook started (the master keeps running)."""
-    while _STARTED:
-        _STARTED.pop().stop()
+    """Stop every node and launch this notebook started, side by side (the master keeps running)."""
+    from hri_teleop.ros.master import stop_side_by_side
+
+    procs = list(_STARTED)
+    _STARTED.clear()
+    stop_side_by_side(procs)
 
 
 def run_provided_node(script: str, **params: Any) -> Any:

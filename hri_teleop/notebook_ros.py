@@ -31,6 +31,8 @@ import xmlrpc.client
 from dataclasses import dataclass, field
 from typing import Any, List, Optional
 
+from hri_teleop.ros.master import _stop_all_at_exit, interrupt_nodes  # its exit hook runs after ours
+
 __all__ = [
     "NotebookRosError",
     "NO_ROSPY_MESSAGE",
@@ -178,19 +180,28 @@ def _stop_master(master: Any) -> None:
 
 
 def _shutdown_at_exit() -> None:
-    """Kernel stops: end the node first (no reconnect noise), then the roscore we started."""
+    """Kernel stops: the nodes it started side by side, then the roscore it started, killed.
+
+    The nodes get their SIGINT first and shut down while rospy does (0.6 s: it waits for
+    its XML-RPC server's poll), with the master still up for the kernel's node to unregister.
+    Registered again once rospy is imported (see _start), so it runs before rospy's own exit
+    hook and ros.master's. A notebook restart or nbgrader's next notebook waits for this:
+    about 0.7 s, 2.2 s when everything was stopped cleanly one after another.
+    """
+    interrupt_nodes()
     rospy = sys.modules.get("rospy")
     if rospy is not None and _SESSION is not None and _SESSION.available:
         try:
             rospy.signal_shutdown("kernel stopped")
         except Exception:  # noqa: BLE001
             pass
+    _stop_all_at_exit()
     for finalizer in list(_FINALIZERS):
         # detach(), not finalizer(): once weakref's own exit hook has run, calling a finalizer does nothing
         info = finalizer.detach()
         if info is not None:
             _, func, args, _kwargs = info
-            func(*args)
+            func(*args)  # the master is stopped already: this removes its folder
 
 
 atexit.register(_shutdown_at_exit)
@@ -204,6 +215,8 @@ def _start(node_name: str, anonymous: bool, start_master: bool, timeout_s: float
     except ModeError as exc:
         raise NotebookRosError(str(exc)) from None
     rospy = _import_rospy()
+    atexit.unregister(_shutdown_at_exit)  # rospy registered its own exit hook: ours must run first
+    atexit.register(_shutdown_at_exit)
     if rospy.core.is_initialized():
         # Somebody (a student's cell) already called rospy.init_node: use that node.
         return RosSession(True, master_uri=master_uri(), node_name=rospy.get_name(), mode=mode)

@@ -5,9 +5,11 @@ _hri_root="$(cd "$(dirname "${BASH_SOURCE[0]:-$0}")/.." && pwd)"
 if [ -f /opt/ros/noetic/setup.sh ] && [ -z "${ROS_DISTRO:-}" ]; then
   . /opt/ros/noetic/setup.sh
 fi
+# The package folder itself, not the repository: rospack searches a folder's subfolders, and
+# a copy of hri_lab under out/ (make grade's, make bench's course) would shadow the lab's.
 case ":${ROS_PACKAGE_PATH:-}:" in
-  *":$_hri_root:"*) ;;
-  *) export ROS_PACKAGE_PATH="$_hri_root${ROS_PACKAGE_PATH:+:$ROS_PACKAGE_PATH}" ;;
+  *":$_hri_root/hri_lab:"*) ;;
+  *) export ROS_PACKAGE_PATH="$_hri_root/hri_lab${ROS_PACKAGE_PATH:+:$ROS_PACKAGE_PATH}" ;;
 esac
 # Debian installs ROS package manifests under /usr/share.
 if [ -z "${ROS_DISTRO:-}" ]; then

@@ -19,6 +19,8 @@ from dataclasses import dataclass, field
 from pathlib import Path
 from typing import Dict, List, Optional, Sequence, Union
 
+from hri_teleop.ros.master import finds_hri_lab
+
 __all__ = ["WorkspaceError", "DELIVERABLES", "REPO", "REFERENCE_PACKAGE", "PROVIDED", "find_package_root",
            "locate", "Workspace", "prepare_workspace", "ros_package_path", "FRANKA_MARKER_PARAM"]
 
@@ -251,7 +253,7 @@ def ros_package_path(ws: Path, environ: Optional[Dict[str, str]] = None) -> str:
     env = environ if environ is not None else dict(os.environ)
     keep: List[str] = [str(ws)]
     for entry in env.get("ROS_PACKAGE_PATH", "").split(":"):
-        if not entry or Path(entry).resolve() == REPO or (Path(entry) / "hri_lab" / "package.xml").exists():
+        if not entry or Path(entry).resolve() == REPO or finds_hri_lab(entry):
             continue
         if entry not in keep:
             keep.append(entry)

@@ -15,6 +15,7 @@ from hri_teleop.catkin_ws import CatkinError, build_workspace
 from hri_teleop.course import SOLUTIONS, STUDENT_MAKES_EXECUTABLE
 from hri_teleop.grading.package_check import grade_catkin_package
 from hri_teleop.grading.templates import generate_templates, make_answer
+from hri_teleop.ros.master import finds_hri_lab
 
 pytestmark = pytest.mark.ros
 
@@ -58,7 +59,7 @@ def test_the_workspace_environment_keeps_the_notebooks_master_and_drops_the_labs
     assert "ROS_MASTER_URI" not in env, "devel/setup.bash's 11311 must not reach the nodes"
     paths = env["ROS_PACKAGE_PATH"].split(":")
     assert paths[0] == str(released.parent / "catkin_ws" / "src")
-    assert not any((Path(p) / "hri_lab" / "package.xml").is_file() for p in paths[1:]), "the lab's hri_lab shadows"
+    assert not any(finds_hri_lab(p) for p in paths[1:]), "the lab's hri_lab shadows"
 
 
 def test_rosrun_starts_the_students_node_from_the_workspace_on_the_notebooks_master(released, ros_master,

@@ -61,3 +61,79 @@ def test_sigterm_stops_the_private_master_before_the_program_dies(tmp_path):
         if proc.poll() is None:
             os.killpg(proc.pid, signal.SIGKILL)
             proc.wait()
+
+
+def _children(pids):
+    return [int(c) for p in pids
+            for c in subprocess.run(["pgrep", "-P", str(p)], capture_output=True, text=True).stdout.split()]
+
+
+def _gone(pids, within_s=10.0):
+    deadline = time.monotonic() + within_s
+    while time.monotonic() < deadline and any(_alive(p) for p in pids):
+        time.sleep(0.05)
+    return [p for p in pids if _alive(p)]
+
+
+def test_a_killed_master_takes_rosmaster_and_rosout_with_it(tmp_path):
+    """The grader kills its roscore (quick stop): rosmaster and rosout run in sessions of their
+    own, so killing roscore's group alone would leave them running."""
+    from hri_teleop.ros.master import PrivateMaster
+
+    master = PrivateMaster(base_env=dict(_ros_env(), ROS_HOME=str(tmp_path))).start()
+    core = master.core.popen.pid
+    deadline = time.monotonic() + 10
+    children: list = []
+    while time.monotonic() < deadline and len(children) < 2:
+        children = _children([core])
+        time.sleep(0.1)
+    assert len(children) >= 2, children
+    master.stop(quick=True)
+    assert not _gone([core, *children]), "rosmaster or rosout outlived the killed roscore"
+
+
+NODE = """
+import signal, sys, time
+count = 0
+def on_int(*_):
+    global count
+    count += 1
+    with open(sys.argv[1], "a") as fh:
+        fh.write("SIGINT\\n")
+signal.signal(signal.SIGINT, on_int)
+print("ready", flush=True)
+while count == 0:
+    time.sleep(0.01)
+time.sleep(0.3)  # a node's clean shutdown (rospy.spin notices within 0.5 s)
+"""
+
+KERNEL = """
+import sys
+from hri_teleop.notebook_ros import ensure_ros
+from hri_teleop.course import _start
+ros = ensure_ros(quiet=True)
+node = _start([sys.executable, "-c", sys.argv[1], sys.argv[2]], "counter")
+while "ready" not in node.output():
+    pass
+import subprocess, time
+core = ros._master.core.popen.pid
+family = []
+while len(family) < 2:  # rosmaster and rosout, in sessions of their own
+    family = subprocess.run(["pgrep", "-P", str(core)], capture_output=True, text=True).stdout.split()
+    time.sleep(0.05)
+print(core, node.popen.pid, *family, flush=True)
+"""
+
+
+def test_a_closing_kernel_interrupts_its_nodes_once_and_kills_its_master(tmp_path):
+    """What a notebook kernel does at exit: its nodes get one SIGINT (a second would cut a clean
+    shutdown, a bag's, short), the kernel's node unregisters, then the private master is killed."""
+    log = tmp_path / "sigints.txt"
+    env = dict(_ros_env(), ROS_HOME=str(tmp_path), ROS_MASTER_URI="http://127.0.0.1:1/", HRI_MODE="home")
+    proc = subprocess.run([sys.executable, "-c", KERNEL, NODE, str(log)], env=env, capture_output=True, text=True,
+                          timeout=60)
+    assert proc.returncode == 0, proc.stderr[-2000:]
+    pids = [int(p) for p in proc.stdout.split()]
+    assert len(pids) >= 4, proc.stdout
+    assert log.read_text().splitlines() == ["SIGINT"]
+    assert not _gone(pids), "the node, roscore, rosmaster or rosout outlived the kernel"

@@ -38,7 +38,7 @@ def test_the_wrapper_gives_the_kernel_rospy_and_hri_lab_on_the_package_path():
     assert out.returncode == 0, out.stderr
     prefix, package_path = out.stdout.splitlines()
     assert Path(prefix) == REPO / ".venv"
-    assert str(REPO) in package_path.split(":")
+    assert str(REPO / "hri_lab") in package_path.split(":")
 
 
 def test_jupyter_lab_opens_notebooks_with_the_hri_teleop_kernel():

@@ -27,7 +27,7 @@ CONFIG = REPO / "hri_lab" / "config"
 @pytest.fixture(autouse=True)
 def _package_path(monkeypatch, tmp_path):
     """hri_lab (and a stand-in franka_control, see below) findable with $(find ...)."""
-    monkeypatch.setenv("ROS_PACKAGE_PATH", f"{REPO}:/usr/share")
+    monkeypatch.setenv("ROS_PACKAGE_PATH", f"{REPO / 'hri_lab'}:/usr/share")
     monkeypatch.setenv("ROS_HOME", str(tmp_path / "ros_home"))
 
 
@@ -164,7 +164,7 @@ def _fake_franka_control(root: Path, with_robot_ip_arg: bool) -> None:
 
 def test_robot_true_includes_franka_control_cartesian_velocity(monkeypatch, tmp_path):
     _fake_franka_control(tmp_path, with_robot_ip_arg=True)
-    monkeypatch.setenv("ROS_PACKAGE_PATH", f"{REPO}:{tmp_path}:/usr/share")
+    monkeypatch.setenv("ROS_PACKAGE_PATH", f"{REPO / 'hri_lab'}:{tmp_path}:/usr/share")
     config = load("teleoperation.launch", ["arduino:=false"])
     assert "/franka_control" in nodes(config)
     assert params(config)["/franka_control/robot_ip"] == "172.16.0.2"  # that file's own default
@@ -174,7 +174,7 @@ def test_robot_true_includes_franka_control_cartesian_velocity(monkeypatch, tmp_
 
 def test_robot_ip_is_not_forced_on_a_file_that_does_not_declare_it(monkeypatch, tmp_path):
     _fake_franka_control(tmp_path, with_robot_ip_arg=False)
-    monkeypatch.setenv("ROS_PACKAGE_PATH", f"{REPO}:{tmp_path}:/usr/share")
+    monkeypatch.setenv("ROS_PACKAGE_PATH", f"{REPO / 'hri_lab'}:{tmp_path}:/usr/share")
     assert "/franka_control" in nodes(load("teleoperation.launch", ["arduino:=false"]))
 
 
