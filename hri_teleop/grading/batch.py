@@ -23,12 +23,14 @@ from __future__ import annotations
 
 import csv
 import json
+import os
 import sys
 import time
 from dataclasses import asdict, dataclass
 from pathlib import Path
 from typing import Dict, List, Optional, Sequence, Tuple
 
+from hri_teleop.grading import reuse
 from hri_teleop.grading.jobs import Progress, Run, job_count, print_line, reap_command, run_all, run_job
 
 __all__ = ["BatchError", "Outcome", "submissions_in", "grade_one", "live_graph_cache", "grade_all"]
@@ -88,11 +90,18 @@ def _files_result(run: Run, log: Path, timeout_s: float) -> Tuple[str, float, fl
 
 
 def grade_one(folder: Path, out: Path, graph_cache: Optional[Path], checks: Optional[Sequence[str]],
-              timeout_s: float = PER_SUBMISSION_TIMEOUT_S) -> Outcome:
-    """``hri-grade submission`` on ``folder`` in a job of its own, into ``out`` (the student is the folder's name)."""
+              timeout_s: float = PER_SUBMISSION_TIMEOUT_S, results_dir: Optional[Path] = None) -> Outcome:
+    """``hri-grade submission`` on ``folder`` in a job of its own, into ``out`` (the student is the folder's name).
+
+    ``results_dir``: where it stores each check's result for the notebooks' check cells of the
+    same package (:mod:`hri_teleop.grading.reuse`).
+    """
     out.mkdir(parents=True, exist_ok=True)
     log = out / "grader.log"
-    run = run_job(_hri_grade_argv(folder, out, graph_cache, checks), log, timeout_s, capture=True)
+    env = {k: v for k, v in os.environ.items() if k not in (reuse.READ_ENV, reuse.WRITE_ENV)}
+    if results_dir is not None:
+        env[reuse.WRITE_ENV] = str(results_dir)
+    run = run_job(_hri_grade_argv(folder, out, graph_cache, checks), log, timeout_s, capture=True, env=env)
     status, score, maximum, message = _files_result(run, log, timeout_s)
     return Outcome(folder.name, score, maximum, status, run.seconds, message)
 

@@ -27,7 +27,7 @@ import yaml
 
 from hri_teleop.config import DEFAULT_TWIST_TOPIC
 from hri_teleop.grading import cases as C
-from hri_teleop.grading import compare
+from hri_teleop.grading import compare, reuse
 from hri_teleop.grading.package_check import grade_catkin_package
 from hri_teleop.grading.reference_guard import reference_uses, refusal
 from hri_teleop.grading.results import CheckResult, GradingError, Part, feedback_text, not_judged
@@ -84,6 +84,36 @@ def _closing(check: Callable[..., CheckResult]) -> Callable[..., CheckResult]:
     wrapper.__name__ = check.__name__
     wrapper.__doc__ = check.__doc__
     return wrapper
+
+
+#: Keyword arguments that do not change a check's result (the lab's graph is the same from a cache).
+_SAME_RESULT_KWARGS = {"seed", "out_dir", "graph_cache"}
+
+
+def _reusable(check: str) -> Callable[[Callable[..., CheckResult]], Callable[..., CheckResult]]:
+    """In make grade only: the files job stores each result, a notebook's check cell of the same
+    package takes it (:mod:`hri_teleop.grading.reuse`). A file given alone, or arguments that
+    change what is judged (``node=False``), always run the check."""
+    def decorate(grade_fn: Callable[..., CheckResult]) -> Callable[..., CheckResult]:
+        def wrapper(path: PathLike, **kwargs: Any) -> CheckResult:
+            write, read = os.environ.get(reuse.WRITE_ENV), os.environ.get(reuse.READ_ENV)
+            given = Path(path).expanduser()
+            if not (write or read) or not set(kwargs) <= _SAME_RESULT_KWARGS or not given.is_dir():
+                return grade_fn(path, **kwargs)
+            root = find_package_root(given)
+            seed = C.seed_for(root) if kwargs.get("seed") is None else int(kwargs["seed"])
+            if read and not write:
+                found = reuse.load(Path(read), check, seed, root)
+                if found is not None:
+                    return found
+            result = grade_fn(path, **kwargs)
+            if write:
+                reuse.store(Path(write), check, seed, root, result)
+            return result
+        wrapper.__name__ = grade_fn.__name__
+        wrapper.__doc__ = grade_fn.__doc__
+        return wrapper
+    return decorate
 
 
 class _Run:
@@ -280,6 +310,7 @@ def _refuse_reference(run: _Run, check: str, table: Dict[str, Tuple[str, float]]
 
 # -- the checks --------------------------------------------------------------------------------
 
+@_reusable("robot-params")
 @_closing
 def grade_robot_params(path: PathLike, *, seed: Optional[int] = None, out_dir: Optional[PathLike] = None) -> CheckResult:
     """Ex. 4: Table 1's keys, YAML types and values; loaded with rosparam's own loader."""
@@ -297,6 +328,7 @@ def grade_robot_params(path: PathLike, *, seed: Optional[int] = None, out_dir: O
     return _finish("robot-params", run, parts, None)
 
 
+@_reusable("mapping-node")
 @_closing
 def grade_mapping_node(path: PathLike, *, seed: Optional[int] = None, out_dir: Optional[PathLike] = None,
                        reference_allowed: bool = False) -> CheckResult:
@@ -345,6 +377,7 @@ def _full_name(node: Dict[str, Any]) -> str:
     return f"{node['namespace'].rstrip('/')}/{node['name']}"
 
 
+@_reusable("sensor-launch")
 @_closing
 def grade_sensor_launch(path: PathLike, *, seed: Optional[int] = None, out_dir: Optional[PathLike] = None) -> CheckResult:
     """Ex. 6-7: parsed with roslaunch's loader, then launched: /force_mapped flows and stays in [0, 1]."""
@@ -380,6 +413,7 @@ def grade_sensor_launch(path: PathLike, *, seed: Optional[int] = None, out_dir: 
     return _finish("sensor-launch", run, parts, None, notes)
 
 
+@_reusable("teleoperation")
 @_closing
 def grade_teleoperation(path: PathLike, *, seed: Optional[int] = None, out_dir: Optional[PathLike] = None,
                         node: bool = True) -> CheckResult:
@@ -469,7 +503,7 @@ def _launch_sim_plan(run: _Run, parsed: Dict[str, Any]) -> Optional[Dict[str, An
             "record": [TWIST_TOPIC, "/force_mapped", "/pub_force", "/gripper_width", "/franka_gripper/joint_states",
                        "/lab_sim/ee_pose", "/lab_sim/object", f"{node}/rumble"],
             "start_timeout_s": 20.0, "run_s": case.quit_s + 12.0, "clock": grading_clock(), "settle_timeout_s": 10.0,
-            "applied_topic": "/lab_sim/command_time_s",
+            "applied_topic": "/lab_sim/command_time_s", "sensor_chain": [BOARD_TOPIC, "/pub_force", "/force_mapped"],
             "expect_nodes": sorted({_full_name(n) for n in parsed.get("nodes", [])} | {f"/{name}" for name in supply}),
             "default_rate_hz": _lab_rate_hz()}
 
@@ -499,6 +533,7 @@ _REAL_TIME_NOTE = ("the node did not tick with the grader's /clock (a loop paced
                    "does not), so it was run in real time")
 
 
+@_reusable("teleoperation-launch")
 @_closing
 def grade_teleoperation_launch(path: PathLike, *, seed: Optional[int] = None,
                                out_dir: Optional[PathLike] = None) -> CheckResult:
@@ -609,6 +644,7 @@ def _graph_of_running_master() -> Dict[str, Any]:
             "subscribers": {t: sorted(n) for t, n in subs}, "types": types}
 
 
+@_reusable("graph")
 def grade_graph(path: PathLike, *, seed: Optional[int] = None, out_dir: Optional[PathLike] = None,
                 graph_cache: Optional[PathLike] = None) -> CheckResult:
     """Ex. 15: the student's nodes, topics and types against the live graph of the lab's pipeline."""

@@ -43,6 +43,7 @@ from typing import Any, Callable, Dict, List, Mapping, Optional, Sequence, Tuple
 
 from hri_teleop.grading.batch import (PER_SUBMISSION_TIMEOUT_S, BatchError, grade_one, live_graph_cache,
                                       submissions_in)
+from hri_teleop.grading import reuse
 from hri_teleop.grading.jobs import Progress, job_count, print_line, run_all, run_job
 from hri_teleop.labkernel import ipc_kernel_argv
 
@@ -283,7 +284,7 @@ def _retry_cause(log_text: str) -> str:
 
 
 def _autograde(course: _Course, student: str, assignment: str, out: Path, timeout_s: float,
-               db_lock: threading.Lock, progress: Progress) -> JobOutcome:
+               db_lock: threading.Lock, progress: Progress, results_dir: Optional[Path] = None) -> JobOutcome:
     folder = course.submitted / student / assignment
     links = _outside_links(folder)
     if links:
@@ -295,17 +296,24 @@ def _autograde(course: _Course, student: str, assignment: str, out: Path, timeou
     try:
         return _autograde_in(course, student, assignment, out, timeout_s, db_lock, progress,
                              course.nbgrader_argv("autograde", assignment, "--student", student, "--force",
-                                                  *ipc_kernel_argv(sockets)))
+                                                  *ipc_kernel_argv(sockets)), results_dir)
     finally:
         shutil.rmtree(sockets, ignore_errors=True)
 
 
 def _autograde_in(course: _Course, student: str, assignment: str, out: Path, timeout_s: float,
-                  db_lock: threading.Lock, progress: Progress, argv: List[str]) -> JobOutcome:
+                  db_lock: threading.Lock, progress: Progress, argv: List[str],
+                  results_dir: Optional[Path] = None) -> JobOutcome:
+    """``results_dir``: the files jobs' check results, which the notebooks' check cells of the
+    same package take instead of running the check again (:mod:`hri_teleop.grading.reuse`)."""
     log = out / "autograde.log"
     seconds = 0.0
+    env = nbgrader_job_env()
+    env.pop(reuse.WRITE_ENV, None)
+    if results_dir is not None:
+        env[reuse.READ_ENV] = str(results_dir)
     for attempt in range(1, _DB_ATTEMPTS + 1):
-        run = run_job(argv, log, timeout_s, cwd=course.root, env=nbgrader_job_env())
+        run = run_job(argv, log, timeout_s, cwd=course.root, env=env)
         seconds += run.seconds
         if run.timed_out:
             _forget_outputs(course, student, assignment)
@@ -328,8 +336,8 @@ def _autograde_in(course: _Course, student: str, assignment: str, out: Path, tim
 
 
 def _grade_files(course: _Course, student: str, assignment: str, out: Path, checks: Sequence[str],
-                 graph_cache: Optional[Path], timeout_s: float) -> JobOutcome:
-    o = grade_one(course.submitted / student / assignment, out, graph_cache, checks, timeout_s)
+                 graph_cache: Optional[Path], timeout_s: float, results_dir: Optional[Path] = None) -> JobOutcome:
+    o = grade_one(course.submitted / student / assignment, out, graph_cache, checks, timeout_s, results_dir)
     return JobOutcome(student, assignment, "files", o.score, o.max_score, o.status, o.seconds, o.message)
 
 
@@ -393,18 +401,22 @@ def grade_course(course: Path, submitted: Path, out: Path, jobs: Optional[int] =
     students = sorted({s for s, _a in pairs} | set(empty))
     db_lock = threading.Lock()
 
-    # longest first: the lab's notebooks, then the preparation's, then the files
+    # The files first: each check result they store is taken by the notebooks' check cells of the
+    # same package instead of running the check a second time. Then the notebooks, the lab's
+    # (longest) first.
+    results_dir = out / ".check-results"
+    shutil.rmtree(results_dir, ignore_errors=True)  # results of this run only, never an older grader's
     order = {a: i for i, a in enumerate(reversed(assignments))}
     tasks: List[Tuple[str, Callable[[], JobOutcome]]] = []
-    for student, assignment in sorted(pairs, key=lambda p: (order[p[1]], p[0])):
-        tasks.append((f"{student}\0{assignment}\0notebooks",
-                      lambda s=student, a=assignment: _autograde(nb, s, a, out / s / a, notebook_limit, db_lock,
-                                                                 progress)))
     for student, assignment in sorted(pairs, key=lambda p: (order[p[1]], p[0])):
         if files_checks[assignment]:
             tasks.append((f"{student}\0{assignment}\0files",
                           lambda s=student, a=assignment: _grade_files(nb, s, a, out / s / a, files_checks[a],
-                                                                       graph_cache, files_limit)))
+                                                                       graph_cache, files_limit, results_dir)))
+    for student, assignment in sorted(pairs, key=lambda p: (order[p[1]], p[0])):
+        tasks.append((f"{student}\0{assignment}\0notebooks",
+                      lambda s=student, a=assignment: _autograde(nb, s, a, out / s / a, notebook_limit, db_lock,
+                                                                 progress, results_dir)))
     progress(f"autograding {len(pairs)} submission(s) of {len(students)} student(s) in {course} with nbgrader "
              f"({', '.join(assignments)}), and their {_FILES} files; {jobs} at once")
     started = time.monotonic()

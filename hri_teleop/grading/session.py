@@ -430,6 +430,10 @@ class _GraderClock:
     #: How long a step waits for the tick's messages, s of wall time (a loaded machine
     #: answers within milliseconds; a node that ignores /clock never does).
     STEP_TIMEOUT_S = 2.0
+    #: The same, once the node has answered a step: it follows the clock, so a late answer is
+    #: a stall of the machine (CI saw one of over 2 s with both cores busy), not a node that
+    #: ignores /clock; waiting longer keeps the run on the grader's clock.
+    STALL_TIMEOUT_S = 15.0
 
     def __init__(self, session: Session, start_s: float = 1.0, started: bool = True) -> None:
         """``started`` False: ROS time stays 0 (nodes that wait for the clock wait) until :meth:`start`."""
@@ -444,6 +448,8 @@ class _GraderClock:
         # in floats (1.14 -> 1.139999999 s) would miss a tick now and then.
         self._now_ns = int(round(start_s * 1e9))
         self.paced = False
+        self.answered = 0  # steps the node answered within their timeout
+        self.rescues = 0  # steps that needed one more tick to be answered (see step)
         if started:
             self._publish()
 
@@ -473,8 +479,9 @@ class _GraderClock:
         """One period of a loop at ``rate_hz`` (rospy.Rate's own arithmetic), then wait for the tick's messages
         (a new one on each of ``topics``) and for ``also``.
 
-        False when they did not come within ``STEP_TIMEOUT_S``: the caller decides whether
-        the node ignores the clock (``paced`` from then on) or has just ended.
+        False when they did not come within ``STEP_TIMEOUT_S``, or, once the node has answered
+        a step, within ``STALL_TIMEOUT_S`` and one more tick while its publishers live: the
+        caller decides whether the node ignores the clock (``paced`` from then on) or has ended.
         """
         before = [recorder.count(t) for t in topics]
         self._now_ns += int(1e9 / rate_hz)
@@ -482,8 +489,26 @@ class _GraderClock:
         if self.paced:
             time.sleep(1.0 / rate_hz)
             return True
-        return _wait(lambda: (all(recorder.count(t) > b for t, b in zip(topics, before)) and also())
-                     or not proc.running, self.STEP_TIMEOUT_S, 0.0002)
+        def came() -> bool:
+            return all(recorder.count(t) > b for t, b in zip(topics, before)) and also()
+
+        answered = _wait(lambda: came() or not proc.running, self.STEP_TIMEOUT_S, 0.0002)
+        if not answered and self.answered:
+            # Late, from a node that followed the clock so far. Either the machine stalled, or the
+            # node read the time after this step's reading had reached it: rospy.sleep(d) sleeps
+            # until that reading + d, a tick past what it waits for (rospy.Rate has the same race in
+            # a narrower window). One more tick wakes it; then wait while its publishers live.
+            def gone() -> bool:
+                return not proc.running or not all(self._master.publishers(t) for t in topics)
+
+            self.rescues += 1
+            self._now_ns += int(1e9 / rate_hz)
+            self._publish()
+            answered = _wait(lambda: came() or gone(), self.STALL_TIMEOUT_S - self.STEP_TIMEOUT_S, 0.005)
+            answered = answered and came()
+        if answered and proc.running:
+            self.answered += 1
+        return answered or not proc.running
 
 
 def run_teleop_node(session: Session) -> Dict[str, Any]:
@@ -507,11 +532,21 @@ def run_teleop_node(session: Session) -> Dict[str, Any]:
             f"_pad_script:={plan['pad_script']}", *params]
     clock = _GraderClock(session) if plan.get("clock") == "grader" else None
     recorder = _Recorder(clock.now if clock else time.monotonic)
-    for topic in plan.get("record", []):  # subscribed before the node starts: the pad script plays from its start
+    record = list(plan.get("record", []))
+    # Subscribed before the node starts: the pad script plays from its start. Under the grader's
+    # clock the twist (the first topic) comes last, once every other topic is connected at both
+    # ends: the node's first tick waits for a listener on its twist (the template's
+    # wait_for_robot), and a width published before its connection was counted would be lost.
+    for topic in record[1:] if clock else record:
         recorder.add(topic)
     proc = session.start_student(argv, "teleoperation", clock.student_env() if clock else None)
     nodes, sub, pub, ok = _wait_for_node(session, proc, plan["start_timeout_s"], lambda s, p: bool(p))
     problem = "" if ok else _start_problem(proc, plan["start_timeout_s"], "advertising a topic")
+    if ok and clock is not None and record:
+        others = record[1:]
+        _wait(lambda: all(recorder.connected(t) and any(_connections(session, n, t, "o") > 0 for n in nodes)
+                          for t in others) or not proc.running, _GraderClock.STEP_TIMEOUT_S, 0.002)
+        recorder.add(record[0])
     started = clock.now() if clock else time.monotonic()
 
     def follow_node() -> None:
@@ -542,6 +577,10 @@ def run_teleop_node(session: Session) -> Dict[str, Any]:
                 follow_node()
             tick += 1
             if not clock.step(float(plan["gains"]["rate"]), recorder, lockstep, proc) and proc.running:
+                if clock.answered:  # it followed the clock and fell silent: it is ending (or hangs)
+                    session.phase(f"silent from {clock.now() - started:.2f} s")
+                    break
+                session.phase(f"paced from {clock.now() - started:.2f} s")
                 clock.paced = True
         proc.wait(plan["quit_grace_s"])
     elif ok:
@@ -558,7 +597,7 @@ def run_teleop_node(session: Session) -> Dict[str, Any]:
     recorder.close()
     return {
         "kind": "teleop-node", "problem": problem, "quit_in_time": exited,
-        "clock": "real time" if clock is None or clock.paced else "grader",
+        "clock": "real time" if clock is None or clock.paced else "grader", "rescued_steps": clock.rescues if clock else 0,
         "node": _facts(proc, nodes, sub, pub, problem, exited), "exit_code": exit_code,
         "messages": {t: [[round(ts - started, 4), k, v] for ts, k, v in msgs] for t, msgs in recorder.messages.items()},
     }
@@ -618,6 +657,11 @@ def _node_rate_hz(session: Session, node: str, default_hz: float, param: str = "
     except (MasterError, TypeError, ValueError):
         return default_hz
     return value if 0.0 < value <= 1000.0 else default_hz
+
+
+#: How long a step waits for the sensor chain to pass on a tick's counts (s); a chain that
+#: does not within it (a student's mapping_node that drops or merges counts) is not waited for again.
+CHAIN_SETTLE_S = 0.5
 
 
 def run_teleop_launch_sim(session: Session) -> Dict[str, Any]:
@@ -690,10 +734,25 @@ def run_teleop_launch_sim(session: Session) -> Dict[str, Any]:
                            and _connections(session, teleop, twist, "o") >= 2)
                   or not launch.running, plan["start_timeout_s"], 0.002)
             rate_hz = _node_rate_hz(session, teleop, plan["default_rate_hz"])
+            chain = list(plan.get("sensor_chain", []))  # board -> /pub_force -> /force_mapped
+            for topic in chain:
+                recorder.add(topic)
+            chain_ok = [bool(chain)]
+
+            def chain_settled() -> bool:
+                """Every board count of this tick came out of the chain's last topic (one message
+                per count at each link): the node's next tick sees this tick's force in every run."""
+                counts = [recorder.count(t) for t in chain]
+                return all(c >= counts[0] for c in counts[1:])
+
             # Each step waits for the tick's twist and for lab_sim's word that it applied it at
             # this tick's time: the next step must not reach lab_sim before this command.
             def applied_now() -> bool:
-                return _last_value(recorder, applied, 0.0) >= clock.now() - 1e-6
+                if _last_value(recorder, applied, 0.0) < clock.now() - 1e-6:
+                    return False
+                if chain_ok[0] and not _wait(chain_settled, CHAIN_SETTLE_S, 0.0002):
+                    chain_ok[0] = False  # a link that drops or merges messages: stop waiting for it
+                return True
 
             session.phase("connected")
             clock.start()  # tick 0, with everything connected: the same first tick in every run
@@ -728,7 +787,7 @@ def run_teleop_launch_sim(session: Session) -> Dict[str, Any]:
         "subscribers": {t: sorted(n) for t, n in subs.items() if t not in _IGNORED_TOPICS},
         "types": {t: k for t, k in types.items() if t not in _IGNORED_TOPICS},
         "messages": {t: [[round(ts - started, 4), k, v] for ts, k, v in msgs] for t, msgs in recorder.messages.items()
-                     if t != plan.get("applied_topic")},
+                     if t in plan["record"]},
         "launch": {"exit_code": launch.returncode, "exited_by_itself": exited, "output_tail": launch.output_tail(),
                    "output_bytes": launch.output_size()},
         "lab_sim_log": lab.output()[-1500:],

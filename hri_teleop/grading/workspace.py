@@ -22,7 +22,7 @@ from typing import Dict, List, Optional, Sequence, Union
 from hri_teleop.ros.master import finds_hri_lab
 
 __all__ = ["WorkspaceError", "DELIVERABLES", "REPO", "REFERENCE_PACKAGE", "PROVIDED", "find_package_root",
-           "locate", "Workspace", "prepare_workspace", "ros_package_path", "FRANKA_MARKER_PARAM"]
+           "locate", "package_files", "Workspace", "prepare_workspace", "ros_package_path", "FRANKA_MARKER_PARAM"]
 
 REPO = Path(__file__).resolve().parents[2]
 REFERENCE_PACKAGE = REPO / "hri_lab"
@@ -164,15 +164,22 @@ def _looks_like_package(root: Path) -> bool:
     return sum((root / d).is_dir() for d in ("scripts", "config", "launch")) >= 2
 
 
-def _copy_package(root: Path, target: Path) -> None:
-    total = 0
+def package_files(root: Path) -> List[Path]:
+    """The student's files a check's workspace gets from ``root`` (sorted; no caches, no hidden
+    folders, nothing past 20 MB in all: a stray bag or video is not part of the package)."""
+    files, total = [], 0
     for path in _walk(root, 4):
-        relative = path.relative_to(root)
         size = path.stat().st_size
         if total + size > _MAX_COPY_BYTES:
-            continue  # a stray large file (a bag, a video) is not part of the package
+            continue
         total += size
-        dest = target / relative
+        files.append(path)
+    return files
+
+
+def _copy_package(root: Path, target: Path) -> None:
+    for path in package_files(root):
+        dest = target / path.relative_to(root)
         dest.parent.mkdir(parents=True, exist_ok=True)
         shutil.copyfile(path, dest)
 

@@ -264,6 +264,13 @@ def test_make_grade_autogrades_an_nbgrader_course_in_parallel_and_survives_hosti
     assert "robot-params" in (out / "bob" / "feedback.txt").read_text()
     assert (out / "alice" / ASSIGNMENT / "autograde.log").is_file()
 
+    # Ex. 4's check cell took the files job's result for the same package instead of running it again
+    from hri_teleop.grading.reuse import REUSED_NOTE
+
+    for student in ("alice", "bob"):
+        ex04 = (course / "autograded" / student / ASSIGNMENT / "ex04_robot_params.ipynb").read_text()
+        assert REUSED_NOTE[:60] in ex04, student
+
     # nothing of the hung submission is left: the process its kernel started in a session of its own neither
     escapee = int((tmp_path / "escapee.pid").read_text())
     assert not _alive(escapee), f"pid {escapee} (sleep 600 from ada's notebook) outlived grading"

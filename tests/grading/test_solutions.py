@@ -37,8 +37,8 @@ def test_the_labs_own_robot_params_and_mapping_node_pass_the_same_checks(tmp_pat
 def test_the_generated_templates_are_gradable_and_say_what_to_fill_in(tmp_path):
     generate_templates(SOLUTIONS, tmp_path / "hri_lab")
     params = grade_robot_params(tmp_path / "hri_lab", out_dir=tmp_path / "out")
-    assert params.parts[0].passed, "an empty template still loads"
-    assert params.score == params.parts[0].points
+    assert not params.parts[0].passed and "sets no parameter" in params.parts[0].message  # comments only
+    assert params.score == 0
     teleop = grade_teleoperation(tmp_path / "hri_lab", out_dir=tmp_path / "out", node=False)
     assert teleop.parts[0].passed, feedback_text([teleop])  # it imports
     for part in teleop.parts[1:5]:

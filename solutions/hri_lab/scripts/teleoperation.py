@@ -221,17 +221,24 @@ class Teleoperation:
             self.update_rumble()
             self.send()
             rate.sleep()
-        self.stop()
+        self.stop(rate)
 
-    def stop(self):
-        """Ramp the velocity to zero inside the limits (never a step), then stop the rumble."""
+    def stop(self, rate=None):
+        """Ramp the velocity to zero inside the limits (never a step), then stop the rumble.
+
+        rate: the loop's rate object, so the ramp keeps the loop's ticks; without one, it
+        sleeps one period between commands.
+        """
         self.cartesian_velocity = [0.0] * 6
         self.rumble = 0.0
         deadline = rospy.get_time() + STOP_TIMEOUT  # ROS time, as the loop's
         try:
             while any(v != 0.0 for v in self.limiter.velocity) and rospy.get_time() < deadline:
                 self.send()
-                rospy.sleep(1.0 / self.rate)
+                if rate is not None:
+                    rate.sleep()
+                else:
+                    rospy.sleep(1.0 / self.rate)
             self.send()
         except rospy.ROSException:
             pass  # rospy already shut down (rosnode kill): nothing can be published any more
