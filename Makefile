@@ -28,7 +28,7 @@ test: setup
 	@$(ENV) $(PY) -m pytest -q -p no:cacheprovider $(if $(filter-out 0,$(TEST_JOBS)),-n $(TEST_JOBS) --dist loadfile) $(PYTEST_ARGS)
 
 # Benchmarks (README "Performance"): force-to-rumble latency, twist timing, simulation speed,
-# grading throughput, notebooks and setup; each row beside its reference from the same run.
+# grading throughput and determinism, notebooks and setup; each row beside its reference from the same run.
 # BENCH=latency,timing,... picks some (default: all); results in out/bench/results.{md,json}.
 # Not part of `make test`, which runs each benchmark in its smoke size (tests/bench/).
 bench: setup

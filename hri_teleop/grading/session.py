@@ -403,9 +403,9 @@ def run_sensor_launch(session: Session) -> Dict[str, Any]:
         from hri_teleop.grading.sandbox import describe_exit
 
         problem = f"roslaunch {describe_exit(launch.returncode)} while /force_mapped was recorded"
-    launch.stop()
-    for proc in extra:
-        proc.stop()
+    from hri_teleop.ros.master import stop_side_by_side
+
+    stop_side_by_side([launch, *extra])
     return {
         "kind": "sensor-launch", "supplied": supplied, "problem": problem, "nodes": nodes,
         "clock": "grader" if clock is not None and not clock.paced else "real time",
@@ -775,10 +775,9 @@ def run_teleop_launch_sim(session: Session) -> Dict[str, Any]:
     pubs, subs, types = _graph(session.master)
     recorder.close()
     exited = not launch.running
-    launch.stop()
-    for proc in extra:
-        proc.stop()
-    lab.stop()
+    from hri_teleop.ros.master import stop_side_by_side
+
+    stop_side_by_side([launch, *extra, lab])  # their shutdowns overlap (0.7 s one after another)
     return {
         "kind": "teleop-launch-sim", "supplied": supplied, "problem": problem, "nodes": sorted(nodes),
         "quit_in_time": quit_in_time, "run_s": round(now() - started, 3), "teleop_publications": teleop_pub,
