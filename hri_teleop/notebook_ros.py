@@ -31,7 +31,7 @@ import xmlrpc.client
 from dataclasses import dataclass, field
 from typing import Any, List, Optional
 
-from hri_teleop.ros.master import _stop_all_at_exit, interrupt_nodes  # its exit hook runs after ours
+from hri_teleop.ros.master import interrupt_nodes, stop_all  # its exit hook runs after ours
 
 __all__ = [
     "NotebookRosError",
@@ -195,7 +195,7 @@ def _shutdown_at_exit() -> None:
             rospy.signal_shutdown("kernel stopped")
         except Exception:  # noqa: BLE001
             pass
-    _stop_all_at_exit()
+    stop_all()
     for finalizer in list(_FINALIZERS):
         # detach(), not finalizer(): once weakref's own exit hook has run, calling a finalizer does nothing
         info = finalizer.detach()

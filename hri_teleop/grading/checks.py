@@ -12,6 +12,7 @@ judging is :mod:`~hri_teleop.grading.compare`; this module wires them together.
 
 from __future__ import annotations
 
+import functools
 import json
 import os
 import shutil
@@ -75,14 +76,13 @@ _OPEN_RUNS: "List[_Run]" = []
 
 def _closing(check: Callable[..., CheckResult]) -> Callable[..., CheckResult]:
     """Whatever happens inside a check, its scratch folder does not outlive it."""
+    @functools.wraps(check)
     def wrapper(*args: Any, **kwargs: Any) -> CheckResult:
         try:
             return check(*args, **kwargs)
         finally:
             for run in list(_OPEN_RUNS):
                 run.close()
-    wrapper.__name__ = check.__name__
-    wrapper.__doc__ = check.__doc__
     return wrapper
 
 
@@ -95,6 +95,7 @@ def _reusable(check: str) -> Callable[[Callable[..., CheckResult]], Callable[...
     package takes it (:mod:`hri_teleop.grading.reuse`). A file given alone, or arguments that
     change what is judged (``node=False``), always run the check."""
     def decorate(grade_fn: Callable[..., CheckResult]) -> Callable[..., CheckResult]:
+        @functools.wraps(grade_fn)
         def wrapper(path: PathLike, **kwargs: Any) -> CheckResult:
             write, read = os.environ.get(reuse.WRITE_ENV), os.environ.get(reuse.READ_ENV)
             given = Path(path).expanduser()
@@ -110,8 +111,6 @@ def _reusable(check: str) -> Callable[[Callable[..., CheckResult]], Callable[...
             if write:
                 reuse.store(Path(write), check, seed, root, result)
             return result
-        wrapper.__name__ = grade_fn.__name__
-        wrapper.__doc__ = grade_fn.__doc__
         return wrapper
     return decorate
 

@@ -28,6 +28,8 @@ from dataclasses import dataclass
 from pathlib import Path
 from typing import Any, Callable, Dict, List, Optional, Sequence, Tuple
 
+from hri_teleop.ros.master import descendants
+
 __all__ = ["Progress", "print_line", "Run", "run_job", "job_count", "run_all", "reap_main", "reap_command"]
 
 _STOP_GRACE_S = 15.0                # a reaper told to stop gets this long before it is killed
@@ -65,45 +67,11 @@ def _prctl(option: int, value: int) -> bool:
         return False
 
 
-def _proc_table() -> Dict[int, Tuple[int, bytes]]:
-    """pid -> (parent pid, state) of every process, from /proc."""
-    table: Dict[int, Tuple[int, bytes]] = {}
-    try:
-        entries = os.listdir("/proc")
-    except OSError:
-        return table
-    for entry in entries:
-        if not entry.isdigit():
-            continue
-        try:
-            with open(f"/proc/{entry}/stat", "rb") as fh:
-                stat = fh.read()
-            fields = stat[stat.rindex(b")") + 2:].split()
-            table[int(entry)] = (int(fields[1]), fields[0])
-        except (OSError, ValueError, IndexError):
-            continue
-    return table
-
-
-def _descendants(root: int) -> List[int]:
-    """Every live (not zombie) process below ``root``."""
-    table = _proc_table()
-    children: Dict[int, List[int]] = {}
-    for pid, (ppid, _state) in table.items():
-        children.setdefault(ppid, []).append(pid)
-    found, todo = [], list(children.get(root, []))
-    while todo:
-        pid = todo.pop()
-        found.append(pid)
-        todo.extend(children.get(pid, []))
-    return [pid for pid in found if table.get(pid, (0, b"Z"))[1] not in (b"Z", b"X")]
-
-
 def _kill_descendants(root: int, reap: bool, deadline_s: float = 10.0) -> None:
     """SIGKILL everything below ``root`` until nothing is left (``reap``: ``root`` is us, collect the zombies)."""
     end = time.monotonic() + deadline_s
     while True:
-        alive = _descendants(root)
+        alive = descendants(root)
         for pid in alive:
             try:
                 os.kill(pid, signal.SIGKILL)

@@ -24,11 +24,13 @@ import sys
 import threading
 import time
 from pathlib import Path
-from typing import Any, Callable, Dict, List, Optional, Sequence, Set, Tuple
+from typing import Any, Callable, Dict, List, Optional, Set, Tuple
+
+from hri_teleop.grading.lockstep import (GRADER_NODE, GraderClock, Recorder, connections, last_value,
+                                         node_rate_hz, wait_for, wait_until_settled)
 
 __all__ = ["main", "run_plan"]
 
-GRADER_NODE = "/hri_grader"
 _IGNORED_TOPICS = ("/rosout", "/rosout_agg")
 
 
@@ -82,85 +84,6 @@ def _facts(proc: Any, nodes: Set[str], sub: List[List[str]], pub: List[List[str]
         "exited_by_itself": exited_by_itself, "exit_code": proc.returncode, "output_tail": proc.output_tail(),
         "output_bytes": proc.output_size(), "problem": problem,
     }
-
-
-def _wait(condition: Callable[[], bool], timeout_s: float, poll_s: float = 0.02) -> bool:
-    deadline = time.monotonic() + timeout_s
-    while time.monotonic() < deadline:
-        if condition():
-            return True
-        time.sleep(poll_s)
-    return condition()
-
-
-class _Recorder:
-    """Subscribes to topics of any type and keeps (time, type, decoded value) per topic."""
-
-    def __init__(self, clock: Callable[[], float] = time.monotonic) -> None:
-        import rospy
-
-        self._rospy = rospy
-        self._clock = clock  # the grader's /clock when it owns the time: messages stamped in simulated time
-        self.subs: Dict[str, Any] = {}
-        self.messages: Dict[str, List[Tuple[float, str, Any]]] = {}
-        self.lock = threading.Lock()
-        self.event = threading.Event()
-
-    def add(self, topic: str) -> None:
-        if topic in self.subs:
-            return
-        self.messages.setdefault(topic, [])
-        self.subs[topic] = self._rospy.Subscriber(topic, self._rospy.AnyMsg, self._callback, callback_args=topic,
-                                                  queue_size=1000, tcp_nodelay=True)
-
-    def connected(self, topic: str) -> bool:
-        return topic in self.subs and self.subs[topic].get_num_connections() > 0
-
-    def _callback(self, msg: Any, topic: str) -> None:
-        now = self._clock()
-        kind = msg._connection_header.get("type", "")
-        value = _decode(kind, msg._buff)
-        with self.lock:
-            self.messages[topic].append((now, kind, value))
-        self.event.set()
-
-    def count(self, topic: str) -> int:
-        with self.lock:
-            return len(self.messages.get(topic, []))
-
-    def since(self, topic: str, index: int) -> List[Tuple[float, str, Any]]:
-        with self.lock:
-            return list(self.messages.get(topic, [])[index:])
-
-    def close(self) -> None:
-        for sub in self.subs.values():
-            sub.unregister()
-        self.subs.clear()
-
-
-def _decode(kind: str, buff: bytes) -> Any:
-    """A message's value: ``data`` for std_msgs, the 6 numbers of a Twist, else its repr."""
-    import roslib.message
-
-    cls = roslib.message.get_message_class(kind) if kind else None
-    if cls is None:
-        return None
-    msg = cls()
-    try:
-        msg.deserialize(buff)
-    except Exception:  # noqa: BLE001 - a corrupt message is recorded as such
-        return {"__repr__": "undecodable"}
-    if kind == "geometry_msgs/Twist":
-        return [msg.linear.x, msg.linear.y, msg.linear.z, msg.angular.x, msg.angular.y, msg.angular.z]
-    if hasattr(msg, "data") and isinstance(msg.data, (int, float, bool)):
-        return msg.data
-    if kind == "geometry_msgs/PoseStamped":
-        return [msg.pose.position.x, msg.pose.position.y, msg.pose.position.z]
-    if kind == "sensor_msgs/JointState":
-        return list(msg.position)
-    if kind == "diagnostic_msgs/DiagnosticStatus":
-        return {value.key: value.value for value in msg.values}
-    return {"__repr__": repr(msg)[:100]}
 
 
 # -- the session ---------------------------------------------------------------------------
@@ -242,7 +165,7 @@ def _wait_for_node(session: Session, proc: Any, timeout_s: float, want: Callable
             state["sub"], state["pub"] = _node_io(session.master, state["nodes"])
         return (bool(state["nodes"]) and want(state["sub"], state["pub"])) or not proc.running
 
-    ok = _wait(ready, timeout_s, 0.05) and proc.running
+    ok = wait_for(ready, timeout_s, 0.05) and proc.running
     return state["nodes"], state["sub"], state["pub"], ok
 
 
@@ -281,10 +204,10 @@ def run_mapping_node(session: Session) -> Dict[str, Any]:
             run.update(input_topic=in_topic, input_type=in_type, output_topic=out_topic, output_type=out_type)
             if in_topic:
                 publisher = rospy.Publisher(in_topic, Int16, queue_size=1000, tcp_nodelay=True)
-                recorder = _Recorder()
+                recorder = Recorder()
                 if out_topic:
                     recorder.add(out_topic)
-                connected = _wait(lambda: publisher.get_num_connections() > 0 and
+                connected = wait_for(lambda: publisher.get_num_connections() > 0 and
                                   (not out_topic or recorder.connected(out_topic)), 5.0)
                 run["connected"] = connected
                 if connected:
@@ -307,7 +230,7 @@ def run_mapping_node(session: Session) -> Dict[str, Any]:
     return {"kind": "mapping-node", "runs": runs}
 
 
-def _lockstep(publisher: Any, recorder: _Recorder, out_topic: str, counts: List[int], proc: Any,
+def _lockstep(publisher: Any, recorder: Recorder, out_topic: str, counts: List[int], proc: Any,
               timeout_s: float) -> List[List[Any]]:
     """Publish one count, collect what comes back before the next one; returns values per count."""
     from std_msgs.msg import Int16
@@ -335,7 +258,7 @@ def _lockstep(publisher: Any, recorder: _Recorder, out_topic: str, counts: List[
     return responses
 
 
-def _record_sensor_on_clock(session: Session, clock: "_GraderClock", recorder: _Recorder, launch: Any,
+def _record_sensor_on_clock(session: Session, clock: "GraderClock", recorder: Recorder, launch: Any,
                             want: int) -> None:
     """Step the clock one sensor period at a time until ``want`` values came out of /force_mapped.
 
@@ -343,16 +266,16 @@ def _record_sensor_on_clock(session: Session, clock: "_GraderClock", recorder: _
     (once each has spoken), so every count is paired with its own mapping, idle or busy.
     """
     plan = session.plan
-    _wait_until_settled(session, set(plan.get("expect_nodes", [])), launch, plan["settle_timeout_s"])
-    _wait(lambda: (recorder.connected("/pub_force") and recorder.connected("/force_mapped")
-                   and _connections(session, plan["mapping_node_name"], "/pub_force") > 0
-                   and _connections(session, plan["fsr_node"], "/pub_force", "o") >= 2
-                   and _connections(session, plan["mapping_node_name"], "/force_mapped", "o") >= 1)
+    wait_until_settled(session, set(plan.get("expect_nodes", [])), launch, plan["settle_timeout_s"])
+    wait_for(lambda: (recorder.connected("/pub_force") and recorder.connected("/force_mapped")
+                   and connections(session, plan["mapping_node_name"], "/pub_force") > 0
+                   and connections(session, plan["fsr_node"], "/pub_force", "o") >= 2
+                   and connections(session, plan["mapping_node_name"], "/force_mapped", "o") >= 1)
           or not launch.running, 5.0, 0.002)
-    rate_hz = _node_rate_hz(session, plan["fsr_node"], plan["default_fsr_rate_hz"], "rate_hz")
+    rate_hz = node_rate_hz(session, plan["fsr_node"], plan["default_fsr_rate_hz"], "rate_hz")
     clock.start()  # the sensor's first count, with everything connected: the same in every run
-    _wait(lambda: (recorder.count("/pub_force") > 0 and recorder.count("/force_mapped") > 0) or not launch.running,
-          _GraderClock.STEP_TIMEOUT_S, 0.0005)
+    wait_for(lambda: (recorder.count("/pub_force") > 0 and recorder.count("/force_mapped") > 0) or not launch.running,
+          GraderClock.STEP_TIMEOUT_S, 0.0005)
     for _ in range(int(plan["record_s"] * rate_hz)):
         if (want and recorder.count("/force_mapped") >= want) or not launch.running:
             break
@@ -366,7 +289,7 @@ def run_sensor_launch(session: Session) -> Dict[str, Any]:
     plan = session.plan
     supplied: List[str] = []
     # Before anything reads /use_sim_time; time starts once every node is up and connected.
-    clock = _GraderClock(session, started=False) if plan.get("clock") == "grader" else None
+    clock = GraderClock(session, started=False) if plan.get("clock") == "grader" else None
     if plan.get("set_max_sensor_force") is not None:
         session.master.set_param("/max_sensor_force", plan["set_max_sensor_force"])
         supplied.append("/max_sensor_force")
@@ -379,21 +302,21 @@ def run_sensor_launch(session: Session) -> Dict[str, Any]:
     if plan.get("run_mapping_node"):
         extra.append(session.start_student([plan["python"], plan["mapping_node"]], "grader_mapping_node"))
         supplied.append("mapping_node.py")
-    recorder = _Recorder(clock.now if clock else time.monotonic)
-    ok = _wait(lambda: bool(session.master.publishers("/force_mapped")) or not launch.running,
+    recorder = Recorder(clock.now if clock else time.monotonic)
+    ok = wait_for(lambda: bool(session.master.publishers("/force_mapped")) or not launch.running,
                plan["start_timeout_s"], 0.05) and launch.running
     problem = "" if ok else _start_problem(launch, plan["start_timeout_s"], "anything publishing /force_mapped")
     if ok:
         recorder.add("/force_mapped")
         recorder.add("/pub_force")
-        _wait(lambda: recorder.connected("/force_mapped"), 5.0)
+        wait_for(lambda: recorder.connected("/force_mapped"), 5.0)
         want = plan.get("record_messages", 0)
         if clock is not None:
             _record_sensor_on_clock(session, clock, recorder, launch, want)
         else:
-            _wait(lambda: recorder.count("/force_mapped") > 0 or not launch.running, plan["start_timeout_s"])
+            wait_for(lambda: recorder.count("/force_mapped") > 0 or not launch.running, plan["start_timeout_s"])
             # Enough messages to judge, not a fixed time: a busy machine records the same number.
-            _wait(lambda: (want and recorder.count("/force_mapped") >= want) or not launch.running,
+            wait_for(lambda: (want and recorder.count("/force_mapped") >= want) or not launch.running,
                   plan["record_s"], 0.01)
     nodes = sorted(_student_nodes(session.master, session.baseline))
     pubs, subs, types = _graph(session.master)
@@ -417,100 +340,6 @@ def run_sensor_launch(session: Session) -> Dict[str, Any]:
     }
 
 
-class _GraderClock:
-    """The grader owns the time: ``/use_sim_time`` is set and /clock advances one tick at a time.
-
-    Each step moves the clock by one period of the node's rate and waits until the node has
-    published on the lockstep topic, so what the node does per tick no longer depends on
-    how busy the machine is, and a run lasts as long as the node computes. A node that
-    publishes nothing after a step (it does not follow rospy.Rate) gets real-time pacing:
-    the clock then moves one period per period of wall time, as before.
-    """
-
-    #: How long a step waits for the tick's messages, s of wall time (a loaded machine
-    #: answers within milliseconds; a node that ignores /clock never does).
-    STEP_TIMEOUT_S = 2.0
-    #: The same, once the node has answered a step: it follows the clock, so a late answer is
-    #: a stall of the machine (CI saw one of over 2 s with both cores busy), not a node that
-    #: ignores /clock; waiting longer keeps the run on the grader's clock.
-    STALL_TIMEOUT_S = 15.0
-
-    def __init__(self, session: Session, start_s: float = 1.0, started: bool = True) -> None:
-        """``started`` False: ROS time stays 0 (nodes that wait for the clock wait) until :meth:`start`."""
-        import rospy
-        from rosgraph_msgs.msg import Clock
-
-        self._rospy, self._Clock = rospy, Clock
-        self._master = session.master
-        session.master.set_param("/use_sim_time", True)  # before the student's node starts
-        self._pub = rospy.Publisher("/clock", Clock, queue_size=10, latch=True, tcp_nodelay=True)
-        # Whole nanoseconds: rospy.Rate steps its deadline by int(1e9 / rate) ns, so a clock kept
-        # in floats (1.14 -> 1.139999999 s) would miss a tick now and then.
-        self._now_ns = int(round(start_s * 1e9))
-        self.paced = False
-        self.answered = 0  # steps the node answered within their timeout
-        self.rescues = 0  # steps that needed one more tick to be answered (see step)
-        if started:
-            self._publish()
-
-    def start(self) -> None:
-        """The first reading (``start_s``): every node waiting for the clock begins at this instant."""
-        self._publish()
-
-    def _publish(self) -> None:
-        self._pub.publish(self._Clock(clock=self._rospy.Time(self._now_ns // 10**9, self._now_ns % 10**9)))
-
-    def now(self) -> float:
-        return self._now_ns / 1e9
-
-    @staticmethod
-    def student_env() -> Dict[str, str]:
-        from hri_teleop.gamepad.factory import PAD_CLOCK_ENV
-
-        return {PAD_CLOCK_ENV: "ros"}  # the virtual pad's script on ROS time, as the node's loop
-
-    def wait_for_listener(self, nodes: Set[str], proc: Any, timeout_s: float) -> bool:
-        """Until one of ``nodes`` subscribes /clock (then the latched time reached it)."""
-        return _wait(lambda: bool(set(self._master.subscribers("/clock")) & set(nodes)) or not proc.running,
-                     timeout_s, 0.005)
-
-    def step(self, rate_hz: float, recorder: _Recorder, topics: Sequence[str], proc: Any,
-             also: Callable[[], bool] = lambda: True) -> bool:
-        """One period of a loop at ``rate_hz`` (rospy.Rate's own arithmetic), then wait for the tick's messages
-        (a new one on each of ``topics``) and for ``also``.
-
-        False when they did not come within ``STEP_TIMEOUT_S``, or, once the node has answered
-        a step, within ``STALL_TIMEOUT_S`` and one more tick while its publishers live: the
-        caller decides whether the node ignores the clock (``paced`` from then on) or has ended.
-        """
-        before = [recorder.count(t) for t in topics]
-        self._now_ns += int(1e9 / rate_hz)
-        self._publish()
-        if self.paced:
-            time.sleep(1.0 / rate_hz)
-            return True
-        def came() -> bool:
-            return all(recorder.count(t) > b for t, b in zip(topics, before)) and also()
-
-        answered = _wait(lambda: came() or not proc.running, self.STEP_TIMEOUT_S, 0.0002)
-        if not answered and self.answered:
-            # Late, from a node that followed the clock so far. Either the machine stalled, or the
-            # node read the time after this step's reading had reached it: rospy.sleep(d) sleeps
-            # until that reading + d, a tick past what it waits for (rospy.Rate has the same race in
-            # a narrower window). One more tick wakes it; then wait while its publishers live.
-            def gone() -> bool:
-                return not proc.running or not all(self._master.publishers(t) for t in topics)
-
-            self.rescues += 1
-            self._now_ns += int(1e9 / rate_hz)
-            self._publish()
-            answered = _wait(lambda: came() or gone(), self.STALL_TIMEOUT_S - self.STEP_TIMEOUT_S, 0.005)
-            answered = answered and came()
-        if answered and proc.running:
-            self.answered += 1
-        return answered or not proc.running
-
-
 def run_teleop_node(session: Session) -> Dict[str, Any]:
     """The student's teleoperation.py with a scripted virtual pad and a steady /force_mapped."""
     import rospy
@@ -530,8 +359,8 @@ def run_teleop_node(session: Session) -> Dict[str, Any]:
     params = [f"_{k}:={v}" for k, v in plan["gains"].items()]
     argv = [plan["python"], plan["script"], "_pad:=virtual", "_layout:=dualshock4",
             f"_pad_script:={plan['pad_script']}", *params]
-    clock = _GraderClock(session) if plan.get("clock") == "grader" else None
-    recorder = _Recorder(clock.now if clock else time.monotonic)
+    clock = GraderClock(session) if plan.get("clock") == "grader" else None
+    recorder = Recorder(clock.now if clock else time.monotonic)
     record = list(plan.get("record", []))
     # Subscribed before the node starts: the pad script plays from its start. Under the grader's
     # clock the twist (the first topic) comes last, once every other topic is connected at both
@@ -544,8 +373,8 @@ def run_teleop_node(session: Session) -> Dict[str, Any]:
     problem = "" if ok else _start_problem(proc, plan["start_timeout_s"], "advertising a topic")
     if ok and clock is not None and record:
         others = record[1:]
-        _wait(lambda: all(recorder.connected(t) and any(_connections(session, n, t, "o") > 0 for n in nodes)
-                          for t in others) or not proc.running, _GraderClock.STEP_TIMEOUT_S, 0.002)
+        wait_for(lambda: all(recorder.connected(t) and any(connections(session, n, t, "o") > 0 for n in nodes)
+                          for t in others) or not proc.running, GraderClock.STEP_TIMEOUT_S, 0.002)
         recorder.add(record[0])
     started = clock.now() if clock else time.monotonic()
 
@@ -565,11 +394,11 @@ def run_teleop_node(session: Session) -> Dict[str, Any]:
         clock.wait_for_listener(nodes, proc, plan["start_timeout_s"])
         # The loop's first tick comes at the start time, before any step: step only after it,
         # so tick k is always at start + k periods (stepping earlier would race the node's start).
-        _wait(lambda: recorder.count(plan["record"][0]) > 0 or not proc.running, plan["start_timeout_s"], 0.0005)
+        wait_for(lambda: recorder.count(plan["record"][0]) > 0 or not proc.running, plan["start_timeout_s"], 0.0005)
         # Every topic of tick 0 before the first step (a message that arrived after it would be
         # stamped a tick late); a topic the node never publishes costs one step timeout, once.
-        _wait(lambda: all(recorder.count(t) > 0 for t in plan["record"]) or not proc.running,
-              _GraderClock.STEP_TIMEOUT_S, 0.0005)
+        wait_for(lambda: all(recorder.count(t) > 0 for t in plan["record"]) or not proc.running,
+              GraderClock.STEP_TIMEOUT_S, 0.0005)
         lockstep = [t for t in plan["record"] if recorder.count(t) > 0] or plan["record"][:1]
         tick = 0
         while clock.now() - started < plan["run_s"] and proc.running:
@@ -603,62 +432,6 @@ def run_teleop_node(session: Session) -> Dict[str, Any]:
     }
 
 
-def _wait_until_settled(session: Session, expected: Set[str], proc: Any, timeout_s: float,
-                        quiet_s: float = 0.2) -> bool:
-    """Until ``expected`` nodes are registered and the graph has not changed for ``quiet_s``."""
-    deadline = time.monotonic() + timeout_s
-    previous: Any = None
-    since = time.monotonic()
-    while time.monotonic() < deadline and proc.running:
-        state = session.master.system_state()
-        reading = (sorted((t, sorted(n)) for t, n in state[0]), sorted((t, sorted(n)) for t, n in state[1]))
-        names = {n for _t, ns in list(state[0]) + list(state[1]) + list(state[2]) for n in ns}
-        if reading != previous or not expected <= names:
-            previous, since = reading, time.monotonic()
-        elif time.monotonic() - since >= quiet_s:
-            return True
-        time.sleep(0.02)
-    return False
-
-
-def _last_value(recorder: _Recorder, topic: str, default: float) -> float:
-    with recorder.lock:
-        messages = recorder.messages.get(topic) or []
-        value = messages[-1][2] if messages else default
-    return float(value) if isinstance(value, (int, float)) else default
-
-
-def _connections(session: Session, node: str, topic: str, direction: str = "i") -> int:
-    """How many connections ``node`` has on ``topic`` now, by its own bus info (as ``rosnode info``
-    reads it): ``direction`` "i" to publishers it subscribes to, "o" to subscribers of what it publishes.
-
-    The master only knows who registered; a connection may still be forming, and under the
-    grader's clock ticks would pass meanwhile (a publisher sends a message only to the
-    connections it has counted).
-    """
-    import xmlrpc.client
-
-    try:
-        code, _msg, uri = xmlrpc.client.ServerProxy(session.master.uri).lookupNode(GRADER_NODE, node)
-        if code != 1:
-            return 0
-        code, _msg, bus = xmlrpc.client.ServerProxy(uri).getBusInfo(GRADER_NODE)
-    except (OSError, xmlrpc.client.Error):
-        return 0
-    return sum(1 for c in bus if code == 1 and len(c) > 5 and c[2] == direction and c[4] == topic and c[5])
-
-
-def _node_rate_hz(session: Session, node: str, default_hz: float, param: str = "rate") -> float:
-    """The loop rate a node was given (its private ``param``), else the lab's default."""
-    from hri_teleop.ros.master import MasterError
-
-    try:
-        value = float(session.master.get_param(f"{node}/{param}"))  # type: ignore[arg-type]
-    except (MasterError, TypeError, ValueError):
-        return default_hz
-    return value if 0.0 < value <= 1000.0 else default_hz
-
-
 #: How long a step waits for the sensor chain to pass on a tick's counts (s); a chain that
 #: does not within it (a student's mapping_node that drops or merges counts) is not waited for again.
 CHAIN_SETTLE_S = 0.5
@@ -681,9 +454,9 @@ def run_teleop_launch_sim(session: Session) -> Dict[str, Any]:
         session.master.set_param("/max_sensor_force", plan["set_max_sensor_force"])
         supplied.append("/max_sensor_force")
     # Before anything reads /use_sim_time; time starts once every node is up and connected.
-    clock = _GraderClock(session, started=False) if plan.get("clock") == "grader" else None
+    clock = GraderClock(session, started=False) if plan.get("clock") == "grader" else None
     lab = session.master.run([plan["python"], *plan["lab_sim"]], "grader_lab_sim")
-    ready = _wait(lambda: "/lab_sim" in session.master.subscribers(plan["twist_topic"]) or not lab.running,
+    ready = wait_for(lambda: "/lab_sim" in session.master.subscribers(plan["twist_topic"]) or not lab.running,
                   plan["start_timeout_s"], 0.05)
     session.phase("lab_sim up")
     if not ready or not lab.running:
@@ -691,14 +464,14 @@ def run_teleop_launch_sim(session: Session) -> Dict[str, Any]:
         lab.stop()
         return {"kind": "teleop-launch-sim", "session_error": f"the simulated lab did not start: {out}"}
     now = clock.now if clock else time.monotonic
-    recorder = _Recorder(now)
+    recorder = Recorder(now)
     for topic in plan["record"]:
         recorder.add(topic)
     launch = session.start_student(["roslaunch", "--wait", plan["launch_file"], plan["params_launch"]], "roslaunch",
                                    clock.student_env() if clock else None)
     teleop = plan["teleop_node"]
     started = now()
-    up = _wait(lambda: teleop in session.master.node_names() or not launch.running, plan["start_timeout_s"], 0.05)
+    up = wait_for(lambda: teleop in session.master.node_names() or not launch.running, plan["start_timeout_s"], 0.05)
     session.phase("teleoperation node registered")
     problem = "" if up and launch.running else _start_problem(launch, plan["start_timeout_s"], f"starting {teleop}")
     extra: List[Any] = []
@@ -722,18 +495,18 @@ def run_teleop_launch_sim(session: Session) -> Dict[str, Any]:
         if clock is not None:
             # Time stands still until every node is up and connected: at the simulation's
             # speed a node still importing would otherwise miss seconds of the operator.
-            _wait_until_settled(session, set(plan.get("expect_nodes", [])), launch, plan["settle_timeout_s"])
+            wait_until_settled(session, set(plan.get("expect_nodes", [])), launch, plan["settle_timeout_s"])
             session.phase("graph settled")
             # Step once the node's twists reach the recorder and lab_sim: a tick published before
             # a connection is lost (to lab_sim: a velocity out of the blue, which the arm refuses).
             twist, applied = plan["twist_topic"], plan["applied_topic"]
             recorder.add(applied)
             # Both ends counted: the node starts its pad script at the first tick with a listener.
-            _wait(lambda: (recorder.connected(twist) and recorder.connected(applied)
-                           and _connections(session, "/lab_sim", twist) > 0
-                           and _connections(session, teleop, twist, "o") >= 2)
+            wait_for(lambda: (recorder.connected(twist) and recorder.connected(applied)
+                           and connections(session, "/lab_sim", twist) > 0
+                           and connections(session, teleop, twist, "o") >= 2)
                   or not launch.running, plan["start_timeout_s"], 0.002)
-            rate_hz = _node_rate_hz(session, teleop, plan["default_rate_hz"])
+            rate_hz = node_rate_hz(session, teleop, plan["default_rate_hz"])
             chain = list(plan.get("sensor_chain", []))  # board -> /pub_force -> /force_mapped
             for topic in chain:
                 recorder.add(topic)
@@ -748,16 +521,16 @@ def run_teleop_launch_sim(session: Session) -> Dict[str, Any]:
             # Each step waits for the tick's twist and for lab_sim's word that it applied it at
             # this tick's time: the next step must not reach lab_sim before this command.
             def applied_now() -> bool:
-                if _last_value(recorder, applied, 0.0) < clock.now() - 1e-6:
+                if last_value(recorder, applied, 0.0) < clock.now() - 1e-6:
                     return False
-                if chain_ok[0] and not _wait(chain_settled, CHAIN_SETTLE_S, 0.0002):
+                if chain_ok[0] and not wait_for(chain_settled, CHAIN_SETTLE_S, 0.0002):
                     chain_ok[0] = False  # a link that drops or merges messages: stop waiting for it
                 return True
 
             session.phase("connected")
             clock.start()  # tick 0, with everything connected: the same first tick in every run
-            _wait(lambda: (recorder.count(twist) > 0 and applied_now()) or not launch.running,
-                  _GraderClock.STEP_TIMEOUT_S, 0.0005)
+            wait_for(lambda: (recorder.count(twist) > 0 and applied_now()) or not launch.running,
+                  GraderClock.STEP_TIMEOUT_S, 0.0005)
             tick = 0
             while clock.now() - started < plan["run_s"]:
                 if tick % 10 == 0 and not still_up():
@@ -799,7 +572,7 @@ def run_live_graph(session: Session) -> Dict[str, Any]:
     launch = session.master.run(["roslaunch", "--wait", "hri_lab", "teleoperation.launch", *plan["launch_args"]],
                                 "reference")
     want = set(plan["nodes"])
-    ok = _wait(lambda: want <= set(session.master.node_names()) or not launch.running, plan["start_timeout_s"], 0.1)
+    ok = wait_for(lambda: want <= set(session.master.node_names()) or not launch.running, plan["start_timeout_s"], 0.1)
     if not ok or not launch.running:
         out = launch.output()[-1500:]
         launch.stop()

@@ -33,7 +33,7 @@ class MasterError(RuntimeError):
 _LIVE: "Set[ManagedProcess]" = set()
 
 
-def _stop_all_at_exit() -> None:
+def stop_all() -> None:
     """What is still running when Python exits (a notebook kernel closing): the nodes side by
     side, then the masters killed -- after the nodes, nobody reads them, and a kernel whose
     exit takes 2 s stalls the notebook's restart (and nbgrader, once per notebook)."""
@@ -45,7 +45,7 @@ def _stop_all_at_exit() -> None:
             proc.kill()
 
 
-atexit.register(_stop_all_at_exit)
+atexit.register(stop_all)
 
 
 def interrupt_nodes() -> None:
@@ -57,7 +57,7 @@ def interrupt_nodes() -> None:
 
 
 def _stop_all_then_die(signum: int, _frame: object) -> None:
-    _stop_all_at_exit()
+    stop_all()
     signal.signal(signum, signal.SIG_DFL)
     os.kill(os.getpid(), signum)
 
@@ -215,7 +215,7 @@ class ManagedProcess:
         """SIGKILL the whole group and every descendant at once: for what nobody needs a clean exit
         of (a grading master). roslaunch starts its nodes in sessions of their own (roscore's
         rosmaster and rosout too), so killing the group alone would orphan them."""
-        family = [self.popen.pid, *_descendants(self.popen.pid)]
+        family = [self.popen.pid, *descendants(self.popen.pid)]
         try:
             os.killpg(os.getpgid(self.popen.pid), signal.SIGKILL)
         except ProcessLookupError:
@@ -234,26 +234,38 @@ class ManagedProcess:
             return None
 
 
-def _descendants(pid: int) -> List[int]:
-    """Every process below ``pid`` now (Linux /proc), children before grandchildren."""
-    children: Dict[int, List[int]] = {}
-    for entry in os.listdir("/proc"):
+def _proc_table() -> Dict[int, Tuple[int, bytes]]:
+    """pid -> (parent pid, state) of every process, from /proc."""
+    table: Dict[int, Tuple[int, bytes]] = {}
+    try:
+        entries = os.listdir("/proc")
+    except OSError:
+        return table
+    for entry in entries:
         if not entry.isdigit():
             continue
         try:
             with open(f"/proc/{entry}/stat", "rb") as fh:
-                stat = fh.read().decode(errors="replace")
-        except OSError:
+                stat = fh.read()
+            fields = stat[stat.rindex(b")") + 2:].split()
+            table[int(entry)] = (int(fields[1]), fields[0])
+        except (OSError, ValueError, IndexError):
             continue
-        ppid = int(stat.rsplit(")", 1)[1].split()[1])  # after "pid (comm) state"
-        children.setdefault(ppid, []).append(int(entry))
-    found: List[int] = []
-    queue = list(children.get(pid, []))
-    while queue:
-        child = queue.pop(0)
-        found.append(child)
-        queue += children.get(child, [])
-    return found
+    return table
+
+
+def descendants(root: int) -> List[int]:
+    """Every live (not zombie) process below ``root`` now (Linux /proc)."""
+    table = _proc_table()
+    children: Dict[int, List[int]] = {}
+    for pid, (ppid, _state) in table.items():
+        children.setdefault(ppid, []).append(pid)
+    found, todo = [], list(children.get(root, []))
+    while todo:
+        pid = todo.pop()
+        found.append(pid)
+        todo.extend(children.get(pid, []))
+    return [pid for pid in found if table.get(pid, (0, b"Z"))[1] not in (b"Z", b"X")]
 
 
 def _group_alive(pgid: int) -> bool:
