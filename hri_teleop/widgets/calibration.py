@@ -118,6 +118,7 @@ class CalibrationWidget(widgets.VBox):
         self.recorder = MaxRecorder()
         self._clock = clock
         self._subscriber: Any = None
+        self._subscriber_lock = threading.Lock()  # the ticker's thread and wait()/close() both end it
         self.file = widgets.Text(value="" if file is None else str(file), description="file",
                                  placeholder="path of your teleoperation.launch, sensor.launch or YAML file",
                                  layout=widgets.Layout(width="640px"))
@@ -167,8 +168,10 @@ class CalibrationWidget(widgets.VBox):
 
         seconds = self.duration.value if duration_s is None else duration_s
         self.recorder.start(self._clock(), seconds or None)
-        if self._subscriber is None:
-            self._subscriber = rospy.Subscriber(self.topic, Int16, self._callback, queue_size=1000, tcp_nodelay=True)
+        with self._subscriber_lock:
+            if self._subscriber is None:
+                self._subscriber = rospy.Subscriber(self.topic, Int16, self._callback, queue_size=1000,
+                                                    tcp_nodelay=True)
         self.start_button.disabled = True
         self.stop_button.disabled = False
         self.apply_button.disabled = True
@@ -200,9 +203,7 @@ class CalibrationWidget(widgets.VBox):
         if not recording and self.ticker.running:
             self.ticker.stop()
         if not recording:
-            if self._subscriber is not None:
-                self._subscriber.unregister()
-                self._subscriber = None
+            self._unsubscribe()
             self.start_button.disabled = False
             self.stop_button.disabled = True
             self.apply_button.disabled = self.recorder.maximum in (None, 0)
@@ -234,10 +235,16 @@ class CalibrationWidget(widgets.VBox):
         rospy.set_param("/" + PARAM_NAME, count)
         return f"/{PARAM_NAME} = {count} on the parameter server{written}"
 
+    def _unsubscribe(self) -> None:
+        """End the recording's subscription once, whoever gets here first (rospy fails a second
+        unregister of the same subscriber: CI saw the ticker's refresh and wait() race)."""
+        with self._subscriber_lock:
+            subscriber, self._subscriber = self._subscriber, None
+        if subscriber is not None:
+            subscriber.unregister()
+
     def close(self) -> None:
         self.ticker.stop()
         self.recorder.stop()
-        if self._subscriber is not None:
-            self._subscriber.unregister()
-            self._subscriber = None
+        self._unsubscribe()
         super().close()
