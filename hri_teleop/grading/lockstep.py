@@ -9,6 +9,7 @@ Runs inside the grading session (:mod:`hri_teleop.grading.session`).
 
 from __future__ import annotations
 
+import os
 import threading
 import time
 from typing import TYPE_CHECKING, Any, Callable, Dict, List, Sequence, Set, Tuple
@@ -16,8 +17,8 @@ from typing import TYPE_CHECKING, Any, Callable, Dict, List, Sequence, Set, Tupl
 if TYPE_CHECKING:
     from hri_teleop.grading.session import Session
 
-__all__ = ["GRADER_NODE", "wait_for", "Recorder", "GraderClock", "wait_until_settled", "last_value", "connections",
-           "node_rate_hz"]
+__all__ = ["GRADER_NODE", "wait_for", "Recorder", "GraderClock", "Quiescence", "wait_until_settled", "last_value",
+           "connections", "node_rate_hz"]
 
 #: The grader's own node in a session (its recorders and publishers; the caller id of its bus-info reads).
 GRADER_NODE = "/hri_grader"
@@ -195,6 +196,70 @@ class GraderClock:
         if answered and proc.running:
             self.answered += 1
         return answered or not proc.running
+
+
+def busy_threads(pids: Sequence[int]) -> int:
+    """Threads of ``pids`` that are running or about to (state R or D in /proc): 0 when all wait."""
+    busy = 0
+    for pid in pids:
+        try:
+            tids = os.listdir(f"/proc/{pid}/task")
+        except OSError:
+            continue  # ended
+        for tid in tids:
+            try:
+                with open(f"/proc/{pid}/task/{tid}/stat", "rb") as fh:
+                    stat = fh.read()
+            except OSError:
+                continue
+            if stat[stat.rfind(b")") + 2:stat.rfind(b")") + 3] in (b"R", b"D"):
+                busy += 1
+    return busy
+
+
+class Quiescence:
+    """Waits, after a tick, until every process under grading waits for something (no thread runnable).
+
+    Messages between the nodes travel over loopback TCP: a message sent wakes its receiver
+    at once, so while one is in flight some thread is runnable. All of them waiting means
+    the tick's work is done everywhere: a gripper goal reached the simulated lab, a force
+    reached the teleoperation node's callback, before the next tick in every run, loaded or
+    not. Two readings in a row, as a reading of many threads is not one instant. A process
+    that never waits (a busy loop) would hold every tick: after one timeout it is not waited for
+    again (a loaded machine gets quiet well within it: a stall CI saw lasted 2 s).
+    """
+
+    TIMEOUT_S = 5.0
+    GAP_S = 0.0003
+
+    def __init__(self, roots: Sequence[int]) -> None:
+        self.roots = list(roots)
+        self.pids: List[int] = []
+        self.enabled = True
+        self.timeouts = 0
+        self.refresh()
+
+    def refresh(self) -> None:
+        """The roots and everything below them now (roslaunch starts its nodes as children)."""
+        from hri_teleop.ros.master import descendants
+
+        self.pids = [p for root in self.roots for p in [root, *descendants(root)]]
+
+    def _quiet(self) -> bool:
+        if busy_threads(self.pids):
+            return False
+        time.sleep(self.GAP_S)
+        return busy_threads(self.pids) == 0
+
+    def wait(self) -> bool:
+        """True once quiet; False (and no more waiting) when it was not within ``TIMEOUT_S``."""
+        if not self.enabled:
+            return True
+        if wait_for(self._quiet, self.TIMEOUT_S, 0.0002):
+            return True
+        self.timeouts += 1
+        self.enabled = False
+        return False
 
 
 def wait_until_settled(session: Session, expected: Set[str], proc: Any, timeout_s: float,

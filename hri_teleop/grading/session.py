@@ -26,7 +26,7 @@ import time
 from pathlib import Path
 from typing import Any, Callable, Dict, List, Optional, Set, Tuple
 
-from hri_teleop.grading.lockstep import (GRADER_NODE, GraderClock, Recorder, connections, last_value,
+from hri_teleop.grading.lockstep import (GRADER_NODE, GraderClock, Quiescence, Recorder, connections, last_value,
                                          node_rate_hz, wait_for, wait_until_settled)
 
 __all__ = ["main", "run_plan"]
@@ -520,11 +520,16 @@ def run_teleop_launch_sim(session: Session) -> Dict[str, Any]:
 
             # Each step waits for the tick's twist and for lab_sim's word that it applied it at
             # this tick's time: the next step must not reach lab_sim before this command.
+            # Then until every process has done this tick's work: a gripper goal on its way to
+            # lab_sim or a force to the node's callback would otherwise land a tick late now and then.
+            quiet = Quiescence([p.popen.pid for p in (launch, lab, *extra)])
+
             def applied_now() -> bool:
                 if last_value(recorder, applied, 0.0) < clock.now() - 1e-6:
                     return False
                 if chain_ok[0] and not wait_for(chain_settled, CHAIN_SETTLE_S, 0.0002):
                     chain_ok[0] = False  # a link that drops or merges messages: stop waiting for it
+                quiet.wait()
                 return True
 
             session.phase("connected")
@@ -533,8 +538,10 @@ def run_teleop_launch_sim(session: Session) -> Dict[str, Any]:
                   GraderClock.STEP_TIMEOUT_S, 0.0005)
             tick = 0
             while clock.now() - started < plan["run_s"]:
-                if tick % 10 == 0 and not still_up():
-                    break
+                if tick % 10 == 0:
+                    if not still_up():
+                        break
+                    quiet.refresh()
                 tick += 1
                 if not clock.step(rate_hz, recorder, [twist], launch, applied_now) and not clock.paced:
                     if not still_up():
