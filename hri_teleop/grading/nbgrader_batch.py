@@ -44,6 +44,7 @@ from typing import Any, Callable, Dict, List, Mapping, Optional, Sequence, Tuple
 from hri_teleop.grading.batch import (PER_SUBMISSION_TIMEOUT_S, BatchError, grade_one, live_graph_cache,
                                       submissions_in)
 from hri_teleop.grading import reuse
+from hri_teleop.grading.spare_kernels import PROVISIONER, PROVISIONER_ENV, SPARES_ENV
 from hri_teleop.grading.jobs import Progress, job_count, print_line, run_all, run_job
 from hri_teleop.labkernel import ipc_kernel_argv
 
@@ -312,6 +313,9 @@ def _autograde_in(course: _Course, student: str, assignment: str, out: Path, tim
     env.pop(reuse.WRITE_ENV, None)
     if results_dir is not None:
         env[reuse.READ_ENV] = str(results_dir)
+    # Each notebook's kernel starts while the one before runs (hri_teleop.grading.spare_kernels).
+    env[PROVISIONER_ENV] = PROVISIONER
+    env[SPARES_ENV] = str(max(0, len(list((course.root / "source" / assignment).glob("*.ipynb"))) - 1))
     for attempt in range(1, _DB_ATTEMPTS + 1):
         run = run_job(argv, log, timeout_s, cwd=course.root, env=env)
         seconds += run.seconds

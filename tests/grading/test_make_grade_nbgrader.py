@@ -263,6 +263,9 @@ def test_make_grade_autogrades_an_nbgrader_course_in_parallel_and_survives_hosti
     assert float(rows["alice"]["files_score"]) == float(rows["alice"]["files_max"]) == 10
     assert "robot-params" in (out / "bob" / "feedback.txt").read_text()
     assert (out / "alice" / ASSIGNMENT / "autograde.log").is_file()
+    # each notebook after the first ran in the kernel started while the one before ran
+    log = (out / "alice" / ASSIGNMENT / "autograde.log").read_text()
+    assert log.count("took the spare kernel started ahead") == len(NOTEBOOKS) - 1, log
 
     # Ex. 4's check cell took the files job's result for the same package instead of running it again
     from hri_teleop.grading.reuse import REUSED_NOTE

@@ -1,0 +1,204 @@
+"""make grade's kernels, each started while the notebook before it still runs.
+
+nbgrader autogrades a submission's notebooks one after another, each in a new kernel, and
+waits for every kernel to start (0.7 s here) before its first cell. make grade hands
+nbgrader this kernel provisioner: when it starts a kernel it also starts the next one, a spare,
+with the same command, folder and environment; the next notebook takes the spare. A spare
+has run no code (it is a kernel started earlier, nothing more), and one that does not match
+what the next notebook asks for is stopped and a kernel started as usual.
+
+Only over Unix sockets (make grade's transport): a spare's socket files have a path of their
+own, so it never takes sockets another kernel was given. ``SPARES_ENV`` says how many spares
+this process may start (the notebooks of the submission less one), so none is left idle.
+"""
+
+from __future__ import annotations
+
+import atexit
+import os
+import signal
+import subprocess
+import threading
+import uuid
+from dataclasses import dataclass
+from typing import Any, Dict, List, Optional
+
+from jupyter_client.connect import write_connection_file
+from jupyter_client.launcher import launch_kernel
+from jupyter_client.provisioning import LocalProvisioner
+
+__all__ = ["PROVISIONER", "PROVISIONER_ENV", "SPARES_ENV", "SpareProvisioner", "spares_left", "stop_spare"]
+
+#: The provisioner's entry-point name (pyproject.toml) and Jupyter's variable that picks it for
+#: kernelspecs that name none, as the hri-teleop kernel.
+PROVISIONER = "hri-spare-kernels"
+PROVISIONER_ENV = "JUPYTER_DEFAULT_PROVISIONER_NAME"
+#: How many spare kernels this process may start (unset or 0: none; the manager then works as Jupyter's).
+SPARES_ENV = "HRI_SPARE_KERNELS"
+
+
+@dataclass
+class _Spare:
+    process: "subprocess.Popen[bytes]"
+    connection_file: str
+    info: Dict[str, Any]
+    template: List[Optional[str]]  # the command, its connection file left out
+    popen_kwargs: Dict[str, Any]
+
+
+_lock = threading.Lock()
+_spare: Optional[_Spare] = None
+_started = 0
+
+
+def _budget() -> int:
+    value = os.environ.get(SPARES_ENV, "0")
+    return int(value) if value.isdigit() else 0
+
+
+def spares_left() -> int:
+    return max(0, _budget() - _started)
+
+
+def _copy(popen_kwargs: Dict[str, Any]) -> Dict[str, Any]:
+    return {key: dict(value) if isinstance(value, dict) else value for key, value in popen_kwargs.items()}
+
+
+def _template(cmd: List[str], connection_file: str) -> List[Optional[str]]:
+    return [None if arg == connection_file else arg for arg in cmd]
+
+
+def _remove_files(spare: _Spare) -> None:
+    paths = [spare.connection_file] + [f"{spare.info['ip']}-{spare.info[name]}" for name in
+                                       ("shell_port", "iopub_port", "stdin_port", "control_port", "hb_port")]
+    for path in paths:
+        try:
+            os.remove(path)
+        except OSError:
+            pass
+
+
+def stop_spare() -> None:
+    """Stop the spare nobody took (at exit, or when it does not fit), its process group and its files."""
+    global _spare
+    with _lock:
+        spare, _spare = _spare, None
+    if spare is None:
+        return
+    try:
+        os.killpg(spare.process.pid, signal.SIGKILL)  # Jupyter starts kernels in a session of their own
+    except OSError:
+        pass
+    try:
+        spare.process.wait(5.0)
+    except subprocess.TimeoutExpired:
+        pass
+    _remove_files(spare)
+
+
+_ending: List[threading.Thread] = []
+
+
+def _see_out(process: "subprocess.Popen[bytes]", pgid: Optional[int], wait_s: float) -> None:
+    """What Jupyter does after a shutdown request, off its path: wait, then SIGTERM, then SIGKILL."""
+    for signum in (None, signal.SIGTERM, signal.SIGKILL):
+        if signum is not None:
+            try:
+                os.killpg(pgid, signum) if pgid else process.send_signal(signum)
+            except OSError:
+                pass
+        try:
+            process.wait(wait_s / 2)
+            return
+        except subprocess.TimeoutExpired:
+            continue
+
+
+def wait_for_ending_kernels() -> None:
+    """At exit: every kernel that was told to shut down has ended (each within its own bound)."""
+    for thread in list(_ending):
+        thread.join()
+
+
+atexit.register(wait_for_ending_kernels)
+atexit.register(stop_spare)  # atexit runs last-registered first: the spare goes, then the endings are awaited
+
+
+def _take(template: List[Optional[str]], popen_kwargs: Dict[str, Any]) -> Optional[_Spare]:
+    global _spare
+    with _lock:
+        spare, _spare = _spare, None
+    if spare is None:
+        return None
+    if spare.template == template and spare.popen_kwargs == popen_kwargs and spare.process.poll() is None:
+        return spare
+    with _lock:
+        _spare = spare
+    stop_spare()
+    return None
+
+
+def _start(km: Any, template: List[Optional[str]], popen_kwargs: Dict[str, Any]) -> None:
+    global _spare, _started
+    if km.transport != "ipc" or not spares_left() or getattr(km, "curve_publickey", None):
+        return
+    with _lock:
+        _started += 1
+        number = _started
+    ip = f"{km.ip}-spare{os.getpid()}-{number}"
+    folder = os.path.dirname(km.connection_file) or "."
+    fname, info = write_connection_file(
+        fname=os.path.join(folder, f"kernel-spare-{uuid.uuid4()}.json"), ip=ip, transport="ipc",
+        key=str(uuid.uuid4()).encode(), signature_scheme=km.session.signature_scheme, kernel_name=km.kernel_name)
+    info = dict(info, key=info["key"].encode())  # as the kernel manager keeps it
+    cmd = [fname if arg is None else arg for arg in template]
+    process = launch_kernel(cmd, **_copy(popen_kwargs))  # it adds to the environment it is given
+    with _lock:
+        _spare = _Spare(process, fname, info, template, popen_kwargs)
+
+
+class SpareProvisioner(LocalProvisioner):  # type: ignore[misc]
+    """Jupyter's local provisioner, which takes a spare kernel when one fits and then starts the next."""
+
+    _spare_file: Optional[str] = None
+
+    async def launch_kernel(self, cmd: List[str], **kwargs: Any) -> Any:
+        km = self.parent
+        template = _template(cmd, km.connection_file)
+        popen_kwargs = _copy(self._scrub_kwargs(kwargs))
+        spare = _take(template, popen_kwargs)
+        if spare is None:
+            info = await super().launch_kernel(cmd, **kwargs)
+        else:
+            self.process = spare.process
+            self.pid = spare.process.pid
+            try:
+                self.pgid = os.getpgid(spare.process.pid)
+            except OSError:
+                self.pgid = None
+            self.cwd = kwargs.get("cwd")
+            self.connection_info = info = spare.info
+            self._spare_file = spare.connection_file
+            self.log.info("hri-teleop: took the spare kernel started ahead (pid %s)", spare.process.pid)
+        _start(km, template, popen_kwargs)
+        return info
+
+    async def shutdown_requested(self, restart: bool = False) -> None:
+        """The kernel was asked to shut down: let it end (stop its nodes, its roscore) while the next
+        notebook starts; a thread waits for it and escalates as Jupyter would."""
+        await super().shutdown_requested(restart)
+        if restart or self.process is None or not _budget():
+            return  # Jupyter's own way outside make grade
+        thread = threading.Thread(target=_see_out, name=f"kernel-{self.pid}-ending", daemon=True,
+                                  args=(self.process, self.pgid, float(self.parent.shutdown_wait_time)))
+        thread.start()
+        _ending.append(thread)
+        self.process = None  # ended for Jupyter: the shutdown goes on at once
+
+    async def cleanup(self, restart: bool = False) -> None:
+        await super().cleanup(restart)
+        if self._spare_file and not restart:
+            try:
+                os.remove(self._spare_file)
+            except OSError:
+                pass
