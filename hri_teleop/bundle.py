@@ -10,16 +10,20 @@ provided nodes, the simulation and the configuration the notebooks read remain.
 
 from __future__ import annotations
 
+import json
 import shutil
 import tarfile
 from pathlib import Path
 from typing import Dict, Iterable, List, Optional, Sequence, Union
 
+from hri_teleop.grading.templates import has_markers, kind_of, make_answer, make_template, solution_lines
+from hri_teleop.paths import NOTEBOOKS, REPO, SOLUTIONS
+
 __all__ = ["TOOLKIT_FILES", "LAB_DELIVERABLES", "INSTRUCTOR_ONLY", "BUNDLE_FILES", "build_toolkit",
-           "assemble_bundle", "pack_bundle", "deliverable_copies", "toolkit_leaks", "answer_files"]
+           "assemble_bundle", "pack_bundle", "deliverable_copies", "toolkit_leaks", "answer_files", "solution_texts",
+           "bundle_leaks", "read_notebook"]
 
 PathLike = Union[str, Path]
-REPO = Path(__file__).resolve().parents[1]
 #: the bundle's own README.md and Makefile (committed; copied into the bundle's top folder)
 BUNDLE_FILES = REPO / "notebooks" / "bundle"
 
@@ -32,6 +36,8 @@ LAB_DELIVERABLES = ("hri_lab/scripts/mapping_node.py", "hri_lab/scripts/teleoper
                     "hri_lab/config/robot_params.yaml", "hri_lab/CMakeLists.txt")
 #: parts of hri_teleop that only instructors and developers run
 INSTRUCTOR_ONLY = ("hri_teleop/bench",)
+#: Region lines shorter than this (``else:``, ``}``) are too common to prove a leak.
+_MIN_LEAK_CHARS = 8
 _IGNORE = shutil.ignore_patterns("__pycache__", "*.pyc", "*.egg-info", ".ipynb_checkpoints", "catkin_ws")
 
 
@@ -97,15 +103,13 @@ def deliverable_copies(folder: PathLike, answers: Dict[str, str]) -> List[str]:
 
 
 def toolkit_leaks(folder: PathLike, texts: Dict[str, List[str]], answers: Dict[str, str],
-                  code_with_markers: Iterable[str] = ("hri_teleop/course.py", "hri_teleop/grading/templates.py")
+                  code_with_markers: Iterable[str] = ("hri_teleop/grading/templates.py",)
                   ) -> List[str]:
     """Solution lines and completed deliverables anywhere in a bundle (or an installed toolkit).
 
     The modules that strip solution regions name the markers themselves; a marker there is
     code, not an answer, so only their solution *lines* count.
     """
-    from hri_teleop.course import bundle_leaks
-
     allowed = tuple(str(Path(p)) for p in code_with_markers)
     problems = [p for p in bundle_leaks(folder, texts)
                 if not (p.endswith(": holds a solution marker") and p[:-len(": holds a solution marker")].endswith(allowed))]
@@ -120,9 +124,76 @@ def toolkit_leaks(folder: PathLike, texts: Dict[str, List[str]], answers: Dict[s
 
 def answer_files(solutions: Optional[PathLike] = None) -> Dict[str, str]:
     """The answer key's deliverables as a good student hands them in (markers dropped): path -> text."""
-    from hri_teleop.course import SOLUTIONS
-    from hri_teleop.grading.templates import has_markers, make_answer
-
     root = Path(solutions) if solutions is not None else SOLUTIONS
     return {str(p): make_answer(p.read_text(encoding="utf-8")) for p in sorted(root.rglob("*"))
             if p.is_file() and p.name != "README.md" and has_markers(p.read_text(encoding="utf-8"))}
+
+
+# -- what only the answer key has ---------------------------------------------------------------
+
+def read_notebook(path: Path) -> Dict[str, Any]:
+    return json.loads(path.read_text(encoding="utf-8"))
+
+
+def _src(cell: Dict[str, Any]) -> str:
+    source = cell.get("source", "")
+    return "".join(source) if isinstance(source, list) else source
+
+
+def solution_texts(solutions: PathLike = SOLUTIONS, course_dir: PathLike = NOTEBOOKS) -> Dict[str, List[str]]:
+    """Where -> the lines inside its solution regions: the answer key's files and the notebooks' solution cells.
+
+    A notebook solution cell without markers (a written answer) is a region as a whole.
+    Lines that the same file or notebook also has outside its regions (a given line the
+    answer repeats) are left out: finding them in the bundle proves nothing.
+    """
+    texts: Dict[str, List[str]] = {}
+    for path in sorted(p for p in Path(solutions).rglob("*") if p.is_file() and p.name != "README.md"):
+        text = path.read_text(encoding="utf-8")
+        lines = solution_lines(text)
+        if lines:
+            public = {line.strip() for line in make_template(text, kind_of(path), str(path)).split("\n")}
+            texts[str(path)] = [line for line in lines if line.strip() not in public]
+    for notebook in sorted(Path(course_dir).glob("source/*/*.ipynb")):
+        cells = read_notebook(notebook)["cells"]
+        public = {line.strip() for cell in cells if not cell.get("metadata", {}).get("nbgrader", {}).get("solution")
+                  for line in _src(cell).split("\n")}
+        for number, cell in enumerate(cells):
+            if not cell.get("metadata", {}).get("nbgrader", {}).get("solution"):
+                continue
+            source = _src(cell)
+            lines = solution_lines(source) if has_markers(source) else source.split("\n")
+            lines = [line for line in lines if line.strip() not in public]
+            if lines:
+                texts[f"{notebook}#cell{number}"] = lines
+    return texts
+
+
+def _bundle_lines(path: Path) -> List[str]:
+    if path.suffix == ".ipynb":
+        return [line for cell in read_notebook(path)["cells"] for line in _src(cell).split("\n")]
+    return path.read_text(encoding="utf-8", errors="replace").split("\n")
+
+
+def bundle_leaks(bundle: PathLike, texts: Optional[Dict[str, List[str]]] = None) -> List[str]:
+    """Every place where the student bundle holds a solution marker or a line from inside a solution region.
+
+    A line leaks when a line of a bundle file (or of a notebook cell), stripped, equals it;
+    lines shorter than 8 characters (``else:``, ``})``) are too common to tell.
+    """
+    texts = solution_texts() if texts is None else texts
+    needles: Dict[str, str] = {}
+    for where, lines in texts.items():
+        for line in lines:
+            stripped = line.strip()
+            if len(stripped) >= _MIN_LEAK_CHARS and not has_markers(stripped):
+                needles.setdefault(stripped, where)
+    problems = []
+    for path in sorted(p for p in Path(bundle).rglob("*") if p.is_file()):
+        lines = _bundle_lines(path)
+        if any(has_markers(line) for line in lines):
+            problems.append(f"{path}: holds a solution marker")
+        for line in dict.fromkeys(line.strip() for line in lines):
+            if line in needles:
+                problems.append(f"{path}: holds solution text {line!r} (from {needles[line]})")
+    return problems

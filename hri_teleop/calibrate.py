@@ -18,13 +18,14 @@ import sys
 import time
 from typing import Iterable, List, Optional
 
-from hri_teleop.checks import is_int
+from hri_teleop.checks import is_count
+from hri_teleop.errors import HriTeleopError
 from hri_teleop.serial_protocol import BAUD, MAX_COUNT, BoardStream, Sample, open_error_message
 
 __all__ = ["CalibrateError", "calibration_max", "read_counts", "main"]
 
 
-class CalibrateError(RuntimeError):
+class CalibrateError(HriTeleopError, RuntimeError):
     """The calibration could not read the board or got no usable sample (one line with the fix)."""
 
 
@@ -37,7 +38,7 @@ def calibration_max(counts: Iterable[int]) -> int:
     values = list(counts)
     if not values:
         raise CalibrateError("no samples to calibrate with: read the board for longer while pressing the piston")
-    bad = [c for c in values if not is_int(c) or not 0 <= c <= MAX_COUNT]
+    bad = [c for c in values if not is_count(c)]
     if bad:
         raise CalibrateError(f"counts must be integers 0..{MAX_COUNT}, got {bad[0]!r}; pass the board's raw counts")
     maximum = max(values)

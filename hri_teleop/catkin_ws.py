@@ -20,6 +20,7 @@ from pathlib import Path
 from typing import Dict, List, Optional, Union
 
 from hri_teleop.catkin_files import explain_build_failure
+from hri_teleop.errors import HriTeleopError
 from hri_teleop.ros.master import finds_hri_lab
 
 __all__ = ["CatkinError", "CatkinWorkspace", "build_workspace", "WORKSPACE_NAME"]
@@ -30,7 +31,7 @@ _PATH_VARIABLES = ("ROS_PACKAGE_PATH", "CMAKE_PREFIX_PATH", "LD_LIBRARY_PATH", "
 PathLike = Union[str, Path]
 
 
-class CatkinError(RuntimeError):
+class CatkinError(HriTeleopError, RuntimeError):
     """The workspace could not be built (one line: the cause and the fix)."""
 
     def _render_traceback_(self) -> List[str]:  # IPython shows the one line, not a traceback

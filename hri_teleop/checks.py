@@ -24,7 +24,11 @@ from __future__ import annotations
 import math
 import sys
 
-__all__ = ["is_number", "is_finite_number", "is_positive_number", "is_int"]
+__all__ = ["ADC_MAX_COUNT", "is_number", "is_finite_number", "is_positive_number", "is_int", "is_count",
+           "is_calibration_count"]
+
+#: Largest count the Arduino's 10-bit ADC reads (``analogRead`` gives 0..1023).
+ADC_MAX_COUNT = 1023
 
 
 def _numpy_types(*names: str) -> tuple:
@@ -59,3 +63,13 @@ def is_int(value: object, *, numpy: bool = False) -> bool:
     if isinstance(value, int):
         return True
     return numpy and isinstance(value, _numpy_types("integer"))
+
+
+def is_count(value: object, *, numpy: bool = False) -> bool:
+    """A reading of the board: a whole count 0..1023 (``is_int``, so no bool, no float)."""
+    return is_int(value, numpy=numpy) and 0 <= value <= ADC_MAX_COUNT  # type: ignore[operator]
+
+
+def is_calibration_count(value: object, *, numpy: bool = False) -> bool:
+    """A ``/max_sensor_force`` given as a count: a whole count 1..1023 (0 would divide by zero)."""
+    return is_count(value, numpy=numpy) and value != 0

@@ -20,6 +20,7 @@ from pathlib import Path
 from typing import Any, Dict, Mapping, Optional, Union
 
 from hri_teleop.checks import is_finite_number
+from hri_teleop.errors import HriTeleopError
 from hri_teleop.gamepad import DEFAULT_LAYOUT, PAD_KINDS
 from hri_teleop.limits import (
     DEFAULT_LIMITS,
@@ -28,6 +29,7 @@ from hri_teleop.limits import (
     LimitsError,
     TwistLimiter,
 )
+from hri_teleop.paths import LAB_CONFIG
 from hri_teleop.teleop import AxisAssignment, TeleopError, TeleopParams
 from hri_teleop.yamlfile import read_yaml
 
@@ -51,7 +53,7 @@ DEFAULT_PAD = "pygame"  # one of hri_teleop.gamepad.PAD_KINDS; DEFAULT_LAYOUT co
 #: The Cartesian velocity controller's command topic (geometry_msgs/Twist).
 DEFAULT_TWIST_TOPIC = "/cartesian_velocity_controller/cmd_vel"
 #: The lab's teleoperation config in a checkout (what teleoperation.py reads by default).
-LAB_TELEOP_CONFIG = Path(__file__).resolve().parents[1] / "hri_lab" / "config" / "teleop.yaml"
+LAB_TELEOP_CONFIG = LAB_CONFIG / "teleop.yaml"
 #: The lab's calibration value, /max_sensor_force (Ex. 11), in one file (docs/instructors.md).
 LAB_CALIBRATION = LAB_TELEOP_CONFIG.with_name("calibration.yaml")
 
@@ -81,7 +83,7 @@ _LIMIT_NAMES = ("velocity", "acceleration", "jerk")
 CONFIG_KEYS = tuple(sorted(list(_NUMBER_KEYS) + list(_STRING_KEYS) + list(_BOOL_KEYS) + ["limits", "axes", "buttons"]))
 
 
-class ConfigError(ValueError):
+class ConfigError(HriTeleopError, ValueError):
     """The config file or dict is unreadable or has a bad key/value (one line with file and fix)."""
 
 

@@ -31,14 +31,17 @@ from __future__ import annotations
 
 import argparse
 import dataclasses
-import json
 import os
-import re
 import shutil
 import subprocess
 import sys
 from pathlib import Path
 from typing import Any, Dict, Iterable, List, Mapping, Optional, Sequence, Tuple, Union
+
+from hri_teleop.bundle import (answer_files, assemble_bundle, bundle_leaks, pack_bundle, read_notebook, solution_texts,
+                               toolkit_leaks)
+from hri_teleop.errors import HriTeleopError
+from hri_teleop.paths import NOTEBOOKS, REPO, SOLUTIONS
 
 __all__ = [
     "CourseError", "REPO", "COURSE_DIR", "SOLUTIONS", "ASSIGNMENTS", "ASSIGNMENT_CHECKS", "STUDENT_PACKAGE", "nbgrader_env",
@@ -51,9 +54,7 @@ __all__ = [
 ]
 
 PathLike = Union[str, Path]
-REPO = Path(__file__).resolve().parents[1]
-COURSE_DIR = REPO / "notebooks"
-SOLUTIONS = REPO / "solutions" / "hri_lab"
+COURSE_DIR = NOTEBOOKS
 #: The student's package folder beside the notebooks of every assignment.
 STUDENT_PACKAGE = "hri_lab"
 #: Scripts the handout has students make executable (Ex. 9, Ex. 12 c): released without the bit.
@@ -69,14 +70,8 @@ ASSIGNMENT_CHECKS: Dict[str, Tuple[str, ...]] = {
 #: Environment variables that make :func:`fast` true (nbgrader sets NBGRADER_EXECUTION).
 FAST_ENV = ("HRI_NOTEBOOK_FAST", "NBGRADER_EXECUTION")
 
-_BEGIN = re.compile(r"^\s*(?:#+\s*|<!--\s*(?:###\s*)?)BEGIN SOLUTION\s*(?:-->)?\s*$")
-_END = re.compile(r"^\s*(?:#+\s*|<!--\s*(?:###\s*)?)END SOLUTION\s*(?:-->)?\s*$")
-_MARKER = re.compile(r"(BEGIN|END) SOLUTION")
-#: Region lines shorter than this (``else:``, ``}``) are too common to prove a leak.
-_MIN_LEAK_CHARS = 8
 
-
-class CourseError(RuntimeError):
+class CourseError(HriTeleopError, RuntimeError):
     """A release or validation step failed (one line: what and the fix)."""
 
     def _render_traceback_(self) -> List[str]:  # IPython shows the one line, not a traceback
@@ -374,88 +369,6 @@ def source_notebooks(course_dir: PathLike = COURSE_DIR) -> List[Path]:
     return found
 
 
-def _read_nb(path: Path) -> Dict[str, Any]:
-    return json.loads(path.read_text(encoding="utf-8"))
-
-
-def _src(cell: Dict[str, Any]) -> str:
-    source = cell.get("source", "")
-    return "".join(source) if isinstance(source, list) else source
-
-
-def _region_lines(text: str) -> List[str]:
-    lines, inside = [], False
-    for line in text.split("\n"):
-        if _BEGIN.match(line):
-            inside = True
-        elif _END.match(line):
-            inside = False
-        elif inside:
-            lines.append(line)
-    return lines
-
-
-def solution_texts(solutions: PathLike = SOLUTIONS, course_dir: PathLike = COURSE_DIR) -> Dict[str, List[str]]:
-    """Where -> the lines inside its solution regions: the answer key's files and the notebooks' solution cells.
-
-    A notebook solution cell without markers (a written answer) is a region as a whole.
-    Lines that the same file or notebook also has outside its regions (a given line the
-    answer repeats) are left out: finding them in the bundle proves nothing.
-    """
-    from hri_teleop.grading.templates import kind_of, make_template
-
-    texts: Dict[str, List[str]] = {}
-    for path in sorted(p for p in Path(solutions).rglob("*") if p.is_file() and p.name != "README.md"):
-        text = path.read_text(encoding="utf-8")
-        lines = _region_lines(text)
-        if lines:
-            public = {line.strip() for line in make_template(text, kind_of(path), str(path)).split("\n")}
-            texts[str(path)] = [line for line in lines if line.strip() not in public]
-    for notebook in source_notebooks(course_dir):
-        cells = _read_nb(notebook)["cells"]
-        public = {line.strip() for cell in cells if not cell.get("metadata", {}).get("nbgrader", {}).get("solution")
-                  for line in _src(cell).split("\n")}
-        for number, cell in enumerate(cells):
-            if not cell.get("metadata", {}).get("nbgrader", {}).get("solution"):
-                continue
-            source = _src(cell)
-            lines = _region_lines(source) if _MARKER.search(source) else source.split("\n")
-            lines = [line for line in lines if line.strip() not in public]
-            if lines:
-                texts[f"{notebook}#cell{number}"] = lines
-    return texts
-
-
-def _bundle_lines(path: Path) -> List[str]:
-    if path.suffix == ".ipynb":
-        return [line for cell in _read_nb(path)["cells"] for line in _src(cell).split("\n")]
-    return path.read_text(encoding="utf-8", errors="replace").split("\n")
-
-
-def bundle_leaks(bundle: PathLike, texts: Optional[Dict[str, List[str]]] = None) -> List[str]:
-    """Every place where the student bundle holds a solution marker or a line from inside a solution region.
-
-    A line leaks when a line of a bundle file (or of a notebook cell), stripped, equals it;
-    lines shorter than 8 characters (``else:``, ``})``) are too common to tell.
-    """
-    texts = solution_texts() if texts is None else texts
-    needles: Dict[str, str] = {}
-    for where, lines in texts.items():
-        for line in lines:
-            stripped = line.strip()
-            if len(stripped) >= _MIN_LEAK_CHARS and not _MARKER.search(stripped):
-                needles.setdefault(stripped, where)
-    problems = []
-    for path in sorted(p for p in Path(bundle).rglob("*") if p.is_file()):
-        lines = _bundle_lines(path)
-        if any(_MARKER.search(line) for line in lines):
-            problems.append(f"{path}: holds a solution marker")
-        for line in dict.fromkeys(line.strip() for line in lines):
-            if line in needles:
-                problems.append(f"{path}: holds solution text {line!r} (from {needles[line]})")
-    return problems
-
-
 # -- release -----------------------------------------------------------------------------------
 
 def nbgrader_env(base: Optional[Mapping[str, str]] = None) -> Dict[str, str]:
@@ -505,8 +418,6 @@ def build_release(course_dir: PathLike = COURSE_DIR, archive: Optional[PathLike]
     leaks = bundle_leaks(release, solution_texts(SOLUTIONS, course))
     if leaks:
         raise CourseError("the student bundle holds solution text; nothing was packed:\n" + "\n".join(leaks[:20]))
-    from hri_teleop.bundle import answer_files, assemble_bundle, pack_bundle, toolkit_leaks
-
     target = Path(archive) if archive else REPO / "out" / "task4-student-bundle.tar.gz"
     folder = assemble_bundle(release, target.parent / "task4-student-bundle", ASSIGNMENTS)
     leaks = toolkit_leaks(folder, solution_texts(SOLUTIONS, course), answer_files())
@@ -523,7 +434,7 @@ def notebook_output_problems(paths: Iterable[PathLike]) -> List[str]:
     """One line per code cell that has outputs or an execution count (committed notebooks must have none)."""
     problems = []
     for path in paths:
-        for number, cell in enumerate(_read_nb(Path(path))["cells"]):
+        for number, cell in enumerate(read_notebook(Path(path))["cells"]):
             if cell.get("cell_type") != "code":
                 continue
             if cell.get("outputs"):

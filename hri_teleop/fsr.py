@@ -32,6 +32,7 @@ from typing import Any, Iterable, Tuple
 import numpy as np
 
 from hri_teleop.checks import is_int, is_number, is_positive_number
+from hri_teleop.errors import HriTeleopError
 
 __all__ = [
     "FsrError",
@@ -53,7 +54,7 @@ __all__ = [
 ]
 
 
-class FsrError(ValueError):
+class FsrError(HriTeleopError, ValueError):
     """A sensor-model argument is out of range (one line: what and how to fix it)."""
 
 

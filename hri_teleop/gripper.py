@@ -26,10 +26,11 @@ import time
 from typing import Callable, Optional, Sequence, Tuple
 
 from hri_teleop.checks import is_finite_number, is_number
+from hri_teleop.errors import HriTeleopError
 from hri_teleop.teleop import GRIPPER_MAX_WIDTH_M
 
 
-class GripperError(ValueError):
+class GripperError(HriTeleopError, ValueError):
     """A gripper throttle setting or target is not usable."""
 
 

@@ -22,14 +22,16 @@ from contextlib import contextmanager
 from pathlib import Path
 from typing import Any, Dict, Iterator, List, Optional, Sequence
 
+from hri_teleop.errors import HriTeleopError
+from hri_teleop.paths import REPO
+
 __all__ = ["KERNEL_NAME", "LabError", "kernelspec", "install_kernelspec", "lab_command", "ipc_kernel_config",
            "ipc_kernel_argv", "main"]
 
 KERNEL_NAME = "hri-teleop"
-REPO = Path(__file__).resolve().parents[1]
 
 
-class LabError(RuntimeError):
+class LabError(HriTeleopError, RuntimeError):
     """JupyterLab cannot be started as asked (one line with the fix)."""
 
 

@@ -59,6 +59,7 @@ from dataclasses import dataclass, fields
 from typing import List, Optional, Sequence, Tuple
 
 from hri_teleop.checks import is_positive_number
+from hri_teleop.errors import HriTeleopError
 
 __all__ = [
     "LimitsError",
@@ -83,7 +84,7 @@ _MARGIN = 1e-9
 _BISECTION_STEPS = 48
 
 
-class LimitsError(ValueError):
+class LimitsError(HriTeleopError, ValueError):
     """A limit is not a positive number, exceeds the robot's, or a step argument is invalid."""
 
 

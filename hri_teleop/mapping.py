@@ -15,15 +15,12 @@ from typing import Any
 
 import numpy as np
 
-from hri_teleop.checks import is_int, is_number
+from hri_teleop.checks import ADC_MAX_COUNT, is_int, is_number
+from hri_teleop.errors import HriTeleopError
 
 __all__ = ["ADC_MAX_COUNT", "MappingError", "validate_max_sensor_force", "map_force"]
 
-#: Largest count a 10-bit ADC can publish.
-ADC_MAX_COUNT = 1023
-
-
-class MappingError(ValueError):
+class MappingError(HriTeleopError, ValueError):
     """``/max_sensor_force`` is missing or not a usable number (one line with the fix)."""
 
 

@@ -12,6 +12,8 @@ from __future__ import annotations
 from pathlib import Path
 from typing import Any, Dict, Iterable, List, Mapping, Optional, Sequence, Union
 
+from hri_teleop.errors import HriTeleopError
+
 HOME = "home"
 LAB = "lab"
 GRADING = "grading"
@@ -24,7 +26,7 @@ HARDWARE_NODES = ("/serial_node", "/franka_control", "/franka_gripper")
 PADS = ("virtual", "pygame")
 
 
-class ModeError(ValueError):
+class ModeError(HriTeleopError, ValueError):
     """A mode or a pad choice that cannot be used; the message names the fix."""
 
     def _render_traceback_(self) -> List[str]:  # IPython shows this one line, not a traceback

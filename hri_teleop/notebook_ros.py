@@ -31,6 +31,7 @@ import xmlrpc.client
 from dataclasses import dataclass, field
 from typing import Any, List, Optional
 
+from hri_teleop.errors import HriTeleopError
 from hri_teleop.ros.master import interrupt_nodes, stop_all  # its exit hook runs after ours
 
 __all__ = [
@@ -52,7 +53,7 @@ DEFAULT_MASTER_URI = "http://localhost:11311/"
 _CALLER_ID = "/hri_notebook_probe"
 
 
-class NotebookRosError(RuntimeError):
+class NotebookRosError(HriTeleopError, RuntimeError):
     """ROS is not usable in this kernel (one line: the cause and the fix)."""
 
 

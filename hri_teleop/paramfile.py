@@ -31,6 +31,7 @@ from typing import List, Optional, Tuple, Union
 import yaml
 
 from hri_teleop.checks import is_int
+from hri_teleop.errors import HriTeleopError
 from hri_teleop.files import replace_text
 from hri_teleop.mapping import ADC_MAX_COUNT
 
@@ -40,7 +41,7 @@ __all__ = ["ParamFileError", "ParamEdit", "PARAM_NAME", "set_in_launch", "set_in
 PARAM_NAME = "max_sensor_force"
 
 
-class ParamFileError(ValueError):
+class ParamFileError(HriTeleopError, ValueError):
     """The file cannot take the calibration value (one line: the file, the cause, the fix)."""
 
 

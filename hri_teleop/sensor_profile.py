@@ -18,6 +18,7 @@ from __future__ import annotations
 import math
 
 from hri_teleop.checks import is_finite_number, is_int
+from hri_teleop.errors import HriTeleopError
 from hri_teleop.fsr import count_to_force, force_to_count
 from hri_teleop.mapping import ADC_MAX_COUNT
 
@@ -27,7 +28,7 @@ __all__ = ["FSR_SENSOR_RATE_HZ", "SensorProfileError", "press_profile_count"]
 FSR_SENSOR_RATE_HZ = 10.0
 
 
-class SensorProfileError(ValueError):
+class SensorProfileError(HriTeleopError, ValueError):
     """A profile argument is out of range (one line with the fix)."""
 
 

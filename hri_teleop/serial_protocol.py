@@ -41,6 +41,9 @@ import errno
 from dataclasses import dataclass
 from typing import Dict, List, Optional, Union
 
+from hri_teleop.checks import ADC_MAX_COUNT, is_count
+from hri_teleop.errors import HriTeleopError
+
 __all__ = [
     "SerialProtocolError",
     "Sample",
@@ -68,7 +71,7 @@ BAUD = 115200
 #: ``seq`` counts modulo this (a 16-bit counter on the board).
 SEQ_MODULO = 65536
 #: Largest count a 10-bit ADC gives.
-MAX_COUNT = 1023
+MAX_COUNT = ADC_MAX_COUNT
 #: No valid line is longer (the banner is the longest, about 45 bytes); longer means garbage.
 MAX_LINE_BYTES = 64
 #: The start-up banner's first word: the board (re)started.
@@ -78,7 +81,7 @@ BANNER_PREFIX = "# fsr_serial"
 REASONS = ("format", "checksum", "range", "too_long", "encoding")
 
 
-class SerialProtocolError(ValueError):
+class SerialProtocolError(HriTeleopError, ValueError):
     """A line from the board is not a valid sample; ``reason`` is one of :data:`REASONS`."""
 
     def __init__(self, reason: str, line: bytes, detail: str) -> None:
@@ -122,7 +125,7 @@ def crc8(data: bytes, crc: int = 0) -> int:
 
 def format_line(seq: int, count: int) -> bytes:
     """The line the sketch sends for one sample (the reference for tests and simulations)."""
-    if not 0 <= int(seq) < SEQ_MODULO or not 0 <= int(count) <= MAX_COUNT:
+    if not 0 <= int(seq) < SEQ_MODULO or not is_count(int(count)):
         raise SerialProtocolError("range", b"", f"seq {seq!r} not in 0..65535 or count {count!r} not in 0..1023")
     payload = f"F {int(seq)} {int(count)}".encode("ascii")
     return payload + b" %02X\n" % crc8(payload)

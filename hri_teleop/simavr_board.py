@@ -36,6 +36,8 @@ from dataclasses import dataclass
 from pathlib import Path
 from typing import Callable, List, Optional, Sequence, Tuple
 
+from hri_teleop.checks import is_calibration_count
+from hri_teleop.errors import HriTeleopError
 from hri_teleop.fsr import (
     FSR402,
     PULLDOWN_OHM,
@@ -46,6 +48,7 @@ from hri_teleop.fsr import (
     resistance_to_voltage,
     voltage_to_count,
 )
+from hri_teleop.paths import FIRMWARE
 
 __all__ = [
     "SimavrBoardError",
@@ -63,8 +66,7 @@ __all__ = [
     "UNO_SIM",
 ]
 
-REPO = Path(__file__).resolve().parents[1]
-FIRMWARE_DIR = REPO / "firmware"
+FIRMWARE_DIR = FIRMWARE
 FSR_SERIAL_ELF = FIRMWARE_DIR / "build" / "fsr_serial" / "fsr_serial.elf"
 UNO_SIM = FIRMWARE_DIR / "build" / "sim" / "uno_sim"
 
@@ -75,7 +77,7 @@ HEADERS = (Path("/usr/share/arduino/hardware/arduino/avr/cores/arduino/Arduino.h
 APT_PACKAGES = "gcc-avr avr-libc binutils-avr arduino-core-avr simavr libsimavr-dev gcc make"
 
 
-class SimavrBoardError(RuntimeError):
+class SimavrBoardError(HriTeleopError, RuntimeError):
     """The simulated board could not be built, started or driven (one line with the fix)."""
 
 
@@ -132,7 +134,7 @@ def press_forces(max_count: int, period_s: float, *, press_fraction: float = 0.6
     force is the smallest that reads ``max_count``, so a board sampling during the hold
     reports exactly ``max_count``. Sampled every ``step_s`` s. Returns (times in s, forces in N).
     """
-    if not 0 < int(max_count) <= 1023:
+    if not is_calibration_count(int(max_count)):
         raise SimavrBoardError(f"max_count must be a count in 1..1023, got {max_count!r}; e.g. 700")
     press_s = period_s * press_fraction
     if not (period_s > 0 and 0 < press_fraction <= 1 and 0 <= hold_s < press_s and 0 < step_s < period_s):

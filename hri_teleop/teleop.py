@@ -33,6 +33,7 @@ from enum import Enum
 from typing import Optional, Tuple
 
 from hri_teleop.checks import is_finite_number
+from hri_teleop.errors import HriTeleopError
 from hri_teleop.gamepad import AXES, BUTTONS, PadState, normalize_analog_input
 from hri_teleop.limits import (
     DEFAULT_LIMITS,
@@ -61,7 +62,7 @@ Twist = Tuple[float, float, float, float, float, float]
 _ZERO_TWIST: Twist = (0.0, 0.0, 0.0, 0.0, 0.0, 0.0)
 
 
-class TeleopError(ValueError):
+class TeleopError(HriTeleopError, ValueError):
     """A teleoperation parameter is invalid (one line: which, what was found, the fix)."""
 
 

@@ -15,10 +15,12 @@ from typing import Callable, List, Sequence, Tuple
 
 import numpy as np
 
+from hri_teleop.errors import HriTeleopError
+
 Trace = Sequence[Tuple[float, float]]
 
 
-class TraceError(ValueError):
+class TraceError(HriTeleopError, ValueError):
     """A trace is too short or malformed for the statistic asked of it."""
 
 

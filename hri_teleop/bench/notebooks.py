@@ -44,6 +44,7 @@ from contextlib import contextmanager
 from pathlib import Path
 from typing import Callable, Dict, Iterator, List, Mapping, Optional, Sequence, Tuple
 
+from hri_teleop.paths import REPO
 from .report import BenchError, BenchOptions, BenchRow
 
 __all__ = [
@@ -51,7 +52,6 @@ __all__ = [
     "short_name", "notebook_problems", "floor_positions", "notebooks_figure", "line_costs",
 ]
 
-REPO = Path(__file__).resolve().parents[2]
 SETUP_SCRIPT = REPO / "tools" / "setup.sh"
 NOTEBOOKS_ROW = "notebooks headless"
 SETUP_ROW = "make setup, nothing missing"

@@ -13,10 +13,12 @@ from dataclasses import asdict, dataclass, field
 from pathlib import Path
 from typing import Dict, Iterable, List, Optional, Sequence
 
+from hri_teleop.errors import HriTeleopError
+
 __all__ = ["BenchError", "BenchOptions", "BenchRow", "HEADER", "format_row", "machine_summary", "write_results"]
 
 
-class BenchError(RuntimeError):
+class BenchError(HriTeleopError, RuntimeError):
     """A benchmark could not run (what is missing and how to get it)."""
 
 

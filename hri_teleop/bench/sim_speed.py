@@ -14,12 +14,13 @@ from typing import Callable, List, Tuple
 
 from hri_teleop.config import LAB_TELEOP_CONFIG, load_teleop_config
 from hri_teleop.gamepad import load_script
+from hri_teleop.paths import SCENARIOS
 from hri_teleop.sim.config import default_sim_yaml, load_world_config
 from hri_teleop.sim.lab import run_lab
 
 from .report import BenchError, BenchOptions, BenchRow
 
-SCENARIOS = Path(__file__).resolve().parents[2] / "hri_lab" / "scenarios"
+
 #: Runs of each scenario (the median counts): full run, smoke run.
 REPEATS = {False: 5, True: 1}
 

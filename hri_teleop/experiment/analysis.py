@@ -4,8 +4,6 @@ Why one function per step: the analysis notebook (``notebooks/experiment/analysi
 ``python -m hri_teleop.ros.trial analyse`` and the tests must compute the same numbers, so
 the notebook only calls these:
 
-* :func:`analyse_folder` -- load every trial of a folder (``*.yaml`` sidecars beside their
-  ``*.bag``) and :func:`analyse_trials` them;
 * :func:`analyse_trials` -- per-trial :class:`~hri_teleop.experiment.metrics.TrialMetrics`
   (force through the FSR model and each trial's own calibration, stored in its sidecar),
   success and crush rates per condition, the paired comparisons of peak force and of the
@@ -24,8 +22,7 @@ participant with trials in only one condition cannot be paired: the analysis sto
 one line naming them, unless ``allow_unpaired`` leaves them out of the test (they stay in
 the table and the figure).
 
-Pure apart from :func:`analyse_folder`, which reads bags (rosbag) through
-:func:`hri_teleop.ros.trial.load_trials`.
+Pure: reading a folder of bags is :func:`hri_teleop.ros.trial.analyse_folder`'s (rosbag).
 """
 
 from __future__ import annotations
@@ -40,10 +37,11 @@ from hri_teleop.experiment.metrics import (CONDITIONS, MetricsError, TrialMeta, 
                                            trial_metrics)
 from hri_teleop.experiment.stats import PairedComparison, StatsError, paired_comparison
 from hri_teleop.experiment.tlx import optional_tlx
+from hri_teleop.paths import TRIALS
 from hri_teleop.sim.report import LabRecord
 
 __all__ = ["LoadedTrial", "StudyResult", "COLUMNS", "default_trials_folder", "measure_trial", "analyse_trials",
-           "analyse_folder", "FIGURE_NAME", "CSV_NAME"]
+           "FIGURE_NAME", "CSV_NAME"]
 
 #: File names the analysis writes into the trials folder by default.
 FIGURE_NAME = "study.png"
@@ -66,7 +64,7 @@ class LoadedTrial(NamedTuple):
 def default_trials_folder() -> Path:
     """Where the analysis looks by default: ``$HRI_TRIALS``, else ``trials/`` in the checkout (the rehearsal's)."""
     env = os.environ.get("HRI_TRIALS", "").strip()
-    return Path(env) if env else Path(__file__).resolve().parents[2] / "trials"
+    return Path(env) if env else TRIALS
 
 
 def _calibration(trial: LoadedTrial, override: Optional[float]) -> float:
@@ -277,30 +275,4 @@ def analyse_trials(trials: Sequence[LoadedTrial], *, max_sensor_force: Optional[
         fig = draw_study(list(zip(metrics, [t.record for t in ordered])), calibrations, result.peak_force)
         result.figure_panels = tuple(ax.get_title() for ax in fig.axes)
         result.figure = save_figure(fig, Path(figure))
-    return result
-
-
-def analyse_folder(folder: Union[str, Path, None] = None, *, figure: Union[str, Path, None, bool] = True,
-                   csv_path: Union[str, Path, None, bool] = True, max_sensor_force: Optional[float] = None,
-                   allow_unpaired: bool = False) -> StudyResult:
-    """Load every trial in ``folder`` (default :func:`default_trials_folder`) and :func:`analyse_trials` them.
-
-    ``figure`` / ``csv_path``: True writes ``study.png`` / ``metrics.csv`` into the folder,
-    a path writes there, False or None writes nothing.
-    """
-    folder = Path(folder) if folder is not None else default_trials_folder()
-    if not folder.is_dir():
-        raise MetricsError(f"{folder}: no such folder of trials; record a session first (python -m "
-                           f"hri_teleop.ros.trial rehearse --out {folder}) or give the folder the trials are in")
-    from hri_teleop.ros.trial import load_trials  # noqa: PLC0415 - reads bags: needs rosbag
-
-    trials = load_trials(folder)
-    if not trials:
-        raise MetricsError(f"{folder}: no trials in this folder (no *.yaml sidecar beside a *.bag); record some "
-                           f"(python -m hri_teleop.ros.trial rehearse --out {folder}) or give another folder")
-    figure_path = folder / FIGURE_NAME if figure is True else (Path(figure) if figure else None)
-    result = analyse_trials(trials, max_sensor_force=max_sensor_force, figure=figure_path,
-                            allow_unpaired=allow_unpaired, folder=folder)
-    if csv_path:
-        result.write_csv(folder / CSV_NAME if csv_path is True else Path(csv_path))
     return result

@@ -30,6 +30,7 @@ from typing import List, Optional, Sequence, Tuple
 import numpy as np
 
 from hri_teleop import fsr
+from hri_teleop.errors import HriTeleopError
 from hri_teleop.sim.hand import Attachment
 from hri_teleop.sim.report import LabRecord, time_above
 from hri_teleop.sim.world import LIFTED_M
@@ -41,7 +42,7 @@ __all__ = ["MetricsError", "TrialMeta", "TrialMetrics", "CONDITIONS", "calibrate
 CONDITIONS = ("feedback", "no_feedback")
 
 
-class MetricsError(ValueError):
+class MetricsError(HriTeleopError, ValueError):
     """A trial cannot be measured (the message names the trial and what is missing)."""
 
     def _render_traceback_(self) -> List[str]:  # IPython shows the one line, not a traceback

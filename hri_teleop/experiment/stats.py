@@ -22,6 +22,8 @@ import math
 from dataclasses import dataclass
 from typing import Dict, List, Sequence, Tuple
 
+from hri_teleop.errors import HriTeleopError
+
 __all__ = ["StatsError", "PairedComparison", "signed_ranks", "wilcoxon_exact", "paired_comparison", "MAX_EXACT_PAIRS"]
 
 #: Up to this many nonzero pairs the p-value is exact (the DP is tiny; beyond, a lab
@@ -32,7 +34,7 @@ ASSUMPTIONS = ("pairs independent of each other (one pair per participant); diff
                "differences symmetric about their median; zero differences dropped, ties get mean ranks")
 
 
-class StatsError(ValueError):
+class StatsError(HriTeleopError, ValueError):
     """The data cannot be compared this way (the message says why and what to do)."""
 
 

@@ -9,7 +9,8 @@ from typing import Callable, Optional, Union
 
 from .layout import Layout
 from .pygame_pad import PygamePad
-from .state import Gamepad, GamepadError
+from .interface import Gamepad
+from .state import GamepadError
 from .virtual import ScriptedPad, VirtualPad
 
 __all__ = ["PAD_KINDS", "PAD_CLOCK_ENV", "open_gamepad"]

@@ -12,12 +12,10 @@ from __future__ import annotations
 import math
 from dataclasses import dataclass, field
 from types import MappingProxyType
-from typing import TYPE_CHECKING, Mapping, Protocol, runtime_checkable
+from typing import Mapping
 
+from hri_teleop.errors import HriTeleopError
 from ..checks import is_number
-
-if TYPE_CHECKING:  # pragma: no cover - import for annotations only (layout imports this module)
-    from .layout import Layout
 
 __all__ = [
     "AXES",
@@ -27,7 +25,6 @@ __all__ = [
     "BUTTON_LABELS",
     "GamepadError",
     "PadState",
-    "Gamepad",
 ]
 
 #: Positional button names. south/east/west/north are the four face buttons by where
@@ -51,7 +48,7 @@ BUTTON_LABELS: Mapping[str, str] = MappingProxyType({
 })
 
 
-class GamepadError(RuntimeError):
+class GamepadError(HriTeleopError, RuntimeError):
     """A gamepad problem a user can fix; the message is one line: the cause, then the fix."""
 
 
@@ -130,29 +127,6 @@ class PadState:
         axes = ", ".join("%s=%.3f" % (k, v) for k, v in self.axes.items() if v != 0.0)
         held = ", ".join(k for k, v in self.buttons.items() if v)
         return "PadState(connected=%s, axes={%s}, pressed=[%s])" % (self.connected, axes, held)
-
-
-@runtime_checkable
-class Gamepad(Protocol):
-    """What the teleoperation node needs from a pad, real or virtual."""
-
-    name: str
-
-    @property
-    def layout(self) -> Layout:
-        ...
-
-    def poll(self) -> PadState:
-        """Read the pad now; never blocks, never raises for an unplugged pad (connected=False)."""
-        ...
-
-    def rumble(self, intensity: float, duration_s: float) -> None:
-        """Vibrate at intensity 0..1 for duration_s seconds (0 s: until the next call); 0 stops."""
-        ...
-
-    def close(self) -> None:
-        """Release the device; safe to call twice."""
-        ...
 
 
 def clean_intensity(intensity: float) -> float:

@@ -1,6 +1,6 @@
 """``make grade``: every submission in a folder, several at once, each in a process of its own.
 
-Two modes, chosen by the folder (:func:`grade_all`):
+Two modes, chosen by the folder (:func:`course_layout`, in ``hri-grade batch``):
 
 * **nbgrader course** (``DIR`` is a course's ``submitted/`` -- its parent holds
   ``nbgrader_config.py`` or ``source/`` -- or the course folder itself): nbgrader's
@@ -30,15 +30,16 @@ from dataclasses import asdict, dataclass
 from pathlib import Path
 from typing import Dict, List, Optional, Sequence, Tuple
 
+from hri_teleop.errors import HriTeleopError
 from hri_teleop.grading import reuse
 from hri_teleop.grading.jobs import Progress, Run, job_count, print_line, reap_command, run_all, run_job
 
-__all__ = ["BatchError", "Outcome", "submissions_in", "grade_one", "live_graph_cache", "grade_all"]
+__all__ = ["BatchError", "Outcome", "submissions_in", "grade_one", "live_graph_cache", "course_layout", "grade_all"]
 
 PER_SUBMISSION_TIMEOUT_S = 600.0    # hri-grade submission: one student's files
 
 
-class BatchError(RuntimeError):
+class BatchError(HriTeleopError, RuntimeError):
     """The submissions cannot be graded as asked (folder missing or empty, nbgrader missing): one line with the fix."""
 
 
@@ -122,23 +123,31 @@ def live_graph_cache(out: Path, checks: Optional[Sequence[str]]) -> Optional[Pat
     return cache
 
 
+def course_layout(folder: Path) -> Optional[Tuple[Path, Path]]:
+    """(course folder, submitted folder) when ``folder`` is an nbgrader course's submissions, else None.
+
+    A course folder holds ``nbgrader_config.py`` or ``source/``; ``folder`` is either its
+    ``submitted/`` (any name: nbgrader is told) or the course folder itself.
+    """
+    folder = Path(folder).resolve()
+
+    def is_course(path: Path) -> bool:
+        return (path / "nbgrader_config.py").is_file() or (path / "source").is_dir()
+
+    if (folder / "submitted").is_dir() and is_course(folder):
+        return folder, folder / "submitted"
+    if is_course(folder.parent):
+        return folder.parent, folder
+    return None
+
+
 def grade_all(folder: Path, out: Path, jobs: Optional[int] = None, checks: Optional[Sequence[str]] = None,
               progress: Progress = print_line, timeout_s: Optional[float] = None) -> int:
-    """Grade every submission in ``folder`` into ``out``; 0 when all were graded, 2 if any could not be.
-
-    An nbgrader course's ``submitted/`` (or the course folder) is graded with nbgrader
-    (:func:`hri_teleop.grading.nbgrader_batch.grade_course`); any other folder holds one
-    student's files per subfolder.
+    """Grade every student's files in ``folder`` (a subfolder each) into ``out``; 0 when all were graded,
+    2 if any could not be. An nbgrader course (:func:`course_layout`) goes to
+    :func:`hri_teleop.grading.nbgrader_batch.grade_course` instead (``hri-grade batch`` decides).
     """
     folder = Path(folder)
-    if not folder.is_dir():
-        submissions_in(folder)  # raises the one-line error
-    from hri_teleop.grading.nbgrader_batch import course_layout, grade_course
-
-    layout = course_layout(folder)
-    if layout is not None:
-        return grade_course(layout[0], layout[1], out, jobs=jobs, checks=checks, progress=progress,
-                            timeout_s=timeout_s)
     from hri_teleop.grading.sandbox import sandbox_mode
 
     subs = submissions_in(folder)

@@ -20,6 +20,7 @@ from pathlib import Path
 from typing import Dict, FrozenSet, List, Optional, Sequence, Tuple, Union
 
 from hri_teleop.config import lab_max_sensor_force
+from hri_teleop.errors import HriTeleopError
 from hri_teleop.gamepad import AXES, PadState
 from hri_teleop.mapping import ADC_MAX_COUNT, map_force
 from hri_teleop.teleop import Mode, TeleopController, TeleopParams
@@ -37,7 +38,7 @@ PUBLIC_MAX_SENSOR_FORCE = lab_max_sensor_force()  # the lab's calibration (hri_l
 _PUBLIC_SEED = 20240415  # fixed: the public traces must be the same on every machine
 
 
-class CasesError(ValueError):
+class CasesError(HriTeleopError, ValueError):
     """A case was asked for with impossible parameters (one line with the fix)."""
 
 

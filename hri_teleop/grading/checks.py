@@ -319,7 +319,7 @@ def grade_robot_params(path: PathLike, *, seed: Optional[int] = None, out_dir: O
     target = run.space.files["robot_params"]
     data, facts = run.probe("rosparam-load", target, "rosparam-load")
     if data is None:
-        parts = compare_robot_params(None, compare._explain_process(facts, "loading robot_params.yaml"))
+        parts = compare_robot_params(None, compare.explain_process(facts, "loading robot_params.yaml"))
     elif not data.get("ok"):
         parts = compare_robot_params(None, f"`rosparam load` fails: {data.get('error')}")
     else:
@@ -388,7 +388,7 @@ def grade_sensor_launch(path: PathLike, *, seed: Optional[int] = None, out_dir: 
     observation: Optional[Dict[str, Any]] = None
     if parsed.get("ok"):
         scripts = {n["type"] for n in parsed.get("nodes", [])}
-        param_ok, _ = compare._check_max_param(parsed.get("params", {}))
+        param_ok, _ = compare.check_max_param(parsed.get("params", {}))
         package = run.space.package
         run_mapping = "mapping_node.py" not in scripts and (package / "scripts" / "mapping_node.py").is_file()
         plan = {"kind": "sensor-launch", "launch_file": str(run.space.files["sensor_launch"]),
@@ -471,7 +471,7 @@ def _launch_sim_plan(run: _Run, parsed: Dict[str, Any]) -> Optional[Dict[str, An
     node = compare.teleop_node_name(parsed)
     if node is None:
         return None
-    scripts = compare._nodes_by_script(parsed)
+    scripts = compare.nodes_by_script(parsed)
     case = C.launch_sim_case()
     grader_dir = run.space.grader_dir
     scenario = grader_dir / "launch-sim.scenario.yaml"
@@ -492,7 +492,7 @@ def _launch_sim_plan(run: _Run, parsed: Dict[str, Any]) -> Optional[Dict[str, An
     for script in ("mapping_node.py", "gripper_manager.py"):
         if not scripts.get(script) and (package / "scripts" / script).is_file():
             supply[script[:-3]] = [str(package / "scripts" / script)]
-    param_ok, _ = compare._check_max_param(parsed.get("params", {}))
+    param_ok, _ = compare.check_max_param(parsed.get("params", {}))
     return {"kind": "teleop-launch-sim", "launch_file": str(run.space.files["teleoperation_launch"]),
             "params_launch": str(params), "teleop_node": node, "twist_topic": TWIST_TOPIC, "supply": supply,
             "set_max_sensor_force": None if param_ok else C.PUBLIC_MAX_SENSOR_FORCE,

@@ -24,10 +24,11 @@ import tempfile
 from pathlib import Path
 from typing import List, Optional, Sequence
 
+from hri_teleop.paths import REPO as _REPO
+
 __all__ = ["main", "EXIT_PASSED", "EXIT_FAILED", "EXIT_GRADER_ERROR"]
 
 EXIT_PASSED, EXIT_FAILED, EXIT_GRADER_ERROR = 0, 1, 2
-_REPO = Path(__file__).resolve().parents[2]
 
 
 def _parser() -> argparse.ArgumentParser:
@@ -106,7 +107,7 @@ def main(argv: Optional[List[str]] = None) -> int:
                 print(f"{item.target}  ({item.regions} region(s) removed)")
             return EXIT_PASSED
         if args.command == "batch":
-            from hri_teleop.grading.batch import grade_all
+            from hri_teleop.grading.batch import course_layout, grade_all
             from hri_teleop.grading.checks import CHECKS
 
             checks = [c.strip() for c in args.checks.split(",") if c.strip()] or None
@@ -115,7 +116,14 @@ def main(argv: Optional[List[str]] = None) -> int:
                 raise GradingError(f"unknown check(s) {', '.join(unknown)}; use {', '.join(CHECKS)}")
             if args.timeout is not None and args.timeout <= 0:
                 raise GradingError(f"--timeout {args.timeout:g}: give the seconds one submission may take, e.g. 1800")
-            return grade_all(Path(args.path), Path(args.out), jobs=args.jobs, checks=checks, timeout_s=args.timeout)
+            folder = Path(args.path)
+            layout = course_layout(folder) if folder.is_dir() else None
+            if layout is not None:  # an nbgrader course: nbgrader's autograde beside the files' checks
+                from hri_teleop.grading.nbgrader_batch import grade_course
+
+                return grade_course(layout[0], layout[1], Path(args.out), jobs=args.jobs, checks=checks,
+                                    timeout_s=args.timeout)
+            return grade_all(folder, Path(args.out), jobs=args.jobs, checks=checks, timeout_s=args.timeout)
         from hri_teleop.grading.checks import CHECKS, grade, grade_submission
         from hri_teleop.grading.sandbox import sandbox_mode
 

@@ -31,6 +31,7 @@ __all__ = [
     "TOLERANCE", "MAPPING", "TELEOP", "SENSOR_LAUNCH", "TELEOP_LAUNCH", "GRAPH",
     "process_hints", "compare_mapping", "compare_teleop_parts", "compare_teleop_node",
     "compare_sensor_launch", "compare_teleop_launch", "compare_teleop_launch_sim", "compare_graph",
+    "check_max_param", "nodes_by_script", "explain_process",
 ]
 
 #: Values on /force_mapped must be within this of the reference (Float32 carries ~7 digits).
@@ -151,7 +152,7 @@ def _last_lines(text: str, n: int = 6) -> str:
     return "\n".join("    " + line[:300] for line in lines[-n:])
 
 
-def _explain_process(facts: Dict[str, Any], what: str) -> str:
+def explain_process(facts: Dict[str, Any], what: str) -> str:
     """'<what> <problem>. <hints>. Its last output: ...'"""
     problem = facts.get("problem") or describe_exit(facts.get("exit_code"))
     message = f"{what} {problem}"
@@ -257,7 +258,7 @@ def compare_mapping(observation: Dict[str, Any], cases: Sequence[MappingCase],
     public, public_case = runs[0], cases[0]
     facts = public["node"]
     if not public.get("input_topic"):
-        message = _explain_process(facts, "mapping_node.py")
+        message = explain_process(facts, "mapping_node.py")
         if facts.get("started") and facts.get("subscriptions") == [] and not facts.get("problem"):
             message = "mapping_node.py subscribes to no topic: create rospy.Subscriber('/pub_force', Int16, callback)"
         parts = [_part(T, "sub", False, message)]
@@ -282,12 +283,12 @@ def compare_mapping(observation: Dict[str, Any], cases: Sequence[MappingCase],
         message = (f"the node advertises {advertised}, no /force_mapped: create "
                    "rospy.Publisher('/force_mapped', Float32, queue_size=10)")
         if facts.get("exited_by_itself"):
-            message = _explain_process(facts, "mapping_node.py")
+            message = explain_process(facts, "mapping_node.py")
         parts.append(_part(T, "pub", False, message))
         return parts + [_nj(T, k, "nothing was published") for k in ("type", "values", "clip", "hidden")]
     if not public.get("connected"):
         parts.append(_part(T, "pub", False, f"the grader could not connect to {in_topic} ({in_type}) and "
-                                            f"{out_topic}: " + _explain_process(facts, "mapping_node.py")))
+                                            f"{out_topic}: " + explain_process(facts, "mapping_node.py")))
         return parts + [_nj(T, k, "no connection to the node") for k in ("type", "values", "clip", "hidden")]
     if out_type == "std_msgs/Float32":
         type_part = _part(T, "type", True)
@@ -303,7 +304,7 @@ def compare_mapping(observation: Dict[str, Any], cases: Sequence[MappingCase],
             message = (f"the node advertises {out_topic} as {out_type}, and rospy could not send the mapped float "
                        f"in it (SerializationError in its output): publish std_msgs/Float32")
         if facts.get("exited_by_itself"):
-            message = _explain_process(facts, "mapping_node.py")
+            message = explain_process(facts, "mapping_node.py")
         parts += [_part(T, "pub", False, message), type_part]
         return parts + [_nj(T, k, "nothing was published") for k in ("values", "clip", "hidden")]
     if out_topic != "/force_mapped":
@@ -327,7 +328,7 @@ def compare_mapping(observation: Dict[str, Any], cases: Sequence[MappingCase],
         chosen, index = items(public, public_case, which)
         ok, message, wrong = _judge_mapping(chosen, out_type)
         if not ok and public["node"].get("exited_by_itself"):
-            message += "\n" + _explain_process(public["node"], "mapping_node.py")
+            message += "\n" + explain_process(public["node"], "mapping_node.py")
         plots = [] if ok else _mapping_plot(plot_dir, public, public_case, [index[i] for i in wrong])
         parts.append(_part(T, key, ok, message, plots))
 
@@ -336,7 +337,7 @@ def compare_mapping(observation: Dict[str, Any], cases: Sequence[MappingCase],
         if not run.get("input_topic") or not run.get("connected"):
             hidden_ok = False
             hidden_lines.append(f"with /max_sensor_force = {case.max_sensor_force}: "
-                                + _explain_process(run["node"], "mapping_node.py"))
+                                + explain_process(run["node"], "mapping_node.py"))
             continue
         chosen, index = items(run, case, lambda c, m: True)
         ok, message, wrong = _judge_mapping(chosen, run.get("output_type", out_type))
@@ -519,7 +520,7 @@ def compare_teleop_parts(observation: Dict[str, Any], cases: Sequence[TeleopPart
     T = TELEOP
     keys = ("gripper", "twist", "toggle", "rumble")
     if not observation.get("ok"):
-        reason = observation.get("error") or _explain_process(probe_facts or {}, "teleoperation.py")
+        reason = observation.get("error") or explain_process(probe_facts or {}, "teleoperation.py")
         return [_part(T, "import", False, reason)] + [_nj(T, k, "the file could not be imported") for k in keys]
     results = observation["cases"]
     errors = [r.get("construct_error") for r in results if r.get("construct_error")]
@@ -604,7 +605,7 @@ def compare_teleop_node(observation: Dict[str, Any], case: TeleopNodeCase,
         return [_nj(T, k, f"the grader could not run the node ({observation['session_error']})") for k in keys]
     facts = observation["node"]
     if not facts.get("started") or (observation.get("problem") and not facts.get("publications")):
-        return ([_part(T, "node_start", False, _explain_process(facts, "teleoperation.py"))]
+        return ([_part(T, "node_start", False, explain_process(facts, "teleoperation.py"))]
                 + [_nj(T, k, "the node did not start") for k in keys[1:]])
     parts: List[Part] = []
     subs = facts.get("subscriptions", [])
@@ -720,14 +721,14 @@ def compare_teleop_node(observation: Dict[str, Any], case: TeleopNodeCase,
 
 # -- launch files ---------------------------------------------------------------------------
 
-def _nodes_by_script(parsed: Dict[str, Any]) -> Dict[str, List[Dict[str, Any]]]:
+def nodes_by_script(parsed: Dict[str, Any]) -> Dict[str, List[Dict[str, Any]]]:
     out: Dict[str, List[Dict[str, Any]]] = {}
     for node in parsed.get("nodes", []):
         out.setdefault(node["type"], []).append(node)
     return out
 
 
-def _check_max_param(params: Dict[str, Any]) -> Tuple[bool, str]:
+def check_max_param(params: Dict[str, Any]) -> Tuple[bool, str]:
     value = params.get("/max_sensor_force")
     if "/max_sensor_force" not in params:
         private = [k for k in params if k.endswith("/max_sensor_force")]
@@ -751,13 +752,13 @@ def compare_sensor_launch(parsed: Dict[str, Any], observation: Optional[Dict[str
 
     T = SENSOR_LAUNCH
     if not parsed.get("ok"):
-        reason = parsed.get("error") or _explain_process(parse_facts or {}, "parsing")
+        reason = parsed.get("error") or explain_process(parse_facts or {}, "parsing")
         return [_part(T, "parse", False, f"roslaunch cannot load it: {reason}")] + \
             [_nj(T, k, "the file does not parse") for k in ("nodes", "param", "yaml", "flow")]
     empty = not parsed.get("nodes") and not parsed.get("params")
     parts = [_part(T, "parse", not empty, "it parses but starts no node and sets no parameter: write the launch "
                    "file (handout Ex. 6)" if empty else "")]
-    scripts = _nodes_by_script(parsed)
+    scripts = nodes_by_script(parsed)
     missing = []
     for script in ("FSR_sensor.py", "mapping_node.py"):
         found = scripts.get(script, [])
@@ -766,7 +767,7 @@ def compare_sensor_launch(parsed: Dict[str, Any], observation: Optional[Dict[str
         elif not any(n["package"] in _PACKAGES for n in found):
             missing.append(f"{script} is started from package {found[0]['package']!r}; it is in hri_lab")
     parts.append(_part(T, "nodes", not missing, "\n".join(missing)))
-    ok, message = _check_max_param(parsed.get("params", {}))
+    ok, message = check_max_param(parsed.get("params", {}))
     parts.append(_part(T, "param", ok, message))
     keys = [k for k in TABLE_1 if f"/{k}" in parsed.get("params", {}) or any(p.startswith(f"/{k}/") for p in parsed.get("params", {}))]
     parts.append(_part(T, "yaml", True, note=("Ex. 7 done: robot_params.yaml is loaded" if keys else
@@ -791,7 +792,7 @@ def compare_sensor_launch(parsed: Dict[str, Any], observation: Optional[Dict[str
         launch = dict(observation.get("launch", {}))
         launch["problem"] = observation.get("problem", "")
         problems.append("nothing arrived on /force_mapped while the launch file ran: "
-                        + _explain_process(launch, "roslaunch"))
+                        + explain_process(launch, "roslaunch"))
     else:
         if kinds != {"std_msgs/Float32"}:
             problems.append(f"/force_mapped is {', '.join(sorted(kinds))}, not std_msgs/Float32")
@@ -812,7 +813,7 @@ def compare_teleop_launch(parsed: Dict[str, Any], parse_facts: Optional[Dict[str
 
     T = TELEOP_LAUNCH
     if not parsed.get("ok"):
-        reason = parsed.get("error") or _explain_process(parse_facts or {}, "parsing")
+        reason = parsed.get("error") or explain_process(parse_facts or {}, "parsing")
         if "franka_control" in reason:
             reason += " (the grader provides franka_control: write $(find franka_control)/launch/franka_control_cartesian_velocity.launch)"
         return [_part(T, "parse", False, f"roslaunch cannot load it: {reason}")] + \
@@ -820,7 +821,7 @@ def compare_teleop_launch(parsed: Dict[str, Any], parse_facts: Optional[Dict[str
     empty = not parsed.get("nodes") and not parsed.get("params")
     parts = [_part(T, "parse", not empty, "it parses but starts no node and sets no parameter: write the launch "
                    "file (handout Ex. 12-13)" if empty else "")]
-    scripts = _nodes_by_script(parsed)
+    scripts = nodes_by_script(parsed)
     problems = []
     for script in ("teleoperation.py", "gripper_manager.py", "mapping_node.py"):
         found = scripts.get(script, [])
@@ -846,7 +847,7 @@ def compare_teleop_launch(parsed: Dict[str, Any], parse_facts: Optional[Dict[str
                                                    "string /dev/ttyACM0"))
         else:
             parts.append(_part(T, "serial", True, note="" if port == "/dev/ttyACM0" else f"port is {port}"))
-    ok, message = _check_max_param(params)
+    ok, message = check_max_param(params)
     parts.append(_part(T, "param", ok, message))
     included = FRANKA_MARKER_PARAM in params
     parts.append(_part(T, "include", included, "" if included else (
@@ -889,7 +890,7 @@ def _sim_plot(plot_dir: Optional[Path], observation: Dict[str, Any], teleop: str
 
 def teleop_node_name(parsed: Dict[str, Any]) -> Optional[str]:
     """The full name (``/ns/name``) of the launch file's teleoperation.py node of hri_lab, if it has one."""
-    for node in _nodes_by_script(parsed).get("teleoperation.py", []):
+    for node in nodes_by_script(parsed).get("teleoperation.py", []):
         if node["package"] == "hri_lab":
             return f"{node['namespace'].rstrip('/')}/{node['name']}"
     return None
@@ -912,7 +913,7 @@ def compare_teleop_launch_sim(parsed: Dict[str, Any], observation: Optional[Dict
     if observation.get("problem"):
         launch = dict(observation.get("launch", {}))
         launch["problem"] = observation["problem"]
-        return _part(T, "sim", False, _explain_process(launch, "roslaunch"), note=note)
+        return _part(T, "sim", False, explain_process(launch, "roslaunch"), note=note)
     twist_topic = DEFAULT_TWIST_TOPIC
     problems: List[str] = []
     twists = [v for _, v in _series(observation, twist_topic)]

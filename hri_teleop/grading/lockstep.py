@@ -12,13 +12,17 @@ from __future__ import annotations
 import os
 import threading
 import time
-from typing import TYPE_CHECKING, Any, Callable, Dict, List, Sequence, Set, Tuple
-
-if TYPE_CHECKING:
-    from hri_teleop.grading.session import Session
+from typing import Any, Callable, Dict, List, Protocol, Sequence, Set, Tuple
 
 __all__ = ["GRADER_NODE", "wait_for", "Recorder", "GraderClock", "Quiescence", "wait_until_settled", "last_value",
            "connections", "node_rate_hz"]
+
+
+class Session(Protocol):
+    """What the waits need of a grading session (hri_teleop.grading.session.Session): its master."""
+
+    master: Any
+
 
 #: The grader's own node in a session (its recorders and publishers; the caller id of its bus-info reads).
 GRADER_NODE = "/hri_grader"

@@ -41,8 +41,8 @@ from dataclasses import asdict, dataclass
 from pathlib import Path
 from typing import Any, Callable, Dict, List, Mapping, Optional, Sequence, Tuple
 
-from hri_teleop.grading.batch import (PER_SUBMISSION_TIMEOUT_S, BatchError, grade_one, live_graph_cache,
-                                      submissions_in)
+from hri_teleop.grading.batch import (PER_SUBMISSION_TIMEOUT_S, BatchError, course_layout, grade_one,
+                                      live_graph_cache, submissions_in)
 from hri_teleop.grading import reuse
 from hri_teleop.grading.spare_kernels import PROVISIONER, PROVISIONER_ENV, SPARES_ENV
 from hri_teleop.grading.jobs import Progress, job_count, print_line, run_all, run_job
@@ -76,24 +76,6 @@ class JobOutcome:
     @property
     def label(self) -> str:
         return self.assignment if self.kind == "notebooks" else f"{self.assignment}/{_FILES}"
-
-
-def course_layout(folder: Path) -> Optional[Tuple[Path, Path]]:
-    """(course folder, submitted folder) when ``folder`` is an nbgrader course's submissions, else None.
-
-    A course folder holds ``nbgrader_config.py`` or ``source/``; ``folder`` is either its
-    ``submitted/`` (any name: nbgrader is told) or the course folder itself.
-    """
-    folder = Path(folder).resolve()
-
-    def is_course(path: Path) -> bool:
-        return (path / "nbgrader_config.py").is_file() or (path / "source").is_dir()
-
-    if (folder / "submitted").is_dir() and is_course(folder):
-        return folder, folder / "submitted"
-    if is_course(folder.parent):
-        return folder.parent, folder
-    return None
 
 
 def _assignment_order(names: Sequence[str]) -> List[str]:

@@ -16,10 +16,12 @@ from __future__ import annotations
 from dataclasses import dataclass, field
 from typing import Any, Dict, List, Optional, Sequence, Tuple
 
+from hri_teleop.errors import HriTeleopError
+
 __all__ = ["GradingError", "Part", "CheckResult", "gradescope_json", "feedback_text", "not_judged"]
 
 
-class GradingError(RuntimeError):
+class GradingError(HriTeleopError, RuntimeError):
     """The grader itself could not run (ROS missing, a bad path given to hri-grade): one line with the fix."""
 
 

@@ -38,6 +38,8 @@ from dataclasses import dataclass
 from pathlib import Path
 from typing import Dict, List, Mapping, Optional, Sequence, TextIO
 
+from hri_teleop.errors import HriTeleopError
+
 __all__ = ["SandboxError", "Limits", "DEFAULT_LIMITS", "sandbox_mode", "bwrap_problem", "session_argv",
            "StudentProcess", "student_uid", "student_environment", "OUTPUT_CAP_BYTES", "describe_exit"]
 
@@ -47,7 +49,7 @@ _MODE_ENV = "HRI_GRADE_SANDBOX"
 _UID_BASE = 200000  # student uids: 200000 + the grading process' pid (unique while it lives)
 
 
-class SandboxError(RuntimeError):
+class SandboxError(HriTeleopError, RuntimeError):
     """The sandbox could not be set up as asked (one line: the cause and the fix)."""
 
 

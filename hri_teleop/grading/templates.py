@@ -27,12 +27,27 @@ from dataclasses import dataclass
 from pathlib import Path
 from typing import List, Sequence, Tuple, Union
 
-__all__ = ["TemplateError", "KINDS", "kind_of", "make_template", "make_answer", "has_markers",
+from hri_teleop.errors import HriTeleopError
+
+__all__ = ["TemplateError", "KINDS", "kind_of", "make_template", "make_answer", "has_markers", "solution_lines",
            "generate_templates", "GeneratedFile"]
 
 _BEGIN = re.compile(r"^(?P<indent>\s*)(?:#+\s*|<!--\s*(?:###\s*)?)BEGIN SOLUTION\s*(?:-->)?\s*$")
 _END = re.compile(r"^\s*(?:#+\s*|<!--\s*(?:###\s*)?)END SOLUTION\s*(?:-->)?\s*$")
 _ANY_MARKER = re.compile(r"(BEGIN|END) SOLUTION")
+
+
+def solution_lines(text: str) -> List[str]:
+    """The lines inside the solution regions of ``text`` (markers left out): what only the answer key has."""
+    lines, inside = [], False
+    for line in text.split("\n"):
+        if _BEGIN.match(line):
+            inside = True
+        elif _END.match(line):
+            inside = False
+        elif inside:
+            lines.append(line)
+    return lines
 
 #: File suffix -> language of the hint.
 KINDS = {".py": "python", ".yaml": "yaml", ".yml": "yaml", ".launch": "xml", ".xml": "xml"}
@@ -40,7 +55,7 @@ KINDS = {".py": "python", ".yaml": "yaml", ".yml": "yaml", ".launch": "xml", ".x
 NAMED_KINDS = {"CMakeLists.txt": "cmake"}
 
 
-class TemplateError(ValueError):
+class TemplateError(HriTeleopError, ValueError):
     """A solution file's markers are unbalanced or in a file type without a hint (one line: where, fix)."""
 
 

@@ -31,18 +31,20 @@ from typing import Any, Dict, List, Tuple, Union
 import yaml
 
 from hri_teleop.config import DEFAULT_TWIST_TOPIC
+from hri_teleop.errors import HriTeleopError
 from hri_teleop.grading.cases import (MappingCase, PadTick, TeleopGains, TeleopNodeCase, TeleopPartsCase,
                                       public_mapping_case, public_teleop_node_case, public_teleop_parts_case,
                                       reference_parts)
+from hri_teleop.paths import TRACES
 
 __all__ = ["TraceFileError", "TRACE_DIR", "TRACE_FILES", "write_traces", "read_mapping_trace", "read_parts_trace"]
 
-TRACE_DIR = Path(__file__).resolve().parents[2] / "grading" / "traces"
+TRACE_DIR = TRACES
 TRACE_FILES = ("mapping_public.bag", "teleop_parts_public.bag", "teleop_node_public.bag")
 _T0 = 1.0  # bag time of the first input (s); rosbag refuses time 0 in some tools
 
 
-class TraceFileError(RuntimeError):
+class TraceFileError(HriTeleopError, RuntimeError):
     """A trace bag is missing or does not hold what the grader wrote (one line with the fix)."""
 
 

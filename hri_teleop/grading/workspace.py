@@ -19,13 +19,14 @@ from dataclasses import dataclass, field
 from pathlib import Path
 from typing import Dict, List, Optional, Sequence, Union
 
+from hri_teleop.errors import HriTeleopError
+from hri_teleop.paths import LAB_PACKAGE, REPO
 from hri_teleop.ros.master import finds_hri_lab
 
 __all__ = ["WorkspaceError", "DELIVERABLES", "REPO", "REFERENCE_PACKAGE", "PROVIDED", "find_package_root",
            "locate", "package_files", "Workspace", "prepare_workspace", "ros_package_path", "FRANKA_MARKER_PARAM"]
 
-REPO = Path(__file__).resolve().parents[2]
-REFERENCE_PACKAGE = REPO / "hri_lab"
+REFERENCE_PACKAGE = LAB_PACKAGE
 
 #: What students hand in, by key, at the handout's place in the hri_lab package.
 DELIVERABLES: Dict[str, str] = {
@@ -45,7 +46,7 @@ _MAX_COPY_BYTES = 20 * 1024 * 1024
 _SKIP_DIRS = {".git", "__pycache__", ".ipynb_checkpoints", ".ros", "build", "devel"}
 
 
-class WorkspaceError(RuntimeError):
+class WorkspaceError(HriTeleopError, RuntimeError):
     """A submission path does not exist or cannot be copied (one line with the fix)."""
 
 

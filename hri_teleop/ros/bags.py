@@ -9,8 +9,10 @@ from __future__ import annotations
 from pathlib import Path
 from typing import Any, Dict, Iterable, List, Sequence, Tuple
 
+from hri_teleop.errors import HriTeleopError
 
-class BagError(RuntimeError):
+
+class BagError(HriTeleopError, RuntimeError):
     """A bag file could not be read or written."""
 
 

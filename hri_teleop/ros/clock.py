@@ -15,6 +15,8 @@ from typing import Optional
 
 import rospy
 
+from hri_teleop.errors import HriTeleopError
+
 __all__ = ["ClockError", "NodeClock", "uses_sim_time"]
 
 #: How often a wait on simulated time looks at the clock, s of wall time.
@@ -24,7 +26,7 @@ POLL_S = 0.0005
 TOLERANCE_S = 1e-6
 
 
-class ClockError(RuntimeError):
+class ClockError(HriTeleopError, RuntimeError):
     """/use_sim_time is set but nothing publishes /clock (one line with the fix)."""
 
 

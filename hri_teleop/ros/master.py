@@ -25,8 +25,11 @@ import xmlrpc.client
 from pathlib import Path
 from typing import Any, Callable, Dict, List, Mapping, Optional, Sequence, Set, Tuple
 
+from hri_teleop.errors import HriTeleopError
+from hri_teleop.paths import REPO
 
-class MasterError(RuntimeError):
+
+class MasterError(HriTeleopError, RuntimeError):
     """A ROS master or a process on it could not be started or did not answer."""
 
 
@@ -91,7 +94,7 @@ def lab_shell_env(base: Optional[Mapping[str, str]] = None, venv_bin: Optional[P
     venv = str(venv_bin if venv_bin is not None else Path(sys.executable).parent)
     if venv not in env.get("PATH", "").split(":"):
         env["PATH"] = venv + ":" + env.get("PATH", "/usr/bin:/bin")
-    root = Path(package_root if package_root is not None else Path(__file__).resolve().parents[2]).resolve()
+    root = Path(package_root if package_root is not None else REPO).resolve()
     package = root / "hri_lab" if (root / "hri_lab" / "package.xml").is_file() else root
     paths = [p for p in env.get("ROS_PACKAGE_PATH", "").split(":") if p and Path(p).resolve() not in (root, package)]
     paths.insert(0, str(package))

@@ -22,6 +22,7 @@ from pathlib import Path
 from typing import Any, Callable, Dict, Iterable, NoReturn, Optional, Tuple, Union
 
 from hri_teleop.checks import is_finite_number, is_int
+from hri_teleop.errors import HriTeleopError
 
 _MISSING = object()
 
@@ -31,7 +32,7 @@ Kind = Union[type, Tuple[type, ...]]
 EXIT_BAD_INPUT = 1
 
 
-class ParamError(ValueError):
+class ParamError(HriTeleopError, ValueError):
     """A ROS parameter is missing or has the wrong type."""
 
 
@@ -142,8 +143,7 @@ def fail_from_callback(message: str, exit_code: int = EXIT_BAD_INPUT) -> None:
 
 def _is_project_error(exc: BaseException) -> bool:
     """Errors raised on purpose by hri_teleop: they carry a one-line cause and fix."""
-    module = type(exc).__module__ or ""
-    return module.split(".")[0] == "hri_teleop" and isinstance(exc, (ValueError, RuntimeError))
+    return isinstance(exc, HriTeleopError)
 
 
 def run_node(main: Callable[[], Optional[int]]) -> None:

@@ -51,7 +51,9 @@ from typing import Any, Callable, Dict, List, Mapping, Optional, Sequence, Tuple
 
 import yaml
 
-from hri_teleop.experiment.analysis import LoadedTrial, analyse_folder, measure_trial
+from hri_teleop.checks import is_calibration_count
+from hri_teleop.experiment.analysis import (CSV_NAME, FIGURE_NAME, LoadedTrial, StudyResult, analyse_trials,
+                                            default_trials_folder, measure_trial)
 from hri_teleop.experiment.metrics import CONDITIONS, MetricsError, TrialMeta
 from hri_teleop.experiment.plan import counterbalanced_plan, trial_seed, write_plan
 from hri_teleop.experiment.sidecar import (META_KEYS, meta_from_sidecar, read_sidecar, sidecar_data,
@@ -62,7 +64,7 @@ from hri_teleop.ros.master import MasterError, PrivateMaster, RunningMaster, run
 from hri_teleop.ros.teleop_demo import DEFAULT_TIMEOUT_S, record_from_bag, record_teleop_launch
 from hri_teleop.sim.report import LabRecord
 
-__all__ = ["METADATA_TOPIC", "PADS", "trial_stem", "trial_seed", "record_trial", "load_trial", "load_trials",
+__all__ = ["METADATA_TOPIC", "PADS", "trial_stem", "trial_seed", "record_trial", "load_trial", "load_trials", "analyse_folder",
            "lab_master",
            "launch_nodes", "rehearse", "main"]
 
@@ -120,10 +122,6 @@ def _refuse_running_launch(master: PrivateMaster, args: Mapping[str, object]) ->
         raise MasterError(f"{', '.join(clash)} already running on {master.uri}: stop that launch first (Ctrl-C in "
                           f"its terminal); the trial starts teleoperation.launch itself, feedback:={args['feedback']}"
                           f"{hint}")
-
-
-def _is_count(value: Any) -> bool:
-    return isinstance(value, int) and not isinstance(value, bool) and 0 < value <= 1023
 
 
 def _param(master: PrivateMaster, name: str) -> Any:
@@ -191,7 +189,7 @@ def record_trial(meta: TrialMeta, folder: Union[str, Path], *, sim: bool = True,
         if isinstance(on, RunningMaster):
             _refuse_running_launch(on, args)
             session_calibration = _param(on, "/max_sensor_force")
-            if "max_sensor_force" not in args and _is_count(session_calibration):
+            if "max_sensor_force" not in args and is_calibration_count(session_calibration):
                 args["max_sensor_force"] = int(session_calibration)  # keep the session's Ex. 11 value
         progress(f"{meta.label}: recording on {on.uri} to {bag}")
         try:
@@ -256,6 +254,30 @@ def load_trials(folder: Union[str, Path]) -> List[LoadedTrial]:
 
 # --------------------------------------------------------------------------- a whole session
 
+
+
+def analyse_folder(folder: Union[str, Path, None] = None, *, figure: Union[str, Path, None, bool] = True,
+                   csv_path: Union[str, Path, None, bool] = True, max_sensor_force: Optional[float] = None,
+                   allow_unpaired: bool = False) -> StudyResult:
+    """Load every trial in ``folder`` (default :func:`default_trials_folder`) and :func:`analyse_trials` them.
+
+    ``figure`` / ``csv_path``: True writes ``study.png`` / ``metrics.csv`` into the folder,
+    a path writes there, False or None writes nothing.
+    """
+    folder = Path(folder) if folder is not None else default_trials_folder()
+    if not folder.is_dir():
+        raise MetricsError(f"{folder}: no such folder of trials; record a session first (python -m "
+                           f"hri_teleop.ros.trial rehearse --out {folder}) or give the folder the trials are in")
+    trials = load_trials(folder)
+    if not trials:
+        raise MetricsError(f"{folder}: no trials in this folder (no *.yaml sidecar beside a *.bag); record some "
+                           f"(python -m hri_teleop.ros.trial rehearse --out {folder}) or give another folder")
+    figure_path = folder / FIGURE_NAME if figure is True else (Path(figure) if figure else None)
+    result = analyse_trials(trials, max_sensor_force=max_sensor_force, figure=figure_path,
+                            allow_unpaired=allow_unpaired, folder=folder)
+    if csv_path:
+        result.write_csv(folder / CSV_NAME if csv_path is True else Path(csv_path))
+    return result
 
 def _participant_codes(given: Sequence[str]) -> List[str]:
     if len(given) == 1 and given[0].isdigit():

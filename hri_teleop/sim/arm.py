@@ -82,6 +82,7 @@ from dataclasses import dataclass
 from typing import Dict, List, Optional, Sequence, Tuple
 
 from hri_teleop.checks import is_finite_number, is_positive_number
+from hri_teleop.errors import HriTeleopError
 from hri_teleop.limits import (
     PANDA_LIMITS,
     ROBOT_PERIOD_S,
@@ -149,7 +150,7 @@ _AXES = "xyz"
 _GROUPS = ("translation", "rotation")
 
 
-class SimArmError(ValueError):
+class SimArmError(HriTeleopError, ValueError):
     """A configuration value, a command or a time the simulated arm cannot take; the message names the fix."""
 
 

@@ -27,6 +27,7 @@ from dataclasses import dataclass
 from typing import Optional
 
 from hri_teleop.checks import is_finite_number
+from hri_teleop.errors import HriTeleopError
 from hri_teleop.mapping import ADC_MAX_COUNT
 
 __all__ = ["BoardError", "BoardConfig", "SensorBoard", "HANDOUT_FIRMWARE_RATE_HZ", "DEFAULT_RATE_HZ"]
@@ -37,7 +38,7 @@ HANDOUT_FIRMWARE_RATE_HZ = 1.0 / 0.3
 DEFAULT_RATE_HZ = 100.0
 
 
-class BoardError(ValueError):
+class BoardError(HriTeleopError, ValueError):
     """A sensor board setting is unusable (the message names the fix)."""
 
 

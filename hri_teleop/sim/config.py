@@ -43,6 +43,8 @@ from pathlib import Path
 from typing import Any, Dict, List, Mapping, Optional, Sequence, Tuple, Union
 
 from hri_teleop.checks import is_finite_number, is_int
+from hri_teleop.errors import HriTeleopError
+from hri_teleop.paths import LAB_CONFIG
 from hri_teleop.sim.arm import SimArmConfig, SimArmError
 from hri_teleop.sim.board import HANDOUT_FIRMWARE_RATE_HZ, BoardConfig, BoardError
 from hri_teleop.sim.hand import OBJECTS, Attachment, GraspObject, HandParams, HandSimError
@@ -117,7 +119,7 @@ _VECTOR_EXAMPLE: Dict[str, str] = {
 }
 
 
-class SimConfigError(ValueError):
+class SimConfigError(HriTeleopError, ValueError):
     """The simulation settings are unreadable or have a bad key/value (one line with the file and the fix)."""
 
 
@@ -165,7 +167,7 @@ def default_sim_yaml() -> Optional[Path]:
     The node looks the package up with rospkg first; this is for scripts and notebooks
     that run from the repository.
     """
-    path = Path(__file__).resolve().parents[2] / "hri_lab" / "config" / "sim.yaml"
+    path = LAB_CONFIG / "sim.yaml"
     return path if path.is_file() else None
 
 

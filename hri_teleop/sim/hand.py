@@ -99,6 +99,7 @@ import numpy as np
 
 from hri_teleop import fsr
 from hri_teleop.checks import is_finite_number, is_number
+from hri_teleop.errors import HriTeleopError
 from hri_teleop.teleop import GRIPPER_MAX_WIDTH_M
 
 __all__ = [
@@ -159,7 +160,7 @@ _STICK_M_PER_S = 1e-9
 _SAME_M = 1e-12
 
 
-class HandSimError(ValueError):
+class HandSimError(HriTeleopError, ValueError):
     """A hand, attachment, object or command setting is unusable, or time ran backwards."""
 
 

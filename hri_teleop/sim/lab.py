@@ -32,6 +32,7 @@ from dataclasses import dataclass, field
 from pathlib import Path
 from typing import Callable, Optional, Sequence, Tuple, Union
 
+from hri_teleop.errors import HriTeleopError
 from hri_teleop.gamepad import GamepadError, RumbleRequests, ScriptedPad, ScriptStep, load_script
 from hri_teleop.gripper import GoalThrottle
 from hri_teleop.limits import CartesianLimits, DEFAULT_LIMITS, Watchdog
@@ -47,7 +48,7 @@ __all__ = ["LabRunError", "ManagerParams", "run_lab"]
 MANAGER_TIMER_S = 0.05
 
 
-class LabRunError(ValueError):
+class LabRunError(HriTeleopError, ValueError):
     """The run cannot start (a setting is unusable); the message names the fix."""
 
 

@@ -18,6 +18,7 @@ from pathlib import Path
 from typing import Callable, List, Optional, Sequence, Union
 
 from hri_teleop.config import lab_max_sensor_force
+from hri_teleop.errors import HriTeleopError
 from hri_teleop.experiment.analysis import LoadedTrial, StudyResult, analyse_trials
 from hri_teleop.experiment.metrics import TrialMeta
 from hri_teleop.experiment.plan import counterbalanced_plan, trial_seed
@@ -30,7 +31,7 @@ from hri_teleop.teleop import TeleopParams
 
 __all__ = ["StudyError", "participant_codes", "simulate_trial", "simulate_study"]
 
-class StudyError(ValueError):
+class StudyError(HriTeleopError, ValueError):
     """A simulated study was asked for something it cannot run (the message says what to pass)."""
 
 

@@ -29,6 +29,7 @@ from dataclasses import dataclass, field
 from typing import List, Optional, Sequence, Tuple
 
 from hri_teleop.checks import is_finite_number
+from hri_teleop.errors import HriTeleopError
 from hri_teleop.sim.arm import ROBOT_PERIOD_S, SimArm, SimArmConfig
 from hri_teleop.sim.board import BoardConfig, SensorBoard
 from hri_teleop.sim.hand import (Attachment, Command, GoalRecord, GraspObject, HandParams, HandSim,
@@ -46,7 +47,7 @@ LAB_ARM_CONFIG = SimArmConfig(workspace_min_m=(0.2, -0.5, 0.015), timeout_s=0.3)
 LIFTED_M = 0.005
 
 
-class WorldError(ValueError):
+class WorldError(HriTeleopError, ValueError):
     """A world setting or input is unusable (the message names the fix)."""
 
 

@@ -29,6 +29,7 @@ import ipywidgets as widgets
 from matplotlib.figure import Figure
 
 from hri_teleop.config import LAB_TELEOP_CONFIG, ConfigError, TeleopConfig, load_teleop_config
+from hri_teleop.errors import HriTeleopError
 
 __all__ = ["WidgetError", "FigureView", "Ticker", "LAB_TELEOP_CONFIG", "lab_teleop_config", "message_html",
            "current_cell_id", "replace_in_cell"]
@@ -37,7 +38,7 @@ __all__ = ["WidgetError", "FigureView", "Ticker", "LAB_TELEOP_CONFIG", "lab_tele
 FIGURE_MODES = ("auto", "ipympl", "image")
 
 
-class WidgetError(ValueError):
+class WidgetError(HriTeleopError, ValueError):
     """A widget was given an argument it cannot use (one line: which, what, the fix)."""
 
 

@@ -129,7 +129,7 @@ def study(tmp_path_factory) -> Study:
         finally:
             running.stop()
         record_s = time.monotonic() - started
-        from hri_teleop.experiment.analysis import analyse_folder
+        from hri_teleop.ros.trial import analyse_folder
 
         started = time.monotonic()
         result = analyse_folder(out)

@@ -10,7 +10,8 @@ from pathlib import Path
 import pytest
 
 from hri_teleop.config import load_teleop_config
-from hri_teleop.experiment.analysis import COLUMNS, LoadedTrial, analyse_folder, analyse_trials, default_trials_folder
+from hri_teleop.experiment.analysis import COLUMNS, LoadedTrial, analyse_trials, default_trials_folder
+from hri_teleop.ros.trial import analyse_folder
 from hri_teleop.experiment.figures import PANEL_TITLES
 from hri_teleop.experiment.metrics import MetricsError, TrialMeta
 from hri_teleop.experiment.tlx import TlxRatings

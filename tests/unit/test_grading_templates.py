@@ -126,3 +126,13 @@ def test_the_output_folder_is_replaced_and_never_inside_the_answer_key(tmp_path)
     assert not (out / "stale.txt").exists()
     with pytest.raises(TemplateError, match="inside the answer key"):
         generate_templates(SOLUTIONS, SOLUTIONS / "build")
+
+
+def test_solution_lines_are_what_the_regions_hold_in_every_comment_style():
+    from hri_teleop.grading.templates import solution_lines
+
+    text = "\n".join(["keep", "    # BEGIN SOLUTION", "    a = 1", "    # END SOLUTION", "keep too",
+                      "<!-- ### BEGIN SOLUTION -->", "<node/>", "<!-- ### END SOLUTION -->", "## BEGIN SOLUTION",
+                      "b: 2", "## END SOLUTION", "after"])
+    assert solution_lines(text) == ["    a = 1", "<node/>", "b: 2"]
+    assert solution_lines("no markers here") == []

@@ -51,7 +51,8 @@ CORE_TESTS = ["test_fsr.py", "test_mapping.py", "test_limits.py", "test_teleop.p
               "test_gamepad_events.py", "test_grading_templates.py", "test_grading_cases.py",
               "test_grading_results.py", "test_grading_compare.py",
               "test_experiment.py", "test_experiment_stats.py", "test_paramfile.py",
-              "test_experiment_tlx.py", "test_experiment_analysis.py", "test_bench_stats.py"]
+              "test_experiment_tlx.py", "test_experiment_analysis.py", "test_bench_stats.py",
+              "test_checks_counts.py"]
 
 
 @pytest.mark.skipif(not (REPO / ".venv38" / "bin" / "python").exists(),
