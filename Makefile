@@ -36,6 +36,7 @@ bench: setup
 
 lint: setup
 	@$(ENV) catkin_lint --offline -W2 --strict hri_lab
+	@$(ENV) ruff check hri_teleop tests
 
 clean:
 	rm -rf .venv build out .pytest_cache .hypothesis

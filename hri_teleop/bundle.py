@@ -14,7 +14,7 @@ import json
 import shutil
 import tarfile
 from pathlib import Path
-from typing import Dict, Iterable, List, Optional, Sequence, Union
+from typing import Any, Dict, Iterable, List, Optional, Sequence, Union
 
 from hri_teleop.grading.templates import has_markers, kind_of, make_answer, make_template, solution_lines
 from hri_teleop.paths import NOTEBOOKS, REPO, SOLUTIONS

@@ -38,8 +38,15 @@ import sys
 from pathlib import Path
 from typing import Any, Dict, Iterable, List, Mapping, Optional, Sequence, Tuple, Union
 
-from hri_teleop.bundle import (answer_files, assemble_bundle, bundle_leaks, pack_bundle, read_notebook, solution_texts,
-                               toolkit_leaks)
+from hri_teleop.bundle import (
+    answer_files,
+    assemble_bundle,
+    bundle_leaks,
+    pack_bundle,
+    read_notebook,
+    solution_texts,
+    toolkit_leaks,
+)
 from hri_teleop.errors import HriTeleopError
 from hri_teleop.paths import NOTEBOOKS, REPO, SOLUTIONS
 

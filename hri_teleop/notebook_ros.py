@@ -245,7 +245,7 @@ def _start(node_name: str, anonymous: bool, start_master: bool, timeout_s: float
         os.environ["ROS_HOSTNAME"] = "127.0.0.1"  # as tools/env.sh: works without a resolvable hostname
     try:
         rospy.init_node(node_name, anonymous=anonymous, disable_signals=True)
-    except Exception as exc:  # rospy.ROSException, ROSInitException, socket errors
+    except Exception as exc:  # noqa: BLE001 - rospy.ROSException, ROSInitException, socket errors
         if master is not None:
             _stop_master(master)
         raise NotebookRosError(f"rospy.init_node({node_name!r}) failed: {exc}".replace("\n", " ")) from None

@@ -45,6 +45,7 @@ from pathlib import Path
 from typing import Callable, Dict, Iterator, List, Mapping, Optional, Sequence, Tuple
 
 from hri_teleop.paths import REPO
+
 from .report import BenchError, BenchOptions, BenchRow
 
 __all__ = [

@@ -89,7 +89,9 @@ def latency(args: argparse.Namespace) -> Dict[str, Any]:
         stop = threading.Event()
         board = None
         if period_s > 0:
-            def board_loop() -> None:
+            # Its own stop, count and period: a loop that outlives its phase's join must not
+            # pick up the next phase's (a new Event, never set).
+            def board_loop(stop: threading.Event, count: List[int], period_s: float) -> None:
                 next_t = time.monotonic()
                 while not stop.is_set():
                     pub.publish(Int16(data=count[0]))
@@ -99,7 +101,7 @@ def latency(args: argparse.Namespace) -> Dict[str, Any]:
                         time.sleep(delay)
                     else:
                         next_t = time.monotonic()  # late: restart the schedule, as a firmware loop would
-            board = threading.Thread(target=board_loop, daemon=True)
+            board = threading.Thread(target=board_loop, args=(stop, count, period_s), daemon=True)
             board.start()
         for k in range(args.steps):
             time.sleep(_step_gaps_s(period_s, rng))

@@ -20,7 +20,6 @@ from hri_teleop.sim.lab import run_lab
 
 from .report import BenchError, BenchOptions, BenchRow
 
-
 #: Runs of each scenario (the median counts): full run, smoke run.
 REPEATS = {False: 5, True: 1}
 

@@ -33,8 +33,14 @@ from dataclasses import dataclass, field
 from pathlib import Path
 from typing import Any, Dict, List, Mapping, NamedTuple, Optional, Sequence, Tuple, Union
 
-from hri_teleop.experiment.metrics import (CONDITIONS, MetricsError, TrialMeta, TrialMetrics, paired_by_participant,
-                                           trial_metrics)
+from hri_teleop.experiment.metrics import (
+    CONDITIONS,
+    MetricsError,
+    TrialMeta,
+    TrialMetrics,
+    paired_by_participant,
+    trial_metrics,
+)
 from hri_teleop.experiment.stats import PairedComparison, StatsError, paired_comparison
 from hri_teleop.experiment.tlx import optional_tlx
 from hri_teleop.paths import TRIALS

@@ -14,13 +14,21 @@ from __future__ import annotations
 from .deadzone import check_deadzone, normalize_analog_input
 from .factory import PAD_KINDS, open_gamepad
 from .interface import Gamepad
-from .layout import (DEFAULT_LAYOUT, LAYOUT_DIR, AxisMap, Layout, available_layouts, load_layout,
-                     layout_from_dict)
+from .layout import DEFAULT_LAYOUT, LAYOUT_DIR, AxisMap, Layout, available_layouts, layout_from_dict, load_layout
 from .pygame_pad import NO_GAMEPAD_MESSAGE, PygamePad
 from .rumble import RumblePolicy, RumbleRequests
 from .state import AXES, BUTTON_LABELS, BUTTONS, STICK_AXES, TRIGGER_AXES, GamepadError, PadState
-from .virtual import (RUMBLE_LOG_HEADER, RumbleRecord, ScriptedPad, ScriptStep, VirtualPad, load_script, parse_script,
-                      read_rumble_log, rumble_log_line)
+from .virtual import (
+                     RUMBLE_LOG_HEADER,
+                     RumbleRecord,
+                     ScriptedPad,
+                     ScriptStep,
+                     VirtualPad,
+                     load_script,
+                     parse_script,
+                     read_rumble_log,
+                     rumble_log_line,
+)
 
 __all__ = [
     "AXES", "BUTTONS", "STICK_AXES", "TRIGGER_AXES", "BUTTON_LABELS",

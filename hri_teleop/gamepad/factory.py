@@ -7,9 +7,9 @@ import time
 from pathlib import Path
 from typing import Callable, Optional, Union
 
+from .interface import Gamepad
 from .layout import Layout
 from .pygame_pad import PygamePad
-from .interface import Gamepad
 from .state import GamepadError
 from .virtual import ScriptedPad, VirtualPad
 

@@ -15,6 +15,7 @@ from types import MappingProxyType
 from typing import Mapping
 
 from hri_teleop.errors import HriTeleopError
+
 from ..checks import is_number
 
 __all__ = [

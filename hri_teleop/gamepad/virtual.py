@@ -40,8 +40,18 @@ from typing import Any, Callable, Dict, List, Optional, Sequence, Tuple, Union
 from ..checks import is_number
 from ..yamlfile import read_yaml
 from .layout import Layout, as_layout
-from .state import (AXES, BUTTONS, TRIGGER_AXES, GamepadError, PadState, check_axis_value,
-                    clean_duration, clean_intensity, unknown_axis_error, unknown_button_error)
+from .state import (
+    AXES,
+    BUTTONS,
+    TRIGGER_AXES,
+    GamepadError,
+    PadState,
+    check_axis_value,
+    clean_duration,
+    clean_intensity,
+    unknown_axis_error,
+    unknown_button_error,
+)
 
 __all__ = ["RumbleRecord", "RUMBLE_LOG_HEADER", "rumble_log_line", "read_rumble_log", "VirtualPad", "ScriptStep", "ScriptedPad", "load_script", "parse_script"]
 
@@ -244,7 +254,7 @@ def parse_script(data: Any, source: str = "<script>") -> List[ScriptStep]:
     steps: List[ScriptStep] = []
     previous_t = 0.0
     for number, raw in enumerate(data, start=1):
-        def fail(problem: str, fix: str) -> GamepadError:
+        def fail(problem: str, fix: str, number: int = number) -> GamepadError:
             return GamepadError("%s: step %d: %s; %s" % (source, number, problem, fix))
 
         if not isinstance(raw, dict):

@@ -33,11 +33,24 @@ from hri_teleop.grading.package_check import grade_catkin_package
 from hri_teleop.grading.reference_guard import reference_uses, refusal
 from hri_teleop.grading.results import CheckResult, GradingError, Part, feedback_text, not_judged
 from hri_teleop.grading.robot_params import compare_robot_params
-from hri_teleop.grading.sandbox import DEFAULT_LIMITS, StudentProcess, describe_exit, sandbox_mode, session_argv, student_uid
+from hri_teleop.grading.sandbox import (
+    DEFAULT_LIMITS,
+    StudentProcess,
+    describe_exit,
+    sandbox_mode,
+    session_argv,
+    student_uid,
+)
+from hri_teleop.grading.workspace import (
+    DELIVERABLES,
+    REPO,
+    Workspace,
+    find_package_root,
+    prepare_workspace,
+    ros_package_path,
+)
 from hri_teleop.ros.master import lab_shell_env
 from hri_teleop.sensor_profile import FSR_SENSOR_RATE_HZ
-from hri_teleop.grading.workspace import (DELIVERABLES, REPO, Workspace, find_package_root, prepare_workspace,
-                                          ros_package_path)
 
 __all__ = [
     "CHECKS", "grade", "grade_robot_params", "grade_mapping_node", "grade_sensor_launch", "grade_teleoperation",

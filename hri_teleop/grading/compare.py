@@ -19,8 +19,14 @@ from pathlib import Path
 from typing import Any, Dict, Iterable, List, Optional, Sequence, Set, Tuple
 
 from hri_teleop.config import DEFAULT_TWIST_TOPIC
-from hri_teleop.grading.cases import (ExpectedTick, MappingCase, TeleopNodeCase, TeleopPartsCase,
-                                      public_mapping_case, reference_parts)
+from hri_teleop.grading.cases import (
+    ExpectedTick,
+    MappingCase,
+    TeleopNodeCase,
+    TeleopPartsCase,
+    public_mapping_case,
+    reference_parts,
+)
 from hri_teleop.grading.results import Part, not_judged
 from hri_teleop.grading.sandbox import OUTPUT_CAP_BYTES, describe_exit
 from hri_teleop.gripper import width_from_joint_positions_m

@@ -41,11 +41,17 @@ from dataclasses import asdict, dataclass
 from pathlib import Path
 from typing import Any, Callable, Dict, List, Mapping, Optional, Sequence, Tuple
 
-from hri_teleop.grading.batch import (PER_SUBMISSION_TIMEOUT_S, BatchError, course_layout, grade_one,
-                                      live_graph_cache, submissions_in)
 from hri_teleop.grading import reuse
-from hri_teleop.grading.spare_kernels import PROVISIONER, PROVISIONER_ENV, SPARES_ENV
+from hri_teleop.grading.batch import (
+    PER_SUBMISSION_TIMEOUT_S,
+    BatchError,
+    course_layout,
+    grade_one,
+    live_graph_cache,
+    submissions_in,
+)
 from hri_teleop.grading.jobs import Progress, job_count, print_line, run_all, run_job
+from hri_teleop.grading.spare_kernels import PROVISIONER, PROVISIONER_ENV, SPARES_ENV
 from hri_teleop.labkernel import ipc_kernel_argv
 
 __all__ = ["BatchError", "JobOutcome", "course_layout", "course_submissions", "grade_course", "nbgrader_job_env"]

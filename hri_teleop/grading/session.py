@@ -26,8 +26,17 @@ import time
 from pathlib import Path
 from typing import Any, Callable, Dict, List, Optional, Set, Tuple
 
-from hri_teleop.grading.lockstep import (GRADER_NODE, GraderClock, Quiescence, Recorder, connections, last_value,
-                                         node_rate_hz, wait_for, wait_until_settled)
+from hri_teleop.grading.lockstep import (
+    GRADER_NODE,
+    GraderClock,
+    Quiescence,
+    Recorder,
+    connections,
+    last_value,
+    node_rate_hz,
+    wait_for,
+    wait_until_settled,
+)
 
 __all__ = ["main", "run_plan"]
 
@@ -207,8 +216,9 @@ def run_mapping_node(session: Session) -> Dict[str, Any]:
                 recorder = Recorder()
                 if out_topic:
                     recorder.add(out_topic)
-                connected = wait_for(lambda: publisher.get_num_connections() > 0 and
-                                  (not out_topic or recorder.connected(out_topic)), 5.0)
+                connected = wait_for(lambda publisher=publisher, recorder=recorder, out_topic=out_topic:
+                                     publisher.get_num_connections() > 0
+                                     and (not out_topic or recorder.connected(out_topic)), 5.0)
                 run["connected"] = connected
                 if connected:
                     run["responses"] = _lockstep(publisher, recorder, out_topic, case["counts"], proc,

@@ -32,9 +32,17 @@ import yaml
 
 from hri_teleop.config import DEFAULT_TWIST_TOPIC
 from hri_teleop.errors import HriTeleopError
-from hri_teleop.grading.cases import (MappingCase, PadTick, TeleopGains, TeleopNodeCase, TeleopPartsCase,
-                                      public_mapping_case, public_teleop_node_case, public_teleop_parts_case,
-                                      reference_parts)
+from hri_teleop.grading.cases import (
+    MappingCase,
+    PadTick,
+    TeleopGains,
+    TeleopNodeCase,
+    TeleopPartsCase,
+    public_mapping_case,
+    public_teleop_node_case,
+    public_teleop_parts_case,
+    reference_parts,
+)
 from hri_teleop.paths import TRACES
 
 __all__ = ["TraceFileError", "TRACE_DIR", "TRACE_FILES", "write_traces", "read_mapping_trace", "read_parts_trace"]

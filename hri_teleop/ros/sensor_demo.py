@@ -21,9 +21,9 @@ import numpy as np
 from hri_teleop.config import lab_max_sensor_force
 from hri_teleop.mapping import map_force
 from hri_teleop.plots import sensor_timeline
-from hri_teleop.traces import pair_outputs, percentile_ms, rate_hz
 from hri_teleop.ros.bags import read_topics
 from hri_teleop.ros.master import MasterError, PrivateMaster, run_reporting
+from hri_teleop.traces import pair_outputs, percentile_ms, rate_hz
 
 
 @dataclass(frozen=True)

@@ -52,12 +52,25 @@ from typing import Any, Callable, Dict, List, Mapping, Optional, Sequence, Tuple
 import yaml
 
 from hri_teleop.checks import is_calibration_count
-from hri_teleop.experiment.analysis import (CSV_NAME, FIGURE_NAME, LoadedTrial, StudyResult, analyse_trials,
-                                            default_trials_folder, measure_trial)
+from hri_teleop.experiment.analysis import (
+    CSV_NAME,
+    FIGURE_NAME,
+    LoadedTrial,
+    StudyResult,
+    analyse_trials,
+    default_trials_folder,
+    measure_trial,
+)
 from hri_teleop.experiment.metrics import CONDITIONS, MetricsError, TrialMeta
 from hri_teleop.experiment.plan import counterbalanced_plan, trial_seed, write_plan
-from hri_teleop.experiment.sidecar import (META_KEYS, meta_from_sidecar, read_sidecar, sidecar_data,
-                                           update_sidecar, write_sidecar)
+from hri_teleop.experiment.sidecar import (
+    META_KEYS,
+    meta_from_sidecar,
+    read_sidecar,
+    sidecar_data,
+    update_sidecar,
+    write_sidecar,
+)
 from hri_teleop.experiment.tlx import SUBSCALES, TlxRatings, optional_tlx, store_tlx
 from hri_teleop.ros.bags import BagError
 from hri_teleop.ros.master import MasterError, PrivateMaster, RunningMaster, run_reporting

@@ -35,7 +35,7 @@ from typing import Callable, Optional, Sequence, Tuple, Union
 from hri_teleop.errors import HriTeleopError
 from hri_teleop.gamepad import GamepadError, RumbleRequests, ScriptedPad, ScriptStep, load_script
 from hri_teleop.gripper import GoalThrottle
-from hri_teleop.limits import CartesianLimits, DEFAULT_LIMITS, Watchdog
+from hri_teleop.limits import DEFAULT_LIMITS, CartesianLimits, Watchdog
 from hri_teleop.mapping import map_force
 from hri_teleop.sim.hand import GoalRecord, MoveCommand
 from hri_teleop.sim.report import LabRecord

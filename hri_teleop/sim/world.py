@@ -32,8 +32,7 @@ from hri_teleop.checks import is_finite_number
 from hri_teleop.errors import HriTeleopError
 from hri_teleop.sim.arm import ROBOT_PERIOD_S, SimArm, SimArmConfig
 from hri_teleop.sim.board import BoardConfig, SensorBoard
-from hri_teleop.sim.hand import (Attachment, Command, GoalRecord, GraspObject, HandParams, HandSim,
-                                 is_held)
+from hri_teleop.sim.hand import Attachment, Command, GoalRecord, GraspObject, HandParams, HandSim, is_held
 
 __all__ = ["WorldError", "WorldConfig", "ObjectStatus", "LabWorld", "LAB_ARM_CONFIG", "LIFTED_M"]
 

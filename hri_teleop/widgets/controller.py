@@ -20,8 +20,18 @@ from typing import Any, Mapping, Optional, Tuple
 
 import ipywidgets as widgets
 
-from hri_teleop.gamepad import (BUTTON_LABELS, STICK_AXES, Gamepad, GamepadError, PadState, RumbleRequests,
-                                VirtualPad, check_deadzone, normalize_analog_input, open_gamepad)
+from hri_teleop.gamepad import (
+    BUTTON_LABELS,
+    STICK_AXES,
+    Gamepad,
+    GamepadError,
+    PadState,
+    RumbleRequests,
+    VirtualPad,
+    check_deadzone,
+    normalize_analog_input,
+    open_gamepad,
+)
 from hri_teleop.limits import DEFAULT_LIMITS, CartesianLimits
 from hri_teleop.teleop import GRIPPER_MAX_WIDTH_M, Mode, TeleopController, TeleopParams
 

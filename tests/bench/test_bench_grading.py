@@ -14,8 +14,17 @@ import math
 
 import pytest
 
-from hri_teleop.bench.grading import (ASSIGNMENT, SMOKE_NOTEBOOKS, SUBMISSIONS_ENV, Student, autograded_points,
-                                      check_grades_csv, run, student_plan, submission_count)
+from hri_teleop.bench.grading import (
+    ASSIGNMENT,
+    SMOKE_NOTEBOOKS,
+    SUBMISSIONS_ENV,
+    Student,
+    autograded_points,
+    check_grades_csv,
+    run,
+    student_plan,
+    submission_count,
+)
 from hri_teleop.bench.report import BenchError, BenchOptions, format_row
 
 pytestmark = pytest.mark.ros

@@ -10,7 +10,6 @@ from typing import Dict, List, Optional
 
 import pytest
 import yaml
-
 from conftest import _ros_env  # tests/conftest.py, on sys.path under pytest
 
 REPO = Path(__file__).resolve().parents[2]

@@ -3,10 +3,9 @@
 from __future__ import annotations
 
 import pytest
+from grading_helpers import SOLUTIONS, answer_text, write_package
 
 from hri_teleop.grading import check_robot_params, grade_robot_params
-
-from grading_helpers import SOLUTIONS, answer_text, write_package
 
 
 def test_check_returns_the_result_when_every_part_passes():

@@ -5,7 +5,6 @@ from __future__ import annotations
 import json
 
 import pytest
-
 from grading_helpers import SOLUTIONS, answer_text, hri_grade, write_package
 
 

@@ -24,11 +24,19 @@ from concurrent.futures import ThreadPoolExecutor
 from pathlib import Path
 
 import pytest
+from grading_helpers import (
+    CorpusError,
+    answer_text,
+    corpus_entries,
+    corpus_files,
+    expectation,
+    hri_grade,
+    load_checks,
+    part_keys,
+    write_corpus_entry,
+)
 
 from hri_teleop.grading import feedback_text, grade
-
-from grading_helpers import (CorpusError, answer_text, corpus_entries, corpus_files, expectation, hri_grade,
-                             load_checks, part_keys, write_corpus_entry)
 
 
 def _quick(exp: dict) -> bool:

@@ -4,7 +4,6 @@ time): as fast as the node computes, and with the same messages however busy the
 from __future__ import annotations
 
 import pytest
-
 from grading_helpers import answer_text, write_package
 
 pytestmark = pytest.mark.ros

@@ -7,7 +7,6 @@ import json
 import shutil
 
 import pytest
-
 from grading_helpers import REPO
 
 

@@ -14,7 +14,6 @@ import time
 from pathlib import Path
 
 import pytest
-
 from grading_helpers import answer_text, grader_env, hri_grade, open_folder, write_package
 
 pytestmark = pytest.mark.ros

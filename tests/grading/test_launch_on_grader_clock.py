@@ -5,7 +5,6 @@ command. The same twists and the same arm path come out idle and with both cores
 from __future__ import annotations
 
 import pytest
-
 from grading_helpers import answer_text, busy_cores, write_package
 
 pytestmark = pytest.mark.ros

@@ -9,7 +9,6 @@ import signal
 import subprocess
 
 import pytest
-
 from grading_helpers import REPO, answer_text, grader_env, write_package
 
 pytestmark = pytest.mark.ros

@@ -16,8 +16,8 @@ import csv
 import json
 import os
 import re
-import signal
 import shutil
+import signal
 import sqlite3
 import subprocess
 import sys
@@ -26,7 +26,6 @@ import time
 from pathlib import Path
 
 import pytest
-
 from grading_helpers import REPO, SOLUTIONS, grader_env
 
 pytestmark = pytest.mark.ros

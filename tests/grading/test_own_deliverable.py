@@ -5,7 +5,6 @@ package, and a broken Ex. 5 costs points in Ex. 5 only."""
 from __future__ import annotations
 
 import pytest
-
 from grading_helpers import answer_text, write_package
 
 pytestmark = pytest.mark.ros

@@ -8,8 +8,8 @@ import sys
 from pathlib import Path
 
 import pytest
-
 from grading_helpers import open_folder
+
 from hri_teleop.grading.sandbox import DEFAULT_LIMITS, Limits, StudentProcess, bwrap_problem, describe_exit, student_uid
 
 

@@ -5,12 +5,17 @@ from __future__ import annotations
 import time
 
 import pytest
+from grading_helpers import REPO, SOLUTIONS
 
-from hri_teleop.grading import feedback_text, grade_mapping_node, grade_robot_params, grade_submission, grade_teleoperation
+from hri_teleop.grading import (
+    feedback_text,
+    grade_mapping_node,
+    grade_robot_params,
+    grade_submission,
+    grade_teleoperation,
+)
 from hri_teleop.grading.checks import CHECKS
 from hri_teleop.grading.templates import generate_templates
-
-from grading_helpers import REPO, SOLUTIONS
 
 pytestmark = pytest.mark.ros
 

@@ -3,12 +3,11 @@
 from __future__ import annotations
 
 import pytest
+from grading_helpers import hri_grade
 
 from hri_teleop.grading.cases import public_mapping_case, public_teleop_parts_case
 from hri_teleop.grading.tracefiles import TRACE_DIR, TRACE_FILES, read_mapping_trace, read_parts_trace
 from hri_teleop.ros.bags import read_topics
-
-from grading_helpers import hri_grade
 
 
 def test_hri_grade_traces_rewrites_the_committed_bags_byte_for_byte(tmp_path):

@@ -14,7 +14,6 @@ import sys
 import time
 
 import pytest
-
 from conftest import _ros_env
 
 pytestmark = pytest.mark.ros

@@ -6,8 +6,8 @@ from __future__ import annotations
 import socket
 
 import pytest
-
 from conftest import _ros_env
+
 from hri_teleop.ros import master as master_module
 from hri_teleop.ros.master import MasterError, PrivateMaster
 

@@ -9,8 +9,17 @@ from pathlib import Path
 
 import pytest
 
-from hri_teleop.course import (ASSIGNMENTS, COURSE_DIR, SOLUTIONS, exclude_overwriting, notebook_output_problems,
-                               solution_texts, source_notebooks, student_files, strip_outputs)
+from hri_teleop.course import (
+    ASSIGNMENTS,
+    COURSE_DIR,
+    SOLUTIONS,
+    exclude_overwriting,
+    notebook_output_problems,
+    solution_texts,
+    source_notebooks,
+    strip_outputs,
+    student_files,
+)
 
 NOTEBOOKS = source_notebooks()
 EXERCISES = {"preparation": set(range(1, 8)), "lab": set(range(8, 16))}

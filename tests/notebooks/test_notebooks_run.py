@@ -17,8 +17,15 @@ from pathlib import Path
 
 import pytest
 
-from hri_teleop.course import (SOLUTIONS, STUDENT_PACKAGE, bundle_leaks, prepare_course_copy, run_course,
-                               solution_texts, source_notebooks)
+from hri_teleop.course import (
+    SOLUTIONS,
+    STUDENT_PACKAGE,
+    bundle_leaks,
+    prepare_course_copy,
+    run_course,
+    solution_texts,
+    source_notebooks,
+)
 
 NAMES = [p.stem for p in source_notebooks()]
 pytestmark = pytest.mark.ros

@@ -8,8 +8,7 @@ from pathlib import Path
 import pytest
 
 from hri_teleop.config import load_teleop_config
-from hri_teleop.experiment.metrics import (MetricsError, TrialMeta, calibrated_force_n, per_participant,
-                                           trial_metrics)
+from hri_teleop.experiment.metrics import MetricsError, TrialMeta, calibrated_force_n, per_participant, trial_metrics
 from hri_teleop.experiment.plan import counterbalanced_plan, read_plan, write_plan
 from hri_teleop.experiment.stats import paired_comparison
 from hri_teleop.sim.hand import OBJECTS, Attachment

@@ -11,11 +11,11 @@ import pytest
 
 from hri_teleop.config import load_teleop_config
 from hri_teleop.experiment.analysis import COLUMNS, LoadedTrial, analyse_trials, default_trials_folder
-from hri_teleop.ros.trial import analyse_folder
 from hri_teleop.experiment.figures import PANEL_TITLES
 from hri_teleop.experiment.metrics import MetricsError, TrialMeta
 from hri_teleop.experiment.tlx import TlxRatings
 from hri_teleop.gamepad import parse_script
+from hri_teleop.ros.trial import analyse_folder
 from hri_teleop.sim.config import world_config_from_dict
 from hri_teleop.sim.lab import run_lab
 from hri_teleop.sim.operators import study_scenario

@@ -107,9 +107,9 @@ def test_grasp_goal_round_trips_through_serialisation():
 
 def test_action_goal_accepts_the_real_header_and_goal_id_actionlib_passes():
     # actionlib's ActionClient builds ActionGoal(header=std_msgs Header, goal_id=actionlib_msgs GoalID).
+    import genpy
     from actionlib_msgs.msg import GoalID
     from std_msgs.msg import Header
-    import genpy
 
     msg = fgm.MoveActionGoal(header=Header(seq=3), goal_id=GoalID(stamp=genpy.Time(1, 2), id="g1"),
                              goal=fgm.MoveGoal(width=0.02, speed=0.1))

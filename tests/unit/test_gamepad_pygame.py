@@ -14,8 +14,7 @@ from typing import List
 
 import pytest
 
-from hri_teleop.gamepad import (NO_GAMEPAD_MESSAGE, Gamepad, GamepadError, PadState, PygamePad,
-                                open_gamepad)
+from hri_teleop.gamepad import NO_GAMEPAD_MESSAGE, Gamepad, GamepadError, PadState, PygamePad, open_gamepad
 
 HEADLESS = dict(os.environ, SDL_VIDEODRIVER="dummy", SDL_AUDIODRIVER="dummy",
                 PYGAME_HIDE_SUPPORT_PROMPT="1")

@@ -8,9 +8,21 @@ import pytest
 from hypothesis import given
 from hypothesis import strategies as st
 
-from hri_teleop.gamepad import (AXES, BUTTONS, Gamepad, GamepadError, PadState, RumbleRecord,
-                                ScriptedPad, ScriptStep, VirtualPad, load_layout, load_script,
-                                open_gamepad, parse_script)
+from hri_teleop.gamepad import (
+    AXES,
+    BUTTONS,
+    Gamepad,
+    GamepadError,
+    PadState,
+    RumbleRecord,
+    ScriptedPad,
+    ScriptStep,
+    VirtualPad,
+    load_layout,
+    load_script,
+    open_gamepad,
+    parse_script,
+)
 
 
 class FakeClock:

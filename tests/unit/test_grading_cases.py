@@ -6,9 +6,17 @@ from pathlib import Path
 
 import pytest
 
-from hri_teleop.grading.cases import (PUBLIC_MAX_SENSOR_FORCE, hidden_mapping_cases, hidden_teleop_node_case,
-                                      hidden_teleop_parts_case, public_mapping_case, public_teleop_node_case,
-                                      public_teleop_parts_case, reference_parts, seed_for)
+from hri_teleop.grading.cases import (
+    PUBLIC_MAX_SENSOR_FORCE,
+    hidden_mapping_cases,
+    hidden_teleop_node_case,
+    hidden_teleop_parts_case,
+    public_mapping_case,
+    public_teleop_node_case,
+    public_teleop_parts_case,
+    reference_parts,
+    seed_for,
+)
 from hri_teleop.mapping import map_force
 
 

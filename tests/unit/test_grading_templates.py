@@ -10,8 +10,14 @@ from pathlib import Path
 import pytest
 import yaml
 
-from hri_teleop.grading.templates import (TemplateError, generate_templates, has_markers, kind_of, make_answer,
-                                          make_template)
+from hri_teleop.grading.templates import (
+    TemplateError,
+    generate_templates,
+    has_markers,
+    kind_of,
+    make_answer,
+    make_template,
+)
 
 REPO = Path(__file__).resolve().parents[2]
 SOLUTIONS = REPO / "solutions" / "hri_lab"

@@ -7,7 +7,15 @@ from hypothesis import given
 from hypothesis import strategies as st
 
 from hri_teleop.modes import (
-    GRADING, HARDWARE_NODES, HOME, LAB, ModeError, duplicate_refusal, mode_from_env, pad_params, simulation_refusal,
+    GRADING,
+    HARDWARE_NODES,
+    HOME,
+    LAB,
+    ModeError,
+    duplicate_refusal,
+    mode_from_env,
+    pad_params,
+    simulation_refusal,
 )
 
 

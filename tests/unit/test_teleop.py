@@ -10,8 +10,17 @@ from hypothesis import assume, given, settings
 from hypothesis import strategies as st
 
 from hri_teleop.gamepad import AXES, BUTTONS, PadState
-from hri_teleop.limits import (DEFAULT_LIMITS, PANDA_LIMITS, ROBOT_PERIOD_S, AxisLimits, CartesianLimits, LimitsError,
-                                check_command_rate, hold_at_robot_rate, limit_violations)
+from hri_teleop.limits import (
+    DEFAULT_LIMITS,
+    PANDA_LIMITS,
+    ROBOT_PERIOD_S,
+    AxisLimits,
+    CartesianLimits,
+    LimitsError,
+    check_command_rate,
+    hold_at_robot_rate,
+    limit_violations,
+)
 from hri_teleop.teleop import (
     DEFAULT_AXIS_ASSIGNMENT,
     GRIPPER_MAX_WIDTH_M,

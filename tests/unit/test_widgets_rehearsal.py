@@ -28,7 +28,7 @@ def test_an_empty_folder_gets_the_offer_and_rehearsing_fills_it(tmp_path):
 
     def fake_rehearse(codes, objects, out, progress):
         calls.append((codes, objects, out))
-        for k, code in enumerate(codes):
+        for code in codes:
             progress(f"{code} done")
             _trial(out, f"{code}_t01")
             _trial(out, f"{code}_t02")
