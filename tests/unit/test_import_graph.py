@@ -1,5 +1,6 @@
 """The toolkit's modules import each other without circles: every import counts, those inside
-functions and under TYPE_CHECKING too (they hide a circle, they do not remove it)."""
+functions and under TYPE_CHECKING too (they hide a circle, they do not remove it). A package's
+``__init__`` that re-exports its modules is not a circle with them."""
 
 from __future__ import annotations
 
@@ -29,7 +30,10 @@ def import_graph() -> Dict[str, Set[str]]:
             if isinstance(node, ast.ImportFrom):
                 base = ".".join(package[:len(package) - node.level + 1] + [node.module or ""]).strip(".") \
                     if node.level else node.module or ""
-                targets = [f"{base}.{alias.name}" for alias in node.names] + [base]
+                # ``from package import module`` imports that module (as import-linter counts it);
+                # ``from module import name`` imports the module
+                targets = [f"{base}.{alias.name}" if f"{base}.{alias.name}" in modules else base
+                           for alias in node.names]
             elif isinstance(node, ast.Import):
                 targets = [alias.name for alias in node.names]
             for target in targets:
