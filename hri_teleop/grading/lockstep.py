@@ -302,10 +302,12 @@ def connections(session: Session, node: str, topic: str, direction: str = "i") -
     import xmlrpc.client
 
     try:
-        code, _msg, uri = xmlrpc.client.ServerProxy(session.master.uri).lookupNode(GRADER_NODE, node)
+        master: Any = xmlrpc.client.ServerProxy(session.master.uri)  # XML-RPC answers are untyped lists
+        code, _msg, uri = master.lookupNode(GRADER_NODE, node)
         if code != 1:
             return 0
-        code, _msg, bus = xmlrpc.client.ServerProxy(uri).getBusInfo(GRADER_NODE)
+        node_api: Any = xmlrpc.client.ServerProxy(uri)
+        code, _msg, bus = node_api.getBusInfo(GRADER_NODE)
     except (OSError, xmlrpc.client.Error):
         return 0
     return sum(1 for c in bus if code == 1 and len(c) > 5 and c[2] == direction and c[4] == topic and c[5])

@@ -369,7 +369,7 @@ class PrivateMaster:
         self.stop()
 
     # -- talking to the master -----------------------------------------------------------
-    def _proxy(self) -> xmlrpc.client.ServerProxy:
+    def _proxy(self) -> Any:  # XML-RPC answers are untyped lists
         return xmlrpc.client.ServerProxy(self.uri)
 
     def is_online(self) -> bool:
@@ -473,7 +473,8 @@ class RunningMaster(PrivateMaster):
         self.env = dict(env)
         self.env.update({"ROS_MASTER_URI": self.uri, "PYTHONUNBUFFERED": "1"})
 
-    def start(self, timeout_s: float = 3.0) -> "RunningMaster":
+    def start(self, timeout_s: float = 3.0, attempts: int = 1) -> "RunningMaster":
+        """Wait for the running master (``attempts``: PrivateMaster's, nothing to retry here)."""
         deadline = time.monotonic() + timeout_s
         while not self.is_online():
             if time.monotonic() >= deadline:
@@ -484,7 +485,8 @@ class RunningMaster(PrivateMaster):
             time.sleep(0.1)
         return self
 
-    def stop(self) -> None:
+    def stop(self, quick: bool = False) -> None:
+        """Stop what was started here; the master is somebody else's (``quick``: as PrivateMaster's)."""
         for child in reversed(self.children):
             child.stop()
         self.children.clear()
