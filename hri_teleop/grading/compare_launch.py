@@ -5,7 +5,7 @@ from __future__ import annotations
 
 import re
 from pathlib import Path
-from typing import Any, Dict, Iterable, List, Optional, Set, Tuple
+from typing import Any, Dict, Iterable, List, Optional, Sequence, Set, Tuple
 
 from hri_teleop.config import DEFAULT_TWIST_TOPIC
 from hri_teleop.grading.compare_common import (
@@ -24,6 +24,26 @@ from hri_teleop.gripper import width_from_joint_positions_m
 from hri_teleop.mapping import ADC_MAX_COUNT
 
 # -- launch files ---------------------------------------------------------------------------
+
+#: Added to a parse error that names franka_control (its launch file lives in franka_ros).
+_FRANKA_CONTROL_HINT = (" (the grader provides franka_control: write "
+                        "$(find franka_control)/launch/franka_control_cartesian_velocity.launch)")
+
+
+def _parse_parts(table: Dict[str, Tuple[str, float]], parsed: Dict[str, Any], parse_facts: Optional[Dict[str, Any]],
+                 later: Sequence[str], exercise: str, franka_hint: str = "") -> Tuple[List[Part], bool]:
+    """A launch file's "parse" part; when roslaunch cannot load it, also the ``later`` parts it leaves
+    unjudged, and True: nothing more to judge."""
+    if not parsed.get("ok"):
+        reason = parsed.get("error") or explain_process(parse_facts or {}, "parsing")
+        if franka_hint and "franka_control" in reason:
+            reason += franka_hint
+        return ([_part(table, "parse", False, f"roslaunch cannot load it: {reason}")]
+                + [_nj(table, k, "the file does not parse") for k in later]), True
+    empty = not parsed.get("nodes") and not parsed.get("params")
+    return [_part(table, "parse", not empty, "it parses but starts no node and sets no parameter: write the launch "
+                  f"file (handout {exercise})" if empty else "")], False
+
 
 def nodes_by_script(parsed: Dict[str, Any]) -> Dict[str, List[Dict[str, Any]]]:
     out: Dict[str, List[Dict[str, Any]]] = {}
@@ -55,13 +75,9 @@ def compare_sensor_launch(parsed: Dict[str, Any], observation: Optional[Dict[str
     from hri_teleop.grading.robot_params import TABLE_1
 
     T = SENSOR_LAUNCH
-    if not parsed.get("ok"):
-        reason = parsed.get("error") or explain_process(parse_facts or {}, "parsing")
-        return [_part(T, "parse", False, f"roslaunch cannot load it: {reason}")] + \
-            [_nj(T, k, "the file does not parse") for k in ("nodes", "param", "yaml", "flow")]
-    empty = not parsed.get("nodes") and not parsed.get("params")
-    parts = [_part(T, "parse", not empty, "it parses but starts no node and sets no parameter: write the launch "
-                   "file (handout Ex. 6)" if empty else "")]
+    parts, final = _parse_parts(T, parsed, parse_facts, ("nodes", "param", "yaml", "flow"), "Ex. 6")
+    if final:
+        return parts
     scripts = nodes_by_script(parsed)
     missing = []
     for script in ("FSR_sensor.py", "mapping_node.py"):
@@ -116,15 +132,10 @@ def compare_teleop_launch(parsed: Dict[str, Any], parse_facts: Optional[Dict[str
     from hri_teleop.grading.workspace import FRANKA_MARKER_PARAM
 
     T = TELEOP_LAUNCH
-    if not parsed.get("ok"):
-        reason = parsed.get("error") or explain_process(parse_facts or {}, "parsing")
-        if "franka_control" in reason:
-            reason += " (the grader provides franka_control: write $(find franka_control)/launch/franka_control_cartesian_velocity.launch)"
-        return [_part(T, "parse", False, f"roslaunch cannot load it: {reason}")] + \
-            [_nj(T, k, "the file does not parse") for k in ("nodes", "serial", "param", "include")]
-    empty = not parsed.get("nodes") and not parsed.get("params")
-    parts = [_part(T, "parse", not empty, "it parses but starts no node and sets no parameter: write the launch "
-                   "file (handout Ex. 12-13)" if empty else "")]
+    parts, final = _parse_parts(T, parsed, parse_facts, ("nodes", "serial", "param", "include"), "Ex. 12-13",
+                                _FRANKA_CONTROL_HINT)
+    if final:
+        return parts
     scripts = nodes_by_script(parsed)
     problems = []
     for script in ("teleoperation.py", "gripper_manager.py", "mapping_node.py"):

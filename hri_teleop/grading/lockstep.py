@@ -9,10 +9,11 @@ Runs inside the grading session (:mod:`hri_teleop.grading.session`).
 
 from __future__ import annotations
 
-import os
 import threading
 import time
 from typing import Any, Callable, Dict, List, Protocol, Sequence, Set, Tuple
+
+from hri_teleop.ros.master import MasterError, busy_threads, process_trees
 
 __all__ = ["GRADER_NODE", "wait_for", "Recorder", "GraderClock", "Quiescence", "wait_until_settled", "last_value",
            "connections", "node_rate_hz"]
@@ -202,25 +203,6 @@ class GraderClock:
         return answered or not proc.running
 
 
-def busy_threads(pids: Sequence[int]) -> int:
-    """Threads of ``pids`` that are running or about to (state R or D in /proc): 0 when all wait."""
-    busy = 0
-    for pid in pids:
-        try:
-            tids = os.listdir(f"/proc/{pid}/task")
-        except OSError:
-            continue  # ended
-        for tid in tids:
-            try:
-                with open(f"/proc/{pid}/task/{tid}/stat", "rb") as fh:
-                    stat = fh.read()
-            except OSError:
-                continue
-            if stat[stat.rfind(b")") + 2:stat.rfind(b")") + 3] in (b"R", b"D"):
-                busy += 1
-    return busy
-
-
 class Quiescence:
     """Waits, after a tick, until every process under grading waits for something (no thread runnable).
 
@@ -245,9 +227,7 @@ class Quiescence:
 
     def refresh(self) -> None:
         """The roots and everything below them now (roslaunch starts its nodes as children)."""
-        from hri_teleop.ros.master import descendants
-
-        self.pids = [p for root in self.roots for p in [root, *descendants(root)]]
+        self.pids = process_trees(self.roots)
 
     def _quiet(self) -> bool:
         if busy_threads(self.pids):
@@ -315,8 +295,6 @@ def connections(session: Session, node: str, topic: str, direction: str = "i") -
 
 def node_rate_hz(session: Session, node: str, default_hz: float, param: str = "rate") -> float:
     """The loop rate a node was given (its private ``param``), else the lab's default."""
-    from hri_teleop.ros.master import MasterError
-
     try:
         value = float(session.master.get_param(f"{node}/{param}"))  # type: ignore[arg-type]
     except (MasterError, TypeError, ValueError):

@@ -78,13 +78,22 @@ def _remove_files(spare: _Spare) -> None:
             pass
 
 
-def stop_spare() -> None:
-    """Stop the spare nobody took (at exit, or when it does not fit), its process group and its files."""
+def _pop_spare() -> Optional[_Spare]:
     global _spare
     with _lock:
         spare, _spare = _spare, None
-    if spare is None:
-        return
+    return spare
+
+
+def stop_spare() -> None:
+    """Stop the spare nobody took (at exit), its process group and its files."""
+    spare = _pop_spare()
+    if spare is not None:
+        _stop(spare)
+
+
+def _stop(spare: _Spare) -> None:
+    """Kill a spare (it has run no code: nothing to shut down cleanly) and remove its files."""
     try:
         os.killpg(spare.process.pid, signal.SIGKILL)  # Jupyter starts kernels in a session of their own
     except OSError:
@@ -104,7 +113,10 @@ def _see_out(process: "subprocess.Popen[bytes]", pgid: Optional[int], wait_s: fl
     for signum in (None, signal.SIGTERM, signal.SIGKILL):
         if signum is not None:
             try:
-                os.killpg(pgid, signum) if pgid else process.send_signal(signum)
+                if pgid:
+                    os.killpg(pgid, signum)
+                else:
+                    process.send_signal(signum)
             except OSError:
                 pass
         try:
@@ -125,16 +137,13 @@ atexit.register(stop_spare)  # atexit runs last-registered first: the spare goes
 
 
 def _take(template: List[Optional[str]], popen_kwargs: Dict[str, Any]) -> Optional[_Spare]:
-    global _spare
-    with _lock:
-        spare, _spare = _spare, None
+    """The spare if it is what this launch asks for; one that is not (or died) is stopped."""
+    spare = _pop_spare()
     if spare is None:
         return None
     if spare.template == template and spare.popen_kwargs == popen_kwargs and spare.process.poll() is None:
         return spare
-    with _lock:
-        _spare = spare
-    stop_spare()
+    _stop(spare)
     return None
 
 

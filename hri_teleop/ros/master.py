@@ -237,38 +237,63 @@ class ManagedProcess:
             return None
 
 
+def _stat(path: str) -> Optional[Tuple[int, bytes]]:
+    """(parent pid, state letter) from a /proc ``stat`` file (a process's or a thread's); None once it ended."""
+    try:
+        with open(path, "rb") as fh:
+            stat = fh.read()
+        fields = stat[stat.rindex(b")") + 2:].split()  # after "pid (comm) "; comm may hold spaces
+        return int(fields[1]), fields[0]
+    except (OSError, ValueError, IndexError):
+        return None
+
+
 def _proc_table() -> Dict[int, Tuple[int, bytes]]:
     """pid -> (parent pid, state) of every process, from /proc."""
-    table: Dict[int, Tuple[int, bytes]] = {}
     try:
         entries = os.listdir("/proc")
     except OSError:
-        return table
+        return {}
+    table: Dict[int, Tuple[int, bytes]] = {}
     for entry in entries:
-        if not entry.isdigit():
-            continue
-        try:
-            with open(f"/proc/{entry}/stat", "rb") as fh:
-                stat = fh.read()
-            fields = stat[stat.rindex(b")") + 2:].split()
-            table[int(entry)] = (int(fields[1]), fields[0])
-        except (OSError, ValueError, IndexError):
-            continue
+        found = _stat(f"/proc/{entry}/stat") if entry.isdigit() else None
+        if found is not None:
+            table[int(entry)] = found
     return table
 
 
-def descendants(root: int) -> List[int]:
-    """Every live (not zombie) process below ``root`` now (Linux /proc)."""
+def process_trees(roots: Sequence[int]) -> List[int]:
+    """``roots`` and every live (not zombie) process below them now: one walk of /proc for all."""
     table = _proc_table()
     children: Dict[int, List[int]] = {}
     for pid, (ppid, _state) in table.items():
         children.setdefault(ppid, []).append(pid)
-    found, todo = [], list(children.get(root, []))
+    found, todo = [], list(roots)
     while todo:
         pid = todo.pop()
         found.append(pid)
         todo.extend(children.get(pid, []))
     return [pid for pid in found if table.get(pid, (0, b"Z"))[1] not in (b"Z", b"X")]
+
+
+def descendants(root: int) -> List[int]:
+    """Every live (not zombie) process below ``root`` now (Linux /proc)."""
+    return [pid for pid in process_trees([root]) if pid != root]
+
+
+def busy_threads(pids: Sequence[int]) -> int:
+    """Threads of ``pids`` that are running or about to (state R or D): 0 when every one waits."""
+    busy = 0
+    for pid in pids:
+        try:
+            tids = os.listdir(f"/proc/{pid}/task")
+        except OSError:
+            continue  # ended
+        for tid in tids:
+            found = _stat(f"/proc/{pid}/task/{tid}/stat")
+            if found is not None and found[1] in (b"R", b"D"):
+                busy += 1
+    return busy
 
 
 def _group_alive(pgid: int) -> bool:
