@@ -32,7 +32,7 @@ test: setup
 # BENCH=latency,timing,... picks some (default: all); results in out/bench/results.{md,json}.
 # Not part of `make test`, which runs each benchmark in its smoke size (tests/bench/).
 bench: setup
-	@$(ENV) $(PY) -m hri_teleop.bench $(subst $(comma), ,$(BENCH)) --out out/bench $(if $(JOBS),--jobs $(JOBS))
+	@$(ENV) $(PY) -m benchmarks $(subst $(comma), ,$(BENCH)) --out out/bench $(if $(JOBS),--jobs $(JOBS))
 
 lint: setup
 	@$(ENV) catkin_lint --offline -W2 --strict hri_lab
@@ -78,4 +78,4 @@ release: setup
 # no extension build (ipywidgets 8, ipympl). LAB_ARGS=... go to jupyter lab, e.g. --no-browser.
 .PHONY: lab
 lab: setup
-	@$(ENV) $(PY) -m hri_teleop.labkernel $(LAB_ARGS)
+	@$(ENV) $(PY) -m hri_teleop.course.labkernel $(LAB_ARGS)

@@ -2,7 +2,7 @@
 # The "hri-teleop" Jupyter kernel that `make lab` registers: the lab's shell (tools/env.sh: ROS,
 # .venv first on PATH, hri_lab on ROS_PACKAGE_PATH), then .venv's Python with Jupyter's arguments
 # (kernel.json passes: -m ipykernel_launcher -f <connection file>). exec: Jupyter's interrupt and
-# shutdown signals reach the kernel itself, and its exit runs hri_teleop.notebook_ros's cleanup.
+# shutdown signals reach the kernel itself, and its exit runs hri_teleop.course.notebook_ros's cleanup.
 here="$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)"
 . "$here/tools/env.sh"
 export PYGAME_HIDE_SUPPORT_PROMPT=1

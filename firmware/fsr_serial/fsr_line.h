@@ -2,7 +2,7 @@
 //
 // Kept out of the sketch so that the host compiles it too (firmware/test/print_lines.cpp):
 // the test suite checks every line this code makes against the Python parser,
-// hri_teleop/serial_protocol.py, which documents the protocol in full.
+// hri_teleop/core/serial_protocol.py, which documents the protocol in full.
 //
 //   seq    decimal 0..65535, +1 per sample, wraps; 0 again after every start of the board
 //   count  decimal 0..1023, analogRead(A0)

@@ -8,7 +8,7 @@
 //   "F <seq> <count> <crc>\n"                         then every 10 ms, e.g. "F 1234 517 3C\n"
 //
 // seq (0..65535, +1 per line, wraps) lets the host count lost lines, crc (CRC-8, two hex
-// digits) lets it spot corrupt ones; fsr_line.h and hri_teleop/serial_protocol.py document
+// digits) lets it spot corrupt ones; fsr_line.h and hri_teleop/core/serial_protocol.py document
 // the protocol. On the host: `roslaunch hri_lab teleoperation.launch board:=serial`
 // (hri_lab/scripts/serial_bridge.py publishes /pub_force), or without ROS
 // `python -m hri_teleop.calibrate --port /dev/ttyACM0` (Ex. 11). The Serial Monitor of

@@ -15,8 +15,8 @@
  * --profile FILE  the A0 voltage: lines "<t_us> <microvolts>", t ascending, '#' comments.
  *                 Each value holds from its time on (zero-order hold); before the first line
  *                 A0 reads 0 V. Time is the board's own, counted while it is powered.
- *                 hri_teleop/simavr_board.py writes these files from a force profile and
- *                 the FSR model (hri_teleop/fsr.py).
+ *                 hri_teleop/hardware/sim/simavr_board.py writes these files from a force profile and
+ *                 the FSR model (hri_teleop/core/fsr.py).
  * --repeat-us N   the profile repeats every N microseconds.
  * --speed S       simulated seconds per wall-clock second (default 1: real time, so the
  *                 sample rate seen by the host is the firmware's own).
@@ -33,7 +33,7 @@
  * USB-serial chip drops them; fsr_serial's sequence numbers show the gap.
  *
  * ADC: the ATmega328P converts as count = floor(Vin * 1024 / Vref), Vref = AVCC = 5 V here
- * (hri_teleop.fsr.voltage_to_count does the same). simavr 1.6 instead takes the input in
+ * (hri_teleop.core.fsr.voltage_to_count does the same). simavr 1.6 instead takes the input in
  * whole millivolts and computes floor(mV * 1023 / Vref_mV). So this program converts each
  * profile voltage to its count itself, exactly, and hands simavr count * 50 with AVCC set to
  * 51150 (= 50 * 1023): simavr's arithmetic then returns that count unchanged. (AVCC is used

@@ -1,6 +1,6 @@
 // Prints the line fsr_line.h makes for each "<seq> <count>" pair read from stdin, one per
 // line, so that tests/unit/test_firmware_host.py can parse them with the Python parser
-// (hri_teleop/serial_protocol.py): the two sides of the protocol checked against each other.
+// (hri_teleop/core/serial_protocol.py): the two sides of the protocol checked against each other.
 #include <stdio.h>
 
 #include "fsr_line.h"

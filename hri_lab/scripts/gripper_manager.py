@@ -3,7 +3,7 @@
 
 teleoperation.py publishes the target opening every tick (50 Hz); while cross or circle is
 held the target creeps by k_gripper / rate per tick. Sending each of those as a goal would
-flood the Franka Hand, so hri_teleop.gripper.GoalThrottle decides which targets become
+flood the Franka Hand, so hri_teleop.core.gripper.GoalThrottle decides which targets become
 goals: a new goal only when the target moved by ``~min_step_m``, or when a smaller change
 has settled for ``~settle_s`` (so the final width is reached), and never more often than
 ``~max_goal_rate_hz``. A new goal replaces the one before: if the previous goal is still
@@ -36,9 +36,9 @@ from actionlib import CommState
 from actionlib_msgs.msg import GoalStatus
 from std_msgs.msg import Float32
 
-from hri_teleop.gripper import GoalThrottle, usable_width_m
-from hri_teleop.ros.franka_gripper_msgs import MoveAction, MoveGoal
+from hri_teleop.core.gripper import GoalThrottle, usable_width_m
 from hri_teleop.ros.clock import NodeClock
+from hri_teleop.ros.franka_gripper_msgs import MoveAction, MoveGoal
 from hri_teleop.ros.params import fail, get_param, run_node
 
 #: How often the action server's presence is checked (each check blocks at most 50 ms).

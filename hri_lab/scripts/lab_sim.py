@@ -1,7 +1,7 @@
 #!/usr/bin/env python3
 """The lab's hardware, simulated (issue 3): Franka arm and hand, an object, the FSR board.
 
-One node, one job: it owns a hri_teleop.sim.world.LabWorld (the physics: a 1 kHz Franka
+One node, one job: it owns a hri_teleop.hardware.sim.world.LabWorld (the physics: a 1 kHz Franka
 arm that judges every command like the robot, the Franka Hand with franka_gripper's goal
 semantics, the object, the handout's piston attachment and the sensor board) and runs it
 in real time, speaking exactly the real hardware's interfaces. teleoperation.py,
@@ -34,7 +34,7 @@ Parameters (private):
   ~loop_period_s    float  0.002  how often the main loop wakes, s (the physics runs at 1 kHz
                                   whatever this is; it bounds the latency of goal results
                                   and board samples)
-  sim.yaml keys, overriding ~config and ~scenario for one run (hri_teleop.sim.config):
+  sim.yaml keys, overriding ~config and ~scenario for one run (hri_teleop.hardware.sim.config):
   ~object           str|dict      block | heavy_block | sponge | egg | none | {GraspObject fields}
   ~object_xy_m, ~table_z_m, ~capture_radius_m, ~arm, ~hand, ~attachment  as in sim.yaml
   ~board_rate_hz    float  100.0  board.rate_hz, samples/s (3.333 = the handout's 300 ms sketch)
@@ -92,18 +92,37 @@ from sensor_msgs.msg import JointState
 from std_msgs.msg import Float32, Float64, Header, Int16, UInt32
 from std_srvs.srv import Trigger, TriggerResponse
 
-from hri_teleop.config import DEFAULT_TWIST_TOPIC
+from hri_teleop.core.config import DEFAULT_TWIST_TOPIC
+from hri_teleop.hardware.sim.arm import (
+    ACCELERATION_DISCONTINUITY,
+    EVENT_RECOVERED,
+    EVENT_REFLEX,
+    NON_FINITE_COMMAND,
+    STATE_REFLEX,
+    STATE_TIMEOUT,
+    VELOCITY_DISCONTINUITY,
+    VELOCITY_LIMITS_VIOLATION,
+)
+from hri_teleop.hardware.sim.config import (
+    default_sim_yaml,
+    describe,
+    load_world_config,
+    world_overrides_from_params,
+)
+from hri_teleop.hardware.sim.hand import (
+    Command,
+    GoalRecord,
+    GoalStatus,
+    GraspCommand,
+    HandSimError,
+    HomingCommand,
+    MoveCommand,
+    StopCommand,
+)
+from hri_teleop.hardware.sim.world import LabWorld, ObjectStatus
 from hri_teleop.ros import franka_gripper_msgs as fg
 from hri_teleop.ros.clock import ClockError, NodeClock
 from hri_teleop.ros.params import fail, get_param, package_file, private_params, run_node
-from hri_teleop.sim.arm import (ACCELERATION_DISCONTINUITY, EVENT_RECOVERED, EVENT_REFLEX,
-                                NON_FINITE_COMMAND, STATE_REFLEX, STATE_TIMEOUT,
-                                VELOCITY_DISCONTINUITY, VELOCITY_LIMITS_VIOLATION)
-from hri_teleop.sim.config import (default_sim_yaml, describe, load_world_config,
-                                   world_overrides_from_params)
-from hri_teleop.sim.hand import (Command, GoalRecord, GoalStatus, GraspCommand, HandSimError,
-                                 HomingCommand, MoveCommand, StopCommand)
-from hri_teleop.sim.world import LabWorld, ObjectStatus
 
 #: Private parameters of the node itself; every other private parameter is a sim.yaml override.
 NODE_KEYS = ("config", "scenario", "twist_topic", "gripper_ns", "board", "frame_id", "gripper_rate_hz",

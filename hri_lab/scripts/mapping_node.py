@@ -3,7 +3,7 @@
 
 The range is 0../max_sensor_force (the count with the piston pressed level with the
 housing, Ex. 11), read from the parameter server and checked by
-hri_teleop.mapping.validate_max_sensor_force: a missing, zero, negative, too large or
+hri_teleop.core.mapping.validate_max_sensor_force: a missing, zero, negative, too large or
 non-numeric value at start ends the node with one line naming the parameter and the fix
 (exit status 1).
 
@@ -29,7 +29,7 @@ import threading
 import rospy
 from std_msgs.msg import Float32, Int16
 
-from hri_teleop.mapping import MappingError, map_force, validate_max_sensor_force
+from hri_teleop.core.mapping import MappingError, map_force, validate_max_sensor_force
 from hri_teleop.ros.params import fail, get_param, run_node
 
 PARAM = "/max_sensor_force"

@@ -5,7 +5,7 @@ The plain-serial sketch (``firmware/fsr_serial``) sends one checked text line pe
 100 Hz instead of rosserial's frames. This node reads them with pyserial and publishes each
 valid count as std_msgs/Int16 on /pub_force, the same topic and type as the rosserial
 sketch, so mapping_node and teleoperation cannot tell the two boards apart. The protocol
-and its checks are in hri_teleop.serial_protocol; this script only moves bytes.
+and its checks are in hri_teleop.core.serial_protocol; this script only moves bytes.
 
 * Corrupt lines (bad checksum, garbled, too long) are counted and skipped; lost lines are
   counted from the sequence numbers. Both are reported at most every ``~log_every_s``.
@@ -36,8 +36,7 @@ import rospy
 import serial
 from std_msgs.msg import Int16
 
-from hri_teleop.ros.params import fail, get_param, run_node
-from hri_teleop.serial_protocol import (
+from hri_teleop.core.serial_protocol import (
     BAUD,
     BoardInfo,
     BoardStream,
@@ -45,6 +44,7 @@ from hri_teleop.serial_protocol import (
     SerialProtocolError,
     open_error_message,
 )
+from hri_teleop.ros.params import fail, get_param, run_node
 
 PORT_HINT = "port:=... (roslaunch) or _port:=... (rosrun)"
 

@@ -2,7 +2,7 @@
 """Teleoperation node (handout Ex. 8-10, 12-14): gamepad -> Cartesian twist, gripper width, rumble.
 
 Every rule (dead zone, gains, mode toggle, gripper steps, quit, velocity/acceleration/jerk
-limits, stale-force rumble cut-off) lives in hri_teleop.teleop.TeleopController. This
+limits, stale-force rumble cut-off) lives in hri_teleop.core.teleop.TeleopController. This
 script reads the parameters, opens the pad, and once per tick (``~rate``, 50 Hz) polls the
 pad, steps the controller and publishes what it returns.
 
@@ -10,7 +10,7 @@ Parameters (private). The settings come from the YAML file ``~config``
 (hri_lab/config/teleop.yaml by default), and any private parameter with the same key
 overrides the file (the launch arguments pad, layout and twist_topic do that, and so does
 e.g. ``rosrun hri_lab teleoperation.py _k_trans:=0.05``). File and overrides are checked by
-hri_teleop.config.teleop_config_from_dict, which names a wrong key, type or YAML line and
+hri_teleop.core.config.teleop_config_from_dict, which names a wrong key, type or YAML line and
 the fix. Keys (see teleop.yaml for units and defaults):
   ~config        str   path of the teleop YAML ("" = hri_lab/config/teleop.yaml)
   ~rate, ~k_trans, ~k_rot, ~k_gripper, ~deadzone, ~width_min, ~width_max, ~initial_width,
@@ -75,13 +75,20 @@ from geometry_msgs.msg import Twist
 from sensor_msgs.msg import Joy
 from std_msgs.msg import Float32
 
-from hri_teleop.config import load_teleop_config
-from hri_teleop.gamepad import (RUMBLE_LOG_HEADER, GamepadError, PadState, RumbleRecord, RumbleRequests, ScriptedPad,
-                                VirtualPad, open_gamepad, rumble_log_line)
-from hri_teleop.limits import Watchdog
+from hri_teleop.core.config import load_teleop_config
+from hri_teleop.core.gamepad import GamepadError, PadState, RumbleRequests
+from hri_teleop.core.limits import Watchdog
+from hri_teleop.core.teleop import TeleopCommand, TeleopController, next_tick_s
+from hri_teleop.hardware.gamepad import open_gamepad
+from hri_teleop.hardware.sim.virtual_pad import (
+    RUMBLE_LOG_HEADER,
+    RumbleRecord,
+    ScriptedPad,
+    VirtualPad,
+    rumble_log_line,
+)
 from hri_teleop.ros.clock import ClockError, NodeClock
 from hri_teleop.ros.params import fail, get_param, package_file, private_params, run_node
-from hri_teleop.teleop import TeleopCommand, TeleopController, next_tick_s
 
 #: Private parameters of this node that are not part of the teleop configuration.
 NODE_ONLY_KEYS = ("config", "pad_script", "pad_index", "stop_timeout_s", "script_wait_s", "rumble_log")

@@ -14,22 +14,22 @@ Nothing here is imported by the lab's nodes; rospy is only needed by the parts t
 
 from __future__ import annotations
 
-from hri_teleop.grading.checks import (
-                                       CHECKS,
-                                       check_graph,
-                                       check_mapping_node,
-                                       check_robot_params,
-                                       check_sensor_launch,
-                                       check_teleoperation,
-                                       check_teleoperation_launch,
-                                       grade,
-                                       grade_graph,
-                                       grade_mapping_node,
-                                       grade_robot_params,
-                                       grade_sensor_launch,
-                                       grade_submission,
-                                       grade_teleoperation,
-                                       grade_teleoperation_launch,
+from hri_teleop.grading.judge.checks import (
+    CHECKS,
+    check_graph,
+    check_mapping_node,
+    check_robot_params,
+    check_sensor_launch,
+    check_teleoperation,
+    check_teleoperation_launch,
+    grade,
+    grade_graph,
+    grade_mapping_node,
+    grade_robot_params,
+    grade_sensor_launch,
+    grade_submission,
+    grade_teleoperation,
+    grade_teleoperation_launch,
 )
 from hri_teleop.grading.results import CheckResult, GradingError, Part, feedback_text, gradescope_json
 

@@ -24,7 +24,7 @@ import tempfile
 from pathlib import Path
 from typing import List, Optional, Sequence
 
-from hri_teleop.paths import REPO as _REPO
+from hri_teleop.core.paths import REPO as _REPO
 
 __all__ = ["main", "EXIT_PASSED", "EXIT_FAILED", "EXIT_GRADER_ERROR"]
 
@@ -32,7 +32,7 @@ EXIT_PASSED, EXIT_FAILED, EXIT_GRADER_ERROR = 0, 1, 2
 
 
 def _parser() -> argparse.ArgumentParser:
-    from hri_teleop.grading.checks import CHECKS
+    from hri_teleop.grading.judge.checks import CHECKS
 
     parser = argparse.ArgumentParser(prog="hri-grade", description="Autograder of the HRI lab's Task 4 (teleoperation).",
                                      formatter_class=argparse.RawDescriptionHelpFormatter, epilog=__doc__)
@@ -87,28 +87,28 @@ def main(argv: Optional[List[str]] = None) -> int:
     if not args.command:
         _parser().print_help()
         return EXIT_GRADER_ERROR
-    from hri_teleop.grading.batch import BatchError
+    from hri_teleop.grading.batch.folders import BatchError
+    from hri_teleop.grading.cases.templates import TemplateError
     from hri_teleop.grading.results import GradingError
-    from hri_teleop.grading.sandbox import SandboxError
-    from hri_teleop.grading.templates import TemplateError
-    from hri_teleop.grading.workspace import WorkspaceError
+    from hri_teleop.grading.run.sandbox import SandboxError
+    from hri_teleop.grading.run.workspace import WorkspaceError
 
     try:
         if args.command == "traces":
-            from hri_teleop.grading.tracefiles import TRACE_DIR, write_traces
+            from hri_teleop.grading.cases.tracefiles import TRACE_DIR, write_traces
 
             for path in write_traces(Path(args.out) if args.out else TRACE_DIR):
                 print(path)
             return EXIT_PASSED
         if args.command == "templates":
-            from hri_teleop.grading.templates import generate_templates
+            from hri_teleop.grading.cases.templates import generate_templates
 
             for item in generate_templates(args.solutions, args.out):
                 print(f"{item.target}  ({item.regions} region(s) removed)")
             return EXIT_PASSED
         if args.command == "batch":
-            from hri_teleop.grading.batch import course_layout, grade_all
-            from hri_teleop.grading.checks import CHECKS
+            from hri_teleop.grading.batch.folders import course_layout, grade_all
+            from hri_teleop.grading.judge.checks import CHECKS
 
             checks = [c.strip() for c in args.checks.split(",") if c.strip()] or None
             unknown = [c for c in checks or () if c not in CHECKS]
@@ -119,13 +119,13 @@ def main(argv: Optional[List[str]] = None) -> int:
             folder = Path(args.path)
             layout = course_layout(folder) if folder.is_dir() else None
             if layout is not None:  # an nbgrader course: nbgrader's autograde beside the files' checks
-                from hri_teleop.grading.nbgrader_batch import grade_course
+                from hri_teleop.grading.batch.nbgrader_batch import grade_course
 
                 return grade_course(layout[0], layout[1], Path(args.out), jobs=args.jobs, checks=checks,
                                     timeout_s=args.timeout)
             return grade_all(folder, Path(args.out), jobs=args.jobs, checks=checks, timeout_s=args.timeout)
-        from hri_teleop.grading.checks import CHECKS, grade, grade_submission
-        from hri_teleop.grading.sandbox import sandbox_mode
+        from hri_teleop.grading.judge.checks import CHECKS, grade, grade_submission
+        from hri_teleop.grading.run.sandbox import sandbox_mode
 
         if args.json:  # stdout is the results' JSON: the sandbox note, if any, goes beside it
             sandbox_mode(stream=sys.stderr)

@@ -16,7 +16,7 @@ from __future__ import annotations
 from dataclasses import dataclass, field
 from typing import Any, Dict, List, Optional, Sequence, Tuple
 
-from hri_teleop.errors import HriTeleopError
+from hri_teleop.core.errors import HriTeleopError
 
 __all__ = ["GradingError", "Part", "CheckResult", "gradescope_json", "feedback_text", "not_judged"]
 

@@ -9,7 +9,7 @@ from __future__ import annotations
 from pathlib import Path
 from typing import Any, Dict, Iterable, List, Sequence, Tuple
 
-from hri_teleop.errors import HriTeleopError
+from hri_teleop.core.errors import HriTeleopError
 
 
 class BagError(HriTeleopError, RuntimeError):

@@ -15,7 +15,7 @@ from typing import Optional
 
 import rospy
 
-from hri_teleop.errors import HriTeleopError
+from hri_teleop.core.errors import HriTeleopError
 
 __all__ = ["ClockError", "NodeClock", "uses_sim_time"]
 

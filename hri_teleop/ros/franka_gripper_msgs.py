@@ -21,7 +21,7 @@ from __future__ import annotations
 
 from typing import Dict, List, Tuple, Type
 
-from hri_teleop.errors import HriTeleopError
+from hri_teleop.core.errors import HriTeleopError
 
 PACKAGE = "franka_gripper"
 

@@ -25,8 +25,8 @@ import xmlrpc.client
 from pathlib import Path
 from typing import Any, Callable, Dict, List, Mapping, Optional, Sequence, Set, Tuple
 
-from hri_teleop.errors import HriTeleopError
-from hri_teleop.paths import REPO
+from hri_teleop.core.errors import HriTeleopError
+from hri_teleop.core.paths import REPO
 
 
 class MasterError(HriTeleopError, RuntimeError):

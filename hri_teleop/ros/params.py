@@ -21,8 +21,8 @@ import sys
 from pathlib import Path
 from typing import Any, Callable, Dict, Iterable, NoReturn, Optional, Tuple, Union
 
-from hri_teleop.checks import is_finite_number, is_int
-from hri_teleop.errors import HriTeleopError
+from hri_teleop.core.checks import is_finite_number, is_int
+from hri_teleop.core.errors import HriTeleopError
 
 _MISSING = object()
 

@@ -18,12 +18,12 @@ from typing import Callable, Dict, List, Mapping, Optional, Tuple
 
 import numpy as np
 
-from hri_teleop.config import lab_max_sensor_force
-from hri_teleop.mapping import map_force
-from hri_teleop.plots import sensor_timeline
+from hri_teleop.core.config import lab_max_sensor_force
+from hri_teleop.core.mapping import map_force
+from hri_teleop.core.traces import pair_outputs, percentile_ms, rate_hz
+from hri_teleop.plots.common import sensor_timeline
 from hri_teleop.ros.bags import read_topics
 from hri_teleop.ros.master import MasterError, PrivateMaster, run_reporting
-from hri_teleop.traces import pair_outputs, percentile_ms, rate_hz
 
 
 @dataclass(frozen=True)

@@ -22,12 +22,12 @@ import time
 from pathlib import Path
 from typing import Any, Callable, Dict, List, Mapping, Optional
 
-from hri_teleop.config import DEFAULT_TWIST_TOPIC
-from hri_teleop.gripper import width_from_joint_positions_m
-from hri_teleop.plots import lab_timeline
+from hri_teleop.core.config import DEFAULT_TWIST_TOPIC
+from hri_teleop.core.gripper import width_from_joint_positions_m
+from hri_teleop.core.run_record import LabRecord, format_summary, summarize
+from hri_teleop.plots.common import lab_timeline
 from hri_teleop.ros.bags import read_topics
 from hri_teleop.ros.master import MasterError, PrivateMaster, run_reporting
-from hri_teleop.sim.report import LabRecord, format_summary, summarize
 
 #: What the demo records: the lab's topics (the twist as commanded, and as the simulated
 #: arm moved, /lab_sim/ee_twist) and the simulation's view of the object and the judge.

@@ -6,7 +6,7 @@ trials apart.  ``record`` starts ``rosbag record`` of the topics that matter and
 ``roslaunch hri_lab teleoperation.launch feedback:=true|false`` (the condition: off, the
 pad never rumbles), waits until the participant quits (square ends the launch), stops
 what it started, and writes ``<folder>/<P>_t<NN>.bag`` plus the sidecar
-``<P>_t<NN>.yaml`` (:mod:`hri_teleop.experiment.sidecar`; the metadata is also inside the
+``<P>_t<NN>.yaml`` (:mod:`hri_teleop.core.experiment.sidecar`; the metadata is also inside the
 bag, on ``/trial/metadata``).  It then checks on the master that the teleoperation node
 really ran with the condition's ``feedback`` and stores that, and ``/max_sensor_force``
 (the calibration the analysis converts counts to newtons with), in the sidecar.
@@ -51,8 +51,8 @@ from typing import Any, Callable, Dict, List, Mapping, Optional, Sequence, Tuple
 
 import yaml
 
-from hri_teleop.checks import is_calibration_count
-from hri_teleop.experiment.analysis import (
+from hri_teleop.core.checks import is_calibration_count
+from hri_teleop.core.experiment.analysis import (
     CSV_NAME,
     FIGURE_NAME,
     LoadedTrial,
@@ -61,9 +61,9 @@ from hri_teleop.experiment.analysis import (
     default_trials_folder,
     measure_trial,
 )
-from hri_teleop.experiment.metrics import CONDITIONS, MetricsError, TrialMeta
-from hri_teleop.experiment.plan import counterbalanced_plan, trial_seed, write_plan
-from hri_teleop.experiment.sidecar import (
+from hri_teleop.core.experiment.metrics import CONDITIONS, MetricsError, TrialMeta
+from hri_teleop.core.experiment.plan import counterbalanced_plan, trial_seed, write_plan
+from hri_teleop.core.experiment.sidecar import (
     META_KEYS,
     meta_from_sidecar,
     read_sidecar,
@@ -71,11 +71,11 @@ from hri_teleop.experiment.sidecar import (
     update_sidecar,
     write_sidecar,
 )
-from hri_teleop.experiment.tlx import SUBSCALES, TlxRatings, optional_tlx, store_tlx
+from hri_teleop.core.experiment.tlx import SUBSCALES, TlxRatings, optional_tlx, store_tlx
+from hri_teleop.core.run_record import LabRecord
 from hri_teleop.ros.bags import BagError
 from hri_teleop.ros.master import MasterError, PrivateMaster, RunningMaster, run_reporting
 from hri_teleop.ros.teleop_demo import DEFAULT_TIMEOUT_S, record_from_bag, record_teleop_launch
-from hri_teleop.sim.report import LabRecord
 
 __all__ = ["METADATA_TOPIC", "PADS", "trial_stem", "trial_seed", "record_trial", "load_trial", "load_trials", "analyse_folder",
            "lab_master",
@@ -313,15 +313,15 @@ def rehearse(participants: Sequence[str], objects: Sequence[str], out: Union[str
              ask: Callable[[str], str] = input, analyse: bool = True):
     """Record a whole counterbalanced session in the simulated lab, then analyse it (see the module doc).
 
-    ``pad`` ``script``: simulated study participants (:func:`hri_teleop.sim.operators.study_scenario`,
+    ``pad`` ``script``: simulated study participants (:func:`hri_teleop.hardware.sim.operators.study_scenario`,
     seed :func:`trial_seed`, ``quick``: short trials); ``pygame``: you at a real pad, asked
     to press Enter before each trial.  One private roscore serves the whole session
     unless ``master`` is given.  ``resume`` skips the plan's trials already in ``out``.
-    Returns the :class:`~hri_teleop.experiment.analysis.StudyResult` (None with
+    Returns the :class:`~hri_teleop.core.experiment.analysis.StudyResult` (None with
     ``analyse`` False).
     """
-    from hri_teleop.sim.hand import OBJECTS
-    from hri_teleop.sim.operators import study_scenario
+    from hri_teleop.hardware.sim.hand import OBJECTS
+    from hri_teleop.hardware.sim.operators import study_scenario
 
     if pad not in PADS:
         raise MetricsError(f"pad {pad!r} is unknown; use one of {', '.join(PADS)}")

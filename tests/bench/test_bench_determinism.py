@@ -5,8 +5,8 @@ from __future__ import annotations
 
 import pytest
 
-from hri_teleop.bench.determinism import WRONG_PACKAGES, package_variants, part_scores, run
-from hri_teleop.bench.report import BenchOptions
+from benchmarks.determinism import WRONG_PACKAGES, package_variants, part_scores, run
+from benchmarks.report import BenchOptions
 
 
 def test_each_wrong_package_differs_from_the_answer_key_in_its_one_file(tmp_path):

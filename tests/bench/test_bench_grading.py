@@ -1,6 +1,6 @@
 """Benchmark 4 (grading throughput) in smoke sizes: it runs, its rows add up, and what it timed was real grading.
 
-Smoke sizes (hri_teleop.bench.grading): one ``hri-grade submission --checks robot-params``
+Smoke sizes (benchmarks.grading): one ``hri-grade submission --checks robot-params``
 on the answer key, and an nbgrader course of Ex. 1 with two submissions (the
 answer key and the untouched release) graded three times: nbgrader's autograde one after
 another, ``hri-grade batch --jobs 1`` and ``--jobs 2``.
@@ -14,7 +14,7 @@ import math
 
 import pytest
 
-from hri_teleop.bench.grading import (
+from benchmarks.grading import (
     ASSIGNMENT,
     SMOKE_NOTEBOOKS,
     SUBMISSIONS_ENV,
@@ -25,7 +25,7 @@ from hri_teleop.bench.grading import (
     student_plan,
     submission_count,
 )
-from hri_teleop.bench.report import BenchError, BenchOptions, format_row
+from benchmarks.report import BenchError, BenchOptions, format_row
 
 pytestmark = pytest.mark.ros
 

@@ -13,8 +13,8 @@ import sys
 
 import pytest
 
-from hri_teleop.bench import latency, sim_speed, timing
-from hri_teleop.bench.report import BenchOptions, BenchRow
+from benchmarks import latency, sim_speed, timing
+from benchmarks.report import BenchOptions, BenchRow
 
 pytestmark = pytest.mark.ros
 
@@ -67,7 +67,7 @@ def test_simulation_runs_faster_than_real_time(tmp_path):
 
 
 def test_make_bench_prints_the_table_and_writes_results(tmp_path):
-    proc = subprocess.run([sys.executable, "-m", "hri_teleop.bench", "sim", "--smoke", "--out", str(tmp_path)],
+    proc = subprocess.run([sys.executable, "-m", "benchmarks", "sim", "--smoke", "--out", str(tmp_path)],
                           capture_output=True, text=True, timeout=120)
     assert proc.returncode == 0, proc.stderr
     lines = proc.stdout.splitlines()
@@ -78,7 +78,7 @@ def test_make_bench_prints_the_table_and_writes_results(tmp_path):
 
 
 def test_an_unknown_benchmark_is_one_line_naming_the_choices(tmp_path):
-    proc = subprocess.run([sys.executable, "-m", "hri_teleop.bench", "latncy", "--out", str(tmp_path)],
+    proc = subprocess.run([sys.executable, "-m", "benchmarks", "latncy", "--out", str(tmp_path)],
                           capture_output=True, text=True, timeout=60)
     assert proc.returncode == 2
     assert proc.stderr.strip().count("\n") == 0

@@ -14,8 +14,8 @@ from pathlib import Path
 
 import pytest
 
-from hri_teleop.bench import notebooks as bench
-from hri_teleop.bench.report import BenchError, BenchOptions, format_row
+from benchmarks import notebooks as bench
+from benchmarks.report import BenchError, BenchOptions, format_row
 
 
 def _positive(value: float) -> bool:

@@ -35,7 +35,7 @@ def hri_grade(*args: str, timeout: float = 300, env: Optional[Dict[str, str]] = 
 
 def answer_text(relative: str) -> str:
     """A file of the answer key with the solution markers dropped (what a good student hands in)."""
-    from hri_teleop.grading.templates import make_answer
+    from hri_teleop.grading.cases.templates import make_answer
 
     return make_answer((SOLUTIONS / relative).read_text())
 
@@ -110,7 +110,7 @@ def write_corpus_entry(name: str, root: Path) -> Path:
 
 def part_keys(check: str) -> Dict[str, str]:
     """part name -> key of the check's table (robot-params: Table 1 keys and 'load')."""
-    from hri_teleop.grading.checks import _table_for
+    from hri_teleop.grading.judge.checks import _table_for
 
     return {name: key for key, (name, _) in _table_for(check).items()}
 
@@ -141,6 +141,6 @@ def open_folder(prefix: str):
 
 def busy_cores(n: int = 2):
     """One spinning process per core while the block runs: the loaded machine (make bench's own)."""
-    from hri_teleop.bench.determinism import BusyCores
+    from benchmarks.determinism import BusyCores
 
     return BusyCores(n)

@@ -4,7 +4,7 @@ from __future__ import annotations
 
 import pytest
 
-from hri_teleop.grading.nbgrader_batch import _retry_cause
+from hri_teleop.grading.batch.nbgrader_batch import _retry_cause
 
 
 @pytest.mark.parametrize("log, cause", [

@@ -17,8 +17,8 @@ def _package(tmp_path, text):
 
 
 def test_the_answer_key_runs_faster_than_its_pad_script_and_gets_full_marks(tmp_path):
-    from hri_teleop.grading import cases as C
-    from hri_teleop.grading.checks import grade_teleoperation
+    from hri_teleop.grading.cases import inputs as C
+    from hri_teleop.grading.judge.checks import grade_teleoperation
 
     result = grade_teleoperation(_package(tmp_path, answer_text("scripts/teleoperation.py")), seed=SEED)
     assert result.score == result.max_score, result.failed_parts
@@ -30,7 +30,7 @@ def test_the_answer_key_runs_faster_than_its_pad_script_and_gets_full_marks(tmp_
 def test_a_loop_paced_by_time_sleep_is_judged_all_the_same(tmp_path):
     """Such a loop ignores /clock; each step then waits for its next message, so the pad script
     still advances one period per published tick and the node is judged on what it does."""
-    from hri_teleop.grading.checks import grade_teleoperation
+    from hri_teleop.grading.judge.checks import grade_teleoperation
 
     text = answer_text("scripts/teleoperation.py")
     assert "            rate.sleep()" in text
@@ -40,8 +40,8 @@ def test_a_loop_paced_by_time_sleep_is_judged_all_the_same(tmp_path):
 
 
 def test_the_grader_clock_gives_the_same_messages_run_after_run(tmp_path):
-    from hri_teleop.grading import compare
-    from hri_teleop.grading.checks import grade_teleoperation
+    from hri_teleop.grading.judge import compare
+    from hri_teleop.grading.judge.checks import grade_teleoperation
 
     seen = []
     original = compare.compare_teleop_node
@@ -63,8 +63,8 @@ def test_the_grader_clock_gives_the_same_messages_run_after_run(tmp_path):
 def test_hri_grade_clock_real_runs_the_node_in_real_time_with_the_same_verdict(tmp_path, monkeypatch):
     """HRI_GRADE_CLOCK=real: grading as it was before the grader owned the clock (make bench's
     "before" row), judged the same and with no note about the clock."""
-    from hri_teleop.grading import cases as C
-    from hri_teleop.grading.checks import CLOCK_ENV, grade_teleoperation
+    from hri_teleop.grading.cases import inputs as C
+    from hri_teleop.grading.judge.checks import CLOCK_ENV, grade_teleoperation
 
     monkeypatch.setenv(CLOCK_ENV, "real")
     result = grade_teleoperation(_package(tmp_path, answer_text("scripts/teleoperation.py")), seed=SEED)

@@ -19,8 +19,8 @@ def _same_series(a, b, at_least):
 
 
 def _observe(package, loaded: bool):
-    from hri_teleop.grading import compare
-    from hri_teleop.grading.checks import grade_teleoperation_launch
+    from hri_teleop.grading.judge import compare
+    from hri_teleop.grading.judge.checks import grade_teleoperation_launch
 
     seen = []
     original = compare.compare_teleop_launch_sim
@@ -59,8 +59,8 @@ def test_the_launch_check_gives_the_same_twists_and_arm_path_idle_and_loaded(tmp
 
 
 def test_the_sensor_launch_pairs_the_same_counts_and_mappings_idle_and_loaded(tmp_path):
-    from hri_teleop.grading import compare
-    from hri_teleop.grading.checks import grade_sensor_launch
+    from hri_teleop.grading.judge import compare
+    from hri_teleop.grading.judge.checks import grade_sensor_launch
 
     package = write_package(tmp_path / "hri_lab", {"package.xml": answer_text("package.xml"),
                                                    "launch/sensor.launch": answer_text("launch/sensor.launch")})

@@ -46,8 +46,9 @@ def _nbgrader(args, cwd: Path) -> None:
 @pytest.fixture(scope="module")
 def course(tmp_path_factory) -> Path:
     """A course like notebooks/ with two notebooks of the preparation, its student version generated."""
-    from hri_teleop.course import COURSE_DIR, STUDENT_PACKAGE
-    from hri_teleop.grading.templates import generate_templates
+    from hri_teleop.course.nodes import STUDENT_PACKAGE
+    from hri_teleop.course.release import COURSE_DIR
+    from hri_teleop.grading.cases.templates import generate_templates
 
     root = tmp_path_factory.mktemp("nbcourse") / "course"
     source = root / "source" / ASSIGNMENT
@@ -62,7 +63,7 @@ def course(tmp_path_factory) -> Path:
 
 
 def _answer_key_package(target: Path) -> None:
-    from hri_teleop.grading.templates import make_answer
+    from hri_teleop.grading.cases.templates import make_answer
 
     for path in sorted(p for p in SOLUTIONS.rglob("*") if p.is_file() and p.name != "README.md"):
         out = target / path.relative_to(SOLUTIONS)
@@ -267,7 +268,7 @@ def test_make_grade_autogrades_an_nbgrader_course_in_parallel_and_survives_hosti
     assert log.count("took the spare kernel started ahead") == len(NOTEBOOKS) - 1, log
 
     # Ex. 4's check cell took the files job's result for the same package instead of running it again
-    from hri_teleop.grading.reuse import REUSED_NOTE
+    from hri_teleop.grading.judge.reuse import REUSED_NOTE
 
     for student in ("alice", "bob"):
         ex04 = (course / "autograded" / student / ASSIGNMENT / "ex04_robot_params.ipynb").read_text()
@@ -328,8 +329,8 @@ def test_make_grade_says_when_nbgrader_is_missing(course, tmp_path):
 
 def test_each_assignments_files_get_the_checks_its_notebooks_call():
     """make grade grades submitted/<student>/<assignment>/hri_lab with the checks that assignment's notebooks call."""
-    from hri_teleop.course import ASSIGNMENT_CHECKS, ASSIGNMENTS, COURSE_DIR
-    from hri_teleop.grading.checks import CHECKS
+    from hri_teleop.course.release import ASSIGNMENT_CHECKS, ASSIGNMENTS, COURSE_DIR
+    from hri_teleop.grading.judge.checks import CHECKS
 
     for assignment in ASSIGNMENTS:
         called = set()

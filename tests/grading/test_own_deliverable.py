@@ -13,7 +13,7 @@ BROKEN_NODE = "#!/usr/bin/env python3\nraise SystemExit('this mapping node is br
 
 
 def test_a_correct_sensor_launch_with_ex7_gets_full_marks_graded_alone(tmp_path):
-    from hri_teleop.grading.checks import grade_sensor_launch
+    from hri_teleop.grading.judge.checks import grade_sensor_launch
 
     launch = tmp_path / "sensor.launch"
     launch.write_text(answer_text("launch/sensor.launch"))
@@ -23,7 +23,7 @@ def test_a_correct_sensor_launch_with_ex7_gets_full_marks_graded_alone(tmp_path)
 
 
 def test_a_broken_mapping_node_costs_points_in_its_own_check_only(tmp_path):
-    from hri_teleop.grading.checks import grade_mapping_node, grade_sensor_launch
+    from hri_teleop.grading.judge.checks import grade_mapping_node, grade_sensor_launch
 
     package = write_package(tmp_path / "hri_lab", {
         "package.xml": answer_text("package.xml"),
@@ -37,7 +37,7 @@ def test_a_broken_mapping_node_costs_points_in_its_own_check_only(tmp_path):
 
 
 def test_a_correct_teleoperation_launch_gets_full_marks_graded_alone(tmp_path):
-    from hri_teleop.grading.checks import grade_teleoperation_launch
+    from hri_teleop.grading.judge.checks import grade_teleoperation_launch
 
     launch = tmp_path / "teleoperation.launch"
     launch.write_text(answer_text("launch/teleoperation.launch"))
@@ -47,7 +47,7 @@ def test_a_correct_teleoperation_launch_gets_full_marks_graded_alone(tmp_path):
 
 
 def test_the_students_own_file_is_never_replaced_by_the_lab_one(tmp_path):
-    from hri_teleop.grading.workspace import prepare_workspace
+    from hri_teleop.grading.run.workspace import prepare_workspace
 
     package = write_package(tmp_path / "hri_lab", {
         "package.xml": answer_text("package.xml"),
@@ -64,9 +64,9 @@ def test_without_the_labs_yaml_an_ex7_load_counts_as_ex7_not_done_not_as_a_parse
     """The student bundle's toolkit has no robot_params.yaml: a launch file graded alone still parses."""
     import shutil
 
-    import hri_teleop.grading.workspace as workspace
-    from hri_teleop.bundle import LAB_DELIVERABLES
-    from hri_teleop.grading.checks import grade_sensor_launch
+    import hri_teleop.grading.run.workspace as workspace
+    from hri_teleop.course.bundle import LAB_DELIVERABLES
+    from hri_teleop.grading.judge.checks import grade_sensor_launch
 
     toolkit_lab = tmp_path / "toolkit" / "hri_lab"
     shutil.copytree(workspace.REFERENCE_PACKAGE, toolkit_lab)

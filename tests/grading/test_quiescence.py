@@ -9,7 +9,7 @@ import time
 
 import pytest
 
-from hri_teleop.grading.lockstep import Quiescence, busy_threads
+from hri_teleop.grading.run.lockstep import Quiescence, busy_threads
 
 WORK_THEN_SLEEP = """
 import sys, time

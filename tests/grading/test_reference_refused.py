@@ -4,14 +4,14 @@ from __future__ import annotations
 
 import pytest
 
-from hri_teleop.grading.checks import grade_mapping_node
+from hri_teleop.grading.judge.checks import grade_mapping_node
 
 pytestmark = pytest.mark.ros
 
 CHEAT = '''#!/usr/bin/env python3
 import rospy
 from std_msgs.msg import Float32, Int16
-from hri_teleop.mapping import map_force
+from hri_teleop.core.mapping import map_force
 
 
 def main():
@@ -34,5 +34,5 @@ def test_a_mapping_node_that_imports_map_force_scores_zero_and_is_told_to_write_
     assert result.score == 0 and result.max_score > 0
     first = result.parts[0]
     assert first.message.startswith("mapping_node.py uses the lab's reference implementation (line 4: from "
-                                    "hri_teleop.mapping import map_force")
+                                    "hri_teleop.core.mapping import map_force")
     assert all(p.message == "not judged: the file uses the lab's reference implementation" for p in result.parts[1:])

@@ -1,6 +1,6 @@
 """make grade's files job stores each check result; a notebook's check cell of the very same
 package (same files, same seed) takes it instead of running the check again
-(hri_teleop.grading.reuse). Anything different runs the check."""
+(hri_teleop.grading.judge.reuse). Anything different runs the check."""
 
 from __future__ import annotations
 
@@ -9,8 +9,8 @@ from pathlib import Path
 
 import pytest
 
-from hri_teleop.grading import reuse
-from hri_teleop.grading.checks import grade_robot_params
+from hri_teleop.grading.judge import reuse
+from hri_teleop.grading.judge.checks import grade_robot_params
 from hri_teleop.grading.results import CheckResult, Part
 
 REPO = Path(__file__).resolve().parents[2]
@@ -74,7 +74,7 @@ def test_a_notebook_takes_the_stored_result_and_the_files_job_never_does(package
     """The reader gets what is stored (here forged, to tell it apart); the writer runs the real check
     and overwrites it (a notebook kernel runs student code: the files job trusts nothing it finds)."""
     store = tmp_path / "results"
-    from hri_teleop.grading.cases import seed_for
+    from hri_teleop.grading.cases.inputs import seed_for
 
     reuse.store(store, "robot-params", seed_for(package), package, _forged(package))
     monkeypatch.setenv(reuse.READ_ENV, str(store))
@@ -90,7 +90,7 @@ def test_a_notebook_takes_the_stored_result_and_the_files_job_never_does(package
 
 def test_a_single_file_or_without_make_grade_always_runs_the_check(package, tmp_path, monkeypatch):
     store = tmp_path / "results"
-    from hri_teleop.grading.cases import seed_for
+    from hri_teleop.grading.cases.inputs import seed_for
 
     reuse.store(store, "robot-params", seed_for(package), package, _forged(package))
     assert grade_robot_params(package).score == 10  # no variable set: nothing read

@@ -1,4 +1,4 @@
-"""Student processes under limits (hri_teleop.grading.sandbox), without ROS: fork bombs, floods, writes."""
+"""Student processes under limits (hri_teleop.grading.run.sandbox), without ROS: fork bombs, floods, writes."""
 
 from __future__ import annotations
 
@@ -10,7 +10,14 @@ from pathlib import Path
 import pytest
 from grading_helpers import open_folder
 
-from hri_teleop.grading.sandbox import DEFAULT_LIMITS, Limits, StudentProcess, bwrap_problem, describe_exit, student_uid
+from hri_teleop.grading.run.sandbox import (
+    DEFAULT_LIMITS,
+    Limits,
+    StudentProcess,
+    bwrap_problem,
+    describe_exit,
+    student_uid,
+)
 
 
 @pytest.fixture
@@ -48,7 +55,7 @@ def test_a_fork_bomb_hits_the_process_limit_and_leaves_nothing_behind(tmp_path):
 
 
 def test_output_beyond_the_cap_ends_the_process_with_a_clear_reason(tmp_path):
-    from hri_teleop.grading.compare import process_hints
+    from hri_teleop.grading.judge.compare import process_hints
 
     cap = DEFAULT_LIMITS.file_bytes
     code, proc = _run(tmp_path, "import sys\nwhile True:\n    sys.stdout.write('x' * 65536)\n")
@@ -81,7 +88,7 @@ def test_with_bubblewrap_only_the_own_folder_is_writable_and_there_is_no_network
 
 
 def test_student_code_sees_only_the_variables_ros_and_python_need():
-    from hri_teleop.grading.sandbox import student_environment
+    from hri_teleop.grading.run.sandbox import student_environment
 
     env = student_environment({"PATH": "/bin", "ROS_MASTER_URI": "http://127.0.0.1:1/", "LC_ALL": "C",
                                "GITHUB_TOKEN": "secret", "AWS_SECRET_ACCESS_KEY": "x", "HOME": "/root"})
@@ -94,7 +101,7 @@ def test_bubblewrap_is_used_for_a_checkout_whose_python_lies_under_tmp(tmp_path)
     import sys
     import venv
 
-    from hri_teleop.grading import sandbox
+    from hri_teleop.grading.run import sandbox
 
     if sandbox.bwrap_problem() and "HRI_GRADE_SANDBOX" not in os.environ:
         pytest.skip(f"no bubblewrap here: {sandbox.bwrap_problem()}")

@@ -14,8 +14,8 @@ from hri_teleop.grading import (
     grade_submission,
     grade_teleoperation,
 )
-from hri_teleop.grading.checks import CHECKS
-from hri_teleop.grading.templates import generate_templates
+from hri_teleop.grading.cases.templates import generate_templates
+from hri_teleop.grading.judge.checks import CHECKS
 
 pytestmark = pytest.mark.ros
 

@@ -1,4 +1,4 @@
-"""make grade's kernels (hri_teleop.grading.spare_kernels): the next notebook's kernel is started
+"""make grade's kernels (hri_teleop.grading.batch.spare_kernels): the next notebook's kernel is started
 while the one before runs, a kernel that does not fit is stopped, and a kernel told to shut down
 ends off nbgrader's path but always ends."""
 
@@ -14,7 +14,7 @@ from jupyter_client.provisioning.factory import KernelProvisionerFactory
 from nbclient import NotebookClient
 from traitlets.config import Config
 
-from hri_teleop.grading import spare_kernels as spare
+from hri_teleop.grading.batch import spare_kernels as spare
 
 
 @pytest.fixture

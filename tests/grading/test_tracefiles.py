@@ -5,8 +5,13 @@ from __future__ import annotations
 import pytest
 from grading_helpers import hri_grade
 
-from hri_teleop.grading.cases import public_mapping_case, public_teleop_parts_case
-from hri_teleop.grading.tracefiles import TRACE_DIR, TRACE_FILES, read_mapping_trace, read_parts_trace
+from hri_teleop.grading.cases.inputs import public_mapping_case, public_teleop_parts_case
+from hri_teleop.grading.cases.tracefiles import (
+    TRACE_DIR,
+    TRACE_FILES,
+    read_mapping_trace,
+    read_parts_trace,
+)
 from hri_teleop.ros.bags import read_topics
 
 

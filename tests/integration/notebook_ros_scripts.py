@@ -30,7 +30,7 @@ def publish_burst(count: int, rate_hz: float) -> None:
     from geometry_msgs.msg import Twist
     from std_msgs.msg import Float32, Int16
 
-    from hri_teleop.widgets import lab_topics
+    from hri_teleop.course.widgets import lab_topics
 
     rospy.init_node("burst", disable_signals=True)
     twist_topic = lab_topics()[-1].topic
@@ -69,8 +69,8 @@ def publish_press(peak: int) -> None:
 
 
 def live_plot(count: int, out: str) -> None:
-    from hri_teleop.notebook_ros import ensure_ros
-    from hri_teleop.widgets import LivePlot
+    from hri_teleop.course.notebook_ros import ensure_ros
+    from hri_teleop.course.widgets import LivePlot
 
     session = ensure_ros("live_plot_test")
     plot = LivePlot(figure="image", autostart=False, maxlen=count + 100, window_s=10.0)
@@ -100,8 +100,8 @@ def live_plot(count: int, out: str) -> None:
 
 
 def calibrate(file: str, out: str) -> None:
-    from hri_teleop.notebook_ros import ensure_ros
-    from hri_teleop.widgets import CalibrationWidget
+    from hri_teleop.course.notebook_ros import ensure_ros
+    from hri_teleop.course.widgets import CalibrationWidget
 
     ensure_ros("calibration_test")
     widget = CalibrationWidget(file, duration_s=2.0)
@@ -117,7 +117,7 @@ def calibrate(file: str, out: str) -> None:
 def twice(out: str) -> None:
     import os
 
-    from hri_teleop.notebook_ros import ensure_ros, master_call
+    from hri_teleop.course.notebook_ros import ensure_ros, master_call
 
     first = ensure_ros("twice")
     second = ensure_ros("twice")  # re-running the cell

@@ -11,10 +11,11 @@ from pathlib import Path
 
 import pytest
 
-from hri_teleop.catkin_ws import CatkinError, build_workspace
-from hri_teleop.course import SOLUTIONS, STUDENT_MAKES_EXECUTABLE
-from hri_teleop.grading.package_check import grade_catkin_package
-from hri_teleop.grading.templates import generate_templates, make_answer
+from hri_teleop.core.paths import SOLUTIONS
+from hri_teleop.course.release import STUDENT_MAKES_EXECUTABLE
+from hri_teleop.grading.cases.templates import generate_templates, make_answer
+from hri_teleop.grading.judge.package_check import grade_catkin_package
+from hri_teleop.ros.catkin_ws import CatkinError, build_workspace
 from hri_teleop.ros.master import finds_hri_lab
 
 pytestmark = pytest.mark.ros

@@ -22,9 +22,9 @@ from typing import List, Tuple
 
 import pytest
 
-from hri_teleop.mapping import map_force
-from hri_teleop.ros.bags import read_topics
-from hri_teleop.simavr_board import (
+from hri_teleop.core.mapping import map_force
+from hri_teleop.core.traces import pair_outputs, rate_hz
+from hri_teleop.hardware.sim.simavr_board import (
     FIRMWARE_DIR,
     SimulatedUno,
     build_firmware,
@@ -35,7 +35,7 @@ from hri_teleop.simavr_board import (
     toolchain_problem,
     write_profile,
 )
-from hri_teleop.traces import pair_outputs, rate_hz
+from hri_teleop.ros.bags import read_topics
 
 REPO = Path(__file__).resolve().parents[2]
 SCRIPTS = REPO / "hri_lab" / "scripts"
@@ -179,7 +179,7 @@ def test_calibration_reads_the_maximum_from_the_board_without_ros(firmware, tmp_
     assert max(p.count for p in points) == MAX_SENSOR_FORCE
     link = tmp_path / "ttyACM0"
     with SimulatedUno(link, write_profile(points, tmp_path / "press.txt"), repeat_us=1_000_000):
-        proc = subprocess.run([sys.executable, "-m", "hri_teleop.calibrate", "--port", str(link), "--seconds", "1.5"],
+        proc = subprocess.run([sys.executable, "-m", "hri_teleop.hardware.real.calibrate", "--port", str(link), "--seconds", "1.5"],
                               capture_output=True, text=True, timeout=60)
     assert proc.returncode == 0, proc.stdout + proc.stderr
     assert f"maximum count {MAX_SENSOR_FORCE}" in proc.stdout
@@ -189,7 +189,7 @@ def test_calibration_reads_the_maximum_from_the_board_without_ros(firmware, tmp_
 
 def test_calibration_names_a_missing_port_and_the_fix(tmp_path):
     port = tmp_path / "ttyACM9"
-    proc = subprocess.run([sys.executable, "-m", "hri_teleop.calibrate", "--port", str(port), "--seconds", "1"],
+    proc = subprocess.run([sys.executable, "-m", "hri_teleop.hardware.real.calibrate", "--port", str(port), "--seconds", "1"],
                           capture_output=True, text=True, timeout=60)
     assert proc.returncode == 1
     assert proc.stderr.strip() == f"calibrate: no serial port {port}: plug the board in or pass --port ... " \

@@ -20,7 +20,7 @@ from pathlib import Path
 
 import pytest
 
-from hri_teleop.labkernel import KERNEL_NAME, install_kernelspec
+from hri_teleop.course.labkernel import KERNEL_NAME, install_kernelspec
 from hri_teleop.ros.master import ManagedProcess, free_port
 
 REPO = Path(__file__).resolve().parents[2]
@@ -32,9 +32,9 @@ CHROMIUM_FLAGS = ["--headless", "--no-sandbox", "--disable-gpu", "--disable-back
 
 CELLS = [
     "import os\nprint('kernel pid', os.getpid())\n%matplotlib widget\n"
-    "from hri_teleop.widgets._base import current_cell_id\nprint('cell id known', bool(current_cell_id()))",
-    "from hri_teleop.widgets import FsrExplorer\nexplorer = FsrExplorer(4.0)\nexplorer",
-    "from hri_teleop.widgets import DeadzoneExplorer\nDeadzoneExplorer(figure='image')",
+    "from hri_teleop.course.widgets._base import current_cell_id\nprint('cell id known', bool(current_cell_id()))",
+    "from hri_teleop.course.widgets import FsrExplorer\nexplorer = FsrExplorer(4.0)\nexplorer",
+    "from hri_teleop.course.widgets import DeadzoneExplorer\nDeadzoneExplorer(figure='image')",
 ]
 
 

@@ -18,12 +18,12 @@ from typing import Any, Dict, List, Tuple
 import pytest
 import yaml
 
-from hri_teleop import fsr
+from hri_teleop.core import fsr
+from hri_teleop.hardware.sim.arm import VELOCITY_DISCONTINUITY
+from hri_teleop.hardware.sim.hand import COMMAND_ABORTED, OBJECTS, Attachment
+from hri_teleop.hardware.sim.world import WorldConfig
 from hri_teleop.ros.bags import read_topics
 from hri_teleop.ros.master import PrivateMaster
-from hri_teleop.sim.arm import VELOCITY_DISCONTINUITY
-from hri_teleop.sim.hand import COMMAND_ABORTED, OBJECTS, Attachment
-from hri_teleop.sim.world import WorldConfig
 
 pytestmark = pytest.mark.ros
 

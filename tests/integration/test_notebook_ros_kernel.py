@@ -12,7 +12,7 @@ from pathlib import Path
 
 import pytest
 
-from hri_teleop.notebook_ros import NO_ROSPY_MESSAGE
+from hri_teleop.course.notebook_ros import NO_ROSPY_MESSAGE
 from hri_teleop.ros.master import free_port
 
 pytestmark = pytest.mark.ros  # they start roscores (private ones, as a kernel would)
@@ -43,10 +43,10 @@ def test_without_rospy_ros_cells_say_what_to_install_in_one_line_and_the_rest_wo
     code = textwrap.dedent("""
         import sys
         sys.modules["rospy"] = None  # a laptop without ROS: `import rospy` raises ImportError
-        from hri_teleop.notebook_ros import NotebookRosError, ensure_ros
+        from hri_teleop.course.notebook_ros import NotebookRosError, ensure_ros
         session = ensure_ros()
         print("session", bool(session))
-        from hri_teleop.widgets import CalibrationWidget, FsrExplorer, LivePlot
+        from hri_teleop.course.widgets import CalibrationWidget, FsrExplorer, LivePlot
         print("fsr count", FsrExplorer(figure="image").reading.count)
         print("live plot", LivePlot().status.value)
         print("calibration", CalibrationWidget().status.value)
@@ -70,7 +70,7 @@ def test_without_rospy_ros_cells_say_what_to_install_in_one_line_and_the_rest_wo
 def test_without_a_master_a_private_roscore_starts_and_stops_when_the_process_exits(tmp_path):
     code = textwrap.dedent("""
         import os
-        from hri_teleop.notebook_ros import ensure_ros, master_reachable
+        from hri_teleop.course.notebook_ros import ensure_ros, master_reachable
         session = ensure_ros("private")
         assert ensure_ros() is session
         print(session.master_uri, os.environ["ROS_MASTER_URI"], session.started_master,
@@ -94,14 +94,14 @@ def test_without_a_master_a_private_roscore_starts_and_stops_when_the_process_ex
 def test_in_a_jupyter_kernel_rerunning_the_cell_keeps_one_node_and_stopping_the_kernel_stops_roscore(tmp_path):
     nbformat = pytest.importorskip("nbformat")
     nbclient = pytest.importorskip("nbclient")
-    from hri_teleop.labkernel import install_kernelspec
+    from hri_teleop.course.labkernel import install_kernelspec
 
     install_kernelspec()  # what `make lab` does; idempotent
-    cell = ("from hri_teleop.notebook_ros import ensure_ros\nsession = ensure_ros()\n"
+    cell = ("from hri_teleop.course.notebook_ros import ensure_ros\nsession = ensure_ros()\n"
             "print(session.master_uri, session.node_name)")
     nb = nbformat.v4.new_notebook()
     nb.cells = [nbformat.v4.new_code_cell(cell), nbformat.v4.new_code_cell(cell),  # the cell run twice
-                nbformat.v4.new_code_cell("from hri_teleop.widgets import LivePlot\nplot = LivePlot(figure='image')"),
+                nbformat.v4.new_code_cell("from hri_teleop.course.widgets import LivePlot\nplot = LivePlot(figure='image')"),
                 nbformat.v4.new_code_cell("import asyncio\nawait asyncio.sleep(1.2)\n"
                                           "print(plot.ticker.in_kernel_loop, plot.ticker.ticks >= 2)")]
     env_uri = f"http://127.0.0.1:{free_port()}/"

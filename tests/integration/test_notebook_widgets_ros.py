@@ -11,7 +11,7 @@ from pathlib import Path
 
 import pytest
 
-from hri_teleop.widgets import GraphView, draw_graph, lab_topics, read_graph
+from hri_teleop.course.widgets import GraphView, draw_graph, lab_topics, read_graph
 
 pytestmark = pytest.mark.ros
 

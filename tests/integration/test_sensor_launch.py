@@ -1,5 +1,5 @@
 """sensor.launch (handout Ex. 5-7) for real: roslaunch on a private roscore, rosbag record,
-and the mapping checked message by message against hri_teleop.mapping."""
+and the mapping checked message by message against hri_teleop.core.mapping."""
 
 from __future__ import annotations
 
@@ -7,9 +7,9 @@ from pathlib import Path
 
 import pytest
 
-from hri_teleop.mapping import map_force
+from hri_teleop.core.mapping import map_force
+from hri_teleop.core.traces import pair_outputs, rate_hz
 from hri_teleop.ros.sensor_demo import record_sensor_launch
-from hri_teleop.traces import pair_outputs, rate_hz
 
 pytestmark = pytest.mark.ros
 

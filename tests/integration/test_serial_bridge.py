@@ -13,8 +13,8 @@ from pathlib import Path
 
 import pytest
 
+from hri_teleop.core.serial_protocol import format_line
 from hri_teleop.ros.bags import read_topics
-from hri_teleop.serial_protocol import format_line
 
 pytestmark = pytest.mark.ros
 

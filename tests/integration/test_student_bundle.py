@@ -13,9 +13,17 @@ from pathlib import Path
 
 import pytest
 
-from hri_teleop.bundle import LAB_DELIVERABLES, answer_files, assemble_bundle, pack_bundle, toolkit_leaks
-from hri_teleop.course import ASSIGNMENTS, SOLUTIONS, STUDENT_PACKAGE, prepare_course_copy, solution_texts
-from hri_teleop.grading.templates import make_answer
+from hri_teleop.core.paths import SOLUTIONS
+from hri_teleop.course.bundle import (
+    LAB_DELIVERABLES,
+    answer_files,
+    assemble_bundle,
+    pack_bundle,
+    toolkit_leaks,
+)
+from hri_teleop.course.nodes import STUDENT_PACKAGE
+from hri_teleop.course.release import ASSIGNMENTS, prepare_course_copy, solution_texts
+from hri_teleop.grading.cases.templates import make_answer
 
 pytestmark = pytest.mark.ros
 

@@ -33,19 +33,19 @@ import numpy as np
 import pytest
 import yaml
 
-from hri_teleop.config import load_teleop_config
-from hri_teleop.experiment.analysis import StudyResult
-from hri_teleop.experiment.figures import COLOURS, PANEL_TITLES
-from hri_teleop.gamepad import parse_script
+from hri_teleop.core.config import load_teleop_config
+from hri_teleop.core.experiment.analysis import StudyResult
+from hri_teleop.core.run_record import LabRecord
+from hri_teleop.hardware.sim.config import world_config_from_dict
+from hri_teleop.hardware.sim.hand import OBJECTS, Attachment
+from hri_teleop.hardware.sim.lab import run_lab
+from hri_teleop.hardware.sim.operators import squeeze_taps, study_operator, study_scenario
+from hri_teleop.hardware.sim.virtual_pad import parse_script
+from hri_teleop.plots.study import COLOURS, PANEL_TITLES
 from hri_teleop.ros import master as master_module
 from hri_teleop.ros.bags import read_topics
 from hri_teleop.ros.master import PrivateMaster, RunningMaster
 from hri_teleop.ros.trial import main, rehearse, trial_seed
-from hri_teleop.sim.config import world_config_from_dict
-from hri_teleop.sim.hand import OBJECTS, Attachment
-from hri_teleop.sim.lab import run_lab
-from hri_teleop.sim.operators import squeeze_taps, study_operator, study_scenario
-from hri_teleop.sim.report import LabRecord
 
 pytestmark = pytest.mark.ros
 
@@ -56,7 +56,7 @@ PARTICIPANTS = ["P01", "P02"]
 #: What the lab's master holds as /max_sensor_force before the session (the simulated FSR's full travel
 #: reads 700; one count more changes the newtons by 0.3 %, and shows the session's value was used).
 SESSION_CALIBRATION = 701
-#: (participant, trial) -> condition: P01 AB, P02 BA (hri_teleop.experiment.plan).
+#: (participant, trial) -> condition: P01 AB, P02 BA (hri_teleop.core.experiment.plan).
 CONDITIONS = {("P01", 1): "feedback", ("P01", 2): "no_feedback", ("P02", 1): "no_feedback", ("P02", 2): "feedback"}
 
 
@@ -261,7 +261,7 @@ def test_the_analysis_notebook_runs_on_the_recorded_folder(study, monkeypatch):
     import nbformat
     from nbclient import NotebookClient
 
-    from hri_teleop.labkernel import KERNEL_NAME, install_kernelspec, ipc_kernel_config
+    from hri_teleop.course.labkernel import KERNEL_NAME, install_kernelspec, ipc_kernel_config
 
     install_kernelspec()
     monkeypatch.setenv("HRI_TRIALS", str(study.folder))
@@ -289,7 +289,7 @@ def test_a_fresh_analysis_notebook_offers_a_rehearsal_and_says_in_one_line_what_
     import nbformat
     from nbclient import NotebookClient
 
-    from hri_teleop.labkernel import KERNEL_NAME, install_kernelspec, ipc_kernel_config
+    from hri_teleop.course.labkernel import KERNEL_NAME, install_kernelspec, ipc_kernel_config
 
     install_kernelspec()
     empty = tmp_path / "no_trials_yet"

@@ -14,7 +14,7 @@ from pathlib import Path
 import pytest
 import yaml
 
-from hri_teleop.config import load_teleop_config
+from hri_teleop.core.config import load_teleop_config
 from hri_teleop.ros.bags import read_topics
 
 pytestmark = pytest.mark.ros

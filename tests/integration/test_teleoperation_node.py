@@ -13,9 +13,9 @@ from pathlib import Path
 import pytest
 import yaml
 
-from hri_teleop.config import load_teleop_config
-from hri_teleop.gamepad import normalize_analog_input
-from hri_teleop.limits import limit_violations
+from hri_teleop.core.config import load_teleop_config
+from hri_teleop.core.gamepad import normalize_analog_input
+from hri_teleop.core.limits import limit_violations
 from hri_teleop.ros.bags import read_topics
 
 pytestmark = pytest.mark.ros
@@ -216,7 +216,7 @@ def test_a_pad_that_cannot_be_read_ramps_the_twist_to_zero_and_resumes_after(ros
 
 def test_virtual_joy_drives_the_pad_and_silence_ramps_to_zero(ros_master, tmp_path):
     """pad:=virtual without a script listens on ~virtual_joy; input older than input_timeout stops."""
-    from hri_teleop.gamepad import PadState, load_layout
+    from hri_teleop.core.gamepad import PadState, load_layout
 
     layout = load_layout(CONFIG.layout)
     axes, buttons = layout.raw_from_state(PadState({"left_y": 1.0}, {}, True))

@@ -5,7 +5,8 @@ from __future__ import annotations
 import pytest
 
 from hri_teleop import course
-from hri_teleop.grading.compare import TELEOP
+from hri_teleop.course import cells, release
+from hri_teleop.grading.judge.compare import TELEOP
 from hri_teleop.grading.results import CheckResult, Part
 
 
@@ -13,11 +14,11 @@ from hri_teleop.grading.results import CheckResult, Part
                                           ({"HRI_NOTEBOOK_FAST": "0"}, False),
                                           ({"NBGRADER_EXECUTION": "autograde"}, True)])
 def test_fast_under_tests_and_nbgrader_only(monkeypatch, env, expected):
-    for name in course.FAST_ENV:
+    for name in cells.FAST_ENV:
         monkeypatch.delenv(name, raising=False)
     for name, value in env.items():
         monkeypatch.setenv(name, value)
-    assert course.fast() is expected
+    assert cells.fast() is expected
     assert course.seconds(20.0, 2.0) == (2.0 if expected else 20.0)
 
 
@@ -31,9 +32,9 @@ def test_score_prints_the_feedback_and_returns_the_points_of_passed_parts(capsys
 
 
 def test_teleoperation_check_splits_into_the_class_parts_and_the_node_parts(tmp_path):
-    from hri_teleop.grading.templates import generate_templates
+    from hri_teleop.grading.cases.templates import generate_templates
 
-    generate_templates(course.SOLUTIONS, tmp_path / "hri_lab")
+    generate_templates(release.SOLUTIONS, tmp_path / "hri_lab")
     parts = course.grade_teleoperation_parts(tmp_path / "hri_lab")
     names = {p.name for p in parts.parts}
     assert names == {name for key, (name, _) in TELEOP.items() if not key.startswith("node_")}
@@ -69,21 +70,21 @@ def test_only_the_labs_own_nodes_are_provided(monkeypatch):
 
 
 def test_exclude_overwriting_names_every_student_file_in_both_assignments():
-    from hri_teleop.grading.workspace import DELIVERABLES
+    from hri_teleop.grading.run.workspace import DELIVERABLES
 
-    files = course.exclude_overwriting()
-    assert set(files) == set(course.ASSIGNMENTS)
+    files = release.exclude_overwriting()
+    assert set(files) == set(release.ASSIGNMENTS)
     for listed in files.values():
         # the six deliverables, and the CMakeLists.txt students add their scripts to (Ex. 9, 12 c)
         assert sorted(listed) == sorted([f"hri_lab/{sub}" for sub in DELIVERABLES.values()] + ["hri_lab/CMakeLists.txt"])
 
 
 def test_link_answer_key_refuses_a_copy_of_the_answer_key_in_source(tmp_path):
-    for assignment in course.ASSIGNMENTS:
+    for assignment in release.ASSIGNMENTS:
         (tmp_path / "source" / assignment).mkdir(parents=True)
     (tmp_path / "source" / "preparation" / "hri_lab").mkdir()
     with pytest.raises(course.CourseError, match="never hold a copy"):
-        course.link_answer_key(tmp_path)
+        release.link_answer_key(tmp_path)
     (tmp_path / "source" / "preparation" / "hri_lab").rmdir()
-    links = course.link_answer_key(tmp_path)
-    assert all(link.resolve() == course.SOLUTIONS.resolve() for link in links)
+    links = release.link_answer_key(tmp_path)
+    assert all(link.resolve() == release.SOLUTIONS.resolve() for link in links)

@@ -9,10 +9,10 @@ from pathlib import Path
 
 import pytest
 
-from hri_teleop.course import (
+from hri_teleop.core.paths import SOLUTIONS
+from hri_teleop.course.release import (
     ASSIGNMENTS,
     COURSE_DIR,
-    SOLUTIONS,
     exclude_overwriting,
     notebook_output_problems,
     solution_texts,
@@ -117,9 +117,9 @@ def test_autograded_cells_call_the_toolkit_and_carry_no_logic(path):
 
 
 def test_file_checks_have_the_points_of_the_graders_parts():
-    from hri_teleop.grading.compare import GRAPH, MAPPING, SENSOR_LAUNCH, TELEOP, TELEOP_LAUNCH
-    from hri_teleop.grading.package_check import CATKIN_PACKAGE, EXERCISE_PARTS
-    from hri_teleop.grading.robot_params import POINTS
+    from hri_teleop.grading.judge.compare import GRAPH, MAPPING, SENSOR_LAUNCH, TELEOP, TELEOP_LAUNCH
+    from hri_teleop.grading.judge.package_check import CATKIN_PACKAGE, EXERCISE_PARTS
+    from hri_teleop.grading.judge.robot_params import POINTS
 
     def total(table, node=None):
         return sum(points for key, (_n, points) in table.items() if node is None or key.startswith("node_") == node)

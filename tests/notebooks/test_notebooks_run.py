@@ -17,9 +17,9 @@ from pathlib import Path
 
 import pytest
 
-from hri_teleop.course import (
-    SOLUTIONS,
-    STUDENT_PACKAGE,
+from hri_teleop.core.paths import SOLUTIONS
+from hri_teleop.course.nodes import STUDENT_PACKAGE
+from hri_teleop.course.release import (
     bundle_leaks,
     prepare_course_copy,
     run_course,
@@ -76,7 +76,7 @@ def test_running_the_notebooks_leaves_the_answer_key_unchanged(course):
 
 
 def test_student_bundle_has_every_notebook_and_the_generated_templates(course):
-    from hri_teleop.grading.templates import generate_templates
+    from hri_teleop.grading.cases.templates import generate_templates
 
     release = course["bundle"]
     assert sorted(p.stem for p in release.glob("*/*.ipynb")) == sorted(NAMES)
@@ -112,8 +112,8 @@ def test_leak_check_finds_a_solution_line_in_a_template_and_in_a_notebook(course
 
 def test_a_check_cell_keeps_its_points_on_a_machine_without_bubblewrap(course, monkeypatch):
     """The grader's "no bubblewrap" note must not reach a check cell's stderr (nbgrader: 0 points)."""
-    from hri_teleop.course import run_source
-    from hri_teleop.grading.compare import TELEOP_LAUNCH
+    from hri_teleop.course.release import run_source
+    from hri_teleop.grading.judge.compare import TELEOP_LAUNCH
 
     monkeypatch.setenv("HRI_GRADE_SANDBOX", "none")
     result = run_source(course["dir"] / "source" / "lab" / "ex12_13_teleoperation_launch.ipynb")

@@ -1,10 +1,10 @@
-"""Ex. 11's calibration rule without ROS (hri_teleop.calibrate.calibration_max)."""
+"""Ex. 11's calibration rule without ROS (hri_teleop.hardware.real.calibrate.calibration_max)."""
 
 from __future__ import annotations
 
 import pytest
 
-from hri_teleop.calibrate import CalibrateError, calibration_max
+from hri_teleop.hardware.real.calibrate import CalibrateError, calibration_max
 
 
 def test_the_calibration_value_is_the_largest_count_seen():

@@ -7,7 +7,7 @@ from pathlib import Path
 
 import pytest
 
-from hri_teleop.config import LAB_CALIBRATION, ConfigError, lab_max_sensor_force
+from hri_teleop.core.config import LAB_CALIBRATION, ConfigError, lab_max_sensor_force
 
 ROOT = Path(__file__).resolve().parents[2]
 
@@ -39,8 +39,8 @@ def test_a_missing_file_says_how_to_restore_it(tmp_path):
 
 
 def test_the_consumers_take_the_value_from_the_file():
-    from hri_teleop.bench.nodes import MAX_SENSOR_FORCE
-    from hri_teleop.grading.cases import PUBLIC_MAX_SENSOR_FORCE
+    from benchmarks.nodes import MAX_SENSOR_FORCE
+    from hri_teleop.grading.cases.inputs import PUBLIC_MAX_SENSOR_FORCE
 
     assert PUBLIC_MAX_SENSOR_FORCE == MAX_SENSOR_FORCE == lab_max_sensor_force()
     for launch in ("sensor.launch", "teleoperation.launch"):

@@ -6,7 +6,7 @@ import os
 
 import pytest
 
-from hri_teleop.catkin_files import explain_build_failure, installed_programs, is_executable
+from hri_teleop.ros.catkin_files import explain_build_failure, installed_programs, is_executable
 
 CMAKE = """cmake_minimum_required(VERSION 3.0.2)
 project(hri_lab)

@@ -1,4 +1,4 @@
-"""The board's count rules, in one place (hri_teleop.checks): a reading is a whole count 0..1023,
+"""The board's count rules, in one place (hri_teleop.core.checks): a reading is a whole count 0..1023,
 a calibration (/max_sensor_force as a count) 1..1023; bools and floats are neither."""
 
 from __future__ import annotations
@@ -6,7 +6,7 @@ from __future__ import annotations
 import numpy as np
 import pytest
 
-from hri_teleop.checks import ADC_MAX_COUNT, is_calibration_count, is_count
+from hri_teleop.core.checks import ADC_MAX_COUNT, is_calibration_count, is_count
 
 
 @pytest.mark.parametrize("value, reading, calibration", [

@@ -8,7 +8,7 @@ from pathlib import Path
 import pytest
 import yaml
 
-from hri_teleop.config import (
+from hri_teleop.core.config import (
     CONFIG_KEYS,
     DEFAULT_PAD,
     DEFAULT_TWIST_TOPIC,
@@ -18,9 +18,9 @@ from hri_teleop.config import (
     load_yaml,
     teleop_config_from_dict,
 )
-from hri_teleop.gamepad import DEFAULT_LAYOUT, available_layouts
-from hri_teleop.limits import DEFAULT_LIMITS, AxisLimits
-from hri_teleop.teleop import AxisAssignment, TeleopParams
+from hri_teleop.core.gamepad import DEFAULT_LAYOUT, available_layouts
+from hri_teleop.core.limits import DEFAULT_LIMITS, AxisLimits
+from hri_teleop.core.teleop import AxisAssignment, TeleopParams
 
 REPO = Path(__file__).resolve().parents[2]
 TELEOP_YAML = REPO / "hri_lab" / "config" / "teleop.yaml"
@@ -241,7 +241,7 @@ def test_overrides_replace_single_keys_of_the_file(tmp_path):
 
 
 def test_feedback_switch_is_read_from_the_file_and_must_be_a_yaml_bool(tmp_path):
-    from hri_teleop.config import teleop_config_from_dict
+    from hri_teleop.core.config import teleop_config_from_dict
 
     assert teleop_config_from_dict({}).params.feedback is True
     assert teleop_config_from_dict({"feedback": False}).params.feedback is False

@@ -8,7 +8,7 @@ from pathlib import Path
 
 import pytest
 
-from hri_teleop.errors import HriTeleopError
+from hri_teleop.core.errors import HriTeleopError
 
 PACKAGE = Path(__file__).resolve().parents[2] / "hri_teleop"
 
@@ -32,7 +32,7 @@ def test_every_error_class_of_the_toolkit_derives_from_the_one_base():
 
 
 def test_the_errors_keep_their_builtin_base():
-    from hri_teleop.config import ConfigError
+    from hri_teleop.core.config import ConfigError
     from hri_teleop.ros.master import MasterError
 
     assert issubclass(ConfigError, ValueError) and issubclass(ConfigError, HriTeleopError)
@@ -46,8 +46,8 @@ def test_the_errors_keep_their_builtin_base():
     ("RuntimeError", False),
 ])
 def test_a_node_reports_only_the_toolkits_errors_in_one_line(exc, ours):
-    from hri_teleop.config import ConfigError
-    from hri_teleop.experiment.tlx import TlxError
+    from hri_teleop.core.config import ConfigError
+    from hri_teleop.core.experiment.tlx import TlxError
     from hri_teleop.ros.params import _is_project_error
 
     kinds = {"ConfigError": ConfigError, "TlxError": TlxError, "ValueError": ValueError, "RuntimeError": RuntimeError}

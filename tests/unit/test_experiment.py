@@ -7,14 +7,20 @@ from pathlib import Path
 
 import pytest
 
-from hri_teleop.config import load_teleop_config
-from hri_teleop.experiment.metrics import MetricsError, TrialMeta, calibrated_force_n, per_participant, trial_metrics
-from hri_teleop.experiment.plan import counterbalanced_plan, read_plan, write_plan
-from hri_teleop.experiment.stats import paired_comparison
-from hri_teleop.sim.hand import OBJECTS, Attachment
-from hri_teleop.sim.lab import run_lab
-from hri_teleop.sim.operators import study_operator
-from hri_teleop.sim.world import WorldConfig
+from hri_teleop.core.config import load_teleop_config
+from hri_teleop.core.experiment.metrics import (
+    MetricsError,
+    TrialMeta,
+    calibrated_force_n,
+    per_participant,
+    trial_metrics,
+)
+from hri_teleop.core.experiment.plan import counterbalanced_plan, read_plan, write_plan
+from hri_teleop.core.experiment.stats import paired_comparison
+from hri_teleop.hardware.sim.hand import OBJECTS, Attachment
+from hri_teleop.hardware.sim.lab import run_lab
+from hri_teleop.hardware.sim.operators import study_operator
+from hri_teleop.hardware.sim.world import WorldConfig
 
 REPO = Path(__file__).resolve().parents[2]
 CONFIG = load_teleop_config(REPO / "hri_lab" / "config" / "teleop.yaml")
@@ -96,7 +102,7 @@ def test_a_simulated_study_shows_feedback_lowers_the_squeeze():
 
 
 def test_the_study_figure_is_drawn_from_trials(tmp_path):
-    from hri_teleop.experiment.figures import study_figure
+    from hri_teleop.plots.study import study_figure
 
     trials = []
     for i, p in enumerate(["P01", "P02", "P03"]):
@@ -108,7 +114,7 @@ def test_the_study_figure_is_drawn_from_trials(tmp_path):
 
 
 def test_a_trial_without_sensor_samples_is_named_in_the_error():
-    from hri_teleop.sim.report import LabRecord
+    from hri_teleop.core.run_record import LabRecord
 
     with pytest.raises(MetricsError, match="P07 trial 3"):
         trial_metrics(LabRecord(), TrialMeta("P07", "egg", "feedback", 3), 700)
@@ -116,9 +122,9 @@ def test_a_trial_without_sensor_samples_is_named_in_the_error():
 
 @pytest.mark.parametrize("obj", ["egg", "sponge", "block"])
 def test_a_quick_study_trial_grasps_as_the_full_one_in_half_the_time(obj):
-    from hri_teleop.gamepad import parse_script
-    from hri_teleop.sim.config import world_config_from_dict
-    from hri_teleop.sim.operators import study_scenario
+    from hri_teleop.hardware.sim.config import world_config_from_dict
+    from hri_teleop.hardware.sim.operators import study_scenario
+    from hri_teleop.hardware.sim.virtual_pad import parse_script
 
     for condition, seed in (("feedback", 3), ("no_feedback", 0), ("no_feedback", 8), ("no_feedback", 1)):
         params = replace_params(feedback=(condition == "feedback"))
@@ -135,7 +141,7 @@ def test_a_quick_study_trial_grasps_as_the_full_one_in_half_the_time(obj):
 
 
 def test_study_scenarios_refuse_an_object_outside_the_simulations_set():
-    from hri_teleop.sim.operators import study_operator, study_scenario
+    from hri_teleop.hardware.sim.operators import study_operator, study_scenario
 
     with pytest.raises(ValueError, match="not in the simulation's set; use one of block, egg"):
         study_scenario("feedback", 1, "cup")

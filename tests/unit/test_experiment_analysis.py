@@ -9,16 +9,21 @@ from pathlib import Path
 
 import pytest
 
-from hri_teleop.config import load_teleop_config
-from hri_teleop.experiment.analysis import COLUMNS, LoadedTrial, analyse_trials, default_trials_folder
-from hri_teleop.experiment.figures import PANEL_TITLES
-from hri_teleop.experiment.metrics import MetricsError, TrialMeta
-from hri_teleop.experiment.tlx import TlxRatings
-from hri_teleop.gamepad import parse_script
+from hri_teleop.core.config import load_teleop_config
+from hri_teleop.core.experiment.analysis import (
+    COLUMNS,
+    LoadedTrial,
+    analyse_trials,
+    default_trials_folder,
+)
+from hri_teleop.core.experiment.metrics import MetricsError, TrialMeta
+from hri_teleop.core.experiment.tlx import TlxRatings
+from hri_teleop.hardware.sim.config import world_config_from_dict
+from hri_teleop.hardware.sim.lab import run_lab
+from hri_teleop.hardware.sim.operators import study_scenario
+from hri_teleop.hardware.sim.virtual_pad import parse_script
+from hri_teleop.plots.study import PANEL_TITLES
 from hri_teleop.ros.trial import analyse_folder
-from hri_teleop.sim.config import world_config_from_dict
-from hri_teleop.sim.lab import run_lab
-from hri_teleop.sim.operators import study_scenario
 
 REPO = Path(__file__).resolve().parents[2]
 CONFIG = load_teleop_config(REPO / "hri_lab" / "config" / "teleop.yaml")

@@ -8,7 +8,7 @@ import pytest
 from hypothesis import given, settings
 from hypothesis import strategies as st
 
-from hri_teleop.experiment.stats import StatsError, paired_comparison, signed_ranks, wilcoxon_exact
+from hri_teleop.core.experiment.stats import StatsError, paired_comparison, signed_ranks, wilcoxon_exact
 
 
 def _brute_force_p(ranks, w_plus):

@@ -7,9 +7,22 @@ import os
 import pytest
 import yaml
 
-from hri_teleop.experiment.metrics import MetricsError, TrialMeta
-from hri_teleop.experiment.sidecar import meta_from_sidecar, read_sidecar, sidecar_data, update_sidecar, write_sidecar
-from hri_teleop.experiment.tlx import SUBSCALE_KEYS, TlxError, TlxRatings, optional_tlx, store_tlx, tlx_from_dict
+from hri_teleop.core.experiment.metrics import MetricsError, TrialMeta
+from hri_teleop.core.experiment.sidecar import (
+    meta_from_sidecar,
+    read_sidecar,
+    sidecar_data,
+    update_sidecar,
+    write_sidecar,
+)
+from hri_teleop.core.experiment.tlx import (
+    SUBSCALE_KEYS,
+    TlxError,
+    TlxRatings,
+    optional_tlx,
+    store_tlx,
+    tlx_from_dict,
+)
 
 ANSWERS = {"mental": 40, "physical": 10, "temporal": 30, "performance": 20, "effort": 45, "frustration": 15}
 

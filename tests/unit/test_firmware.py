@@ -4,7 +4,7 @@
   with g++ against the stand-ins for ros.h, std_msgs/Int16.h and Arduino.h in
   firmware/test/, and each scenario of firmware/test/test_force_node.cpp runs as a test.
 * Every line the plain-serial sketch formats (firmware/fsr_serial/fsr_line.h) is parsed by
-  the host's parser (hri_teleop.serial_protocol): the two ends of the protocol agree.
+  the host's parser (hri_teleop.core.serial_protocol): the two ends of the protocol agree.
 * Both sketches build for the ATmega328P with Debian's toolchain and fit the Uno.
 
 Where the toolchain is missing: on machines where `make setup` installs it that is a
@@ -20,8 +20,13 @@ from pathlib import Path
 
 import pytest
 
-from hri_teleop.serial_protocol import Sample, crc8, parse_line
-from hri_teleop.simavr_board import FIRMWARE_DIR, build_firmware, setup_installs_toolchain, toolchain_problem
+from hri_teleop.core.serial_protocol import Sample, crc8, parse_line
+from hri_teleop.hardware.sim.simavr_board import (
+    FIRMWARE_DIR,
+    build_firmware,
+    setup_installs_toolchain,
+    toolchain_problem,
+)
 
 TEST_DIR = FIRMWARE_DIR / "test"
 

@@ -7,8 +7,8 @@ import pytest
 from hypothesis import given, settings
 from hypothesis import strategies as st
 
-from hri_teleop import fsr
-from hri_teleop.fsr import (
+from hri_teleop.core import fsr
+from hri_teleop.core.fsr import (
     ADC_BITS,
     FSR402,
     FSR402_POINTS,

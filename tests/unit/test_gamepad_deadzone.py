@@ -8,7 +8,7 @@ import pytest
 from hypothesis import given
 from hypothesis import strategies as st
 
-from hri_teleop.gamepad import GamepadError, normalize_analog_input
+from hri_teleop.core.gamepad import GamepadError, normalize_analog_input
 
 deadzones = st.floats(min_value=0.0, max_value=0.95)
 values = st.floats(min_value=-1.0, max_value=1.0)

@@ -1,11 +1,11 @@
-"""Pad snapshots -> the handout's pygame-style events (hri_teleop.gamepad.events)."""
+"""Pad snapshots -> the handout's pygame-style events (hri_teleop.core.gamepad.events)."""
 
 from __future__ import annotations
 
 import pytest
 
-from hri_teleop.gamepad import GamepadError, PadState
-from hri_teleop.gamepad.events import JOYAXISMOTION, JOYBUTTONDOWN, JOYBUTTONUP, PadEvent, pad_events
+from hri_teleop.core.gamepad import GamepadError, PadState
+from hri_teleop.core.gamepad.events import JOYAXISMOTION, JOYBUTTONDOWN, JOYBUTTONUP, PadEvent, pad_events
 
 
 def test_a_press_and_a_release_are_one_event_each():

@@ -9,7 +9,16 @@ import yaml
 from hypothesis import given
 from hypothesis import strategies as st
 
-from hri_teleop.gamepad import AXES, BUTTONS, LAYOUT_DIR, GamepadError, Layout, PadState, available_layouts, load_layout
+from hri_teleop.core.gamepad import (
+    AXES,
+    BUTTONS,
+    LAYOUT_DIR,
+    GamepadError,
+    Layout,
+    PadState,
+    available_layouts,
+    load_layout,
+)
 
 #: Raw (SDL2, Linux, kernel driver) indices each shipped layout must keep; sources in the YAML.
 EXPECTED = {

@@ -14,7 +14,9 @@ from typing import List
 
 import pytest
 
-from hri_teleop.gamepad import NO_GAMEPAD_MESSAGE, Gamepad, GamepadError, PadState, PygamePad, open_gamepad
+from hri_teleop.core.gamepad import Gamepad, GamepadError, PadState
+from hri_teleop.hardware.gamepad import open_gamepad
+from hri_teleop.hardware.real.pygame_pad import NO_GAMEPAD_MESSAGE, PygamePad
 
 HEADLESS = dict(os.environ, SDL_VIDEODRIVER="dummy", SDL_AUDIODRIVER="dummy",
                 PYGAME_HIDE_SUPPORT_PROMPT="1")
@@ -123,18 +125,19 @@ def test_open_gamepad_pygame_without_a_pad():
         open_gamepad("pygame", "xbox")
 
 
-def test_importing_the_package_does_not_import_pygame():
-    code = "import sys, hri_teleop.gamepad as g; g.VirtualPad().poll(); print('pygame' in sys.modules)"
+def test_opening_a_virtual_pad_does_not_import_pygame():
+    code = ("import sys, hri_teleop.hardware.gamepad as g; g.open_gamepad('virtual').poll(); "
+            "print('pygame' in sys.modules)")
     out = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, env=HEADLESS,
                          check=True)
     assert out.stdout.strip() == "False"
 
 
 def test_checker_cli_lists_layouts_and_reports_no_pad():
-    listed = subprocess.run([sys.executable, "-m", "hri_teleop.gamepad", "--list"],
+    listed = subprocess.run([sys.executable, "-m", "hri_teleop.hardware.real.pad_check", "--list"],
                             capture_output=True, text=True, env=HEADLESS)
     assert listed.returncode == 0 and "dualshock4" in listed.stdout and "xbox" in listed.stdout
-    run = subprocess.run([sys.executable, "-m", "hri_teleop.gamepad", "--seconds", "0.1"],
+    run = subprocess.run([sys.executable, "-m", "hri_teleop.hardware.real.pad_check", "--seconds", "0.1"],
                          capture_output=True, text=True, env=HEADLESS)
     assert run.returncode == 1
     assert run.stderr.strip().splitlines()[-1] == "error: " + NO_GAMEPAD_MESSAGE

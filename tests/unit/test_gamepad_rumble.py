@@ -6,7 +6,7 @@ import pytest
 from hypothesis import given, settings
 from hypothesis import strategies as st
 
-from hri_teleop.gamepad import GamepadError, RumblePolicy, RumbleRequests
+from hri_teleop.core.gamepad import GamepadError, RumblePolicy, RumbleRequests
 
 
 def test_switching_on_and_off_is_sent_at_once():

@@ -4,7 +4,7 @@ from __future__ import annotations
 
 import pytest
 
-from hri_teleop.gamepad import AXES, BUTTONS, GamepadError, PadState
+from hri_teleop.core.gamepad import AXES, BUTTONS, GamepadError, PadState
 
 
 def test_positional_names_are_the_contract():

@@ -8,19 +8,14 @@ import pytest
 from hypothesis import given
 from hypothesis import strategies as st
 
-from hri_teleop.gamepad import (
-    AXES,
-    BUTTONS,
-    Gamepad,
-    GamepadError,
-    PadState,
+from hri_teleop.core.gamepad import AXES, BUTTONS, Gamepad, GamepadError, PadState, load_layout
+from hri_teleop.hardware.gamepad import open_gamepad
+from hri_teleop.hardware.sim.virtual_pad import (
     RumbleRecord,
     ScriptedPad,
     ScriptStep,
     VirtualPad,
-    load_layout,
     load_script,
-    open_gamepad,
     parse_script,
 )
 

@@ -1,4 +1,4 @@
-"""The grader's inputs and expected outputs (hri_teleop.grading.cases): public fixed, hidden seeded."""
+"""The grader's inputs and expected outputs (hri_teleop.grading.cases.inputs): public fixed, hidden seeded."""
 
 from __future__ import annotations
 
@@ -6,7 +6,8 @@ from pathlib import Path
 
 import pytest
 
-from hri_teleop.grading.cases import (
+from hri_teleop.core.mapping import map_force
+from hri_teleop.grading.cases.inputs import (
     PUBLIC_MAX_SENSOR_FORCE,
     hidden_mapping_cases,
     hidden_teleop_node_case,
@@ -17,7 +18,6 @@ from hri_teleop.grading.cases import (
     reference_parts,
     seed_for,
 )
-from hri_teleop.mapping import map_force
 
 
 def test_the_public_mapping_trace_covers_zero_the_maximum_above_it_and_noise():

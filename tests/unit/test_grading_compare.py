@@ -1,4 +1,4 @@
-"""Judging observations (hri_teleop.grading.compare, robot_params): parts, points, student messages.
+"""Judging observations (hri_teleop.grading.judge.compare, robot_params): parts, points, student messages.
 
 No ROS here: the observations are built by hand the way the sessions and probes report them.
 """
@@ -10,10 +10,10 @@ from pathlib import Path
 
 import pytest
 
-from hri_teleop.grading import compare
-from hri_teleop.grading.cases import public_mapping_case, public_teleop_parts_case, reference_parts
-from hri_teleop.grading.robot_params import TABLE_1, compare_robot_params
-from hri_teleop.grading.workspace import FRANKA_MARKER_PARAM
+from hri_teleop.grading.cases.inputs import public_mapping_case, public_teleop_parts_case, reference_parts
+from hri_teleop.grading.judge import compare
+from hri_teleop.grading.judge.robot_params import TABLE_1, compare_robot_params
+from hri_teleop.grading.run.workspace import FRANKA_MARKER_PARAM
 
 
 def _failed(parts):
@@ -77,7 +77,7 @@ def _run(case, outputs, topic="/force_mapped", kind="std_msgs/Float32", subs=(("
 
 
 def _cases():
-    from hri_teleop.grading.cases import hidden_mapping_cases
+    from hri_teleop.grading.cases.inputs import hidden_mapping_cases
 
     return [public_mapping_case()] + hidden_mapping_cases(3)
 
@@ -221,7 +221,7 @@ def _sim_observation(**changes):
 
 
 def _sim_part(observation, plot_dir=None):
-    from hri_teleop.grading.cases import launch_sim_case
+    from hri_teleop.grading.cases.inputs import launch_sim_case
 
     return compare.compare_teleop_launch_sim(_launch(TELEOP_NODES, TELEOP_PARAMS), observation, launch_sim_case(),
                                              plot_dir)
@@ -358,7 +358,7 @@ def test_an_unreadable_graph_fails_the_format_part_first():
 
 
 def test_the_grading_clock_is_the_graders_unless_real_time_is_asked_for(monkeypatch):
-    from hri_teleop.grading.checks import CLOCK_ENV, grading_clock
+    from hri_teleop.grading.judge.checks import CLOCK_ENV, grading_clock
     from hri_teleop.grading.results import GradingError
 
     monkeypatch.delenv(CLOCK_ENV, raising=False)

@@ -1,4 +1,4 @@
-"""Student templates generated from solutions/ (hri_teleop.grading.templates)."""
+"""Student templates generated from solutions/ (hri_teleop.grading.cases.templates)."""
 
 from __future__ import annotations
 
@@ -10,7 +10,7 @@ from pathlib import Path
 import pytest
 import yaml
 
-from hri_teleop.grading.templates import (
+from hri_teleop.grading.cases.templates import (
     TemplateError,
     generate_templates,
     has_markers,
@@ -135,7 +135,7 @@ def test_the_output_folder_is_replaced_and_never_inside_the_answer_key(tmp_path)
 
 
 def test_solution_lines_are_what_the_regions_hold_in_every_comment_style():
-    from hri_teleop.grading.templates import solution_lines
+    from hri_teleop.grading.cases.templates import solution_lines
 
     text = "\n".join(["keep", "    # BEGIN SOLUTION", "    a = 1", "    # END SOLUTION", "keep too",
                       "<!-- ### BEGIN SOLUTION -->", "<node/>", "<!-- ### END SOLUTION -->", "## BEGIN SOLUTION",

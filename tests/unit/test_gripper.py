@@ -8,7 +8,7 @@ import pytest
 from hypothesis import given, settings
 from hypothesis import strategies as st
 
-from hri_teleop.gripper import GoalThrottle, GripperError
+from hri_teleop.core.gripper import GoalThrottle, GripperError
 
 RATE_HZ = 50.0  # teleoperation's loop rate: one /gripper_width per tick
 DT = 1.0 / RATE_HZ
@@ -143,7 +143,7 @@ def test_property_goal_rate_is_bounded_and_the_last_target_is_reached(targets, m
     (float("nan"), None), (float("inf"), None), (float("-inf"), None), ("x", None),
 ])
 def test_usable_width_clamps_to_the_hand_and_drops_non_numbers(raw, expected):
-    from hri_teleop.gripper import usable_width_m
+    from hri_teleop.core.gripper import usable_width_m
 
     width, problem = usable_width_m(raw)
     assert width == expected
@@ -151,7 +151,7 @@ def test_usable_width_clamps_to_the_hand_and_drops_non_numbers(raw, expected):
 
 
 def test_the_hand_width_is_the_sum_of_the_two_finger_joints_or_none_for_a_malformed_message():
-    from hri_teleop.gripper import width_from_joint_positions_m
+    from hri_teleop.core.gripper import width_from_joint_positions_m
 
     assert width_from_joint_positions_m([0.02, 0.02]) == pytest.approx(0.04)
     assert width_from_joint_positions_m((0.013, 0.013, 9.0)) == pytest.approx(0.026)

@@ -8,7 +8,7 @@ import subprocess
 import sys
 from pathlib import Path
 
-from hri_teleop.labkernel import KERNEL_NAME, install_kernelspec, kernelspec, lab_command
+from hri_teleop.course.labkernel import KERNEL_NAME, install_kernelspec, kernelspec, lab_command
 
 REPO = Path(__file__).resolve().parents[2]
 
@@ -54,7 +54,7 @@ def test_make_lab_runs_setup_then_the_lab_module():
                          timeout=60)
     assert out.returncode == 0, out.stderr
     assert "tools/setup.sh" in out.stdout
-    assert "-m hri_teleop.labkernel --port=9999" in out.stdout
+    assert "-m hri_teleop.course.labkernel --port=9999" in out.stdout
 
 
 def test_notebook_kernels_talk_over_private_unix_sockets_with_no_tcp_port_to_lose(tmp_path):
@@ -63,7 +63,7 @@ def test_notebook_kernels_talk_over_private_unix_sockets_with_no_tcp_port_to_los
     import nbformat
     from nbclient import NotebookClient
 
-    from hri_teleop.labkernel import ipc_kernel_argv, ipc_kernel_config
+    from hri_teleop.course.labkernel import ipc_kernel_argv, ipc_kernel_config
 
     install_kernelspec()
     nb = nbformat.v4.new_notebook()

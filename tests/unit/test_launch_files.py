@@ -135,7 +135,7 @@ def test_teleoperation_reads_teleop_yaml_and_only_given_arguments_override_it():
 
 
 def test_teleop_yaml_the_launch_points_to_is_a_valid_config():
-    from hri_teleop.config import load_teleop_config
+    from hri_teleop.core.config import load_teleop_config
 
     config = load_teleop_config(CONFIG / "teleop.yaml")
     assert config.twist_topic == "/cartesian_velocity_controller/cmd_vel"

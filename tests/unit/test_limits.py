@@ -15,7 +15,7 @@ import pytest
 from hypothesis import given, settings
 from hypothesis import strategies as st
 
-from hri_teleop.limits import (
+from hri_teleop.core.limits import (
     DEFAULT_LIMITS,
     PANDA_LIMITS,
     AxisLimits,

@@ -9,7 +9,7 @@ import pytest
 from hypothesis import given, settings
 from hypothesis import strategies as st
 
-from hri_teleop.mapping import ADC_MAX_COUNT, MappingError, map_force, validate_max_sensor_force
+from hri_teleop.core.mapping import ADC_MAX_COUNT, MappingError, map_force, validate_max_sensor_force
 
 SETTINGS = settings(max_examples=200, deadline=None)
 valid_max = st.one_of(

@@ -6,7 +6,7 @@ import pytest
 from hypothesis import given
 from hypothesis import strategies as st
 
-from hri_teleop.modes import (
+from hri_teleop.core.modes import (
     GRADING,
     HARDWARE_NODES,
     HOME,

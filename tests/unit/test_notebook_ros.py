@@ -1,4 +1,4 @@
-"""hri_teleop.notebook_ros without a master: fast, one-line answers (the live paths: tests/integration)."""
+"""hri_teleop.course.notebook_ros without a master: fast, one-line answers (the live paths: tests/integration)."""
 
 from __future__ import annotations
 
@@ -6,8 +6,14 @@ import time
 
 import pytest
 
-from hri_teleop import notebook_ros
-from hri_teleop.notebook_ros import NotebookRosError, RosSession, ensure_ros, master_call, master_reachable
+from hri_teleop.course import notebook_ros
+from hri_teleop.course.notebook_ros import (
+    NotebookRosError,
+    RosSession,
+    ensure_ros,
+    master_call,
+    master_reachable,
+)
 from hri_teleop.ros.master import free_port
 
 

@@ -1,4 +1,4 @@
-"""hri_teleop.paramfile: the calibration value goes into a student's file, and nothing else changes."""
+"""hri_teleop.core.paramfile: the calibration value goes into a student's file, and nothing else changes."""
 
 from __future__ import annotations
 
@@ -9,7 +9,7 @@ from pathlib import Path
 import pytest
 import yaml
 
-from hri_teleop.paramfile import ParamFileError, set_in_launch, set_in_yaml, write_max_sensor_force
+from hri_teleop.core.paramfile import ParamFileError, set_in_launch, set_in_yaml, write_max_sensor_force
 
 REPO = Path(__file__).resolve().parents[2]
 

@@ -46,8 +46,8 @@ def test_the_pattern_catches_each_outside_reference():
 
 
 def test_the_lab_facts_page_quotes_the_limits_the_code_enforces():
-    from hri_teleop.limits import PANDA_LIMITS
-    from hri_teleop.teleop import GRIPPER_MAX_WIDTH_M
+    from hri_teleop.core.limits import PANDA_LIMITS
+    from hri_teleop.core.teleop import GRIPPER_MAX_WIDTH_M
 
     facts = (ROOT / "docs" / "lab-facts.md").read_text(encoding="utf-8")
     t, r = PANDA_LIMITS.translation, PANDA_LIMITS.rotation

@@ -6,18 +6,19 @@ from pathlib import Path
 
 import pytest
 
-from hri_teleop.grading.reference_guard import reference_uses, refusal
+from hri_teleop.grading.judge.reference_guard import reference_uses, refusal
 
 ROOT = Path(__file__).resolve().parents[2]
 
 
 @pytest.mark.parametrize("source, hit", [
-    ("from hri_teleop.mapping import map_force\n", "line 1: from hri_teleop.mapping import map_force"),
-    ("import hri_teleop.teleop as t\n", "line 1: import hri_teleop.teleop"),
-    ("from hri_teleop import mapping\n", "line 1: from hri_teleop import mapping"),
-    ("from hri_teleop.grading.cases import x\n", "line 1: from hri_teleop.grading.cases import x"),
-    ("import hri_teleop\nv = hri_teleop.mapping.map_force(1, 2)\n", "line 2: hri_teleop.mapping"),
-    ("import importlib\nm = importlib.import_module('hri_teleop.teleop')\n", "line 2: 'hri_teleop.teleop'"),
+    ("from hri_teleop.core.mapping import map_force\n", "line 1: from hri_teleop.core.mapping import map_force"),
+    ("import hri_teleop.core.teleop as t\n", "line 1: import hri_teleop.core.teleop"),
+    ("from hri_teleop.core import mapping\n", "line 1: from hri_teleop.core import mapping"),
+    ("import hri_teleop.core\nv = hri_teleop.core.teleop.TeleopController\n", "line 2: hri_teleop.core.teleop"),
+    ("from hri_teleop.grading.cases.inputs import x\n", "line 1: from hri_teleop.grading.cases.inputs import x"),
+    ("import hri_teleop\nv = hri_teleop.core.mapping.map_force(1, 2)\n", "line 2: hri_teleop.core.mapping"),
+    ("import importlib\nm = importlib.import_module('hri_teleop.core.teleop')\n", "line 2: 'hri_teleop.core.teleop'"),
     ("from somewhere import TeleopController\n", "line 1: from somewhere import TeleopController"),
 ])
 def test_each_way_to_reach_a_reference_rule_is_found_with_its_line(source, hit):
@@ -25,8 +26,8 @@ def test_each_way_to_reach_a_reference_rule_is_found_with_its_line(source, hit):
 
 
 @pytest.mark.parametrize("source", [
-    "from hri_teleop.gamepad import PadState, normalize_analog_input, open_gamepad\n",
-    "from hri_teleop.limits import TwistLimiter\n",
+    "from hri_teleop.core.gamepad import PadState, normalize_analog_input, open_gamepad\n",
+    "from hri_teleop.core.limits import TwistLimiter\n",
     "import rospy\nfrom std_msgs.msg import Float32\n",
     "mapping = {'a': 1}\nteleop = mapping['a']\n",
     "def broken(:\n",  # a syntax error is the check's to report
@@ -42,8 +43,8 @@ def test_the_answer_key_writes_its_rules_itself(path):
 
 
 def test_the_refusal_is_one_line_with_the_file_the_uses_and_the_fix():
-    message = refusal("mapping_node.py", ["line 3: from hri_teleop.mapping import map_force", "line 9: .map_force",
+    message = refusal("mapping_node.py", ["line 3: from hri_teleop.core.mapping import map_force", "line 9: .map_force",
                                           "line 10: .map_force", "line 11: .map_force"])
-    assert message == ("mapping_node.py uses the lab's reference implementation (line 3: from hri_teleop.mapping "
+    assert message == ("mapping_node.py uses the lab's reference implementation (line 3: from hri_teleop.core.mapping "
                        "import map_force; line 9: .map_force; line 10: .map_force): the exercise is to write that "
                        "rule yourself; remove the import and write it in your file")

@@ -48,7 +48,7 @@ def _run(body: str) -> subprocess.CompletedProcess:
 
 def test_a_project_error_ends_the_node_with_one_line_and_status_1():
     proc = _run("""
-        from hri_teleop.mapping import validate_max_sensor_force
+        from hri_teleop.core.mapping import validate_max_sensor_force
         def main():
             validate_max_sensor_force(-5)
         run_node(main)

@@ -1,4 +1,4 @@
-"""The plain-serial board's line protocol (hri_teleop.serial_protocol): parse, check, count."""
+"""The plain-serial board's line protocol (hri_teleop.core.serial_protocol): parse, check, count."""
 
 from __future__ import annotations
 
@@ -8,7 +8,7 @@ import pytest
 from hypothesis import given
 from hypothesis import strategies as st
 
-from hri_teleop.serial_protocol import (
+from hri_teleop.core.serial_protocol import (
     MAX_LINE_BYTES,
     BoardInfo,
     BoardStream,

@@ -1,6 +1,6 @@
 """The simulated Franka arm judges commands as the robot does, stops as it does, and moves as commanded.
 
-The key agreement: a stream from hri_teleop.limits.TwistLimiter with the lab's
+The key agreement: a stream from hri_teleop.core.limits.TwistLimiter with the lab's
 DEFAULT_LIMITS at 50 Hz, held by the controller at 1 kHz, never trips the simulated robot;
 steps do, with libfranka's error names.
 """
@@ -16,7 +16,7 @@ import pytest
 from hypothesis import given, settings
 from hypothesis import strategies as st
 
-from hri_teleop.limits import (
+from hri_teleop.core.limits import (
     DEFAULT_LIMITS,
     PANDA_LIMITS,
     ROBOT_PERIOD_S,
@@ -26,7 +26,7 @@ from hri_teleop.limits import (
     hold_at_robot_rate,
     limit_violations,
 )
-from hri_teleop.sim.arm import (
+from hri_teleop.hardware.sim.arm import (
     ACCELERATION_DISCONTINUITY,
     EVENT_IGNORED,
     EVENT_RECOVERED,
@@ -286,7 +286,7 @@ def kilohertz_sequences(draw):
 @settings(max_examples=150, deadline=None)
 @given(kilohertz_sequences())
 def test_the_sim_judges_exactly_as_limit_violations(twists):
-    """Same cycle, same errors as hri_teleop.limits.limit_violations on any 1 kHz sequence."""
+    """Same cycle, same errors as hri_teleop.core.limits.limit_violations on any 1 kHz sequence."""
     assert _sim_first_reflex(twists) == _first_problem(twists)
 
 

@@ -8,8 +8,8 @@ from pathlib import Path
 import pytest
 import yaml
 
-from hri_teleop.sim.board import HANDOUT_FIRMWARE_RATE_HZ, BoardConfig
-from hri_teleop.sim.config import (
+from hri_teleop.hardware.sim.board import HANDOUT_FIRMWARE_RATE_HZ, BoardConfig
+from hri_teleop.hardware.sim.config import (
     PARAM_ALIASES,
     SECTION_KEYS,
     TOP_KEYS,
@@ -21,8 +21,8 @@ from hri_teleop.sim.config import (
     world_config_from_dict,
     world_overrides_from_params,
 )
-from hri_teleop.sim.hand import OBJECTS, Attachment, GraspObject, HandParams
-from hri_teleop.sim.world import LAB_ARM_CONFIG, LabWorld, WorldConfig
+from hri_teleop.hardware.sim.hand import OBJECTS, Attachment, GraspObject, HandParams
+from hri_teleop.hardware.sim.world import LAB_ARM_CONFIG, LabWorld, WorldConfig
 
 REPO = Path(__file__).resolve().parents[2]
 SIM_YAML = REPO / "hri_lab" / "config" / "sim.yaml"

@@ -1,4 +1,4 @@
-"""The simulated Franka Hand, object and FSR attachment (hri_teleop.sim.hand): physics and goals."""
+"""The simulated Franka Hand, object and FSR attachment (hri_teleop.hardware.sim.hand): physics and goals."""
 
 from __future__ import annotations
 
@@ -12,10 +12,11 @@ import pytest
 from hypothesis import given, settings
 from hypothesis import strategies as st
 
-from hri_teleop import fsr
-from hri_teleop.gripper import GoalThrottle
-from hri_teleop.sim import hand as hand_module
-from hri_teleop.sim.hand import (
+from hri_teleop.core import fsr
+from hri_teleop.core.gripper import GoalThrottle
+from hri_teleop.core.teleop import GRIPPER_MAX_WIDTH_M
+from hri_teleop.hardware.sim import hand as hand_module
+from hri_teleop.hardware.sim.hand import (
     COMMAND_ABORTED,
     COMMAND_FAILED,
     GRAVITY_M_PER_S2,
@@ -35,7 +36,6 @@ from hri_teleop.sim.hand import (
     holding_force_n,
     is_held,
 )
-from hri_teleop.teleop import GRIPPER_MAX_WIDTH_M
 
 DT = 0.001  # the simulation node steps at 1 kHz
 TRAVEL = Attachment().piston_travel_m

@@ -1,4 +1,4 @@
-"""The simulated board's Python side (hri_teleop.simavr_board): force profiles -> A0 voltages."""
+"""The simulated board's Python side (hri_teleop.hardware.sim.simavr_board): force profiles -> A0 voltages."""
 
 from __future__ import annotations
 
@@ -6,8 +6,8 @@ from pathlib import Path
 
 import pytest
 
-from hri_teleop.fsr import count_to_force, force_to_count
-from hri_teleop.simavr_board import (
+from hri_teleop.core.fsr import count_to_force, force_to_count
+from hri_teleop.hardware.sim.simavr_board import (
     ProfilePoint,
     SimavrBoardError,
     SimulatedUno,

@@ -9,8 +9,8 @@ import pytest
 from hypothesis import assume, given, settings
 from hypothesis import strategies as st
 
-from hri_teleop.gamepad import AXES, BUTTONS, PadState
-from hri_teleop.limits import (
+from hri_teleop.core.gamepad import AXES, BUTTONS, PadState
+from hri_teleop.core.limits import (
     DEFAULT_LIMITS,
     PANDA_LIMITS,
     ROBOT_PERIOD_S,
@@ -21,7 +21,7 @@ from hri_teleop.limits import (
     hold_at_robot_rate,
     limit_violations,
 )
-from hri_teleop.teleop import (
+from hri_teleop.core.teleop import (
     DEFAULT_AXIS_ASSIGNMENT,
     GRIPPER_MAX_WIDTH_M,
     AxisAssignment,

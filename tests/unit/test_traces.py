@@ -3,7 +3,7 @@ from __future__ import annotations
 import numpy as np
 import pytest
 
-from hri_teleop.traces import TraceError, pair_outputs, percentile_ms, rate_hz
+from hri_teleop.core.traces import TraceError, pair_outputs, percentile_ms, rate_hz
 
 
 def test_rate_of_a_10_hz_trace_is_10_hz():

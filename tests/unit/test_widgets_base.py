@@ -10,7 +10,7 @@ import time
 import pytest
 from matplotlib.figure import Figure
 
-from hri_teleop.widgets import FigureView, Ticker, WidgetError
+from hri_teleop.course.widgets import FigureView, Ticker, WidgetError
 
 
 def test_image_mode_shows_the_figure_as_png_and_redraw_updates_it():
@@ -68,7 +68,7 @@ def test_an_error_in_the_callback_is_reported_once_and_the_ticker_keeps_going(ca
 def test_importing_the_widgets_needs_neither_rospy_nor_pygame():
     import subprocess
 
-    code = ("import sys, hri_teleop.widgets; "
+    code = ("import sys, hri_teleop.course.widgets; "
             "print(sorted(m for m in ('rospy', 'pygame') if m in sys.modules))")
     out = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, timeout=60)
     assert out.returncode == 0, out.stderr

@@ -4,9 +4,9 @@ from __future__ import annotations
 
 import pytest
 
-from hri_teleop.calibrate import CalibrateError
-from hri_teleop.widgets import MaxRecorder
-from hri_teleop.widgets._base import WidgetError
+from hri_teleop.course.widgets import MaxRecorder
+from hri_teleop.course.widgets._base import WidgetError
+from hri_teleop.hardware.real.calibrate import CalibrateError
 
 
 def test_the_largest_count_within_the_duration_is_the_result():

@@ -8,7 +8,7 @@ import threading
 import time
 import types
 
-from hri_teleop.widgets.calibration import CalibrationWidget
+from hri_teleop.course.widgets.calibration import CalibrationWidget
 
 
 class _SlowSubscriber:

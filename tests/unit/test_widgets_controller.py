@@ -6,10 +6,11 @@ import re
 
 import pytest
 
-from hri_teleop.gamepad import PadState, VirtualPad
-from hri_teleop.teleop import Mode, TeleopParams
-from hri_teleop.widgets import ControllerModel, ControllerView, open_pad, pad_svg
-from hri_teleop.widgets.controller import button_roles, stick_dot_xy
+from hri_teleop.core.gamepad import PadState
+from hri_teleop.core.teleop import Mode, TeleopParams
+from hri_teleop.course.widgets import ControllerModel, ControllerView, open_pad, pad_svg
+from hri_teleop.course.widgets.controller import button_roles, stick_dot_xy
+from hri_teleop.hardware.sim.virtual_pad import VirtualPad
 
 
 def test_holding_cross_closes_the_gripper_at_k_gripper_per_second_of_wall_time():
@@ -104,7 +105,7 @@ def test_the_views_sliders_and_buttons_drive_the_virtual_pad():
 
 
 def test_running_the_same_cell_again_closes_the_view_it_made_before():
-    from hri_teleop.widgets._base import replace_in_cell
+    from hri_teleop.course.widgets._base import replace_in_cell
 
     first = ControllerView("virtual", autostart=False)
     first.ticker.start()

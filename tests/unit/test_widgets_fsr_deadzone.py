@@ -7,11 +7,18 @@ import math
 import numpy as np
 import pytest
 
-from hri_teleop import fsr
-from hri_teleop.gamepad import normalize_analog_input
-from hri_teleop.mapping import map_force
-from hri_teleop.widgets import DeadzoneExplorer, FsrExplorer, deadzone_curve, filter_stick, fsr_curve, fsr_reading
-from hri_teleop.widgets.fsr import describe_reading, format_ohm
+from hri_teleop.core import fsr
+from hri_teleop.core.gamepad import normalize_analog_input
+from hri_teleop.core.mapping import map_force
+from hri_teleop.course.widgets import (
+    DeadzoneExplorer,
+    FsrExplorer,
+    deadzone_curve,
+    filter_stick,
+    fsr_curve,
+    fsr_reading,
+)
+from hri_teleop.course.widgets.fsr import describe_reading, format_ohm
 
 
 def test_a_reading_is_the_core_chain_force_to_count_to_mapped():

@@ -8,9 +8,9 @@ import time
 import numpy as np
 import pytest
 
-from hri_teleop.config import DEFAULT_TWIST_TOPIC, load_teleop_config
-from hri_teleop.widgets import TopicBuffer, lab_topics, numeric_fields
-from hri_teleop.widgets.live import field_getter, rate_hz
+from hri_teleop.core.config import DEFAULT_TWIST_TOPIC, load_teleop_config
+from hri_teleop.course.widgets import TopicBuffer, lab_topics, numeric_fields
+from hri_teleop.course.widgets.live import field_getter, rate_hz
 
 
 class _Vector3:

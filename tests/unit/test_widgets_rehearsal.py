@@ -4,7 +4,7 @@ from __future__ import annotations
 
 from pathlib import Path
 
-from hri_teleop.widgets.rehearsal import RehearsalOffer, count_trials
+from hri_teleop.course.widgets.rehearsal import RehearsalOffer, count_trials
 
 
 def _trial(folder: Path, stem: str, bag: bool = True) -> None:

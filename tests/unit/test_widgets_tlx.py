@@ -7,11 +7,11 @@ import time
 
 import pytest
 
-from hri_teleop.experiment.metrics import TrialMeta
-from hri_teleop.experiment.sidecar import read_sidecar, sidecar_data, write_sidecar
-from hri_teleop.experiment.tlx import SUBSCALE_KEYS, TlxRatings
-from hri_teleop.widgets import TlxWidget, trial_sidecars
-from hri_teleop.widgets._base import WidgetError
+from hri_teleop.core.experiment.metrics import TrialMeta
+from hri_teleop.core.experiment.sidecar import read_sidecar, sidecar_data, write_sidecar
+from hri_teleop.core.experiment.tlx import SUBSCALE_KEYS, TlxRatings
+from hri_teleop.course.widgets import TlxWidget, trial_sidecars
+from hri_teleop.course.widgets._base import WidgetError
 
 ANSWERS = {"mental": 40, "physical": 10, "temporal": 30, "performance": 20, "effort": 45, "frustration": 15}
 

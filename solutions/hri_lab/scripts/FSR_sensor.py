@@ -4,7 +4,7 @@
 It stands in for the Arduino of the lab (``arduino_code_force_node.ino`` over
 rosserial): same topic, same type (std_msgs/Int16, 0..1023). The values are repeated,
 smooth presses of the piston shaped through the FSR 402 model
-(hri_teleop.sensor_profile.press_profile_count).
+(hri_teleop.hardware.sim.sensor_profile.press_profile_count).
 
 Parameters (private):
   ~rate_hz    float  10.0    publish rate in Hz (the Arduino sketch sends about 3 Hz,
@@ -21,10 +21,10 @@ from __future__ import annotations
 import rospy
 from std_msgs.msg import Int16
 
-from hri_teleop.mapping import ADC_MAX_COUNT
+from hri_teleop.core.mapping import ADC_MAX_COUNT
+from hri_teleop.hardware.sim.sensor_profile import FSR_SENSOR_RATE_HZ, press_profile_count
 from hri_teleop.ros.clock import ClockError, NodeClock
 from hri_teleop.ros.params import fail, get_param, run_node
-from hri_teleop.sensor_profile import FSR_SENSOR_RATE_HZ, press_profile_count
 
 
 def main() -> int:

@@ -1,0 +1,161 @@
+"""Nodes started from a notebook cell, on the kernel's master, stopped with ``stop_nodes``.
+
+Each node runs in its own process group with its output in a log file (``proc.output()``),
+so a cell never blocks on a node; :func:`hri_teleop.course.notebook_ros.ensure_ros` points
+``ROS_MASTER_URI`` at the kernel's master first. Whatever is left stops with the kernel.
+"""
+
+from __future__ import annotations
+
+import atexit
+import os
+import shutil
+import subprocess
+import sys
+import tempfile
+import time
+from pathlib import Path
+from typing import Any, Dict, List, Optional, Sequence, Union
+
+from hri_teleop.course.errors import CourseError
+
+__all__ = ["STUDENT_PACKAGE", "stop_nodes", "run_provided_node", "run_student_node", "rosrun_student", "launch",
+           "wait_for_publisher", "student_workspace", "launch_student"]
+
+PathLike = Union[str, Path]
+#: The student's package folder beside the notebooks of every assignment.
+STUDENT_PACKAGE = "hri_lab"
+
+#: The nodes this kernel started (stop_nodes stops them) and its scratch folders (gone at exit).
+_STARTED: List[Any] = []
+_SCRATCH: List[Path] = []
+
+
+def _scratch(prefix: str) -> Path:
+    """A temporary folder of this kernel (node logs, workspaces), removed when the kernel stops."""
+    if not _SCRATCH:
+        atexit.register(lambda: [shutil.rmtree(p, ignore_errors=True) for p in _SCRATCH])
+    folder = Path(tempfile.mkdtemp(prefix=prefix))
+    _SCRATCH.append(folder)
+    return folder
+
+
+def _ros_args(params: Dict[str, Any]) -> List[str]:
+    return [f"_{name}:={value}" for name, value in params.items()]
+
+
+def _start(argv: Sequence[str], name: str, extra_env: Optional[Dict[str, str]] = None,
+           cwd: Optional[Path] = None, nodes: Optional[Sequence[str]] = None) -> Any:
+    """Start ``argv`` (its ROS node names ``nodes``, default ``[name]``), unless one of them runs already."""
+    from hri_teleop.core.modes import duplicate_refusal
+    from hri_teleop.course.notebook_ros import running_nodes
+    from hri_teleop.ros.master import ManagedProcess
+
+    if not os.environ.get("ROS_MASTER_URI"):
+        raise CourseError("no ROS master for this kernel: run ensure_ros() (hri_teleop.course.notebook_ros) first; "
+                          "it says in one line what is missing")
+    wanted = list(nodes) if nodes is not None else [name]
+    refusal = duplicate_refusal(wanted, running_nodes(among=wanted))
+    if refusal:
+        raise CourseError(refusal)
+    env = dict(os.environ)
+    env.update({"PYTHONUNBUFFERED": "1", **(extra_env or {})})
+    log = _scratch("hri-notebook-node-") / f"{name}.log"
+    proc = ManagedProcess(list(argv), env, log, cwd=cwd)
+    _STARTED.append(proc)
+    return proc
+
+
+def stop_nodes() -> None:
+    """Stop every node and launch this notebook started, side by side (the master keeps running)."""
+    from hri_teleop.ros.master import stop_side_by_side
+
+    procs = list(_STARTED)
+    _STARTED.clear()
+    stop_side_by_side(procs)
+
+
+def run_provided_node(script: str, **params: Any) -> Any:
+    """Start one of the lab's own nodes (``FSR_sensor.py``, ``lab_sim.py``, ...) with private parameters."""
+    from hri_teleop.grading.run.workspace import REFERENCE_PACKAGE
+
+    path = REFERENCE_PACKAGE / "scripts" / script
+    if not path.is_file():
+        raise CourseError(f"{script}: not one of the lab's nodes in {path.parent}")
+    return _start([sys.executable, str(path), *_ros_args(params)], Path(script).stem)
+
+
+def run_student_node(path: PathLike, name: str = "", **params: Any) -> Any:
+    """Start the student's node file (``hri_lab/scripts/...py``) as ``rosrun`` would; ``name`` renames the node."""
+    script = Path(path)
+    if not script.is_file():
+        raise CourseError(f"{script}: no such file next to this notebook")
+    node = name or script.stem
+    return _start([sys.executable, str(script.resolve()), f"__name:={node}", *_ros_args(params)], node,
+                  cwd=script.resolve().parent)
+
+
+def rosrun_student(workspace: Any, script: str, name: str = "", **params: Any) -> Any:
+    """``rosrun hri_lab SCRIPT`` in the student's built workspace (:func:`hri_teleop.ros.catkin_ws.build_workspace`)."""
+    node = name or Path(script).stem
+    return _start(["rosrun", "hri_lab", script, f"__name:={node}", *_ros_args(params)], node, extra_env=workspace.env())
+
+
+def _launch_nodes(where: Sequence[str], extra_env: Optional[Dict[str, str]] = None) -> List[str]:
+    """The node names ``roslaunch`` would start (``roslaunch --nodes``); [] when it cannot tell."""
+    env = dict(os.environ, **(extra_env or {}))
+    try:
+        proc = subprocess.run(["roslaunch", "--nodes", *where], env=env, capture_output=True, text=True, timeout=30)
+    except (OSError, subprocess.TimeoutExpired):
+        return []
+    if proc.returncode != 0:
+        return []  # the launch itself will say what is wrong with the file
+    return [line.strip() for line in proc.stdout.splitlines() if line.strip().startswith("/")]
+
+
+def launch(package: str, launch_file: str, **args: Any) -> Any:
+    """``roslaunch PACKAGE FILE name:=value ...`` of an installed package (the lab's ``hri_lab``)."""
+    where = [package, launch_file, *[f"{k}:={v}" for k, v in args.items()]]
+    return _start(["roslaunch", "--wait", *where], Path(launch_file).stem, nodes=_launch_nodes(where))
+
+
+def wait_for_publisher(topic: str, process: Any = None, timeout_s: float = 20.0) -> bool:
+    """Wait until somebody publishes ``topic`` (False after ``timeout_s`` or when ``process`` ended)."""
+    from hri_teleop.course.notebook_ros import master_call
+
+    deadline = time.monotonic() + timeout_s
+    while time.monotonic() < deadline:
+        if any(name == topic and nodes for name, nodes in master_call("getSystemState")[0]):
+            return True
+        if process is not None and not process.running:
+            return False
+        time.sleep(0.1)
+    return False
+
+
+
+def student_workspace(package: PathLike = STUDENT_PACKAGE) -> Path:
+    """A ROS workspace with the student's package as ``hri_lab`` plus the lab's provided nodes.
+
+    The grader's own workspace (the student's files never change; a fresh copy each call),
+    so ``roslaunch`` of the student's launch file finds *their* nodes, and FSR_sensor.py,
+    gripper_manager.py and a stand-in franka_control from the lab.
+    """
+    from hri_teleop.grading.run.workspace import prepare_workspace
+
+    return prepare_workspace(package, _scratch("hri-notebook-ws-")).ws
+
+
+def launch_student(launch_file: str, package: PathLike = STUDENT_PACKAGE, **args: Any) -> Any:
+    """``roslaunch hri_lab FILE`` with the student's package (their nodes, the lab's provided ones)."""
+    from hri_teleop.grading.run.workspace import ros_package_path
+
+    ws = student_workspace(package)
+    path = ws / "hri_lab" / "launch" / launch_file
+    if not path.is_file():
+        raise CourseError(f"{Path(package) / 'launch' / launch_file}: no such file; write it first")
+    where = [str(path), *[f"{k}:={v}" for k, v in args.items()]]
+    extra_env = {"ROS_PACKAGE_PATH": ros_package_path(ws)}
+    return _start(["roslaunch", "--wait", *where], Path(launch_file).stem, extra_env=extra_env,
+                  nodes=_launch_nodes(where, extra_env))
+

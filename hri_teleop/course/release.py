@@ -1,0 +1,302 @@
+"""The instructor's release tools: student versions, templates, a bundle without answers, checks.
+
+``make release`` runs nbgrader's ``generate_assignment``, writes the student files' templates from
+``solutions/`` and refuses a bundle with solution text in it; ``check`` runs every notebook (the
+answer key must pass, the student version fail). Course layout: ``notebooks/README.md``.
+"""
+
+from __future__ import annotations
+
+import os
+import shutil
+import subprocess
+import sys
+from pathlib import Path
+from typing import Any, Dict, Iterable, List, Mapping, Optional, Sequence, Tuple, Union
+
+from hri_teleop.core.paths import NOTEBOOKS, REPO, SOLUTIONS
+from hri_teleop.course.bundle import (
+    answer_files,
+    assemble_bundle,
+    bundle_leaks,
+    pack_bundle,
+    read_notebook,
+    solution_texts,
+    toolkit_leaks,
+)
+from hri_teleop.course.errors import CourseError
+from hri_teleop.course.nodes import STUDENT_PACKAGE
+
+__all__ = [
+    "REPO", "COURSE_DIR", "SOLUTIONS", "ASSIGNMENTS", "ASSIGNMENT_CHECKS", "STUDENT_MAKES_EXECUTABLE", "nbgrader_env",
+    "student_files", "exclude_overwriting", "link_answer_key", "source_notebooks", "solution_texts",
+    "bundle_leaks", "generate_assignments", "build_release", "notebook_output_problems", "strip_outputs",
+    "validate_release", "run_source", "prepare_course_copy", "run_course", "check_course",
+]
+
+PathLike = Union[str, Path]
+COURSE_DIR = NOTEBOOKS
+#: Scripts the handout has students make executable (Ex. 9, Ex. 12 c): released without the bit.
+STUDENT_MAKES_EXECUTABLE = ("scripts/teleoperation.py", "scripts/gripper_manager.py")
+#: nbgrader assignments: the preparation at home (Ex. 1-7), the lab session (Ex. 8-15).
+ASSIGNMENTS = ("preparation", "lab")
+#: The grader's checks of the student files each assignment's notebooks grade (``make grade`` runs
+#: them on ``submitted/<student>/<assignment>/hri_lab`` beside nbgrader's autograde).
+ASSIGNMENT_CHECKS: Dict[str, Tuple[str, ...]] = {
+    "preparation": ("robot-params", "mapping-node", "sensor-launch"),
+    "lab": ("teleoperation", "teleoperation-launch", "graph", "catkin-package"),
+}
+
+
+# -- the course's files -------------------------------------------------------------------------
+
+def student_files() -> List[str]:
+    """The files a student writes, relative to the assignment folder (``hri_lab/...``)."""
+    from hri_teleop.grading.run.workspace import DELIVERABLES
+
+    return [f"{STUDENT_PACKAGE}/{sub}" for sub in DELIVERABLES.values()]
+
+
+def exclude_overwriting() -> Dict[str, List[str]]:
+    """nbgrader's ``Autograde.exclude_overwriting``: autograde never puts the instructor's file over the student's."""
+    return {assignment: student_files() + [f"{STUDENT_PACKAGE}/CMakeLists.txt"] for assignment in ASSIGNMENTS}
+
+
+def link_answer_key(course_dir: PathLike = COURSE_DIR, solutions: PathLike = SOLUTIONS) -> List[Path]:
+    """Make ``source/<assignment>/hri_lab`` a link to the answer key (relative inside the repo)."""
+    links = []
+    for assignment in ASSIGNMENTS:
+        folder = Path(course_dir) / "source" / assignment
+        if not folder.is_dir():
+            raise CourseError(f"{folder}: no such assignment folder; the course needs source/{assignment}/")
+        link = folder / STUDENT_PACKAGE
+        target = Path(os.path.relpath(Path(solutions).resolve(), folder.resolve()))
+        if link.is_symlink() and Path(os.readlink(link)) == target:
+            links.append(link)
+            continue
+        if link.exists() and not link.is_symlink():
+            raise CourseError(f"{link}: a real folder; source/ must link to the answer key (solutions/hri_lab), "
+                              "never hold a copy: move your changes into solutions/ and remove it")
+        if link.is_symlink():
+            link.unlink()
+        link.symlink_to(target, target_is_directory=True)
+        links.append(link)
+    return links
+
+
+def source_notebooks(course_dir: PathLike = COURSE_DIR) -> List[Path]:
+    """Every source notebook, assignment by assignment, in name order."""
+    found: List[Path] = []
+    for assignment in ASSIGNMENTS:
+        found += sorted((Path(course_dir) / "source" / assignment).glob("*.ipynb"))
+    return found
+
+
+# -- release -----------------------------------------------------------------------------------
+
+def nbgrader_env(base: Optional[Mapping[str, str]] = None) -> Dict[str, str]:
+    """The environment nbgrader runs in (``base``: default this process's): no Python warnings, since
+    nbgrader scores a cell that wrote to stderr with 0 points (a DeprecationWarning must not cost a
+    student a grade)."""
+    return dict(os.environ if base is None else base, PYTHONWARNINGS="ignore")
+
+
+def _nbgrader(args: Sequence[str], course_dir: Path) -> str:
+    argv = [sys.executable, "-m", "nbgrader", *args, f"--CourseDirectory.root={course_dir}"]
+    proc = subprocess.run(argv, cwd=str(course_dir), stdout=subprocess.PIPE, stderr=subprocess.STDOUT,
+                          text=True, env=nbgrader_env())
+    if proc.returncode != 0:
+        tail = "\n".join(proc.stdout.strip().splitlines()[-15:])
+        raise CourseError(f"nbgrader {' '.join(args)} failed (exit {proc.returncode}):\n{tail}")
+    return proc.stdout
+
+
+def generate_assignments(course_dir: PathLike = COURSE_DIR) -> List[Path]:
+    """``nbgrader generate_assignment`` for every assignment, then its hri_lab templates; release folders."""
+    from hri_teleop.grading.cases.templates import generate_templates
+
+    course = Path(course_dir).resolve()
+    link_answer_key(course)
+    released = []
+    for assignment in ASSIGNMENTS:
+        _nbgrader(["generate_assignment", assignment, "--force", "--create"], course)
+        folder = course / "release" / assignment
+        generate_templates(SOLUTIONS, folder / STUDENT_PACKAGE, not_executable=STUDENT_MAKES_EXECUTABLE)
+        released.append(folder)
+    return released
+
+
+def build_release(course_dir: PathLike = COURSE_DIR, archive: Optional[PathLike] = None) -> Tuple[Path, Path]:
+    """``make release``: the student versions and templates, proven free of solution text, packed.
+
+    Returns (the release folder, the .tar.gz of it). CourseError when anything leaks.
+    """
+    course = Path(course_dir).resolve()
+    problems = notebook_output_problems(source_notebooks(course))
+    if problems:
+        raise CourseError("source notebooks have outputs (run `python -m hri_teleop.course strip`): "
+                          + "; ".join(problems[:5]))
+    generate_assignments(course)
+    release = course / "release"
+    leaks = bundle_leaks(release, solution_texts(SOLUTIONS, course))
+    if leaks:
+        raise CourseError("the student bundle holds solution text; nothing was packed:\n" + "\n".join(leaks[:20]))
+    target = Path(archive) if archive else REPO / "out" / "task4-student-bundle.tar.gz"
+    folder = assemble_bundle(release, target.parent / "task4-student-bundle", ASSIGNMENTS)
+    leaks = toolkit_leaks(folder, solution_texts(SOLUTIONS, course), answer_files())
+    if leaks:
+        raise CourseError("the student bundle's toolkit holds answers; nothing was packed:\n" + "\n".join(leaks[:20]))
+    pack_bundle(folder, target)
+    shutil.rmtree(folder)
+    return release, target
+
+
+# -- notebooks without outputs -------------------------------------------------------------------
+
+def notebook_output_problems(paths: Iterable[PathLike]) -> List[str]:
+    """One line per code cell that has outputs or an execution count (committed notebooks must have none)."""
+    problems = []
+    for path in paths:
+        for number, cell in enumerate(read_notebook(Path(path))["cells"]):
+            if cell.get("cell_type") != "code":
+                continue
+            if cell.get("outputs"):
+                problems.append(f"{path}: cell {number} has {len(cell['outputs'])} output(s)")
+            if cell.get("execution_count") is not None:
+                problems.append(f"{path}: cell {number} has execution_count {cell['execution_count']}")
+    return problems
+
+
+def strip_outputs(paths: Iterable[PathLike]) -> List[Path]:
+    """Remove outputs and execution counts (and nbgrader checksums of source cells); the files changed."""
+    import nbformat
+
+    changed = []
+    for path in map(Path, paths):
+        nb = nbformat.read(str(path), as_version=4)
+        before = nbformat.writes(nb)
+        for cell in nb.cells:
+            if cell.cell_type == "code":
+                cell.outputs = []
+                cell.execution_count = None
+            cell.metadata.get("nbgrader", {}).pop("checksum", None)
+            cell.metadata.pop("execution", None)
+        after = nbformat.writes(nb)
+        if after != before:
+            path.write_text(after, encoding="utf-8")
+            changed.append(path)
+    return changed
+
+
+# -- validate: the answer key passes, the student version fails ------------------------------------
+
+def validate_release(notebook: PathLike, timeout_s: int = 300) -> Dict[str, Any]:
+    """nbgrader's ``validate --invert`` on one student version: the autograded cells that PASS (should be none)."""
+    from nbgrader.validator import Validator
+
+    from hri_teleop.course.labkernel import ipc_kernel_config
+
+    with ipc_kernel_config() as config:
+        config.Validator.invert = True
+        config.Execute.timeout = timeout_s
+        config.Execute.startup_timeout = 120
+        return Validator(config=config).validate(str(notebook))
+
+
+def run_source(notebook: PathLike, timeout_s: int = 300) -> Dict[str, Any]:
+    """Execute a source notebook top to bottom (nbclient, its own kernel: ``hri-teleop``) and grade it as nbgrader would.
+
+    Returns ``errors`` (every code cell that raised or wrote to stderr), ``grades``
+    ({grade_id: [score, max]} of the autograded cells) and ``seconds``.
+    """
+    import time
+
+    import nbformat
+    from nbclient import NotebookClient
+    from nbgrader.utils import determine_grade, is_grade, is_solution
+
+    from hri_teleop.course.labkernel import ipc_kernel_config
+
+    path = Path(notebook)
+    nb = nbformat.read(str(path), as_version=4)
+    started = time.monotonic()
+    with ipc_kernel_config() as config:
+        NotebookClient(nb, config=config, timeout=timeout_s, startup_timeout=120, allow_errors=True,
+                       resources={"metadata": {"path": str(path.parent)}}).execute()
+    errors, grades = [], {}
+    for number, cell in enumerate(nb.cells):
+        if cell.cell_type != "code":
+            continue
+        for out in cell.outputs:
+            if out.output_type == "error":
+                errors.append(f"cell {number}: {out.ename}: {out.evalue.strip()[:800]}")
+            elif out.output_type == "stream" and out.name == "stderr":
+                errors.append(f"cell {number} wrote to stderr: {out.text.strip()[:800]}")
+        if is_grade(cell) and not is_solution(cell):
+            got, most = determine_grade(cell)
+            grades[cell.metadata.nbgrader["grade_id"]] = [got, most]
+    return {"errors": errors, "grades": grades, "seconds": time.monotonic() - started}
+
+
+def _validate_job(job: Tuple[str, str]) -> Tuple[str, str, Dict[str, Any]]:
+    kind, path = job
+    import time
+
+    started = time.monotonic()
+    if kind == "source":
+        result = run_source(path)
+    else:
+        result = validate_release(path)
+        result["seconds"] = time.monotonic() - started
+    return kind, path, result
+
+
+def prepare_course_copy(work_dir: PathLike, course_dir: PathLike = COURSE_DIR, release: bool = True) -> Path:
+    """A copy of the course under ``work_dir/course`` with the student versions generated (and the kernel installed).
+
+    ``release=False``: only the source half, each assignment linked to the answer key, for
+    running the source notebooks (nbgrader's generate_assignment takes ~10 s).
+    """
+    from hri_teleop.course.labkernel import install_kernelspec
+
+    course = Path(work_dir) / "course"
+    if course.exists():
+        shutil.rmtree(course)
+    (course / "source").mkdir(parents=True)
+    shutil.copy(Path(course_dir) / "nbgrader_config.py", course / "nbgrader_config.py")
+    for assignment in ASSIGNMENTS:
+        shutil.copytree(Path(course_dir) / "source" / assignment, course / "source" / assignment,
+                        ignore=shutil.ignore_patterns(STUDENT_PACKAGE, ".ipynb_checkpoints"))
+    if release:
+        generate_assignments(course)
+    else:
+        link_answer_key(course)
+    install_kernelspec()  # the notebooks' kernel: .venv's Python in the lab's shell (tools/kernel.sh)
+    return course
+
+
+def run_course(course: PathLike, jobs: int = 2) -> Dict[str, Dict[str, Any]]:
+    """Run every source notebook of a prepared course (must pass every autograded cell) and
+    ``validate --invert`` every student version (no autograded cell may pass), ``jobs`` at a time.
+
+    Returns {notebook name: {"source": run_source(...), "release": validate_release(...)}}.
+    Real-time cells run short (:func:`fast`). The student versions run in place.
+    """
+    from concurrent.futures import ProcessPoolExecutor
+
+    course = Path(course)
+    os.environ["HRI_NOTEBOOK_FAST"] = "1"
+    jobs_list = []
+    for notebook in source_notebooks(course):
+        jobs_list.append(("source", str(notebook)))
+        jobs_list.append(("release", str(course / "release" / notebook.parent.name / notebook.name)))
+    results: Dict[str, Dict[str, Any]] = {}
+    with ProcessPoolExecutor(max_workers=max(1, jobs)) as pool:
+        for kind, path, result in pool.map(_validate_job, jobs_list):
+            results.setdefault(Path(path).stem, {})[kind] = result
+    return results
+
+
+def check_course(work_dir: PathLike, course_dir: PathLike = COURSE_DIR, jobs: int = 2) -> Dict[str, Dict[str, Any]]:
+    """The whole course checked in a copy under ``work_dir``: :func:`prepare_course_copy`, then :func:`run_course`."""
+    return run_course(prepare_course_copy(work_dir, course_dir), jobs)

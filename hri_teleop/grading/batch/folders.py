@@ -1,0 +1,197 @@
+"""``make grade``: every submission in a folder, several at once, each in a process of its own.
+
+Two modes, chosen by the folder (:func:`course_layout`, in ``hri-grade batch``):
+
+* **nbgrader course** (``DIR`` is a course's ``submitted/`` -- its parent holds
+  ``nbgrader_config.py`` or ``source/`` -- or the course folder itself): nbgrader's
+  ``autograde`` and ``generate_feedback``, and beside them ``hri-grade submission`` on each
+  assignment's ``hri_lab`` (:mod:`hri_teleop.grading.batch.nbgrader_batch`).
+* **files only** (any other folder: one subfolder per student): ``hri-grade submission``
+  on each student's package (here).
+
+Each mode is its own module because the course mode needs nbgrader, its gradebook and its
+layout, none of which the files-only mode has; both grade the files with :func:`grade_one`
+and run their jobs with :mod:`hri_teleop.grading.run.jobs` (a process per job, under a reaper,
+a few at once -- why is said there).
+
+Results: ``OUT/<student>/results.json`` (Gradescope format), ``feedback.txt``, plots and
+logs per check (course mode: per assignment in ``OUT/<student>/<assignment>/``, with
+nbgrader's log ``autograde.log``); ``OUT/grades.csv`` and ``OUT/summary.json`` for all.
+"""
+
+from __future__ import annotations
+
+import csv
+import json
+import os
+import sys
+import time
+from dataclasses import asdict, dataclass
+from pathlib import Path
+from typing import Dict, List, Optional, Sequence, Tuple
+
+from hri_teleop.core.errors import HriTeleopError
+from hri_teleop.grading.judge import reuse
+from hri_teleop.grading.run.jobs import (
+    Progress,
+    Run,
+    job_count,
+    print_line,
+    reap_command,
+    run_all,
+    run_job,
+)
+
+__all__ = ["BatchError", "Outcome", "submissions_in", "grade_one", "live_graph_cache", "course_layout", "grade_all"]
+
+PER_SUBMISSION_TIMEOUT_S = 600.0    # hri-grade submission: one student's files
+
+
+class BatchError(HriTeleopError, RuntimeError):
+    """The submissions cannot be graded as asked (folder missing or empty, nbgrader missing): one line with the fix."""
+
+
+@dataclass(frozen=True)
+class Outcome:
+    """Files-only mode: one student's ``hri-grade submission``."""
+
+    student: str
+    score: float
+    max_score: float
+    status: str          # "graded" | "not graded"
+    seconds: float
+    message: str = ""
+
+
+def submissions_in(folder: Path) -> List[Path]:
+    """One submission per subfolder (nbgrader's submitted/<student>/...), sorted by name."""
+    if not folder.is_dir():
+        raise BatchError(f"{folder}: no such folder; collect submissions first (nbgrader: notebooks/submitted/) "
+                         "or pass the folder, e.g. make grade DIR=path/to/submissions")
+    found = sorted(p for p in folder.iterdir() if p.is_dir() and not p.name.startswith("."))
+    if not found:
+        raise BatchError(f"{folder}: no submission folders in it; expected one subfolder per student")
+    return found
+
+
+def _hri_grade_argv(folder: Path, out: Path, graph_cache: Optional[Path], checks: Optional[Sequence[str]]) -> List[str]:
+    argv = [sys.executable, "-m", "hri_teleop.grading.cli", "submission", str(folder), "--json", "--out", str(out)]
+    if graph_cache is not None:
+        argv += ["--graph-cache", str(graph_cache)]
+    if checks:
+        argv += ["--checks", ",".join(checks)]
+    return argv
+
+
+def _files_result(run: Run, log: Path, timeout_s: float) -> Tuple[str, float, float, str]:
+    """(status, score, max, message) of one hri-grade submission run."""
+    if run.timed_out:
+        return "not graded", 0.0, 0.0, f"grading took longer than {timeout_s:.0f} s"
+    if run.returncode not in (0, 1):
+        tail = log.read_text(errors="replace").strip().splitlines()[-1:] or ["no output"]
+        return "not graded", 0.0, 0.0, tail[0][:300]
+    try:
+        payload = json.loads(run.stdout.decode("utf-8"))
+    except ValueError:
+        return "not graded", 0.0, 0.0, "the grader printed no JSON"
+    maximum = sum(float(t["max_score"]) for t in payload["tests"])
+    return "graded", float(payload["score"]), maximum, ""
+
+
+def grade_one(folder: Path, out: Path, graph_cache: Optional[Path], checks: Optional[Sequence[str]],
+              timeout_s: float = PER_SUBMISSION_TIMEOUT_S, results_dir: Optional[Path] = None) -> Outcome:
+    """``hri-grade submission`` on ``folder`` in a job of its own, into ``out`` (the student is the folder's name).
+
+    ``results_dir``: where it stores each check's result for the notebooks' check cells of the
+    same package (:mod:`hri_teleop.grading.judge.reuse`).
+    """
+    out.mkdir(parents=True, exist_ok=True)
+    log = out / "grader.log"
+    env = {k: v for k, v in os.environ.items() if k not in (reuse.READ_ENV, reuse.WRITE_ENV)}
+    if results_dir is not None:
+        env[reuse.WRITE_ENV] = str(results_dir)
+    run = run_job(_hri_grade_argv(folder, out, graph_cache, checks), log, timeout_s, capture=True, env=env)
+    status, score, maximum, message = _files_result(run, log, timeout_s)
+    return Outcome(folder.name, score, maximum, status, run.seconds, message)
+
+
+def live_graph_cache(out: Path, checks: Optional[Sequence[str]]) -> Optional[Path]:
+    """The graph of the lab's pipeline, computed once into ``out`` for every submission's ``graph`` check.
+
+    None when ``checks`` leaves ``graph`` out.
+    """
+    from hri_teleop.grading.judge.checks import live_graph
+
+    if checks and "graph" not in checks:
+        return None
+    cache = out / "live_graph.json"
+    if cache.exists():
+        cache.unlink()  # the lab's graph of today, not of an earlier run
+    live_graph(cache)
+    return cache
+
+
+def course_layout(folder: Path) -> Optional[Tuple[Path, Path]]:
+    """(course folder, submitted folder) when ``folder`` is an nbgrader course's submissions, else None.
+
+    A course folder holds ``nbgrader_config.py`` or ``source/``; ``folder`` is either its
+    ``submitted/`` (any name: nbgrader is told) or the course folder itself.
+    """
+    folder = Path(folder).resolve()
+
+    def is_course(path: Path) -> bool:
+        return (path / "nbgrader_config.py").is_file() or (path / "source").is_dir()
+
+    if (folder / "submitted").is_dir() and is_course(folder):
+        return folder, folder / "submitted"
+    if is_course(folder.parent):
+        return folder.parent, folder
+    return None
+
+
+def grade_all(folder: Path, out: Path, jobs: Optional[int] = None, checks: Optional[Sequence[str]] = None,
+              progress: Progress = print_line, timeout_s: Optional[float] = None) -> int:
+    """Grade every student's files in ``folder`` (a subfolder each) into ``out``; 0 when all were graded,
+    2 if any could not be. An nbgrader course (:func:`course_layout`) goes to
+    :func:`hri_teleop.grading.batch.nbgrader_batch.grade_course` instead (``hri-grade batch`` decides).
+    """
+    folder = Path(folder)
+    from hri_teleop.grading.run.sandbox import sandbox_mode
+
+    subs = submissions_in(folder)
+    out.mkdir(parents=True, exist_ok=True)
+    jobs = job_count(jobs)
+    limit = timeout_s or PER_SUBMISSION_TIMEOUT_S
+    sandbox_mode()  # says once, up front, when bubblewrap is missing
+    graph_cache = live_graph_cache(out, checks)
+    progress(f"grading {len(subs)} submission(s) from {folder}, {jobs} at once")
+    started = time.monotonic()
+    outcomes: Dict[str, Outcome] = {}
+    width = len(str(len(subs)))
+
+    def done(name: str, outcome: Optional[Outcome], exc: Optional[BaseException]) -> None:
+        if outcome is None:  # a bug of ours, recorded; the others go on
+            outcome = Outcome(name, 0.0, 0.0, "not graded", 0.0, f"{type(exc).__name__}: {exc}")
+        outcomes[name] = outcome
+        line = f"[{len(outcomes):>{width}}/{len(subs)}] {outcome.student:<24} "
+        line += (f"{outcome.score:g}/{outcome.max_score:g}" if outcome.status == "graded"
+                 else f"NOT GRADED: {outcome.message}")
+        progress(f"{line}  ({outcome.seconds:.1f} s)")
+
+    run_all([(sub.name, lambda sub=sub: grade_one(sub, out / sub.name, graph_cache, checks, limit))
+             for sub in subs], jobs, done)
+    ordered = [outcomes[s.name] for s in subs]
+    with open(out / "grades.csv", "w", newline="", encoding="utf-8") as fh:
+        writer = csv.writer(fh)
+        writer.writerow(["student", "score", "max_score", "status", "seconds", "message"])
+        for o in ordered:
+            writer.writerow([o.student, f"{o.score:g}", f"{o.max_score:g}", o.status, f"{o.seconds:.1f}", o.message])
+    (out / "summary.json").write_text(json.dumps([asdict(o) for o in ordered], indent=2), encoding="utf-8")
+    failed = [o for o in ordered if o.status != "graded"]
+    progress(f"graded {len(ordered) - len(failed)}/{len(ordered)} in {time.monotonic() - started:.0f} s; "
+             f"results in {out} (grades.csv, <student>/feedback.txt)")
+    return 2 if failed else 0
+
+
+if __name__ == "__main__":  # ``python -m hri_teleop.grading.batch.folders reap -- COMMAND...``: the reaper of jobs.py
+    sys.exit(reap_command(sys.argv[1:], "hri_teleop.grading.batch.folders"))

@@ -1,0 +1,496 @@
+"""``make grade`` on an nbgrader course: nbgrader's own autograde and feedback, and hri-grade on the files.
+
+``DIR`` is a course's ``submitted/`` (its parent holds ``nbgrader_config.py`` or
+``source/``) or the course folder itself (:func:`course_layout`). For every
+``submitted/<student>/<assignment>/``: nbgrader's ``autograde`` (``--force``: the notebooks
+run again, manual grades stay), then ``nbgrader generate_feedback`` (the HTML feedback in
+the course's ``feedback/``), and beside it ``hri-grade submission`` on the student's
+``hri_lab`` of each assignment with that assignment's checks
+(:data:`hri_teleop.course.release.ASSIGNMENT_CHECKS`). Each (student, assignment) is a job of its
+own (:mod:`hri_teleop.grading.run.jobs`), so a notebook that crashes its kernel or hangs costs
+that job only; the files-only mode and the entry point are :mod:`hri_teleop.grading.batch.folders`.
+
+nbgrader's gradebook is one SQLite file shared by the concurrent ``autograde`` processes.
+Each of them writes only its own student's rows, in short transactions (a submission's
+rows at the start, each notebook's grades after it ran), and SQLite serialises the
+writers; the processes are given a 60 s busy timeout (``?timeout=60`` on the database URL;
+Python's default is 5 s) so a writer waits for another's commit instead of failing, and a
+run that still fails with "database is locked" is graded again (up to two more times;
+``--force`` makes the retry start clean). Measured on 2 cores: 16 concurrent
+``autograde`` runs, 8 at once, no lock error; a 7 s exclusive lock on the gradebook while
+autogrades start costs no run with the 60 s timeout and fails them with 1 s (then the
+retry grades them).
+
+Results per assignment in ``OUT/<student>/<assignment>/`` (with nbgrader's log
+``autograde.log``); ``OUT/<student>/results.json`` and ``feedback.txt`` combine the files'
+checks of all the student's assignments; ``OUT/grades.csv`` and ``OUT/summary.json`` for all.
+"""
+
+from __future__ import annotations
+
+import csv
+import json
+import os
+import re
+import shutil
+import sys
+import tempfile
+import threading
+import time
+from dataclasses import asdict, dataclass
+from pathlib import Path
+from typing import Any, Callable, Dict, List, Mapping, Optional, Sequence, Tuple
+
+from hri_teleop.course.labkernel import ipc_kernel_argv
+from hri_teleop.grading.batch.folders import (
+    PER_SUBMISSION_TIMEOUT_S,
+    BatchError,
+    course_layout,
+    grade_one,
+    live_graph_cache,
+    submissions_in,
+)
+from hri_teleop.grading.batch.spare_kernels import PROVISIONER, PROVISIONER_ENV, SPARES_ENV
+from hri_teleop.grading.judge import reuse
+from hri_teleop.grading.run.jobs import Progress, job_count, print_line, run_all, run_job
+
+__all__ = ["BatchError", "JobOutcome", "course_layout", "course_submissions", "grade_course", "nbgrader_job_env"]
+
+_NOTEBOOK_TIMEOUT_S = 1800.0        # nbgrader autograde of one (student, assignment); a cell has 300 s of its own
+_DB_BUSY_TIMEOUT_S = 60             # SQLite busy timeout of every nbgrader process
+_DB_ATTEMPTS = 3                    # autograde runs of one submission when the machine failed it (_RETRY_CAUSES)
+#: Notebook kernels start a private roscore only when no master is reachable: never share
+#: one (the lab's on 11311, say) between students graded at the same time.
+_NO_MASTER = "http://127.0.0.1:1/"
+_FILES = "hri_lab"                  # the label of a files-only job in course mode
+
+
+@dataclass(frozen=True)
+class JobOutcome:
+    """Course mode: one nbgrader autograde (``kind`` "notebooks") or one hri-grade run on the files ("files")."""
+
+    student: str
+    assignment: str
+    kind: str            # "notebooks" | "files"
+    score: float
+    max_score: float
+    status: str          # "graded" | "not graded"
+    seconds: float
+    message: str = ""
+    needs_manual_grade: bool = False
+
+    @property
+    def label(self) -> str:
+        return self.assignment if self.kind == "notebooks" else f"{self.assignment}/{_FILES}"
+
+
+def _assignment_order(names: Sequence[str]) -> List[str]:
+    from hri_teleop.course.release import ASSIGNMENTS
+
+    known = [a for a in ASSIGNMENTS if a in names]
+    return known + sorted(set(names) - set(known))
+
+
+def course_submissions(course: Path, submitted: Path) -> Tuple[List[Tuple[str, str]], List[str]]:
+    """((student, assignment) of every ``submitted/<student>/<assignment>/``, students with no assignment folder).
+
+    BatchError when there is none, or an assignment has no ``source/<assignment>`` in the course.
+    """
+    students = submissions_in(submitted)
+    found: List[Tuple[str, str]] = []
+    empty: List[str] = []
+    for student in students:
+        assignments = sorted(p.name for p in student.iterdir() if p.is_dir() and not p.name.startswith("."))
+        if not assignments:
+            empty.append(student.name)
+        for assignment in assignments:
+            if not (course / "source" / assignment).is_dir():
+                known = sorted(p.name for p in (course / "source").glob("*") if p.is_dir()) \
+                    if (course / "source").is_dir() else []
+                raise BatchError(f"{student / assignment}: the course has no source/{assignment} "
+                                 f"(assignments in {course / 'source'}: {', '.join(known) or 'none'}); "
+                                 "rename the folder to its assignment or add the assignment to the course")
+            found.append((student.name, assignment))
+    if not found:
+        raise BatchError(f"{submitted}: no submissions in it; expected submitted/<student>/<assignment>/ "
+                         "(nbgrader collect, or unpack each student's assignment folder there)")
+    return found, empty
+
+
+def _nbgrader_config(course: Path) -> Any:
+    """nbgrader's configuration as its apps load it: Jupyter's config folders, then the course's file."""
+    from jupyter_core.paths import jupyter_config_path
+    from traitlets.config import Config
+    from traitlets.config.loader import ConfigFileNotFound, PyFileConfigLoader
+
+    config = Config()
+    for folder in [*reversed(jupyter_config_path()), str(course)]:
+        try:
+            config.merge(PyFileConfigLoader("nbgrader_config.py", path=folder).load_config())
+        except ConfigFileNotFound:
+            continue
+    return config
+
+
+def _with_busy_timeout(db_url: str) -> str:
+    """The SQLite URL with a busy timeout (writers wait for each other's commit instead of failing)."""
+    if not db_url.startswith("sqlite:") or "timeout=" in db_url:
+        return db_url
+    return f"{db_url}{'&' if '?' in db_url else '?'}timeout={_DB_BUSY_TIMEOUT_S}"
+
+
+@dataclass(frozen=True)
+class _Course:
+    root: Path
+    submitted: Path
+    course_id: str
+    db_url: str
+
+    def nbgrader_argv(self, *args: str) -> List[str]:
+        argv = [sys.executable, "-m", "nbgrader", *args, f"--CourseDirectory.root={self.root}",
+                f"--CourseDirectory.db_url={self.db_url}"]
+        if self.submitted != self.root / "submitted":
+            argv.append(f"--CourseDirectory.submitted_directory={self.submitted.name}")
+        return argv
+
+
+def _open_course(course: Path, submitted: Path, assignments: Sequence[str]) -> _Course:
+    try:
+        import nbgrader  # noqa: F401
+        from nbgrader.api import Gradebook, MissingEntry
+        from nbgrader.coursedir import CourseDirectory
+    except ImportError:
+        raise BatchError(f"nbgrader is not installed for {sys.executable}, and {course} is an nbgrader course: "
+                         "run `make setup` (nbgrader needs Python >= 3.9)") from None
+    config = _nbgrader_config(course)
+    config.CourseDirectory.root = str(course)
+    coursedir = CourseDirectory(config=config)
+    db_url = _with_busy_timeout(coursedir.db_url)
+    if db_url.startswith("sqlite:///") and not Path(coursedir.db_url[len("sqlite:///"):].split("?")[0]).is_file():
+        raise BatchError(f"{course}: no gradebook ({coursedir.db_url}); run `make release` "
+                         f"(nbgrader generate_assignment {' '.join(assignments)}) in the course first")
+    with Gradebook(db_url, coursedir.course_id) as gb:
+        for assignment in assignments:
+            try:
+                if not gb.find_assignment(assignment).notebooks:
+                    raise MissingEntry()
+            except MissingEntry:
+                raise BatchError(f"assignment {assignment!r} is not in the gradebook {coursedir.db_url}: run "
+                                 f"`make release` (nbgrader generate_assignment {assignment}) in {course} first") \
+                    from None
+    return _Course(course, submitted, coursedir.course_id, db_url)
+
+
+def _outside_links(folder: Path) -> List[str]:
+    """Links in a submission that lead outside it (nbgrader copies what a link points at, into the feedback)."""
+    found = []
+    root = folder.resolve()
+    for dirpath, dirnames, filenames in os.walk(folder):
+        for name in dirnames + filenames:
+            path = Path(dirpath) / name
+            if path.is_symlink():
+                target = path.resolve()
+                if target != root and root not in target.parents:
+                    found.append(f"{path.relative_to(folder)} -> {os.readlink(path)}")
+    return sorted(found)
+
+
+def _last_notebook(text: str) -> str:
+    found = re.findall(r"Autograding (\S+\.ipynb)", text)
+    return Path(found[-1]).name if found else ""
+
+
+def _failure_reason(log: Path) -> str:
+    """The cause of a failed nbgrader run from its log: the exception, and the notebook it ran."""
+    text = log.read_text(errors="replace") if log.is_file() else ""
+    lines = text.splitlines()
+    cause = ""
+    starts = [i for i, line in enumerate(lines) if "Traceback (most recent call last):" in line]
+    if starts:  # the last line of the last traceback nbgrader logged: the exception
+        exceptions = []
+        for line in lines[starts[-1] + 1:]:
+            if line.startswith("["):
+                break
+            match = re.match(r"^\s*(?:[A-Za-z_]\w*\.)*([A-Z]\w*(?:: .*)?)$", line)
+            if match:
+                exceptions.append(match.group(1).strip())
+        if exceptions:
+            cause = exceptions[-1]
+    if not cause:
+        errors = [line.split("| ERROR]", 1)[1].strip() for line in lines if "| ERROR]" in line]
+        cause = errors[0] if errors else (lines[-1].strip() if lines else "no output")
+    notebook = _last_notebook(text)
+    where = f" in {notebook}" if notebook else ""
+    return f"nbgrader autograde failed{where}: {cause}"[:300]
+
+
+def nbgrader_job_env(base: Optional[Mapping[str, str]] = None) -> Dict[str, str]:
+    """What each nbgrader autograde runs in: course.nbgrader_env, and no reachable ROS master,
+    so that every kernel starts a private roscore (benchmarks run their reference in the same)."""
+    from hri_teleop.course.release import nbgrader_env
+
+    return dict(nbgrader_env(base), ROS_MASTER_URI=_NO_MASTER)
+
+
+def _submission_score(course: _Course, lock: threading.Lock, student: str,
+                      assignment: str) -> Tuple[float, float, bool]:
+    from nbgrader.api import Gradebook
+
+    with lock:
+        gb = Gradebook(course.db_url, course.course_id)
+        try:
+            sub = gb.find_submission(assignment, student)
+            return float(sub.score), float(sub.max_score), bool(sub.needs_manual_grade)
+        finally:
+            gb.close()
+            gb.engine.dispose()
+
+
+def _forget_outputs(course: _Course, student: str, assignment: str) -> None:
+    """A submission that was not graded has no autograded notebooks and no feedback (none stale either)."""
+    from nbgrader.utils import rmtree
+
+    for kind in ("autograded", "feedback"):
+        folder = course.root / kind / student / assignment
+        if folder.exists():
+            rmtree(str(folder))
+        try:
+            folder.parent.rmdir()  # the student's folder, when this was its only assignment
+        except OSError:
+            pass
+
+
+#: Failures of the grading machine, not of the submission: the run is repeated (``--force`` starts it clean).
+#: A kernel that never answers its first request has run none of the student's code yet
+#: (under load, two kernels started at once can lose their connection on a busy loopback).
+_RETRY_CAUSES = (("database is locked", "the gradebook was locked"),
+                 ("Kernel didn't respond in", "the notebook's kernel did not start"))
+
+
+def _retry_cause(log_text: str) -> str:
+    """Why an autograde run is worth repeating ("" when the failure is the submission's)."""
+    return next((why for needle, why in _RETRY_CAUSES if needle in log_text), "")
+
+
+def _autograde(course: _Course, student: str, assignment: str, out: Path, timeout_s: float,
+               db_lock: threading.Lock, progress: Progress, results_dir: Optional[Path] = None) -> JobOutcome:
+    folder = course.submitted / student / assignment
+    links = _outside_links(folder)
+    if links:
+        _forget_outputs(course, student, assignment)
+        return JobOutcome(student, assignment, "notebooks", 0.0, 0.0, "not graded", 0.0,
+                          f"{links[0]} links outside the submission (nbgrader would copy that file into the "
+                          "feedback); the student must hand in the file itself")
+    sockets = Path(tempfile.mkdtemp(prefix="hri-kernel-"))  # the kernels' Unix sockets (no TCP port race)
+    try:
+        return _autograde_in(course, student, assignment, out, timeout_s, db_lock, progress,
+                             course.nbgrader_argv("autograde", assignment, "--student", student, "--force",
+                                                  *ipc_kernel_argv(sockets)), results_dir)
+    finally:
+        shutil.rmtree(sockets, ignore_errors=True)
+
+
+def _autograde_in(course: _Course, student: str, assignment: str, out: Path, timeout_s: float,
+                  db_lock: threading.Lock, progress: Progress, argv: List[str],
+                  results_dir: Optional[Path] = None) -> JobOutcome:
+    """``results_dir``: the files jobs' check results, which the notebooks' check cells of the
+    same package take instead of running the check again (:mod:`hri_teleop.grading.judge.reuse`)."""
+    log = out / "autograde.log"
+    seconds = 0.0
+    env = nbgrader_job_env()
+    env.pop(reuse.WRITE_ENV, None)
+    if results_dir is not None:
+        env[reuse.READ_ENV] = str(results_dir)
+    # Each notebook's kernel starts while the one before runs (hri_teleop.grading.batch.spare_kernels).
+    env[PROVISIONER_ENV] = PROVISIONER
+    env[SPARES_ENV] = str(max(0, len(list((course.root / "source" / assignment).glob("*.ipynb"))) - 1))
+    for attempt in range(1, _DB_ATTEMPTS + 1):
+        run = run_job(argv, log, timeout_s, cwd=course.root, env=env)
+        seconds += run.seconds
+        if run.timed_out:
+            _forget_outputs(course, student, assignment)
+            notebook = _last_notebook(log.read_text(errors="replace"))
+            return JobOutcome(student, assignment, "notebooks", 0.0, 0.0, "not graded", seconds,
+                              f"nbgrader autograde took longer than {timeout_s:.0f} s (stopped"
+                              + (f" in {notebook})" if notebook else ")"))
+        if run.returncode == 0:
+            score, maximum, manual = _submission_score(course, db_lock, student, assignment)
+            return JobOutcome(student, assignment, "notebooks", score, maximum, "graded", seconds, "", manual)
+        cause = _retry_cause(log.read_text(errors="replace"))
+        if cause and attempt < _DB_ATTEMPTS:
+            shutil.copy(log, log.with_name(f"autograde.attempt{attempt}.log"))
+            progress(f"      {student} {assignment}: {cause}; autograding again "
+                     f"(attempt {attempt + 1} of {_DB_ATTEMPTS})")
+            continue
+        break
+    _forget_outputs(course, student, assignment)
+    return JobOutcome(student, assignment, "notebooks", 0.0, 0.0, "not graded", seconds, _failure_reason(log))
+
+
+def _grade_files(course: _Course, student: str, assignment: str, out: Path, checks: Sequence[str],
+                 graph_cache: Optional[Path], timeout_s: float, results_dir: Optional[Path] = None) -> JobOutcome:
+    o = grade_one(course.submitted / student / assignment, out, graph_cache, checks, timeout_s, results_dir)
+    return JobOutcome(student, assignment, "files", o.score, o.max_score, o.status, o.seconds, o.message)
+
+
+def _generate_feedback(course: _Course, assignment: str, out: Path) -> Tuple[bool, Dict[str, str]]:
+    """``nbgrader generate_feedback`` for every autograded student of ``assignment``: (ok, {student: failure})."""
+    log = out / f"generate_feedback.{assignment}.log"
+    run = run_job(course.nbgrader_argv("generate_feedback", assignment, "--force"), log, 600.0, cwd=course.root,
+               env=nbgrader_job_env())
+    text = log.read_text(errors="replace")
+    failed = {m.group(2): "nbgrader generate_feedback failed (see " + str(log) + ")"
+              for m in re.finditer(r"error processing assignment '([^']+)' for student '([^']+)'", text)}
+    return run.returncode == 0, failed
+
+
+def _combine_files_results(student_out: Path, assignments: Sequence[str]) -> None:
+    """``OUT/<student>/results.json`` and ``feedback.txt``: the checks of all the student's assignments together."""
+    from hri_teleop.grading.results import CheckResult, feedback_text, gradescope_json
+
+    results, parts = [], []
+    for assignment in assignments:
+        checks = student_out / assignment / "checks.json"
+        if checks.is_file():
+            these = [CheckResult.from_dict(d) for d in json.loads(checks.read_text(encoding="utf-8"))]
+            results += these
+            parts.append(f"== {assignment}: {assignment}/{_FILES} ==\n{feedback_text(these)}")
+    if results:
+        (student_out / "results.json").write_text(json.dumps(gradescope_json(results), indent=2), encoding="utf-8")
+        (student_out / "feedback.txt").write_text("\n\n".join(parts) + "\n", encoding="utf-8")
+
+
+def _fmt(value: Optional[float]) -> str:
+    return "" if value is None else f"{value:g}"
+
+
+def grade_course(course: Path, submitted: Path, out: Path, jobs: Optional[int] = None,
+                 checks: Optional[Sequence[str]] = None, progress: Progress = print_line,
+                 timeout_s: Optional[float] = None) -> int:
+    """nbgrader autograde + generate_feedback of every submission of the course, and hri-grade on its files.
+
+    ``checks`` limits the files' checks (each assignment gets those of its own among
+    them); ``timeout_s`` limits each (student, assignment) job. 0 when everything was
+    graded, 2 when anything could not be (the reason is in grades.csv).
+    """
+    from hri_teleop.course.labkernel import install_kernelspec
+    from hri_teleop.course.release import ASSIGNMENT_CHECKS
+    from hri_teleop.grading.run.sandbox import sandbox_mode
+
+    course, submitted, out = Path(course).resolve(), Path(submitted).resolve(), Path(out).resolve()
+    pairs, empty = course_submissions(course, submitted)
+    assignments = _assignment_order(sorted({a for _s, a in pairs}))
+    nb = _open_course(course, submitted, assignments)
+    install_kernelspec()  # the notebooks' kernel "hri-teleop" (.venv's Python in the lab's shell)
+    out.mkdir(parents=True, exist_ok=True)
+    jobs = job_count(jobs)
+    notebook_limit = timeout_s or _NOTEBOOK_TIMEOUT_S
+    files_limit = timeout_s or PER_SUBMISSION_TIMEOUT_S
+    files_checks = {a: [c for c in ASSIGNMENT_CHECKS.get(a, ()) if not checks or c in checks] for a in assignments}
+    sandbox_mode()  # says once, up front, when bubblewrap is missing
+    wanted = sorted({c for cs in files_checks.values() for c in cs})
+    graph_cache = live_graph_cache(out, wanted) if "graph" in wanted else None
+    students = sorted({s for s, _a in pairs} | set(empty))
+    db_lock = threading.Lock()
+
+    # The files first: each check result they store is taken by the notebooks' check cells of the
+    # same package instead of running the check a second time. Then the notebooks, the lab's
+    # (longest) first.
+    results_dir = out / ".check-results"
+    shutil.rmtree(results_dir, ignore_errors=True)  # results of this run only, never an older grader's
+    order = {a: i for i, a in enumerate(reversed(assignments))}
+    tasks: List[Tuple[str, Callable[[], JobOutcome]]] = []
+    for student, assignment in sorted(pairs, key=lambda p: (order[p[1]], p[0])):
+        if files_checks[assignment]:
+            tasks.append((f"{student}\0{assignment}\0files",
+                          lambda s=student, a=assignment: _grade_files(nb, s, a, out / s / a, files_checks[a],
+                                                                       graph_cache, files_limit, results_dir)))
+    for student, assignment in sorted(pairs, key=lambda p: (order[p[1]], p[0])):
+        tasks.append((f"{student}\0{assignment}\0notebooks",
+                      lambda s=student, a=assignment: _autograde(nb, s, a, out / s / a, notebook_limit, db_lock,
+                                                                 progress, results_dir)))
+    progress(f"autograding {len(pairs)} submission(s) of {len(students)} student(s) in {course} with nbgrader "
+             f"({', '.join(assignments)}), and their {_FILES} files; {jobs} at once")
+    started = time.monotonic()
+    outcomes: Dict[str, JobOutcome] = {}
+    width = len(str(len(tasks)))
+
+    def done(key: str, outcome: Optional[JobOutcome], exc: Optional[BaseException]) -> None:
+        if outcome is None:  # a bug of ours, recorded; the others go on
+            student, assignment, kind = key.split("\0")
+            outcome = JobOutcome(student, assignment, kind, 0.0, 0.0, "not graded", 0.0,
+                                 f"{type(exc).__name__}: {exc}")
+        outcomes[key] = outcome
+        what = (f"{outcome.score:g}/{outcome.max_score:g}" if outcome.status == "graded"
+                else f"NOT GRADED: {outcome.message}")
+        progress(f"[{len(outcomes):>{width}}/{len(tasks)}] {outcome.student} {outcome.label} {what} "
+                 f"({outcome.seconds:.1f} s)")
+
+    run_all(tasks, jobs, done)
+
+    feedback_problems: Dict[Tuple[str, str], str] = {}
+    for assignment in assignments:
+        graded = [o.student for o in outcomes.values()
+                  if o.assignment == assignment and o.kind == "notebooks" and o.status == "graded"]
+        if not graded:
+            continue
+        ok, failed = _generate_feedback(nb, assignment, out)
+        for student, why in failed.items():
+            feedback_problems[(student, assignment)] = why
+        problems = "" if ok else f"; errors, see {out / f'generate_feedback.{assignment}.log'}"
+        progress(f"feedback: nbgrader generate_feedback {assignment} -> {course / 'feedback'}/<student>/{assignment}/ "
+                 f"({len(graded) - len(failed)} student(s){problems})")
+
+    rows, summary = [], []
+    for student in students:
+        mine = {(o.assignment, o.kind): o for o in outcomes.values() if o.student == student}
+        row: Dict[str, str] = {"student": student}
+        reasons: List[str] = []
+        nb_score = nb_max = files_score = files_max = None
+        for assignment in assignments:
+            o = mine.get((assignment, "notebooks"))
+            row[f"{assignment}_score"] = row[f"{assignment}_max"] = ""
+            if o is None:
+                continue
+            if o.status == "graded":
+                row[f"{assignment}_score"], row[f"{assignment}_max"] = _fmt(o.score), _fmt(o.max_score)
+                nb_score, nb_max = (nb_score or 0.0) + o.score, (nb_max or 0.0) + o.max_score
+            else:
+                reasons.append(f"{assignment}: {o.message}")
+            f = mine.get((assignment, "files"))
+            if f is not None and f.status == "graded":
+                files_score, files_max = (files_score or 0.0) + f.score, (files_max or 0.0) + f.max_score
+            elif f is not None:
+                reasons.append(f"{assignment}/{_FILES}: {f.message}")
+            if (student, assignment) in feedback_problems:
+                reasons.append(f"{assignment}: {feedback_problems[(student, assignment)]}")
+        if student in empty:
+            reasons.append(f"no assignment folder in {submitted / student} "
+                           f"(expected {submitted.name}/{student}/<assignment>/)")
+        _combine_files_results(out / student, assignments)
+        status = "not graded" if reasons else "graded"
+        row.update({"notebooks_score": _fmt(nb_score), "notebooks_max": _fmt(nb_max), "files_score": _fmt(files_score),
+                    "files_max": _fmt(files_max),
+                    "needs_manual_grade": " ".join(a for (a, k), o in sorted(mine.items())
+                                                   if k == "notebooks" and o.needs_manual_grade),
+                    "status": status, "seconds": f"{sum(o.seconds for o in mine.values()):.1f}",
+                    "message": "; ".join(reasons)})
+        rows.append(row)
+        summary.append({"student": student, "status": status, "reasons": reasons,
+                        "jobs": [asdict(o) for _k, o in sorted(mine.items())],
+                        "feedback": {a: str(course / "feedback" / student / a) for (a, k), o in sorted(mine.items())
+                                     if k == "notebooks" and o.status == "graded"
+                                     and (student, a) not in feedback_problems}})
+    columns = ["student", *[f"{a}_{x}" for a in assignments for x in ("score", "max")], "notebooks_score",
+               "notebooks_max", "files_score", "files_max", "needs_manual_grade", "status", "seconds", "message"]
+    with open(out / "grades.csv", "w", newline="", encoding="utf-8") as fh:
+        writer = csv.DictWriter(fh, fieldnames=columns)
+        writer.writeheader()
+        writer.writerows(rows)
+    (out / "summary.json").write_text(json.dumps(summary, indent=2), encoding="utf-8")
+    failed = [r for r in rows if r["status"] != "graded"]
+    manual = [r for r in rows if r["needs_manual_grade"]]
+    progress(f"graded {len(rows) - len(failed)}/{len(rows)} student(s) in {time.monotonic() - started:.0f} s; "
+             f"gradebook {nb.db_url.split('?')[0]}, results in {out} (grades.csv, <student>/feedback.txt)"
+             + (f"; {len(manual)} with answers to grade by hand (nbgrader formgrader)" if manual else ""))
+    return 2 if failed else 0

@@ -1,0 +1,363 @@
+"""Judging the launch files (Ex. 6-7, Ex. 12-13), the launch in the simulated lab, and the graph (Ex. 15).
+"""
+
+from __future__ import annotations
+
+import re
+from pathlib import Path
+from typing import Any, Dict, Iterable, List, Optional, Sequence, Set, Tuple
+
+from hri_teleop.core.config import DEFAULT_TWIST_TOPIC
+from hri_teleop.core.gripper import width_from_joint_positions_m
+from hri_teleop.core.mapping import ADC_MAX_COUNT
+from hri_teleop.grading.judge.compare_common import (
+    _PACKAGES,
+    GRAPH,
+    SENSOR_LAUNCH,
+    TELEOP_LAUNCH,
+    _as_float,
+    _fmt,
+    _nj,
+    _part,
+    explain_process,
+)
+from hri_teleop.grading.results import Part
+
+# -- launch files ---------------------------------------------------------------------------
+
+#: Added to a parse error that names franka_control (its launch file lives in franka_ros).
+_FRANKA_CONTROL_HINT = (" (the grader provides franka_control: write "
+                        "$(find franka_control)/launch/franka_control_cartesian_velocity.launch)")
+
+
+def _parse_parts(table: Dict[str, Tuple[str, float]], parsed: Dict[str, Any], parse_facts: Optional[Dict[str, Any]],
+                 later: Sequence[str], exercise: str, franka_hint: str = "") -> Tuple[List[Part], bool]:
+    """A launch file's "parse" part; when roslaunch cannot load it, also the ``later`` parts it leaves
+    unjudged, and True: nothing more to judge."""
+    if not parsed.get("ok"):
+        reason = parsed.get("error") or explain_process(parse_facts or {}, "parsing")
+        if franka_hint and "franka_control" in reason:
+            reason += franka_hint
+        return ([_part(table, "parse", False, f"roslaunch cannot load it: {reason}")]
+                + [_nj(table, k, "the file does not parse") for k in later]), True
+    empty = not parsed.get("nodes") and not parsed.get("params")
+    return [_part(table, "parse", not empty, "it parses but starts no node and sets no parameter: write the launch "
+                  f"file (handout {exercise})" if empty else "")], False
+
+
+def nodes_by_script(parsed: Dict[str, Any]) -> Dict[str, List[Dict[str, Any]]]:
+    out: Dict[str, List[Dict[str, Any]]] = {}
+    for node in parsed.get("nodes", []):
+        out.setdefault(node["type"], []).append(node)
+    return out
+
+
+def check_max_param(params: Dict[str, Any]) -> Tuple[bool, str]:
+    value = params.get("/max_sensor_force")
+    if "/max_sensor_force" not in params:
+        private = [k for k in params if k.endswith("/max_sensor_force")]
+        if private:
+            return False, (f"max_sensor_force is set as {private[0]} (inside a node: private); mapping_node reads the "
+                           "global /max_sensor_force: put its <param> outside the <node> elements")
+        return False, ("the launch file does not set /max_sensor_force: set it with a <param> element outside "
+                       "the <node> elements (handout Ex. 6)")
+    if isinstance(value, bool) or not isinstance(value, (int, float)):
+        return False, (f"/max_sensor_force is {value!r} ({type(value).__name__}); it must be a number of counts: "
+                       "write value=\"700\" without type=\"str\"")
+    if not 0 < value <= ADC_MAX_COUNT:
+        return False, f"/max_sensor_force is {value!r}; it must be a count 0 < value <= {ADC_MAX_COUNT} (about 700)"
+    return True, ""
+
+
+def compare_sensor_launch(parsed: Dict[str, Any], observation: Optional[Dict[str, Any]],
+                          parse_facts: Optional[Dict[str, Any]] = None) -> List[Part]:
+    """sensor.launch: what roslaunch's loader makes of it, then what flowed when it ran."""
+    from hri_teleop.grading.judge.robot_params import TABLE_1
+
+    T = SENSOR_LAUNCH
+    parts, final = _parse_parts(T, parsed, parse_facts, ("nodes", "param", "yaml", "flow"), "Ex. 6")
+    if final:
+        return parts
+    scripts = nodes_by_script(parsed)
+    missing = []
+    for script in ("FSR_sensor.py", "mapping_node.py"):
+        found = scripts.get(script, [])
+        if not found:
+            missing.append(f"no node runs {script} of hri_lab: start it with a <node> element (handout Ex. 6)")
+        elif not any(n["package"] in _PACKAGES for n in found):
+            missing.append(f"{script} is started from package {found[0]['package']!r}; it is in hri_lab")
+    parts.append(_part(T, "nodes", not missing, "\n".join(missing)))
+    ok, message = check_max_param(parsed.get("params", {}))
+    parts.append(_part(T, "param", ok, message))
+    keys = [k for k in TABLE_1 if f"/{k}" in parsed.get("params", {}) or any(p.startswith(f"/{k}/") for p in parsed.get("params", {}))]
+    parts.append(_part(T, "yaml", True, note=("Ex. 7 done: robot_params.yaml is loaded" if keys else
+                                              "Ex. 7 (voluntary) not done: robot_params.yaml is not loaded")))
+    if observation is None or observation.get("session_error"):
+        reason = (observation or {}).get("session_error", "it was not launched")
+        parts.append(_nj(T, "flow", f"the grader could not launch it ({reason})"))
+        return parts
+    values = [m for m in observation.get("force_mapped", [])]
+    kinds = {k for _, k, _ in values}
+    numbers = [_as_float(v) for _, _, v in values]
+    problems = []
+    note = ""
+    if observation.get("supplied"):
+        note = ("to judge the flow the grader supplied what the launch file lacks: "
+                + ", ".join(observation["supplied"]))
+    if {"FSR_sensor.py", "mapping_node.py"} <= set(observation.get("supplied", [])):
+        parts.append(_part(T, "flow", False, "the launch file starts neither node: the grader started both, so "
+                           "nothing that flowed came from your launch file", note=note))
+        return parts
+    if not values:
+        launch = dict(observation.get("launch", {}))
+        launch["problem"] = observation.get("problem", "")
+        problems.append("nothing arrived on /force_mapped while the launch file ran: "
+                        + explain_process(launch, "roslaunch"))
+    else:
+        if kinds != {"std_msgs/Float32"}:
+            problems.append(f"/force_mapped is {', '.join(sorted(kinds))}, not std_msgs/Float32")
+        outside = [v for v in numbers if v is None or not 0.0 <= v <= 1.0]
+        if outside:
+            problems.append(f"{len(outside)} of {len(values)} values on /force_mapped were outside [0, 1] "
+                            f"(e.g. {_fmt(outside[0])}): check mapping_node.py's range and clipping")
+        if len(values) < 3:
+            problems.append(f"only {len(values)} messages on /force_mapped in the recording: the sensor publishes "
+                            "10 per second")
+    parts.append(_part(T, "flow", not problems, "\n".join(problems), note=note))
+    return parts
+
+
+def compare_teleop_launch(parsed: Dict[str, Any], parse_facts: Optional[Dict[str, Any]] = None) -> List[Part]:
+    """teleoperation.launch as roslaunch's loader sees it (with a stand-in franka_control)."""
+    from hri_teleop.grading.run.workspace import FRANKA_MARKER_PARAM
+
+    T = TELEOP_LAUNCH
+    parts, final = _parse_parts(T, parsed, parse_facts, ("nodes", "serial", "param", "include"), "Ex. 12-13",
+                                _FRANKA_CONTROL_HINT)
+    if final:
+        return parts
+    scripts = nodes_by_script(parsed)
+    problems = []
+    for script in ("teleoperation.py", "gripper_manager.py", "mapping_node.py"):
+        found = scripts.get(script, [])
+        if not found:
+            problems.append(f"no node runs {script} of hri_lab: start it with a <node> element (handout Ex. 12 e)")
+        elif not any(n["package"] == "hri_lab" for n in found):
+            problems.append(f"{script} is started from package {found[0]['package']!r}; in the lab it is in hri_lab")
+    parts.append(_part(T, "nodes", not problems, "\n".join(problems)))
+    params = parsed.get("params", {})
+    serial = [n for n in scripts.get("serial_node.py", []) if n["package"] == "rosserial_python"]
+    if not serial:
+        parts.append(_part(T, "serial", False, "no node runs rosserial_python's serial_node.py: the Arduino's "
+                                               "node of Ex. 12 f)"))
+    else:
+        node = serial[0]
+        key = f"{node['namespace'].rstrip('/')}/{node['name']}/port"
+        port = params.get(key)
+        if port is None:
+            parts.append(_part(T, "serial", False, f"serial_node has no private parameter port ({key}): give it the "
+                                                   "Arduino's serial port (Ex. 11), a string <param> inside its <node>"))
+        elif not isinstance(port, str) or not port.startswith("/dev/tty"):
+            parts.append(_part(T, "serial", False, f"{key} is {port!r}; it must be the Arduino's serial port, the "
+                                                   "string /dev/ttyACM0"))
+        else:
+            parts.append(_part(T, "serial", True, note="" if port == "/dev/ttyACM0" else f"port is {port}"))
+    ok, message = check_max_param(params)
+    parts.append(_part(T, "param", ok, message))
+    included = FRANKA_MARKER_PARAM in params
+    parts.append(_part(T, "include", included, "" if included else (
+        "franka_control_cartesian_velocity.launch of franka_control is not included: the robot's launch file "
+        "of Ex. 13, with an <include> element")))
+    return parts
+
+
+#: What the launch in simulation must show (the grader's scenario: hri_teleop.grading.cases.inputs.launch_sim_case).
+SIM_MIN_RISE_M = 0.02          # the arm rises at 5 cm/s for 1 s: at least 2 cm
+SIM_MAX_CLOSED_WIDTH_M = 0.06  # the hand opens 0.08 m; cross closes it past 0.06 m
+SIM_MIN_FORCE = 0.3            # the egg squeezed until strong rumble: /force_mapped well above 0
+
+
+def _series(observation: Dict[str, Any], topic: str) -> List[Tuple[float, Any]]:
+    return [(float(t), v) for t, _kind, v in observation.get("messages", {}).get(topic, [])]
+
+
+def _width_m(positions: Any) -> Optional[float]:
+    return width_from_joint_positions_m(positions) if isinstance(positions, list) else None
+
+
+def _sim_plot(plot_dir: Optional[Path], observation: Dict[str, Any], teleop: str) -> List[str]:
+    if plot_dir is None:
+        return []
+    from hri_teleop.grading.judge.plots import timeline
+
+    twist = [(t, v[2]) for t, v in _series(observation, DEFAULT_TWIST_TOPIC) if isinstance(v, list)]
+    z = [(t, v[2]) for t, v in _series(observation, "/lab_sim/ee_pose") if isinstance(v, list)]
+    width = [(t, _width_m(v)) for t, v in _series(observation, "/franka_gripper/joint_states")]
+    target = [(t, _as_float(v)) for t, v in _series(observation, "/gripper_width")]
+    force = [(t, _as_float(v)) for t, v in _series(observation, "/force_mapped")]
+    rumble = [(t, _as_float(v)) for t, v in _series(observation, f"{teleop}/rumble")]
+    panels = [("twist v_z (m/s)", [("command", twist)]), ("end effector z (m)", [("simulated arm", z)]),
+              ("gripper width (m)", [("hand", width), ("/gripper_width", target)]),
+              ("force", [("/force_mapped", force), ("rumble", rumble)])]
+    return [timeline(Path(plot_dir) / "teleoperation-launch-sim.png",
+                     "teleoperation.launch in simulation: what the grader saw", panels)]
+
+
+def teleop_node_name(parsed: Dict[str, Any]) -> Optional[str]:
+    """The full name (``/ns/name``) of the launch file's teleoperation.py node of hri_lab, if it has one."""
+    for node in nodes_by_script(parsed).get("teleoperation.py", []):
+        if node["package"] == "hri_lab":
+            return f"{node['namespace'].rstrip('/')}/{node['name']}"
+    return None
+
+
+def compare_teleop_launch_sim(parsed: Dict[str, Any], observation: Optional[Dict[str, Any]], case: Any,
+                              plot_dir: Optional[Path] = None) -> Part:
+    """The launch file run with the simulated lab and the grader's operator (``case``): did it all connect?"""
+    T = TELEOP_LAUNCH
+    if not parsed.get("ok"):
+        return _nj(T, "sim", "the file does not parse")
+    if observation is None:
+        return _nj(T, "sim", "it starts no teleoperation.py of hri_lab, so there is no operator to run")
+    if observation.get("session_error"):
+        return _nj(T, "sim", f"the grader could not run the simulation ({observation['session_error']})")
+    note = ""
+    if observation.get("supplied"):
+        note = "to judge the rest the grader supplied what the launch file lacks: " + ", ".join(observation["supplied"])
+    teleop = teleop_node_name(parsed) or "/teleoperation"
+    if observation.get("problem"):
+        launch = dict(observation.get("launch", {}))
+        launch["problem"] = observation["problem"]
+        return _part(T, "sim", False, explain_process(launch, "roslaunch"), note=note)
+    twist_topic = DEFAULT_TWIST_TOPIC
+    problems: List[str] = []
+    twists = [v for _, v in _series(observation, twist_topic)]
+    if not twists:
+        others = sorted(t for t, k in observation.get("teleop_publications", []) if k == "geometry_msgs/Twist")
+        problems.append(f"nothing arrived on {twist_topic}, where the robot listens"
+                        + (f"; {teleop} publishes its twist on {', '.join(others)}: a <remap> in the launch file?"
+                           if others else f": did {teleop} start and stay up?"))
+    z = [v[2] for _, v in _series(observation, "/lab_sim/ee_pose") if isinstance(v, list)]
+    rise = (max(z) - z[0]) if z else 0.0
+    if twists and rise < SIM_MIN_RISE_M:
+        problems.append(f"the arm rose {rise * 100:.1f} cm while the right stick was held up for "
+                        f"{case.lift_to_s - case.lift_from_s:.0f} s (at least {SIM_MIN_RISE_M * 100:.0f} cm expected)")
+    widths = [w for w in (_width_m(v) for _, v in _series(observation, "/franka_gripper/joint_states")) if w is not None]
+    if not widths or min(widths) > SIM_MAX_CLOSED_WIDTH_M:
+        seen = f"it stayed at {min(widths):.3f} m or more" if widths else "no joint_states arrived"
+        targets = _series(observation, "/gripper_width")
+        why = ("gripper_manager got no /gripper_width" if not targets else
+               "/gripper_width came but the hand did not move: is gripper_manager.py started?")
+        problems.append(f"the hand did not close while cross was held ({seen}); {why}")
+    pub_force = _series(observation, "/pub_force")
+    force = [_as_float(v) for _, v in _series(observation, "/force_mapped")]
+    if not pub_force:
+        problems.append("no sensor counts on /pub_force: the board's counts reach ROS through rosserial_python's "
+                        "serial_node.py (the grader's stand-in forwards the simulated board)")
+    elif not force:
+        problems.append("the board's counts arrived on /pub_force but nothing on /force_mapped: is mapping_node.py "
+                        "started?")
+    else:
+        outside = [v for v in force if v is None or not 0.0 <= v <= 1.0]
+        if outside:
+            problems.append(f"{len(outside)} of {len(force)} values on /force_mapped were outside [0, 1]")
+        elif max(force) < SIM_MIN_FORCE:  # type: ignore[type-var]
+            problems.append(f"/force_mapped stayed below {SIM_MIN_FORCE} (max {max(force):.3f}) while the hand "
+                            "squeezed the sponge: is /max_sensor_force the calibrated count?")
+    facts = []
+    rumble = [r for r in (_as_float(v) for _, v in _series(observation, f"{teleop}/rumble")) if r is not None]
+    if rumble:
+        facts.append(f"the pad rumbled up to {max(rumble):.2f}")
+    status = [v for _, v in _series(observation, "/lab_sim/object") if isinstance(v, dict)]
+    if status:
+        last = status[-1]
+        facts.append(f"the {last.get('name', 'object')} was " + ("crushed" if last.get("crushed") == "true" else
+                                       "lifted" if last.get("ever_lifted") == "true" else "not lifted"))
+    if not observation.get("quit_in_time"):
+        facts.append(f"{teleop} was still running after square was pressed")
+    note = "; ".join(x for x in [note] + facts if x)
+    plots = _sim_plot(plot_dir, observation, teleop) if problems else []
+    return _part(T, "sim", not problems, "\n".join(problems), plots, note=note)
+
+
+# -- Ex. 15: the graph --------------------------------------------------------------------------
+
+PIPELINE_TOPICS = ("/pub_force", "/force_mapped", "/gripper_width", DEFAULT_TWIST_TOPIC)
+_SENSOR_ALIASES = {"/serial_node", "/FSR_sensor"}  # the Arduino in the lab, its simulation at home
+_LAB_ONLY = re.compile(r"^/(franka|cartesian_velocity_controller|joint_state|robot_state|rosout|rqt|record|rosbag|rostopic)")
+
+
+def _name(value: Any) -> str:
+    text = str(value).strip()
+    return text if text.startswith("/") else "/" + text
+
+
+def _names(values: Any) -> Set[str]:
+    if values is None:
+        return set()
+    if isinstance(values, (str, int, float)):
+        values = [values]
+    if not isinstance(values, (list, tuple)):
+        return set()
+    return {_name(v) for v in values}
+
+
+def _canon(nodes: Iterable[str]) -> Set[str]:
+    return {"/serial_node" if n in _SENSOR_ALIASES else n for n in nodes}
+
+
+def compare_graph(answer: Any, live: Dict[str, Any], answer_error: str = "") -> List[Part]:
+    """The student's graph.yaml against the live graph of the lab's pipeline (hri_lab, no hardware)."""
+    T = GRAPH
+    if answer_error or not isinstance(answer, dict) or not isinstance(answer.get("nodes"), list) \
+            or not isinstance(answer.get("topics"), dict):
+        why = answer_error or ("graph.yaml needs `nodes:` (a list of node names) and `topics:` (a mapping from "
+                               "topic name to type, publishers and subscribers); see the template")
+        return [_part(T, "format", False, why)] + [_nj(T, k, "graph.yaml could not be read") for k in ("nodes", "types", "links")]
+    parts = [_part(T, "format", True)]
+    pubs: Dict[str, List[str]] = live["publishers"]
+    subs: Dict[str, List[str]] = live["subscribers"]
+    types: Dict[str, str] = live["types"]
+    live_nodes = {n for ns in list(pubs.values()) + list(subs.values()) for n in ns}
+    pipeline_nodes = _canon(n for t in PIPELINE_TOPICS for n in pubs.get(t, []) + subs.get(t, []))
+    listed = _canon(_names(answer["nodes"]))
+    problems = []
+    missing = sorted(pipeline_nodes - listed)
+    if missing:
+        problems.append(f"missing node(s): {', '.join(missing)}")
+    unknown = sorted(n for n in listed - _canon(live_nodes) if not _LAB_ONLY.match(n))
+    if unknown:
+        problems.append(f"not in the running graph: {', '.join(unknown)} (check the names with `rosnode list`)")
+    parts.append(_part(T, "nodes", not problems, "\n".join(problems)))
+
+    topics = {_name(k): v for k, v in answer["topics"].items()}
+    problems = []
+    for topic in PIPELINE_TOPICS:
+        entry = topics.get(topic)
+        if entry is None:
+            problems.append(f"{topic} ({types.get(topic, '?')}) is missing")
+            continue
+        kind = entry.get("type") if isinstance(entry, dict) else entry
+        if str(kind).strip() != types.get(topic):
+            problems.append(f"{topic} is {types.get(topic)}, not {kind} (`rostopic type {topic}`)")
+    for topic in sorted(topics):
+        if topic not in types and not _LAB_ONLY.match(topic):
+            problems.append(f"{topic} is not a topic of the running graph (check it with `rostopic list`)")
+    parts.append(_part(T, "types", not problems, "\n".join(problems)))
+
+    problems = []
+    for topic in PIPELINE_TOPICS:
+        entry = topics.get(topic)
+        if not isinstance(entry, dict):
+            problems.append(f"{topic}: list its publishers and subscribers")
+            continue
+        for role, live_side in (("publishers", pubs), ("subscribers", subs)):
+            want = _canon(n for n in live_side.get(topic, []) if n in pipeline_nodes or n in _SENSOR_ALIASES)
+            got = _canon(n for n in _names(entry.get(role)) if not _LAB_ONLY.match(n))
+            if topic == DEFAULT_TWIST_TOPIC and role == "subscribers":
+                continue  # the robot's controller: not running without the robot
+            if got != want:
+                problems.append(f"{topic} {role}: expected {', '.join(sorted(want)) or 'none'}, listed "
+                                f"{', '.join(sorted(got)) or 'none'} (`rostopic info {topic}`)")
+    parts.append(_part(T, "links", not problems, "\n".join(problems)))
+    return parts

@@ -1,0 +1,589 @@
+"""Judging the nodes students write: ``mapping_node.py`` (Ex. 5) and ``teleoperation.py``, its
+parts (Ex. 8) and as a node (Ex. 9).
+"""
+
+from __future__ import annotations
+
+import math
+import re
+from pathlib import Path
+from typing import Any, Dict, List, Optional, Sequence, Tuple
+
+from hri_teleop.core.config import DEFAULT_TWIST_TOPIC
+from hri_teleop.core.mapping import ADC_MAX_COUNT
+from hri_teleop.core.teleop import TeleopController, TeleopParams
+from hri_teleop.grading.cases.inputs import (
+    ExpectedTick,
+    MappingCase,
+    TeleopNodeCase,
+    TeleopPartsCase,
+    public_mapping_case,
+    reference_parts,
+)
+from hri_teleop.grading.judge.compare_common import (
+    _TWIST_TOLERANCE,
+    MAPPING,
+    TELEOP,
+    TOLERANCE,
+    _as_float,
+    _fmt,
+    _nj,
+    _part,
+    explain_process,
+    process_hints,
+)
+from hri_teleop.grading.results import Part
+from hri_teleop.grading.run.sandbox import describe_exit
+
+# -- mapping_node.py (Ex. 5) -----------------------------------------------------------------
+
+def _integer_type(kind: str) -> bool:
+    return bool(re.match(r"std_msgs/U?Int\d+$", kind or ""))
+
+
+def _diagnose_mapping(bad: List[Tuple[int, float, float, Any]], out_type: str) -> str:
+    """The most likely mistake behind wrong (count, max, expected, got) values."""
+    gots = [(c, m, e, _as_float(g)) for c, m, e, g in bad]
+    numeric = [(c, m, e, g) for c, m, e, g in gots if g is not None]
+    if _integer_type(out_type):
+        return f"{out_type} holds whole numbers only, so 0.5 arrives as 0: publish std_msgs/Float32"
+    if not numeric:
+        return "the messages carry no number: publish Float32(value) with the mapped float"
+    if any(c > m and g > 1.0 + TOLERANCE for c, m, e, g in numeric):
+        return "values above 1.0 for counts above /max_sensor_force: clip the result to at most 1.0, e.g. min(1.0, value)"
+    if all(g in (0.0, 1.0) for _, _, _, g in numeric):
+        return ("the values are only 0 and 1: integer division? Divide as floats, count / float(max_sensor_force), "
+                "not with // or int()")
+    for guess, words in ((float(700), "0..700: read the range from the parameter /max_sensor_force "
+                                      "(rospy.get_param) instead of writing 700"),
+                         (float(ADC_MAX_COUNT), "0..1023 (the ADC's range): divide by /max_sensor_force")):
+        if all(abs(g - min(1.0, max(0.0, c / guess))) <= TOLERANCE or abs(g - c / guess) <= TOLERANCE
+               for c, m, e, g in numeric) and any(m != guess for c, m, e, g in numeric):
+            return "the values fit a range of " + words
+    public = public_mapping_case().expected
+    if sum(1 for (c, m, e, g) in numeric if any(abs(g - p) <= TOLERANCE for p in public)) == len(numeric) and \
+            any(m != 700 for _, m, _, _ in numeric):
+        return ("the values are those of the public trace, not of the counts sent: compute each value from the "
+                "count that arrives (count / max_sensor_force, clipped)")
+    if all(abs(g - (1.0 - e)) <= TOLERANCE for c, m, e, g in numeric):
+        return "the values run the wrong way (1 - expected): 0 counts must give 0.0"
+    return "compute count / max_sensor_force and clip it to 0..1"
+
+
+def _judge_mapping(items: List[Tuple[int, int, float, List[List[Any]]]], out_type: str
+                   ) -> Tuple[bool, str, List[int]]:
+    """items: (count, max, expected, responses) -> (ok, message, indices of wrong items)."""
+    missing = [i for i, (_, _, _, r) in enumerate(items) if not r]
+    extra = [i for i, (_, _, _, r) in enumerate(items) if len(r) > 1]
+    wrong = []
+    for i, (_, _, expected, responses) in enumerate(items):
+        if responses:
+            got = _as_float(responses[0][1])
+            if got is None or abs(got - expected) > TOLERANCE:
+                wrong.append(i)
+    if not (missing or extra or wrong):
+        return True, "", []
+    lines: List[str] = []
+    if wrong:
+        lines.append(f"{len(wrong)} of {len(items)} counts gave a wrong value, e.g.:")
+        for i in wrong[:3]:
+            count, maximum, expected, responses = items[i]
+            lines.append(f"  /pub_force = {count} with /max_sensor_force = {maximum}: expected /force_mapped = "
+                         f"{expected:.6g}, got {_fmt(responses[0][1])}")
+        lines.append("hint: " + _diagnose_mapping([(items[i][0], items[i][1], items[i][2], items[i][3][0][1])
+                                                   for i in wrong], out_type))
+    if missing:
+        count, maximum, _, _ = items[missing[0]]
+        lines.append(f"{len(missing)} of {len(items)} counts got no message back (e.g. /pub_force = {count} with "
+                     f"/max_sensor_force = {maximum}): publish one message for every count, from the callback")
+    if extra:
+        count = items[extra[0]][0]
+        lines.append(f"{len(extra)} counts got more than one message (e.g. /pub_force = {count}): publish exactly "
+                     "once per count")
+    return False, "\n".join(lines), sorted(set(wrong + missing + extra))
+
+
+def _mapping_plot(plot_dir: Optional[Path], run: Dict[str, Any], case: MappingCase, marks: List[int]) -> List[str]:
+    if plot_dir is None:
+        return []
+    from hri_teleop.grading.judge.plots import expected_vs_actual
+
+    actual = [r[0][1] if r else None for r in run["responses"]] + [None] * (len(case.counts) - len(run["responses"]))
+    actual = [a if _as_float(a) is not None else None for a in actual]
+    path = expected_vs_actual(Path(plot_dir) / f"mapping-{case.label}.png",
+                              f"/force_mapped for the {case.label} counts, /max_sensor_force = {case.max_sensor_force}",
+                              list(range(len(case.counts))), list(case.expected), actual, "count number", "/force_mapped",
+                              inputs=list(case.counts), input_label="/pub_force (count)", marks=marks)
+    return [path]
+
+
+def compare_mapping(observation: Dict[str, Any], cases: Sequence[MappingCase],
+                    plot_dir: Optional[Path] = None) -> List[Part]:
+    """The mapping-node parts from a mapping-node session (runs in the order of ``cases``, public first)."""
+    T = MAPPING
+    runs = observation.get("runs", [])
+    if observation.get("session_error") or not runs:
+        reason = observation.get("session_error", "the grader's ROS session produced nothing")
+        return [_nj(T, k, f"the grader could not run the node ({reason})") for k in T]
+    public, public_case = runs[0], cases[0]
+    facts = public["node"]
+    if not public.get("input_topic"):
+        message = explain_process(facts, "mapping_node.py")
+        if facts.get("started") and facts.get("subscriptions") == [] and not facts.get("problem"):
+            message = "mapping_node.py subscribes to no topic: create rospy.Subscriber('/pub_force', Int16, callback)"
+        parts = [_part(T, "sub", False, message)]
+        return parts + [_nj(T, k, "the node did not subscribe to /pub_force") for k in T if k != "sub"]
+
+    parts: List[Part] = []
+    in_topic, in_type = public["input_topic"], public.get("input_type", "")
+    if in_topic == "/pub_force" and in_type == "std_msgs/Int16":
+        parts.append(_part(T, "sub", True))
+    elif in_topic != "/pub_force":
+        others = ", ".join(t for t, _ in facts.get("subscriptions", []))
+        parts.append(_part(T, "sub", False, f"the node subscribes {others}, not /pub_force: the sensor publishes on "
+                                            "/pub_force (the grader sent the counts to your topic to judge the rest)"))
+    else:
+        parts.append(_part(T, "sub", False, f"the node subscribes /pub_force as {in_type}; the sensor publishes "
+                                            "std_msgs/Int16: use Int16 from std_msgs.msg"))
+
+    out_topic, out_type = public.get("output_topic", ""), public.get("output_type", "")
+    answered = [r for run in runs for r in run.get("responses", []) if r]
+    if not out_topic:
+        advertised = ", ".join(t for t, _ in facts.get("publications", [])) or "nothing"
+        message = (f"the node advertises {advertised}, no /force_mapped: create "
+                   "rospy.Publisher('/force_mapped', Float32, queue_size=10)")
+        if facts.get("exited_by_itself"):
+            message = explain_process(facts, "mapping_node.py")
+        parts.append(_part(T, "pub", False, message))
+        return parts + [_nj(T, k, "nothing was published") for k in ("type", "values", "clip", "hidden")]
+    if not public.get("connected"):
+        parts.append(_part(T, "pub", False, f"the grader could not connect to {in_topic} ({in_type}) and "
+                                            f"{out_topic}: " + explain_process(facts, "mapping_node.py")))
+        return parts + [_nj(T, k, "no connection to the node") for k in ("type", "values", "clip", "hidden")]
+    if out_type == "std_msgs/Float32":
+        type_part = _part(T, "type", True)
+    else:
+        type_part = _part(T, "type", False, f"{out_topic} is {out_type or 'of no known type'}; it must be "
+                                            "std_msgs/Float32 (teleoperation subscribes Float32): "
+                                            "from std_msgs.msg import Float32")
+    if not answered:
+        message = (f"the node advertises {out_topic} but published nothing for the {len(public_case.counts)} counts "
+                   "sent on /pub_force: publish the mapped value in the subscriber's callback")
+        tail = str(facts.get("output_tail", ""))
+        if out_type != "std_msgs/Float32" and ("SerializationError" in tail or "struct.error" in tail):
+            message = (f"the node advertises {out_topic} as {out_type}, and rospy could not send the mapped float "
+                       f"in it (SerializationError in its output): publish std_msgs/Float32")
+        if facts.get("exited_by_itself"):
+            message = explain_process(facts, "mapping_node.py")
+        parts += [_part(T, "pub", False, message), type_part]
+        return parts + [_nj(T, k, "nothing was published") for k in ("values", "clip", "hidden")]
+    if out_topic != "/force_mapped":
+        parts.append(_part(T, "pub", False, f"the node publishes on {out_topic}, not /force_mapped: teleoperation "
+                                            "listens on /force_mapped (the values were judged on your topic)"))
+    else:
+        parts.append(_part(T, "pub", True))
+    parts.append(type_part)
+
+    def items(run: Dict[str, Any], case: MappingCase, which) -> Tuple[List[Any], List[int]]:
+        responses = run.get("responses", [])
+        chosen, index = [], []
+        for i, (count, expected) in enumerate(zip(case.counts, case.expected)):
+            if which(count, case.max_sensor_force):
+                r = responses[i] if i < len(responses) else []
+                chosen.append((count, case.max_sensor_force, expected, r))
+                index.append(i)
+        return chosen, index
+
+    for key, which in (("values", lambda c, m: c <= m), ("clip", lambda c, m: c > m)):
+        chosen, index = items(public, public_case, which)
+        ok, message, wrong = _judge_mapping(chosen, out_type)
+        if not ok and public["node"].get("exited_by_itself"):
+            message += "\n" + explain_process(public["node"], "mapping_node.py")
+        plots = [] if ok else _mapping_plot(plot_dir, public, public_case, [index[i] for i in wrong])
+        parts.append(_part(T, key, ok, message, plots))
+
+    hidden_ok, hidden_lines, hidden_plots = True, [], []
+    for run, case in zip(runs[1:], cases[1:]):
+        if not run.get("input_topic") or not run.get("connected"):
+            hidden_ok = False
+            hidden_lines.append(f"with /max_sensor_force = {case.max_sensor_force}: "
+                                + explain_process(run["node"], "mapping_node.py"))
+            continue
+        chosen, index = items(run, case, lambda c, m: True)
+        ok, message, wrong = _judge_mapping(chosen, run.get("output_type", out_type))
+        if not ok:
+            hidden_ok = False
+            hidden_lines.append(f"{case.label} (/max_sensor_force = {case.max_sensor_force}): {message}")
+            hidden_plots += _mapping_plot(plot_dir, run, case, wrong)
+    if len(runs) < len(cases):
+        hidden_ok = False
+        hidden_lines.append("the hidden runs did not happen (see the parts above)")
+    parts.append(_part(T, "hidden", hidden_ok, "\n".join(hidden_lines), hidden_plots))
+    return parts
+
+
+# -- teleoperation.py: the student's parts (Ex. 8) ------------------------------------------
+
+_BUTTON_WORDS = {"south": "cross", "east": "circle", "north": "triangle", "west": "square"}
+
+
+def _pad_context(case: TeleopPartsCase, index: int) -> str:
+    tick = case.ticks[index]
+    sticks = ", ".join(f"{a} = {v:+.3g}" for a, v in tick.axes if v != 0.0) or "sticks centred"
+    held = ", ".join(_BUTTON_WORDS.get(b, b) for b in sorted(tick.buttons)) or "no button held"
+    return f"{sticks}; {held}"
+
+
+def _case_where(case: TeleopPartsCase, index: int) -> str:
+    g = case.gains
+    return (f"{case.label} trace (rate {g.rate:g} Hz, k_trans {g.k_trans:g}, k_rot {g.k_rot:g}, "
+            f"k_gripper {g.k_gripper:g}, deadzone {g.deadzone:g}), tick {index}")
+
+
+def _method_error(result: Dict[str, Any], method: str) -> Optional[str]:
+    errors = result.get("errors", {})
+    if method in errors:
+        return f"{method}() raised {errors[method]} (first at tick {result.get('error_ticks', {}).get(method)})"
+    return None
+
+
+def _series_plot(plot_dir: Optional[Path], name: str, title: str, expected: List[float], actual: List[Any],
+                 ylabel: str, marks: List[int]) -> List[str]:
+    if plot_dir is None:
+        return []
+    from hri_teleop.grading.judge.plots import expected_vs_actual
+
+    return [expected_vs_actual(Path(plot_dir) / name, title, list(range(len(expected))), expected,
+                               [_as_float(a) for a in actual], "tick", ylabel, marks=marks)]
+
+
+def _judge_gripper(case: TeleopPartsCase, exp: List[ExpectedTick], got: List[Dict[str, Any]]) -> Tuple[bool, str, List[int]]:
+    step = case.gains.k_gripper / case.gains.rate
+    bad = [i for i, (e, g) in enumerate(zip(exp, got))
+           if _as_float(g["gripper_width"]) is None or abs(_as_float(g["gripper_width"]) - e.gripper_width) > 1e-9]
+    if not bad:
+        return True, "", []
+    i = bad[0]
+    value = _as_float(got[i]["gripper_width"])
+    previous = _as_float(got[i - 1]["gripper_width"]) if i > 0 else 0.08
+    held = case.ticks[i].buttons
+    if value is None:
+        hint = "self.gripper_width must stay a number in metres"
+    elif value < -1e-12 or value > 0.08 + 1e-12:
+        hint = "keep the width within GRIPPER_MIN_WIDTH .. GRIPPER_MAX_WIDTH (0 .. 0.08 m): clip it after the step"
+    elif previous is not None and abs(abs(value - previous) - case.gains.k_gripper) <= 1e-9:
+        hint = f"the width changed by k_gripper per tick; it must change by k_gripper / rate = {step:.6g} m"
+    elif previous is not None and "south" in held and "east" not in held and value > previous:
+        hint = "cross closes (the width gets smaller) and circle opens"
+    elif previous is not None and not ({"south", "east"} & held) and value != previous:
+        hint = "the width changed with no gripper button held: step only while a button is held"
+    else:
+        hint = f"while a button is held the width changes by k_gripper / rate = {step:.6g} m per tick"
+    message = (f"{_case_where(case, i)} ({_pad_context(case, i)}): gripper_width expected {exp[i].gripper_width:.6g} m, "
+               f"got {_fmt(got[i]['gripper_width'])}; {len(bad)} of {len(exp)} ticks differ\nhint: {hint}")
+    return False, message, bad
+
+
+def _no_deadzone(gains_params: TeleopParams, mode_rotation: bool) -> TeleopController:
+    params = TeleopParams(**{**{f: getattr(gains_params, f) for f in ("rate_hz", "k_trans", "k_rot", "k_gripper")},
+                             "deadzone": 0.0, "rumble_threshold": 0.0})
+    controller = TeleopController(params)
+    if mode_rotation:
+        from hri_teleop.core.gamepad import PadState
+
+        controller.step(PadState({}, {"north": True}), None, 0.0, 1.0 / params.rate_hz)
+        controller.step(PadState({}, {}), None, 0.0, 1.0 / params.rate_hz)
+    return controller
+
+
+def _judge_twist(case: TeleopPartsCase, exp: List[ExpectedTick], got: List[Dict[str, Any]]) -> Tuple[bool, str, List[int]]:
+    bad = []
+    for i, (e, g) in enumerate(zip(exp, got)):
+        velocity = g["cartesian_velocity"]
+        rotation = g["rotation_mode"] is True
+        want = e.velocity_if_rotation if rotation else e.velocity_if_translation
+        values = [_as_float(v) for v in velocity] if isinstance(velocity, list) else []
+        if len(values) != 6 or any(v is None or abs(v - w) > _TWIST_TOLERANCE for v, w in zip(values, want)):
+            bad.append(i)
+    if not bad:
+        return True, "", []
+    i = bad[0]
+    velocity = got[i]["cartesian_velocity"]
+    rotation = got[i]["rotation_mode"] is True
+    want = exp[i].velocity_if_rotation if rotation else exp[i].velocity_if_translation
+    values = [_as_float(v) for v in velocity] if isinstance(velocity, list) else []
+    mode = "rotation" if rotation else "translation"
+    if len(values) != 6 or any(v is None for v in values):
+        hint = "self.cartesian_velocity must be a list of 6 numbers [v_x, v_y, v_z, w_x, w_y, w_z]"
+    else:
+        raw = _no_deadzone(case.gains.params(), rotation).target_twist(case.ticks[i].state())
+        active = range(3, 6) if rotation else range(0, 3)
+        other = range(0, 3) if rotation else range(3, 6)
+        if all(abs(v - r) <= _TWIST_TOLERANCE for v, r in zip(values, raw)) and raw != tuple(want):
+            hint = "pass every stick through self.normalize_analog_input() before the gain (the dead zone, Figure 8)"
+        elif any(abs(values[k]) > _TWIST_TOLERANCE for k in other):
+            hint = f"in {mode} mode only the {mode} half of the velocity may be non-zero"
+        elif all(abs(values[k] + want[k]) <= _TWIST_TOLERANCE for k in active) and any(want[k] for k in active):
+            hint = "the signs are reversed: check the controller assignment in the file's docstring"
+        elif any(abs(values[k] + want[k]) <= _TWIST_TOLERANCE and want[k] != 0 for k in active):
+            wrong = [("v_x v_y v_z w_x w_y w_z".split())[k] for k in active
+                     if want[k] != 0 and abs(values[k] + want[k]) <= _TWIST_TOLERANCE]
+            hint = f"{', '.join(wrong)} has the wrong sign: check the controller assignment in the file's docstring"
+        else:
+            gain = case.gains.k_rot if rotation else case.gains.k_trans
+            other_gain = case.gains.k_trans if rotation else case.gains.k_rot
+            ratios = [values[k] / want[k] for k in active if want[k] != 0]
+            if ratios and all(abs(r - other_gain / gain) <= 1e-6 for r in ratios):
+                hint = f"use k_rot in rotation mode and k_trans in translation mode (this is {mode} mode)"
+            else:
+                hint = ("v_x <- left stick up/down, v_y <- left stick left/right (left = +y), v_z <- right stick "
+                        "up/down, each normalized and times the mode's gain")
+    message = (f"{_case_where(case, i)} ({_pad_context(case, i)}, your rotation_mode = {rotation}): "
+               f"cartesian_velocity expected {_fmt(list(want))}, got {_fmt(velocity)}; "
+               f"{len(bad)} of {len(exp)} ticks differ\nhint: {hint}")
+    return False, message, bad
+
+
+def _judge_toggle(case: TeleopPartsCase, exp: List[ExpectedTick], got: List[Dict[str, Any]]) -> Tuple[bool, str, List[int]]:
+    bad = [i for i, (e, g) in enumerate(zip(exp, got)) if g["rotation_mode"] is not e.rotation_mode]
+    if not bad:
+        return True, "", []
+    i = bad[0]
+    value = got[i]["rotation_mode"]
+    presses = sum(1 for k in range(i + 1) if "north" in case.ticks[k].buttons and
+                  (k == 0 or "north" not in case.ticks[k - 1].buttons))
+    if not isinstance(value, bool):
+        hint = "self.rotation_mode must stay True or False"
+    elif all(g["rotation_mode"] is False for g in got):
+        hint = "toggle_mode() must switch self.rotation_mode: self.rotation_mode = not self.rotation_mode"
+    else:
+        hint = "switch once per press of triangle: toggle_mode() is called once for each JOYBUTTONDOWN"
+    message = (f"{_case_where(case, i)}: after {presses} press(es) of triangle rotation_mode should be "
+               f"{exp[i].rotation_mode}, got {_fmt(value)}; {len(bad)} of {len(exp)} ticks differ\nhint: {hint}")
+    return False, message, bad
+
+
+def _judge_rumble(case: TeleopPartsCase, exp: List[ExpectedTick], got: List[Dict[str, Any]]) -> Tuple[bool, str, List[int]]:
+    bad = [i for i, (e, g) in enumerate(zip(exp, got))
+           if _as_float(g["rumble"]) is None or abs(_as_float(g["rumble"]) - e.rumble) > 1e-9]
+    if not bad:
+        return True, "", []
+    i = bad[0]
+    value = _as_float(got[i]["rumble"])
+    force = case.ticks[i].force
+    if value is None:
+        hint = "self.rumble must be a number 0..1"
+    elif value > 1.0:
+        hint = "limit the rumble to at most 1.0 (a force above the calibration gives 1.0)"
+    elif value < 0.0:
+        hint = "limit the rumble to at least 0.0"
+    else:
+        hint = "the rumble is the mapped force self.force, limited to 0..1"
+    message = (f"{_case_where(case, i)}: with self.force = {force:g} rumble expected {exp[i].rumble:g}, got "
+               f"{_fmt(got[i]['rumble'])}; {len(bad)} of {len(exp)} ticks differ\nhint: {hint}")
+    return False, message, bad
+
+
+def compare_teleop_parts(observation: Dict[str, Any], cases: Sequence[TeleopPartsCase],
+                         plot_dir: Optional[Path] = None, probe_facts: Optional[Dict[str, Any]] = None) -> List[Part]:
+    """The parts of Ex. 8 (gripper, twist, toggle, rumble) from the teleop-parts probe."""
+    T = TELEOP
+    keys = ("gripper", "twist", "toggle", "rumble")
+    if not observation.get("ok"):
+        reason = observation.get("error") or explain_process(probe_facts or {}, "teleoperation.py")
+        return [_part(T, "import", False, reason)] + [_nj(T, k, "the file could not be imported") for k in keys]
+    results = observation["cases"]
+    errors = [r.get("construct_error") for r in results if r.get("construct_error")]
+    if errors:
+        return ([_part(T, "import", False, f"Teleoperation(rate=..., k_trans=..., k_rot=..., k_gripper=..., "
+                                           f"deadzone=...) raised {errors[0]}: keep the template's constructor")]
+                + [_nj(T, k, "Teleoperation could not be built") for k in keys])
+    parts = [_part(T, "import", True)]
+    judges = {"gripper": (_judge_gripper, "update_gripper_width", "gripper_width", "gripper_width (m)"),
+              "twist": (_judge_twist, "update_cartesian_velocity", "cartesian_velocity", ""),
+              "toggle": (_judge_toggle, "toggle_mode", "rotation_mode", "rotation_mode"),
+              "rumble": (_judge_rumble, "update_rumble", "rumble", "rumble")}
+    expected = [reference_parts(case) for case in cases]
+    for key in keys:
+        judge, method, attribute, ylabel = judges[key]
+        failures: List[str] = []
+        plots: List[str] = []
+        for case, exp, result in zip(cases, expected, results):
+            error = _method_error(result, method)
+            if error:
+                hint = "; fill in the part marked YOUR CODE HERE" if "NotImplementedError" in error else ""
+                failures.append(f"{case.label} trace: {error}{hint}")
+                continue
+            ticks = result["ticks"]
+            if len(ticks) != len(exp):
+                failures.append(f"{case.label} trace: only {len(ticks)} of {len(exp)} ticks ran")
+                continue
+            ok, message, bad = judge(case, exp, ticks)
+            if not ok:
+                failures.append(message)
+                if key == "twist":
+                    component = _first_wrong_component(exp, ticks, bad[0])
+                    e_series = [(e.velocity_if_rotation if t["rotation_mode"] is True else e.velocity_if_translation)[component]
+                                for e, t in zip(exp, ticks)]
+                    a_series = [t["cartesian_velocity"][component] if isinstance(t["cartesian_velocity"], list)
+                                and len(t["cartesian_velocity"]) == 6 else None for t in ticks]
+                    label = "v_x v_y v_z w_x w_y w_z".split()[component]
+                    plots += _series_plot(plot_dir, f"teleop-{key}-{_slug(case.label)}.png",
+                                          f"cartesian_velocity {label}, {case.label} trace", e_series, a_series, label, bad[:50])
+                else:
+                    e_series = [float(getattr(e, attribute)) for e in exp]
+                    a_series = [t[attribute] if not isinstance(t[attribute], bool) else float(t[attribute]) for t in ticks]
+                    plots += _series_plot(plot_dir, f"teleop-{key}-{_slug(case.label)}.png",
+                                          f"{attribute}, {case.label} trace", e_series, a_series, ylabel, bad[:50])
+        parts.append(_part(T, key, not failures, "\n".join(failures), plots))
+    return parts
+
+
+def _first_wrong_component(exp: List[ExpectedTick], ticks: List[Dict[str, Any]], index: int) -> int:
+    velocity = ticks[index]["cartesian_velocity"]
+    want = exp[index].velocity_if_rotation if ticks[index]["rotation_mode"] is True else exp[index].velocity_if_translation
+    if isinstance(velocity, list) and len(velocity) == 6:
+        for k in range(6):
+            v = _as_float(velocity[k])
+            if v is None or abs(v - want[k]) > _TWIST_TOLERANCE:
+                return k
+    return 0
+
+
+def _slug(text: str) -> str:
+    return re.sub(r"[^A-Za-z0-9]+", "-", text).strip("-").lower()
+
+
+# -- teleoperation.py as a node (Ex. 9) ---------------------------------------------------------
+
+def _topic_of_type(facts: Dict[str, Any], kind: str, preferred: str, which: str = "publications") -> Tuple[str, str]:
+    entries = facts.get(which, [])
+    for topic, t in entries:
+        if topic == preferred:
+            return topic, t
+    same = [topic for topic, t in entries if t == kind]
+    return (same[0], kind) if same else ("", "")
+
+
+def compare_teleop_node(observation: Dict[str, Any], case: TeleopNodeCase,
+                        twist_topic: str = DEFAULT_TWIST_TOPIC,
+                        plot_dir: Optional[Path] = None) -> List[Part]:
+    """The node parts: topics, types, and what came out while a scripted pad drove it."""
+    T = TELEOP
+    keys = ("node_start", "node_twist_topic", "node_width_topic", "node_twist", "node_width", "node_rumble", "node_quit")
+    if observation.get("session_error"):
+        return [_nj(T, k, f"the grader could not run the node ({observation['session_error']})") for k in keys]
+    facts = observation["node"]
+    if not facts.get("started") or (observation.get("problem") and not facts.get("publications")):
+        return ([_part(T, "node_start", False, explain_process(facts, "teleoperation.py"))]
+                + [_nj(T, k, "the node did not start") for k in keys[1:]])
+    parts: List[Part] = []
+    subs = facts.get("subscriptions", [])
+    force_sub = [t for topic, t in subs if topic == "/force_mapped"]
+    if force_sub == ["std_msgs/Float32"]:
+        parts.append(_part(T, "node_start", True))
+    elif force_sub:
+        parts.append(_part(T, "node_start", False, f"the node subscribes /force_mapped as {force_sub[0]}; "
+                                                   "mapping_node publishes std_msgs/Float32"))
+    else:
+        listed = ", ".join(topic for topic, _ in subs) or "no topic"
+        parts.append(_part(T, "node_start", False, f"the node subscribes {listed}, not /force_mapped: "
+                                                   "rospy.Subscriber('/force_mapped', Float32, self.on_force)"))
+    messages = observation.get("messages", {})
+    pubs = facts.get("publications", [])
+
+    twist_at, twist_type = _topic_of_type(facts, "geometry_msgs/Twist", twist_topic)
+    if twist_at == twist_topic and twist_type == "geometry_msgs/Twist":
+        parts.append(_part(T, "node_twist_topic", True))
+    elif twist_at:
+        parts.append(_part(T, "node_twist_topic", False, f"the Twist goes to {twist_at}; the velocity controller "
+                                                         f"listens on {twist_topic}"))
+    else:
+        found = [f"{topic} ({t})" for topic, t in pubs if topic == twist_topic]
+        parts.append(_part(T, "node_twist_topic", False,
+                           (f"{found[0]} is not geometry_msgs/Twist" if found else f"nothing publishes {twist_topic}")
+                           + ": rospy.Publisher('/cartesian_velocity_controller/cmd_vel', Twist, queue_size=1)"))
+    width_at, width_type = _topic_of_type(facts, "std_msgs/Float32", "/gripper_width")
+    if width_at == "/gripper_width" and width_type == "std_msgs/Float32":
+        parts.append(_part(T, "node_width_topic", True))
+    elif width_at == "/gripper_width":
+        parts.append(_part(T, "node_width_topic", False, f"/gripper_width is {width_type}; gripper_manager "
+                                                         "subscribes std_msgs/Float32"))
+    else:
+        parts.append(_part(T, "node_width_topic", False, "nothing publishes /gripper_width: "
+                                                         "rospy.Publisher('/gripper_width', Float32, queue_size=1)"))
+
+    # the twist: each held stick must give its exact value for a while (after the ramp)
+    twists = [m for m in messages.get(twist_at, []) if isinstance(m[2], list) and len(m[2]) == 6] if twist_at else []
+    rate = case.gains.rate
+    need = max(3, int(0.15 * rate))
+    if not twists:
+        parts.append(_nj(T, "node_twist", "no twist was recorded"))
+    else:
+        failures = []
+        for plateau in case.plateaus:
+            hits = sum(1 for _, _, v in twists if abs(v[plateau.component] - plateau.value) <= TOLERANCE)
+            if hits < need:
+                seen = [v[plateau.component] for _, _, v in twists]
+                failures.append(f"{plateau.what} should settle at {plateau.value:.6g} (gains k_trans {case.gains.k_trans:g}, "
+                                f"k_rot {case.gains.k_rot:g}, deadzone {case.gains.deadzone:g}); it did in {hits} messages "
+                                f"(range seen {min(seen):.4g} .. {max(seen):.4g})")
+        plots = []
+        if failures and plot_dir is not None:
+            from hri_teleop.grading.judge.plots import expected_vs_actual
+
+            names = "v_x v_y v_z w_x w_y w_z".split()
+            for plateau in case.plateaus:
+                comp = plateau.component
+                plots.append(expected_vs_actual(
+                    Path(plot_dir) / f"teleop-node-{names[comp]}.png",
+                    f"{twist_at}: {names[comp]} must reach {plateau.value:.4g} (dashed) while the stick is held",
+                    [t for t, _, _ in twists], [math.nan] * len(twists), [v[comp] for _, _, v in twists],
+                    "time since the node started (s)", names[comp], levels=[plateau.value]))
+        parts.append(_part(T, "node_twist", not failures, "\n".join(failures), plots))
+
+    widths = [m for m in messages.get(width_at, []) if _as_float(m[2]) is not None] if width_at else []
+    if not widths:
+        parts.append(_nj(T, "node_width", "no gripper width was recorded"))
+    else:
+        step = case.gains.k_gripper / rate
+        final = float(widths[-1][2])
+        first = float(widths[0][2])
+        problems = []
+        if abs(first - 0.08) > 1e-6:
+            problems.append(f"the first width published was {first:.6g} m; the gripper starts open at 0.08 m")
+        if abs(final - case.final_width) > 3 * step + 1e-6:
+            problems.append(f"after holding cross for {case.close_s:g} s (k_gripper {case.gains.k_gripper:g} m/s) the "
+                            f"width should be {case.final_width:.6g} m (within 3 steps of {step:.4g} m), it ended at "
+                            f"{final:.6g} m")
+        parts.append(_part(T, "node_width", not problems, "\n".join(problems)))
+
+    rumble_topic = next((topic for topic, t in pubs if topic.endswith("/rumble") and t == "std_msgs/Float32"), "")
+    rumbles = [float(m[2]) for m in messages.get(rumble_topic, []) if _as_float(m[2]) is not None] if rumble_topic else []
+    if not rumbles:
+        parts.append(_part(T, "node_rumble", False, "no ~rumble messages: keep the template's send() and its "
+                                                    "rumble publisher"))
+    else:
+        hits = sum(1 for v in rumbles if abs(v - case.rumble) <= TOLERANCE)
+        ok = hits >= len(rumbles) // 2
+        parts.append(_part(T, "node_rumble", ok, "" if ok else (
+            f"with /force_mapped = {case.force:g} arriving every 50 ms the rumble should be {case.rumble:g}; it was "
+            f"in {hits} of {len(rumbles)} ticks (values {min(rumbles):.3g} .. {max(rumbles):.3g}): keep the value "
+            "in on_force() and compute the rumble from self.force")))
+
+    code = observation.get("exit_code")
+    last = twists[-1][2] if twists else None
+    if observation.get("quit_in_time") and code == 0 and last is not None and all(v == 0.0 for v in last):
+        parts.append(_part(T, "node_quit", True))
+    else:
+        why = []
+        if not observation.get("quit_in_time"):
+            why.append("the node was still running after square was pressed")
+        elif code != 0:
+            why.append(f"it {describe_exit(code)} after square")
+        if last is not None and any(v != 0.0 for v in last):
+            why.append(f"the last twist was {_fmt(last)}, not zero")
+        message = "; ".join(why) or "no twist was recorded"
+        hints = process_hints(facts)
+        parts.append(_part(T, "node_quit", False, message + ("; " + "; ".join(hints) if hints else "")))
+    return parts

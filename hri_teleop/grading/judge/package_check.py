@@ -1,0 +1,89 @@
+"""Ex. 9 and Ex. 12 c): the handout's catkin steps, judged on the student's package as handed in.
+
+The handout has students make ``teleoperation.py`` (Ex. 9) and ``gripper_manager.py``
+(Ex. 12 c) executable and list them in the package's ``CMakeLists.txt`` before building the
+workspace. Each of the four facts is a part of its own (partial credit). Nothing runs:
+the check reads file modes and the CMakeLists text (:mod:`hri_teleop.ros.catkin_files`), so it
+judges the same package the same way alone, in a batch, idle or under load.
+"""
+
+from __future__ import annotations
+
+import time
+from pathlib import Path
+from typing import Dict, List, Optional, Sequence, Tuple, Union
+
+from hri_teleop.grading.results import CheckResult, GradingError, Part
+from hri_teleop.grading.run.workspace import find_package_root
+from hri_teleop.ros.catkin_files import installed_programs, is_executable
+
+__all__ = ["CATKIN_PACKAGE", "EXERCISE_PARTS", "grade_catkin_package"]
+
+#: part key -> (what it judges, points)
+CATKIN_PACKAGE: Dict[str, Tuple[str, float]] = {
+    "teleop_executable": ("Ex. 9: scripts/teleoperation.py is executable (chmod +x)", 1),
+    "teleop_cmake": ("Ex. 9: CMakeLists.txt installs scripts/teleoperation.py (catkin_install_python)", 1),
+    "gm_executable": ("Ex. 12 c): scripts/gripper_manager.py is executable (chmod +x)", 1),
+    "gm_cmake": ("Ex. 12 c): CMakeLists.txt installs scripts/gripper_manager.py (catkin_install_python)", 1),
+}
+#: The parts each exercise's notebook grades.
+EXERCISE_PARTS: Dict[int, Tuple[str, ...]] = {9: ("teleop_executable", "teleop_cmake"),
+                                              12: ("gm_executable", "gm_cmake")}
+_SCRIPTS = {"teleop": "scripts/teleoperation.py", "gm": "scripts/gripper_manager.py"}
+
+
+def _lists(programs: Sequence[str], script: str) -> bool:
+    """True if a catkin_install_python entry names ``script`` (plain, or under ${PROJECT_SOURCE_DIR}/ and the like)."""
+    return any(entry == script or entry.endswith("/" + script) for entry in programs)
+
+
+def _executable_part(root: Path, key: str) -> Part:
+    name, points = CATKIN_PACKAGE[f"{key}_executable"]
+    script = root / _SCRIPTS[key]
+    if not script.is_file():
+        return Part(name, points, False, f"{_SCRIPTS[key]} was not found in {root}: put it at that place in your "
+                                         "hri_lab package")
+    if is_executable(script):
+        return Part(name, points, True)
+    return Part(name, points, False, f"{_SCRIPTS[key]} is not executable, and rosrun starts only executable "
+                                     f"scripts: chmod +x hri_lab/{_SCRIPTS[key]}")
+
+
+def _cmake_part(root: Path, key: str, programs: Optional[List[str]], problem: str) -> Part:
+    name, points = CATKIN_PACKAGE[f"{key}_cmake"]
+    if programs is None:
+        return Part(name, points, False, problem)
+    if _lists(programs, _SCRIPTS[key]):
+        return Part(name, points, True)
+    listed = ", ".join(programs) or "nothing"
+    return Part(name, points, False, f"CMakeLists.txt's catkin_install_python(PROGRAMS ...) lists {listed}: add "
+                                     f"your script to that list, then build the workspace again")
+
+
+def grade_catkin_package(path: Union[str, Path], *, seed: Optional[int] = None, out_dir: Optional[Union[str, Path]] = None,
+                         exercise: Optional[int] = None) -> CheckResult:
+    """The executable bits and CMakeLists entries of Ex. 9 and Ex. 12 c); ``exercise`` 9 or 12 grades its half."""
+    del seed, out_dir  # no hidden inputs and nothing to plot: accepted so every check takes the same arguments
+    started = time.monotonic()
+    if exercise is not None and exercise not in EXERCISE_PARTS:
+        raise GradingError(f"exercise {exercise!r}: the catkin-package check grades Ex. 9 or Ex. 12; pass 9, 12 or None")
+    path = Path(path).expanduser()
+    if not path.exists():
+        raise GradingError(f"{path}: no such file or folder; give the student's hri_lab folder (or its CMakeLists.txt)")
+    root = path.parent if path.is_file() and path.name == "CMakeLists.txt" else find_package_root(path)
+    cmake = root / "CMakeLists.txt"
+    programs: Optional[List[str]] = None
+    problem = ""
+    if not cmake.is_file():
+        problem = f"CMakeLists.txt was not found in {root}: every catkin package has one (restore the released one)"
+    else:
+        try:
+            programs = installed_programs(cmake.read_text(encoding="utf-8"))
+        except (OSError, UnicodeDecodeError) as exc:
+            problem = f"CMakeLists.txt cannot be read ({exc})"
+    parts: Dict[str, Part] = {}
+    for key in _SCRIPTS:
+        parts[f"{key}_executable"] = _executable_part(root, key)
+        parts[f"{key}_cmake"] = _cmake_part(root, key, programs, problem)
+    wanted = EXERCISE_PARTS[exercise] if exercise is not None else tuple(CATKIN_PACKAGE)
+    return CheckResult("catkin-package", str(cmake), [parts[k] for k in wanted], None, time.monotonic() - started)

@@ -1,0 +1,72 @@
+"""Check results make grade's files job wrote, for the notebooks' check cells of the same submission.
+
+make grade judges a submission's ``hri_lab`` twice: in the files job (``hri-grade
+submission``) and in the notebooks' check cells (Ex. 4, 5, 6-7, 9, 12-13, 15), which call the
+same checks on the same files. A check judges only its package's files, with hidden inputs
+from the submission's seed, on the grader's clock: the same files give the same parts. So
+the files job stores each result under a digest of the check, the seed and every file of
+the package, and a check cell whose package is byte for byte the same takes that result
+instead of running the nodes again (saying so in a note). The files job only writes and
+never reads what it finds (a notebook kernel runs student code); a notebook only reads.
+Outside make grade neither variable is set and nothing is stored or read.
+"""
+
+from __future__ import annotations
+
+import hashlib
+import json
+import os
+import tempfile
+from pathlib import Path
+from typing import Optional
+
+from hri_teleop.grading.results import CheckResult
+from hri_teleop.grading.run.workspace import DELIVERABLES, locate, package_files
+
+__all__ = ["WRITE_ENV", "READ_ENV", "REUSED_NOTE", "package_digest", "store", "load"]
+
+#: Set by make grade for its files jobs: the folder they store results in.
+WRITE_ENV = "HRI_GRADE_RESULTS_WRITE"
+#: Set by make grade for nbgrader's kernels: the folder their check cells read results from.
+READ_ENV = "HRI_GRADE_RESULTS"
+REUSED_NOTE = ("make grade graded these same files in its files job: this is that result (the check was not run "
+               "a second time)")
+
+
+def package_digest(root: Path) -> str:
+    """SHA-256 over every file a check's workspace takes from the package: path and bytes."""
+    files = set(package_files(root))
+    files.update(p for p in (locate(root, key) for key in DELIVERABLES) if p is not None)
+    digest = hashlib.sha256()
+    for path in sorted(files):
+        digest.update(os.path.relpath(path, root).encode("utf-8", "surrogateescape") + b"\0")
+        digest.update(hashlib.sha256(path.read_bytes()).digest())
+    return digest.hexdigest()
+
+
+def _entry(folder: Path, check: str, seed: int, root: Path) -> Path:
+    key = hashlib.sha256(f"{check}\0{seed}\0{package_digest(root)}".encode()).hexdigest()
+    return folder / f"{check}-{key[:32]}.json"
+
+
+def store(folder: Path, check: str, seed: int, root: Path, result: CheckResult) -> None:
+    """Keep ``result`` for a later reader of the same package (written whole or not at all)."""
+    folder.mkdir(parents=True, exist_ok=True)
+    data = result.to_dict()
+    data["target"] = os.path.relpath(Path(result.target).resolve(), root.resolve()) if result.target else ""
+    fd, tmp = tempfile.mkstemp(dir=folder, prefix=".tmp-")
+    with os.fdopen(fd, "w", encoding="utf-8") as fh:
+        json.dump(data, fh)
+    os.replace(tmp, _entry(folder, check, seed, root))
+
+
+def load(folder: Path, check: str, seed: int, root: Path) -> Optional[CheckResult]:
+    """The stored result of ``check`` for this very package and seed, or None."""
+    try:
+        data = json.loads(_entry(folder, check, seed, root).read_text(encoding="utf-8"))
+        result = CheckResult.from_dict(data)
+    except (OSError, ValueError, KeyError, TypeError):
+        return None
+    target = str(root / result.target) if result.target else ""
+    return CheckResult(result.check, target, result.parts, result.seed, result.duration_s,
+                       tuple(result.notes) + (REUSED_NOTE,))

@@ -1,0 +1,1 @@
+"""Step 2 of grading: run a student's nodes in a sandbox on a private ROS master, in lockstep."""

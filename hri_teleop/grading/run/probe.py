@@ -1,0 +1,202 @@
+"""What runs *inside* a student sandbox: load, parse or import a student's file, report as JSON.
+
+Why a separate process: a student's YAML can be a billion-laughs bomb, a launch file's
+``$(eval ...)`` is Python, and importing a student's module runs its top level. None of
+that may happen in the grader's own process. The grader runs::
+
+    python -m hri_teleop.grading.run.probe rosparam-load FILE OUT
+    python -m hri_teleop.grading.run.probe launch-parse FILE OUT [name:=value ...]
+    python -m hri_teleop.grading.run.probe teleop-parts FILE PLAN OUT
+
+as a :class:`~hri_teleop.grading.run.sandbox.StudentProcess` and reads OUT, a JSON file. This
+module only observes; every judgement is made outside, in :mod:`hri_teleop.grading.judge.compare`.
+"""
+
+from __future__ import annotations
+
+import importlib.util
+import json
+import math
+import sys
+import traceback
+from pathlib import Path
+from typing import Any, Dict, List, Optional, Sequence
+
+__all__ = ["main"]
+
+
+def _plain(value: Any) -> Any:
+    """A JSON-able copy that keeps YAML's int/float/bool/str distinction."""
+    if isinstance(value, (bool, int, str)) or value is None:
+        return value
+    if isinstance(value, float):
+        return value if math.isfinite(value) else repr(value)
+    if isinstance(value, dict):
+        return {str(k): _plain(v) for k, v in value.items()}
+    if isinstance(value, (list, tuple)):
+        return [_plain(v) for v in value]
+    return {"__repr__": repr(value)[:200], "__type__": type(value).__name__}
+
+
+def _write(out: Path, data: Dict[str, Any]) -> None:
+    out.parent.mkdir(parents=True, exist_ok=True)
+    out.write_text(json.dumps(data, sort_keys=True), encoding="utf-8")
+
+
+def _one_line(exc: BaseException) -> str:
+    text = f"{type(exc).__name__}: {exc}".strip()
+    return " ".join(text.split())[:600]
+
+
+def rosparam_load(path: Path) -> Dict[str, Any]:
+    """``rosparam load FILE`` without a master: rosparam's own loader, merged into '/'."""
+    import rosparam
+
+    try:
+        loaded = rosparam.load_file(str(path), default_namespace="/")
+    except Exception as exc:  # noqa: BLE001 - rosparam raises several kinds; all mean "does not load"
+        return {"ok": False, "error": _one_line(exc)}
+    merged: Dict[str, Any] = {}
+    for values, namespace in loaded:
+        if not isinstance(values, dict):
+            return {"ok": False, "error": f"the top level is a {type(values).__name__}, not `key: value` lines"}
+        target = merged
+        for part in [p for p in str(namespace).split("/") if p]:
+            target = target.setdefault(part, {})
+        target.update(values)
+    return {"ok": True, "params": _plain(merged)}
+
+
+def launch_parse(path: Path, args: Sequence[str]) -> Dict[str, Any]:
+    """roslaunch's own XmlLoader: the nodes, parameters and files a launch file resolves to."""
+    import roslaunch.config
+    import roslaunch.xmlloader
+
+    config = roslaunch.config.ROSLaunchConfig()
+    loader = roslaunch.xmlloader.XmlLoader(resolve_anon=False)
+    try:
+        loader.load(str(path), config, argv=["roslaunch", *args], verbose=False)
+    except Exception as exc:  # noqa: BLE001 - XmlParseException, ResourceNotFound, SubstitutionException...
+        return {"ok": False, "error": _one_line(exc)}
+    nodes = [{
+        "name": n.name, "namespace": n.namespace, "package": n.package, "type": n.type, "args": n.args,
+        "required": bool(n.required), "remap": [list(r) for r in n.remap_args],
+    } for n in config.nodes]
+    params = {name: _plain(p.value) for name, p in config.params.items()}
+    return {"ok": True, "nodes": nodes, "params": params, "files": list(config.roslaunch_files),
+            "errors": list(config.config_errors)}
+
+
+# -- the student's parts of teleoperation.py -------------------------------------------------
+
+_READS = ("gripper_width", "rotation_mode", "cartesian_velocity", "rumble")
+_METHODS = ("update_gripper_width", "update_cartesian_velocity", "update_rumble")
+
+
+def _number(value: Any) -> Any:
+    if isinstance(value, bool):
+        return value
+    try:
+        number = float(value)
+    except (TypeError, ValueError):
+        return {"__repr__": repr(value)[:100]}
+    return number if math.isfinite(number) else repr(number)
+
+
+def _read(obj: Any, name: str) -> Any:
+    if not hasattr(obj, name):
+        return {"__missing__": name}
+    value = getattr(obj, name)
+    if name == "cartesian_velocity":
+        try:
+            return [_number(v) for v in list(value)]
+        except TypeError:
+            return {"__repr__": repr(value)[:100]}
+    if name == "rotation_mode":
+        return value if isinstance(value, bool) else {"__repr__": repr(value)[:100]}
+    return _number(value)
+
+
+def _import_student(path: Path) -> Any:
+    spec = importlib.util.spec_from_file_location("student_teleoperation", str(path))
+    if spec is None or spec.loader is None:
+        raise ImportError(f"cannot import {path}")
+    module = importlib.util.module_from_spec(spec)
+    sys.modules["student_teleoperation"] = module
+    spec.loader.exec_module(module)  # type: ignore[union-attr]
+    return module
+
+
+def teleop_parts(path: Path, plan: Dict[str, Any]) -> Dict[str, Any]:
+    """Drive the student's Teleoperation object tick by tick through each case's events."""
+    from hri_teleop.core.gamepad.events import PadEvent
+
+    try:
+        module = _import_student(path)
+    except SystemExit as exc:
+        return {"ok": False, "error": f"the file called sys.exit({exc.code!r}) while being imported; "
+                                      "keep the start of the node under `if __name__ == \"__main__\":`"}
+    except BaseException as exc:  # noqa: BLE001 - anything the student's top level raises
+        tb = traceback.extract_tb(exc.__traceback__)
+        line = next((f" (line {f.lineno})" for f in reversed(tb) if f.filename == str(path)), "")
+        return {"ok": False, "error": f"importing the file failed{line}: {_one_line(exc)}"}
+    cls = getattr(module, "Teleoperation", None)
+    if cls is None:
+        return {"ok": False, "error": "the file has no class Teleoperation; keep the template's class name"}
+    cases: List[Dict[str, Any]] = []
+    for case in plan["cases"]:
+        result: Dict[str, Any] = {"label": case["label"], "ticks": [], "errors": {}, "error_ticks": {}}
+        try:
+            obj = cls(**case["gains"])
+        except BaseException as exc:  # noqa: BLE001
+            result["construct_error"] = _one_line(exc)
+            cases.append(result)
+            continue
+        for index, tick in enumerate(case["ticks"]):
+            for kind, button, axis, value in tick["events"]:
+                event = PadEvent(kind, button=button, axis=axis, value=value)
+                try:
+                    obj.handle_event(event)
+                except BaseException as exc:  # noqa: BLE001 - toggle_mode raises from here
+                    where = "toggle_mode" if (kind == "JOYBUTTONDOWN" and button == "north") else "handle_event"
+                    if where not in result["errors"]:
+                        result["errors"][where] = _one_line(exc)
+                        result["error_ticks"][where] = index
+            try:
+                obj.force = tick["force"]
+            except BaseException:  # noqa: BLE001 - a property without setter
+                pass
+            for method in _METHODS:
+                try:
+                    getattr(obj, method)()
+                except BaseException as exc:  # noqa: BLE001
+                    if method not in result["errors"]:
+                        result["errors"][method] = _one_line(exc)
+                        result["error_ticks"][method] = index
+            result["ticks"].append({name: _read(obj, name) for name in _READS})
+        cases.append(result)
+    return {"ok": True, "cases": cases}
+
+
+def main(argv: Optional[Sequence[str]] = None) -> int:
+    args = list(sys.argv[1:] if argv is None else argv)
+    if len(args) < 3:
+        print(__doc__, file=sys.stderr)
+        return 2
+    command, target = args[0], Path(args[1])
+    if command == "rosparam-load":
+        _write(Path(args[2]), rosparam_load(target))
+    elif command == "launch-parse":
+        _write(Path(args[2]), launch_parse(target, args[3:]))
+    elif command == "teleop-parts":
+        plan = json.loads(Path(args[2]).read_text(encoding="utf-8"))
+        out = Path(args[3])
+        _write(out, teleop_parts(target, plan))
+    else:
+        print(f"unknown probe {command!r}", file=sys.stderr)
+        return 2
+    return 0
+
+
+if __name__ == "__main__":
+    sys.exit(main())

@@ -1,0 +1,354 @@
+"""Running untrusted student code: limits, process groups, and bubblewrap where it works.
+
+Why: the grader runs what students wrote, and a grade must survive whatever that is --
+an endless loop, a fork bomb, 100 MB of prints, ``sys.exit`` at import, a write to the
+instructor's files -- without hanging the grader or costing another student a grade.
+
+Two layers (grading/README.md, "Sandbox", has the decisions):
+
+* **Session** (trusted: the grader's own ROS master, feeders and recorders). With
+  bubblewrap it runs in a new network namespace (``--unshare-net``: only its own
+  loopback, so the private master is reachable and nothing else is -- no internet, no
+  other student's master), a new PID namespace (everything dies with it) and a read-only
+  view of the machine except the session folder.
+* **Student process** (untrusted: a node, roslaunch of a student's launch file, the
+  probe that imports a student's module). Inside the session it gets its own process
+  group, rlimits (CPU seconds, address space, file size = output cap, open files,
+  processes), a wall-clock timeout enforced by the session, and with bubblewrap a
+  read-only view of everything but its own folder, its own PID namespace and no
+  capabilities. When the grader runs as root, student processes also run as an
+  unprivileged uid of their own (``RLIMIT_NPROC`` does not bind root, and a uid per
+  sandbox keeps one student's fork bomb from starving another's processes).
+
+Without a working bubblewrap the session runs directly on the host and student processes
+keep only the rlimits, process group and (as root) own uid; :func:`sandbox_mode` says so
+once. ``HRI_GRADE_SANDBOX=none`` forces that mode (tests), ``=bwrap`` demands bubblewrap.
+"""
+
+from __future__ import annotations
+
+import os
+import shutil
+import signal
+import subprocess
+import sys
+import tempfile
+import time
+from dataclasses import dataclass
+from pathlib import Path
+from typing import Dict, List, Mapping, Optional, Sequence, TextIO
+
+from hri_teleop.core.errors import HriTeleopError
+
+__all__ = ["SandboxError", "Limits", "DEFAULT_LIMITS", "sandbox_mode", "bwrap_problem", "session_argv",
+           "StudentProcess", "student_uid", "student_environment", "OUTPUT_CAP_BYTES", "describe_exit"]
+
+#: Largest output (stdout + stderr, and any one file) a student process may write.
+OUTPUT_CAP_BYTES = 2 * 1024 * 1024
+_MODE_ENV = "HRI_GRADE_SANDBOX"
+_UID_BASE = 200000  # student uids: 200000 + the grading process' pid (unique while it lives)
+
+
+class SandboxError(HriTeleopError, RuntimeError):
+    """The sandbox could not be set up as asked (one line: the cause and the fix)."""
+
+
+@dataclass(frozen=True)
+class Limits:
+    """Per student process. ``processes`` counts threads too (rospy nodes use about 10)."""
+
+    cpu_s: int = 30
+    memory_bytes: int = 2 * 1024 ** 3
+    file_bytes: int = OUTPUT_CAP_BYTES
+    processes: int = 160
+    open_files: int = 256
+
+
+DEFAULT_LIMITS = Limits()
+
+_bwrap_state: Dict[str, str] = {}
+
+
+def _probe_bwrap() -> str:
+    """'' if bubblewrap can run a session with a nested student sandbox here, else why not.
+
+    It tries the real thing: an outer sandbox (new network and PID namespace) that starts
+    an inner one as a student process would be started (as root: after dropping to an
+    unprivileged uid).
+    """
+    exe = shutil.which("bwrap")
+    if exe is None:
+        return "bubblewrap (bwrap) is not installed; `apt-get install bubblewrap` (tools/setup.sh does)"
+    # The probe's student folder is a fresh one, bound like a session's: nothing else under /tmp
+    # is hidden, so a checkout (and its .venv) under /tmp is probed where it lies.
+    folder = Path(tempfile.mkdtemp(prefix="hri-grade-probe-"))
+    folder.chmod(0o777)
+    inner = _student_argv(["true"], folder, nested=True, exe=exe)
+    uid = student_uid()
+    if uid is not None:
+        inner = [sys.executable, "-c", "import os, sys; os.setgroups([]); os.setgid(%d); os.setuid(%d); "
+                 "os.execvp(sys.argv[1], sys.argv[1:])" % (uid, uid)] + inner
+    outer = [exe, "--unshare-net", "--unshare-pid", "--die-with-parent", "--ro-bind", "/", "/",
+             "--dev", "/dev", "--proc", "/proc", "--bind", str(folder), str(folder), "--"] + inner
+    try:
+        proc = subprocess.run(outer, stdin=subprocess.DEVNULL, capture_output=True, text=True, timeout=20)
+    except (OSError, subprocess.TimeoutExpired) as exc:
+        return f"bwrap failed to start ({exc})"
+    finally:
+        shutil.rmtree(folder, ignore_errors=True)
+    if proc.returncode != 0:
+        line = (proc.stderr.strip().splitlines() or ["exit status %d" % proc.returncode])[-1]
+        return f"bwrap cannot create the namespaces here ({line}); user namespaces may be disabled"
+    return ""
+
+
+def bwrap_problem() -> str:
+    """Why bubblewrap is not used ('' when it is), probed once per process."""
+    if "problem" not in _bwrap_state:
+        wanted = os.environ.get(_MODE_ENV, "auto").strip().lower()
+        if wanted == "none":
+            _bwrap_state["problem"] = f"{_MODE_ENV}=none"
+        elif wanted in ("auto", "bwrap", ""):
+            _bwrap_state["problem"] = _probe_bwrap()
+            if wanted == "bwrap" and _bwrap_state["problem"]:
+                raise SandboxError(f"{_MODE_ENV}=bwrap but {_bwrap_state['problem']}")
+        else:
+            raise SandboxError(f"{_MODE_ENV}={wanted!r}; use auto, bwrap or none")
+    return _bwrap_state["problem"]
+
+
+def sandbox_mode(warn: bool = True, stream: Optional[TextIO] = None) -> str:
+    """'bwrap' or 'limits-only'; the first call without bubblewrap prints the reason once.
+
+    The note goes to stdout (``stream`` to change it): nbgrader scores a cell that wrote to
+    stderr with 0 points, and the check's feedback repeats the note anyway.
+    """
+    problem = bwrap_problem()
+    if problem and warn and not _bwrap_state.get("warned"):
+        _bwrap_state["warned"] = "1"
+        print(f"hri-grade: student code runs without bubblewrap ({problem}): resource limits, process "
+              "groups and file permissions only; network and files outside the student's folder are "
+              "not shielded", file=stream if stream is not None else sys.stdout, flush=True)
+    return "limits-only" if problem else "bwrap"
+
+
+def student_uid() -> Optional[int]:
+    """An unprivileged uid for this grading process' student code, or None when not root."""
+    if os.geteuid() != 0:
+        return None
+    return _UID_BASE + os.getpid()
+
+
+def session_argv(argv: Sequence[str], session_dir: Path, readonly_extra: Sequence[Path] = ()) -> List[str]:
+    """``argv`` wrapped for the trusted session: own network and PID namespace, read-only
+    everything but ``session_dir`` (/tmp included: give it TMPDIR inside ``session_dir``).
+    Unchanged without bubblewrap."""
+    if bwrap_problem():
+        return list(argv)
+    exe = shutil.which("bwrap") or "bwrap"
+    wrapped = [exe, "--unshare-net", "--unshare-pid", "--unshare-ipc", "--die-with-parent",
+               "--ro-bind", "/", "/", "--dev", "/dev", "--proc", "/proc"]
+    for path in readonly_extra:
+        wrapped += ["--ro-bind", str(path), str(path)]
+    wrapped += ["--bind", str(session_dir), str(session_dir), "--chdir", str(session_dir), "--"]
+    return wrapped + list(argv)
+
+
+def _student_argv(argv: Sequence[str], folder: Path, nested: bool, exe: str = "", network: bool = True) -> List[str]:
+    """bubblewrap for one student process: its folder writable, the rest read-only (/tmp too:
+    TMPDIR points into the folder), no capabilities.
+
+    ``nested``: inside a session sandbox, whose /proc cannot be mounted again from a user
+    namespace; the session's /proc is bound instead (the student's own PID namespace still
+    keeps it from signalling anything outside). ``network`` False: not even a loopback to
+    a master (the probes need none).
+    """
+    exe = exe or shutil.which("bwrap") or "bwrap"
+    proc = ["--ro-bind", "/proc", "/proc"] if nested else ["--proc", "/proc"]
+    net = [] if network else ["--unshare-net"]
+    return [exe, "--unshare-user", "--unshare-pid", "--unshare-ipc", "--unshare-uts", *net, "--die-with-parent",
+            "--cap-drop", "ALL", "--ro-bind", "/", "/", "--dev", "/dev", *proc,
+            "--bind", str(folder), str(folder), "--chdir", str(folder), "--"] + list(argv)
+
+
+_ENV_KEYS = {"PATH", "HOME", "LANG", "LANGUAGE", "TERM", "TMPDIR", "PYTHONPATH", "PYTHONUNBUFFERED",
+             "PYTHONDONTWRITEBYTECODE", "PYTHONIOENCODING", "LD_LIBRARY_PATH", "CMAKE_PREFIX_PATH",
+             "PKG_CONFIG_PATH", "MPLBACKEND", "SDL_VIDEODRIVER", "SDL_AUDIODRIVER", "PYGAME_HIDE_SUPPORT_PROMPT",
+             "HRI_PAD_CLOCK"}
+_ENV_PREFIXES = ("ROS", "LC_")
+
+
+def student_environment(env: Mapping[str, str]) -> Dict[str, str]:
+    """Only what ROS and Python need: the grader's other variables (tokens, keys) stay with it."""
+    return {k: v for k, v in env.items() if k in _ENV_KEYS or k.startswith(_ENV_PREFIXES)}
+
+
+def _own_process_count(uid: int) -> int:
+    """Live processes and threads of ``uid`` (zombies left to a slow init do not count)."""
+    count = 0
+    for entry in os.listdir("/proc"):
+        if entry.isdigit():
+            try:
+                if os.stat(f"/proc/{entry}").st_uid != uid:
+                    continue
+                with open(f"/proc/{entry}/stat", "rb") as fh:
+                    state = fh.read().rsplit(b")", 1)[1].split()[0]
+                if state in (b"Z", b"X"):
+                    continue
+                count += len(os.listdir(f"/proc/{entry}/task"))
+            except (OSError, IndexError):
+                continue
+    return count
+
+
+def _preexec(limits: Limits, uid: Optional[int], nproc: int):
+    import resource  # Unix only: imported here so that the rest of the grader imports anywhere
+
+    def apply() -> None:
+        os.setsid()
+        resource.setrlimit(resource.RLIMIT_CPU, (limits.cpu_s, limits.cpu_s + 5))
+        resource.setrlimit(resource.RLIMIT_AS, (limits.memory_bytes, limits.memory_bytes))
+        resource.setrlimit(resource.RLIMIT_FSIZE, (limits.file_bytes, limits.file_bytes))
+        resource.setrlimit(resource.RLIMIT_NOFILE, (limits.open_files, limits.open_files))
+        resource.setrlimit(resource.RLIMIT_CORE, (0, 0))
+        if uid is not None:
+            os.setgroups([])
+            os.setgid(uid)
+            os.setuid(uid)
+        resource.setrlimit(resource.RLIMIT_NPROC, (nproc, nproc))
+    return apply
+
+
+def describe_exit(code: Optional[int]) -> str:
+    """A student-readable sentence for a process' exit status."""
+    if code is None:
+        return "was still running"
+    if code >= 0:
+        return f"exited with status {code}"
+    sig = -code
+    reasons = {
+        signal.SIGXFSZ: "was stopped because it wrote more than the output limit (%d MB): remove prints in "
+                        "loops" % (OUTPUT_CAP_BYTES // (1024 * 1024)),  # (Python ignores SIGXFSZ: it gets EFBIG)
+        signal.SIGXCPU: "was stopped because it used more CPU time than allowed: look for an endless loop",
+        signal.SIGKILL: "was killed (SIGKILL): it hung, or used too much memory or CPU",
+        signal.SIGSEGV: "crashed (segmentation fault)",
+    }
+    try:
+        name = signal.Signals(sig).name
+    except ValueError:
+        name = f"signal {sig}"
+    return reasons.get(sig, f"was ended by {name}")
+
+
+class StudentProcess:
+    """One untrusted process: own group (and namespaces), limits, output into a capped log file."""
+
+    def __init__(self, argv: Sequence[str], folder: Path, env: Mapping[str, str], log_path: Path,
+                 limits: Limits = DEFAULT_LIMITS, uid: Optional[int] = None, nested: bool = True,
+                 network: bool = True) -> None:
+        self.argv = list(argv)
+        self.folder = Path(folder)
+        self.log_path = Path(log_path)
+        self.log_path.parent.mkdir(parents=True, exist_ok=True)
+        self.limits = limits
+        nproc = limits.processes
+        if uid is None and os.geteuid() != 0:
+            nproc += _own_process_count(os.geteuid())  # the limit counts all of this user's processes
+        env = student_environment(env)
+        tmp = self.folder / ".tmp"
+        tmp.mkdir(exist_ok=True)
+        if uid is not None:
+            os.chown(tmp, uid, uid)
+        env["TMPDIR"] = str(tmp)
+        self._log = open(self.log_path, "wb")
+        self.started_s = time.monotonic()
+        self._wrapped = not bwrap_problem()
+        self.popen = subprocess.Popen(
+            self.argv if bwrap_problem() else _student_argv(self.argv, self.folder, nested, network=network),
+            env=dict(env), cwd=str(self.folder),
+            stdin=subprocess.DEVNULL, stdout=self._log, stderr=subprocess.STDOUT,
+            preexec_fn=_preexec(limits, uid, nproc), close_fds=True,
+        )
+        self.uid = uid
+
+    @property
+    def running(self) -> bool:
+        return self.popen.poll() is None
+
+    @property
+    def returncode(self) -> Optional[int]:
+        """The exit status, with bubblewrap's 128 + N for "killed by signal N" turned into -N."""
+        code = self.popen.poll()
+        if code is not None and self._wrapped and 128 < code < 128 + 65:
+            return -(code - 128)
+        return code
+
+    def wait(self, timeout_s: float) -> Optional[int]:
+        try:
+            self.popen.wait(timeout=timeout_s)
+        except subprocess.TimeoutExpired:
+            return None
+        return self.returncode
+
+    def output_tail(self, limit: int = 3000) -> str:
+        """The last ``limit`` characters it printed (never the whole, possibly huge, log)."""
+        if not self._log.closed:
+            self._log.flush()
+        try:
+            size = self.log_path.stat().st_size
+            with open(self.log_path, "rb") as fh:
+                fh.seek(max(0, size - limit))
+                return fh.read().decode("utf-8", errors="replace")
+        except OSError:
+            return ""
+
+    def process_count(self) -> int:
+        """How many processes (threads included) its uid runs now; 0 when it has no uid of its own."""
+        return _own_process_count(self.uid) if self.uid is not None else 0
+
+    def output_size(self) -> int:
+        try:
+            return self.log_path.stat().st_size
+        except OSError:
+            return 0
+
+    def stop(self, grace_s: float = 3.0) -> Optional[int]:
+        """SIGINT the group (how ROS nodes end cleanly), then SIGTERM, then SIGKILL; kill leftovers."""
+        for sig, wait_s in ((signal.SIGINT, grace_s), (signal.SIGTERM, 1.0), (signal.SIGKILL, 2.0)):
+            if self.popen.poll() is not None:
+                break
+            try:
+                os.killpg(self.popen.pid, sig)
+            except (ProcessLookupError, PermissionError):
+                pass
+            try:
+                self.popen.wait(timeout=wait_s)
+            except subprocess.TimeoutExpired:
+                continue
+        self.kill_leftovers()
+        if not self._log.closed:
+            self._log.close()
+        return self.returncode
+
+    def kill_leftovers(self) -> None:
+        """Whatever it spawned that left its group: the group, and (own uid) every process of the uid."""
+        try:
+            os.killpg(self.popen.pid, signal.SIGKILL)
+        except (ProcessLookupError, PermissionError):
+            pass
+        if self.uid is not None:
+            killer = subprocess.Popen([sys.executable, "-c", "import os, signal; os.kill(-1, signal.SIGKILL)"],
+                                      preexec_fn=_as_uid(self.uid), stdin=subprocess.DEVNULL,
+                                      stdout=subprocess.DEVNULL, stderr=subprocess.DEVNULL)
+            killer.wait(timeout=10)
+            deadline = time.monotonic() + 3.0
+            while self.process_count() and time.monotonic() < deadline:
+                time.sleep(0.05)  # killed processes leave /proc once their parents reap them
+
+
+def _as_uid(uid: int):
+    def apply() -> None:
+        os.setgroups([])
+        os.setgid(uid)
+        os.setuid(uid)
+    return apply

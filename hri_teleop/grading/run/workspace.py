@@ -1,0 +1,270 @@
+"""Where a student's files are, and the catkin-free package the grader runs them in.
+
+Why: submissions arrive in many shapes (the hri_lab package folder, nbgrader's
+``submitted/<student>/<assignment>/``, or the files side by side), and a launch file says
+``pkg="hri_lab"``, so the grader needs a package called hri_lab with the student's files
+at the handout's places, the files the lab provides (FSR_sensor.py, gripper_manager.py,
+package.xml) from the instructor -- never the student's copy of them -- and stand-ins for
+the hardware packages: a franka_control whose launch file only marks that it was included
+(the grader starts the simulated robot itself) and a rosserial_python whose serial_node
+forwards the simulated sensor board (:mod:`hri_teleop.grading.run.standins`). The student's
+original folder is never written to: code runs on a copy.
+"""
+
+from __future__ import annotations
+
+import os
+import shutil
+from dataclasses import dataclass, field
+from pathlib import Path
+from typing import Dict, List, Optional, Sequence, Union
+
+from hri_teleop.core.errors import HriTeleopError
+from hri_teleop.core.paths import LAB_PACKAGE, REPO
+from hri_teleop.ros.master import finds_hri_lab
+
+__all__ = ["WorkspaceError", "DELIVERABLES", "REPO", "REFERENCE_PACKAGE", "PROVIDED", "find_package_root",
+           "locate", "package_files", "Workspace", "prepare_workspace", "ros_package_path", "FRANKA_MARKER_PARAM"]
+
+REFERENCE_PACKAGE = LAB_PACKAGE
+
+#: What students hand in, by key, at the handout's place in the hri_lab package.
+DELIVERABLES: Dict[str, str] = {
+    "robot_params": "config/robot_params.yaml",
+    "mapping_node": "scripts/mapping_node.py",
+    "sensor_launch": "launch/sensor.launch",
+    "teleoperation": "scripts/teleoperation.py",
+    "teleoperation_launch": "launch/teleoperation.launch",
+    "graph": "graph.yaml",
+}
+#: Files the lab provides; the grader always uses the instructor's.
+PROVIDED = ("scripts/FSR_sensor.py", "scripts/gripper_manager.py", "package.xml", "CMakeLists.txt",
+            "config/teleop.yaml")
+#: The stand-in franka_control's launch file sets this parameter, so an include is visible.
+FRANKA_MARKER_PARAM = "/hri_grader/franka_control_cartesian_velocity_included"
+_MAX_COPY_BYTES = 20 * 1024 * 1024
+_SKIP_DIRS = {".git", "__pycache__", ".ipynb_checkpoints", ".ros", "build", "devel"}
+
+
+class WorkspaceError(HriTeleopError, RuntimeError):
+    """A submission path does not exist or cannot be copied (one line with the fix)."""
+
+
+def _walk(root: Path, depth: int) -> List[Path]:
+    found: List[Path] = []
+    if depth < 0 or not root.is_dir():
+        return found
+    try:
+        entries = sorted(root.iterdir())
+    except OSError:
+        return found
+    for entry in entries:
+        if entry.name in _SKIP_DIRS or entry.name.startswith(".") or entry.is_symlink():
+            continue
+        if entry.is_dir():
+            found.extend(_walk(entry, depth - 1))
+        elif entry.is_file():
+            found.append(entry)
+    return found
+
+
+def find_package_root(path: Union[str, Path]) -> Path:
+    """The folder holding the student's package: the one under which the deliverables sit.
+
+    A file inside scripts/, config/ or launch/ -> that folder's parent; another file -> its
+    folder; a folder -> the shallowest folder below it (3 levels) that has a deliverable
+    at its handout place, else the folder itself.
+    """
+    path = Path(path).expanduser()
+    if not path.exists():
+        raise WorkspaceError(f"{path}: no such file or folder; give the student's file or hri_lab folder")
+    if path.is_file():
+        return path.parent.parent if path.parent.name in ("scripts", "config", "launch") else path.parent
+    candidates = [path] + [p for p in sorted(path.glob("*/")) if p.is_dir()] + \
+        [p for p in sorted(path.glob("*/*/")) if p.is_dir()] + [p for p in sorted(path.glob("*/*/*/")) if p.is_dir()]
+    for folder in candidates:
+        if any((folder / sub).is_file() for sub in DELIVERABLES.values()):
+            return folder
+    return path
+
+
+def locate(root: Path, key: str) -> Optional[Path]:
+    """The student's file for ``key``: at its handout place, or anywhere below by its name."""
+    sub = DELIVERABLES[key]
+    if (root / sub).is_file():
+        return root / sub
+    name = Path(sub).name
+    matches = [p for p in _walk(root, 3) if p.name == name]
+    return matches[0] if matches else None
+
+
+@dataclass
+class Workspace:
+    """A ROS package path (``ws``) with the student's package as ``ws/hri_lab``."""
+
+    session_dir: Path
+    ws: Path
+    package: Path
+    files: Dict[str, Optional[Path]] = field(default_factory=dict)  # key -> copied file (or None)
+    originals: Dict[str, Optional[Path]] = field(default_factory=dict)
+    #: deliverables of other exercises run as the lab's reference, not the student's (see prepare_workspace)
+    substituted: List[str] = field(default_factory=list)
+
+    @property
+    def grader_dir(self) -> Path:
+        """Inside the student's folder: probe plans and outputs (the student process writes them)."""
+        return self.package / ".grader"
+
+
+def _manifest(name: str, description: str) -> str:
+    return ('<?xml version="1.0"?>\n<package format="2"><name>' + name + '</name><version>0.0.0</version>'
+            f"<description>{description}</description>"
+            '<maintainer email="lab@example.org">hri-lab</maintainer><license>BSD</license></package>\n')
+
+
+def _fake_rosserial_python(ws: Path) -> None:
+    from hri_teleop.grading.run.standins import SERIAL_NODE_SCRIPT
+
+    pkg = ws / "rosserial_python"
+    (pkg / "scripts").mkdir(parents=True, exist_ok=True)
+    (pkg / "package.xml").write_text(_manifest("rosserial_python", "grader stand-in: serial_node.py forwards the "
+                                                                   "simulated sensor board to /pub_force"))
+    script = pkg / "scripts" / "serial_node.py"
+    script.write_text(SERIAL_NODE_SCRIPT)
+    script.chmod(0o755)
+
+
+def _fake_franka_control(ws: Path) -> None:
+    pkg = ws / "franka_control"
+    (pkg / "launch").mkdir(parents=True, exist_ok=True)
+    (pkg / "package.xml").write_text(_manifest("franka_control", "grader stand-in: marks that "
+                                                                 "franka_control_cartesian_velocity.launch was included"))
+    (pkg / "launch" / "franka_control_cartesian_velocity.launch").write_text(
+        '<launch>\n  <arg name="robot_ip" default="172.16.0.2"/>\n  <arg name="load_gripper" default="true"/>\n'
+        f'  <param name="{FRANKA_MARKER_PARAM}" value="true"/>\n</launch>\n')
+
+
+def _ros_intro_alias(ws: Path, package: Path) -> None:
+    """ws/ros_intro: the same scripts, config and launch files under the package name of Ex. 2-6.
+
+    The handout has the preparation done in the package ros_intro, so a student's
+    sensor.launch may say pkg="ros_intro"; both names then find the same files.
+    """
+    alias = ws / "ros_intro"
+    for sub in ("scripts", "config", "launch"):
+        if (package / sub).is_dir():
+            shutil.copytree(package / sub, alias / sub)
+    alias.mkdir(exist_ok=True)
+    (alias / "package.xml").write_text(_manifest("ros_intro", "grader alias of the student's hri_lab package"))
+
+
+def _looks_like_package(root: Path) -> bool:
+    """A folder laid out like hri_lab (not, say, the home folder a single file was taken from)."""
+    if (root / "package.xml").is_file() or any((root / sub).is_file() for sub in DELIVERABLES.values()):
+        return True
+    return sum((root / d).is_dir() for d in ("scripts", "config", "launch")) >= 2
+
+
+def package_files(root: Path) -> List[Path]:
+    """The student's files a check's workspace gets from ``root`` (sorted; no caches, no hidden
+    folders, nothing past 20 MB in all: a stray bag or video is not part of the package)."""
+    files, total = [], 0
+    for path in _walk(root, 4):
+        size = path.stat().st_size
+        if total + size > _MAX_COPY_BYTES:
+            continue
+        total += size
+        files.append(path)
+    return files
+
+
+def _copy_package(root: Path, target: Path) -> None:
+    for path in package_files(root):
+        dest = target / path.relative_to(root)
+        dest.parent.mkdir(parents=True, exist_ok=True)
+        shutil.copyfile(path, dest)
+
+
+def prepare_workspace(submission: Union[str, Path], session_dir: Path, uid: Optional[int] = None,
+                      single_file: Optional[Path] = None, single_key: str = "",
+                      reference: Sequence[str] = ()) -> Workspace:
+    """Copy the student's package into ``session_dir/ws/hri_lab``, with the lab's provided files.
+
+    ``single_file``/``single_key``: grade exactly this file as that deliverable (the
+    ``hri-grade CHECK FILE`` form), wherever it lies. ``reference``: keys of other
+    exercises' deliverables the run needs (a launch file starts mapping_node.py, loads
+    robot_params.yaml): the lab's own versions are put in their place, so that a file is
+    judged on its own, the same alone as in its package, and a mistake in another
+    exercise costs points there only.
+    """
+    root = find_package_root(single_file or submission)
+    ws = session_dir / "ws"
+    package = ws / "hri_lab"
+    package.mkdir(parents=True, exist_ok=True)
+    if _looks_like_package(root):
+        _copy_package(root, package)  # the student's other files (a YAML their launch file loads...)
+    space = Workspace(session_dir, ws, package)
+    for key, sub in DELIVERABLES.items():
+        original = Path(single_file) if (single_file is not None and key == single_key) else locate(root, key)
+        space.originals[key] = original
+        if original is None:
+            space.files[key] = None
+            continue
+        dest = package / sub
+        dest.parent.mkdir(parents=True, exist_ok=True)
+        if original.resolve() != dest.resolve():
+            shutil.copyfile(original, dest)
+        space.files[key] = dest
+    for key in reference:
+        dest = package / DELIVERABLES[key]
+        if key == single_key:
+            continue
+        if not (REFERENCE_PACKAGE / DELIVERABLES[key]).is_file():
+            # The student bundle's toolkit has no lab deliverables: the student's own run. A YAML
+            # the launch file loads (Ex. 7) and nobody has is an empty one, so Ex. 7 counts as not
+            # done instead of the whole file failing to parse.
+            if key == "robot_params" and not dest.exists():
+                dest.parent.mkdir(parents=True, exist_ok=True)
+                dest.write_text("{}\n", encoding="utf-8")
+            continue
+        dest.parent.mkdir(parents=True, exist_ok=True)
+        shutil.copyfile(REFERENCE_PACKAGE / DELIVERABLES[key], dest)
+        space.substituted.append(key)
+    for sub in PROVIDED:
+        source = REFERENCE_PACKAGE / sub
+        if source.is_file():
+            (package / sub).parent.mkdir(parents=True, exist_ok=True)
+            shutil.copyfile(source, package / sub)
+    for script in (package / "scripts").glob("*.py") if (package / "scripts").is_dir() else []:
+        script.chmod(0o755)
+    _fake_franka_control(ws)
+    _fake_rosserial_python(ws)
+    _ros_intro_alias(ws, package)
+    space.grader_dir.mkdir(parents=True, exist_ok=True)
+    _open_up(session_dir, package, uid)
+    return space
+
+
+def _open_up(session_dir: Path, package: Path, uid: Optional[int]) -> None:
+    """The student's uid may enter the session folder and owns its package copy."""
+    for folder in [session_dir] + list(package.parents)[: len(package.relative_to(session_dir).parts) - 1]:
+        folder.chmod(0o755)
+    for path in [package] + list(package.rglob("*")):
+        if uid is not None:
+            os.chown(path, uid, uid, follow_symlinks=False)
+        if path.is_dir():
+            path.chmod(0o755)
+
+
+def ros_package_path(ws: Path, environ: Optional[Dict[str, str]] = None) -> str:
+    """``ws`` first, then the system's ROS packages; never the repository (its hri_lab would shadow)."""
+    env = environ if environ is not None else dict(os.environ)
+    keep: List[str] = [str(ws)]
+    for entry in env.get("ROS_PACKAGE_PATH", "").split(":"):
+        if not entry or Path(entry).resolve() == REPO or finds_hri_lab(entry):
+            continue
+        if entry not in keep:
+            keep.append(entry)
+    if not env.get("ROS_DISTRO") and "/usr/share" not in keep:
+        keep.append("/usr/share")
+    return ":".join(keep)

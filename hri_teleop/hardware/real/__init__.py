@@ -1,0 +1,1 @@
+"""The real devices: a pygame gamepad, the Arduino over a serial port."""

@@ -1,0 +1,1 @@
+"""Figures shared by the demos, the notebooks and the study analysis (matplotlib, imported lazily)."""
