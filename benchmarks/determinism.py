@@ -97,7 +97,7 @@ class BusyCores:
 
 
 def run(options: BenchOptions, progress: Progress) -> List[BenchRow]:
-    from hri_teleop.grading.judge.checks import CLOCK_ENV
+    from hri_teleop.grading.judge.harness import CLOCK_ENV
 
     work = Path(options.out_dir) / "determinism"
     shutil.rmtree(work, ignore_errors=True)

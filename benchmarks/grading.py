@@ -232,7 +232,8 @@ def measure_submission(work_dir: Path, runs: int = SUBMISSION_RUNS, checks: Sequ
     cache folder of its own, so the lab's graph is computed as it was in every run).
     """
     from hri_teleop.core.paths import SOLUTIONS
-    from hri_teleop.grading.judge.checks import CHECKS, CLOCK_ENV
+    from hri_teleop.grading.judge.checks import CHECKS
+    from hri_teleop.grading.judge.harness import CLOCK_ENV
 
     wanted = list(checks) or list(CHECKS)
     env = _lab_env()

@@ -109,16 +109,16 @@ from hri_teleop.hardware.sim.config import (
     load_world_config,
     world_overrides_from_params,
 )
-from hri_teleop.hardware.sim.hand import (
+from hri_teleop.hardware.sim.gripper_goals import (
     Command,
     GoalRecord,
     GoalStatus,
     GraspCommand,
-    HandSimError,
     HomingCommand,
     MoveCommand,
     StopCommand,
 )
+from hri_teleop.hardware.sim.hand_params import HandSimError
 from hri_teleop.hardware.sim.world import LabWorld, ObjectStatus
 from hri_teleop.ros import franka_gripper_msgs as fg
 from hri_teleop.ros.clock import ClockError, NodeClock

@@ -23,8 +23,9 @@ from __future__ import annotations
 
 import math
 import sys
+from typing import Type
 
-__all__ = ["ADC_MAX_COUNT", "is_number", "is_finite_number", "is_positive_number", "is_int", "is_count",
+__all__ = ["ADC_MAX_COUNT", "checked_float", "is_number", "is_finite_number", "is_positive_number", "is_int", "is_count",
            "is_calibration_count"]
 
 #: Largest count the Arduino's 10-bit ADC reads (``analogRead`` gives 0..1023).
@@ -49,6 +50,19 @@ def is_number(value: object, *, numpy: bool = False) -> bool:
 def is_finite_number(value: object, *, numpy: bool = False) -> bool:
     """``is_number`` and neither NaN nor +-inf."""
     return is_number(value, numpy=numpy) and math.isfinite(value)  # type: ignore[arg-type]
+
+
+def checked_float(value: object, name: str, fix: str, error: Type[Exception], *, lowest: str = "") -> float:
+    """``value`` as a finite float, else ``error`` naming ``name`` and the ``fix``.
+
+    ``lowest`` ``">0"`` or ``">=0"`` also bounds it from below (NaN never passes).
+    """
+    if not is_finite_number(value, numpy=True):
+        raise error(f"{name} must be a finite number, got {value!r}; {fix}")
+    number = float(value)  # type: ignore[arg-type]
+    if (lowest == ">0" and not number > 0.0) or (lowest == ">=0" and not number >= 0.0):
+        raise error(f"{name} must be {lowest.replace('0', ' 0')}, got {value!r}; {fix}")
+    return number
 
 
 def is_positive_number(value: object, *, numpy: bool = False) -> bool:

@@ -12,8 +12,10 @@ from __future__ import annotations
 from dataclasses import dataclass, field
 from typing import Dict, List, Optional, Sequence, Tuple
 
-__all__ = ["Series", "LabRecord", "LabSummary", "summarize", "format_summary"]
+__all__ = ["LIFTED_M", "Series", "LabRecord", "LabSummary", "summarize", "format_summary"]
 
+#: An object this far above the table counts as lifted (m).
+LIFTED_M = 0.005
 #: (time s, value) pairs in time order.
 Series = List[Tuple[float, float]]
 

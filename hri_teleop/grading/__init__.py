@@ -23,7 +23,6 @@ from hri_teleop.grading.judge.checks import (
     check_teleoperation,
     check_teleoperation_launch,
     grade,
-    grade_graph,
     grade_mapping_node,
     grade_robot_params,
     grade_sensor_launch,
@@ -31,11 +30,13 @@ from hri_teleop.grading.judge.checks import (
     grade_teleoperation,
     grade_teleoperation_launch,
 )
+from hri_teleop.grading.judge.graph import grade_graph
+from hri_teleop.grading.judge.package_check import grade_catkin_package
 from hri_teleop.grading.results import CheckResult, GradingError, Part, feedback_text, gradescope_json
 
 __all__ = [
     "CHECKS", "CheckResult", "GradingError", "Part", "feedback_text", "gradescope_json", "grade", "grade_submission",
     "grade_robot_params", "grade_mapping_node", "grade_sensor_launch", "grade_teleoperation",
-    "grade_teleoperation_launch", "grade_graph", "check_robot_params", "check_mapping_node", "check_sensor_launch",
+    "grade_teleoperation_launch", "grade_graph", "grade_catkin_package", "check_robot_params", "check_mapping_node", "check_sensor_launch",
     "check_teleoperation", "check_teleoperation_launch", "check_graph",
 ]

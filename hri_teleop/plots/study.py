@@ -12,6 +12,7 @@ from typing import List, Optional, Sequence, Tuple, Union
 
 import numpy as np
 
+from hri_teleop.core.experiment.analysis import StudyResult
 from hri_teleop.core.experiment.metrics import (
     CONDITIONS,
     TrialMetrics,
@@ -134,3 +135,15 @@ def _wrap(text: str, width: int) -> List[str]:
         else:
             line = f"{line} {word}".strip()
     return out + ([line] if line else [])
+
+
+def save_result_figure(result: StudyResult, path: Union[str, Path]) -> StudyResult:
+    """Draw an analysed study (:func:`~hri_teleop.core.experiment.analysis.analyse_trials`) to a PNG at ``path``.
+
+    Sets ``result.figure`` (the file) and ``result.figure_panels`` (the panels' titles); returns ``result``.
+    """
+    fig = draw_study(list(zip(result.metrics, [t.record for t in result.trials])), result.max_sensor_force,
+                     result.peak_force)
+    result.figure_panels = tuple(ax.get_title() for ax in fig.axes)
+    result.figure = save_figure(fig, Path(path))
+    return result

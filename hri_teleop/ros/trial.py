@@ -73,6 +73,7 @@ from hri_teleop.core.experiment.sidecar import (
 )
 from hri_teleop.core.experiment.tlx import SUBSCALES, TlxRatings, optional_tlx, store_tlx
 from hri_teleop.core.run_record import LabRecord
+from hri_teleop.plots.study import save_result_figure
 from hri_teleop.ros.bags import BagError
 from hri_teleop.ros.master import MasterError, PrivateMaster, RunningMaster, run_reporting
 from hri_teleop.ros.teleop_demo import DEFAULT_TIMEOUT_S, record_from_bag, record_teleop_launch
@@ -286,8 +287,9 @@ def analyse_folder(folder: Union[str, Path, None] = None, *, figure: Union[str, 
         raise MetricsError(f"{folder}: no trials in this folder (no *.yaml sidecar beside a *.bag); record some "
                            f"(python -m hri_teleop.ros.trial rehearse --out {folder}) or give another folder")
     figure_path = folder / FIGURE_NAME if figure is True else (Path(figure) if figure else None)
-    result = analyse_trials(trials, max_sensor_force=max_sensor_force, figure=figure_path,
-                            allow_unpaired=allow_unpaired, folder=folder)
+    result = analyse_trials(trials, max_sensor_force=max_sensor_force, allow_unpaired=allow_unpaired, folder=folder)
+    if figure_path is not None:
+        save_result_figure(result, figure_path)
     if csv_path:
         result.write_csv(folder / CSV_NAME if csv_path is True else Path(csv_path))
     return result
@@ -320,7 +322,7 @@ def rehearse(participants: Sequence[str], objects: Sequence[str], out: Union[str
     Returns the :class:`~hri_teleop.core.experiment.analysis.StudyResult` (None with
     ``analyse`` False).
     """
-    from hri_teleop.hardware.sim.hand import OBJECTS
+    from hri_teleop.hardware.sim.grasp_objects import OBJECTS
     from hri_teleop.hardware.sim.operators import study_scenario
 
     if pad not in PADS:

@@ -64,7 +64,8 @@ def test_hri_grade_clock_real_runs_the_node_in_real_time_with_the_same_verdict(t
     """HRI_GRADE_CLOCK=real: grading as it was before the grader owned the clock (make bench's
     "before" row), judged the same and with no note about the clock."""
     from hri_teleop.grading.cases import inputs as C
-    from hri_teleop.grading.judge.checks import CLOCK_ENV, grade_teleoperation
+    from hri_teleop.grading.judge.checks import grade_teleoperation
+    from hri_teleop.grading.judge.harness import CLOCK_ENV
 
     monkeypatch.setenv(CLOCK_ENV, "real")
     result = grade_teleoperation(_package(tmp_path, answer_text("scripts/teleoperation.py")), seed=SEED)

@@ -12,7 +12,7 @@ from grading_helpers import REPO
 
 @pytest.fixture
 def fresh_cache(tmp_path, monkeypatch):
-    from hri_teleop.grading.judge import checks
+    from hri_teleop.grading.judge import graph as checks
 
     monkeypatch.setenv("XDG_CACHE_HOME", str(tmp_path / "cache"))
     monkeypatch.setattr(checks, "_LIVE_GRAPH", {})
@@ -27,7 +27,7 @@ def _copy_reference(dest):
 
 @pytest.mark.ros
 def test_the_live_graph_is_computed_once_and_read_back_by_the_next_run(fresh_cache, monkeypatch):
-    from hri_teleop.grading.judge import checks
+    from hri_teleop.grading.judge import graph as checks
 
     graph = checks.live_graph()
     cached = checks.graph_cache_file()
@@ -43,7 +43,7 @@ def test_the_live_graph_is_computed_once_and_read_back_by_the_next_run(fresh_cac
 
 
 def test_the_cache_key_follows_the_reference_files_not_their_folder(tmp_path):
-    from hri_teleop.grading.judge.checks import graph_cache_file
+    from hri_teleop.grading.judge.graph import graph_cache_file
 
     copy = _copy_reference(tmp_path / "copy")
     assert graph_cache_file(copy) == graph_cache_file(REPO / "hri_lab")
@@ -53,7 +53,7 @@ def test_the_cache_key_follows_the_reference_files_not_their_folder(tmp_path):
 
 
 def test_a_cut_short_cache_file_is_computed_again(fresh_cache, monkeypatch):
-    from hri_teleop.grading.judge import checks
+    from hri_teleop.grading.judge import graph as checks
 
     path = checks.graph_cache_file()
     path.parent.mkdir(parents=True)

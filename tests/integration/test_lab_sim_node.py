@@ -19,8 +19,10 @@ import pytest
 import yaml
 
 from hri_teleop.core import fsr
+from hri_teleop.core.attachment import Attachment
 from hri_teleop.hardware.sim.arm import VELOCITY_DISCONTINUITY
-from hri_teleop.hardware.sim.hand import COMMAND_ABORTED, OBJECTS, Attachment
+from hri_teleop.hardware.sim.grasp_objects import OBJECTS
+from hri_teleop.hardware.sim.hand_params import COMMAND_ABORTED
 from hri_teleop.hardware.sim.world import WorldConfig
 from hri_teleop.ros.bags import read_topics
 from hri_teleop.ros.master import PrivateMaster

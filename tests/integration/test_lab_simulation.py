@@ -13,7 +13,7 @@ import pytest
 import yaml
 
 from hri_teleop.core.run_record import summarize
-from hri_teleop.hardware.sim.hand import OBJECTS
+from hri_teleop.hardware.sim.grasp_objects import OBJECTS
 from hri_teleop.hardware.sim.operators import random_operator, script_to_yaml_data
 from hri_teleop.ros import teleop_demo
 from hri_teleop.ros.teleop_demo import record_teleop_launch

@@ -85,7 +85,7 @@ def test_the_bundle_holds_no_solution_line_and_no_completed_deliverable(unpacked
 def test_the_leak_check_finds_a_deliverable_copied_into_the_toolkit(unpacked, course, tmp_path):
     bundle = tmp_path / "task4"
     shutil.copytree(unpacked, bundle, symlinks=True)
-    hidden = bundle / "toolkit" / "hri_teleop" / "sim" / "answer.launch"
+    hidden = bundle / "toolkit" / "hri_teleop" / "hardware" / "sim" / "answer.launch"
     hidden.write_text(make_answer((SOLUTIONS / "launch" / "sensor.launch").read_text()))
     (bundle / "toolkit" / LAB_DELIVERABLES[0]).write_text("#!/usr/bin/env python3\n")
     leaks = toolkit_leaks(bundle, solution_texts(SOLUTIONS, course), answer_files())

@@ -33,11 +33,12 @@ import numpy as np
 import pytest
 import yaml
 
+from hri_teleop.core.attachment import Attachment
 from hri_teleop.core.config import load_teleop_config
 from hri_teleop.core.experiment.analysis import StudyResult
 from hri_teleop.core.run_record import LabRecord
 from hri_teleop.hardware.sim.config import world_config_from_dict
-from hri_teleop.hardware.sim.hand import OBJECTS, Attachment
+from hri_teleop.hardware.sim.grasp_objects import OBJECTS
 from hri_teleop.hardware.sim.lab import run_lab
 from hri_teleop.hardware.sim.operators import squeeze_taps, study_operator, study_scenario
 from hri_teleop.hardware.sim.virtual_pad import parse_script

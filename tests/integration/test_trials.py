@@ -5,8 +5,8 @@ from __future__ import annotations
 import pytest
 import yaml
 
+from hri_teleop.core.attachment import Attachment
 from hri_teleop.core.experiment.metrics import MetricsError, TrialMeta, trial_metrics
-from hri_teleop.hardware.sim.hand import Attachment
 from hri_teleop.hardware.sim.operators import study_scenario
 from hri_teleop.ros.bags import read_topics
 from hri_teleop.ros.trial import METADATA_TOPIC, load_trials, main, record_trial

@@ -7,6 +7,7 @@ from pathlib import Path
 
 import pytest
 
+from hri_teleop.core.attachment import Attachment
 from hri_teleop.core.config import load_teleop_config
 from hri_teleop.core.experiment.metrics import (
     MetricsError,
@@ -17,7 +18,7 @@ from hri_teleop.core.experiment.metrics import (
 )
 from hri_teleop.core.experiment.plan import counterbalanced_plan, read_plan, write_plan
 from hri_teleop.core.experiment.stats import paired_comparison
-from hri_teleop.hardware.sim.hand import OBJECTS, Attachment
+from hri_teleop.hardware.sim.grasp_objects import OBJECTS
 from hri_teleop.hardware.sim.lab import run_lab
 from hri_teleop.hardware.sim.operators import study_operator
 from hri_teleop.hardware.sim.world import WorldConfig

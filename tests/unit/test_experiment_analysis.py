@@ -22,7 +22,7 @@ from hri_teleop.hardware.sim.config import world_config_from_dict
 from hri_teleop.hardware.sim.lab import run_lab
 from hri_teleop.hardware.sim.operators import study_scenario
 from hri_teleop.hardware.sim.virtual_pad import parse_script
-from hri_teleop.plots.study import PANEL_TITLES
+from hri_teleop.plots.study import PANEL_TITLES, save_result_figure
 from hri_teleop.ros.trial import analyse_folder
 
 REPO = Path(__file__).resolve().parents[2]
@@ -58,7 +58,7 @@ def _study(seeds=(0, 8, 1)):
 
 
 def test_a_study_is_measured_compared_and_drawn(tmp_path):
-    result = analyse_trials(_study(), figure=tmp_path / "study.png")
+    result = save_result_figure(analyse_trials(_study()), tmp_path / "study.png")
     assert [(m.meta.participant, m.meta.trial) for m in result.metrics] == [
         ("P01", 1), ("P01", 2), ("P02", 1), ("P02", 2), ("P03", 1), ("P03", 2)]
     for t, m in zip(result.trials, result.metrics):  # the simulation's word, measured from the FSR counts

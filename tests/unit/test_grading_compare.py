@@ -358,7 +358,7 @@ def test_an_unreadable_graph_fails_the_format_part_first():
 
 
 def test_the_grading_clock_is_the_graders_unless_real_time_is_asked_for(monkeypatch):
-    from hri_teleop.grading.judge.checks import CLOCK_ENV, grading_clock
+    from hri_teleop.grading.judge.harness import CLOCK_ENV, grading_clock
     from hri_teleop.grading.results import GradingError
 
     monkeypatch.delenv(CLOCK_ENV, raising=False)

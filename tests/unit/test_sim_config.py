@@ -8,6 +8,7 @@ from pathlib import Path
 import pytest
 import yaml
 
+from hri_teleop.core.attachment import Attachment
 from hri_teleop.hardware.sim.board import HANDOUT_FIRMWARE_RATE_HZ, BoardConfig
 from hri_teleop.hardware.sim.config import (
     PARAM_ALIASES,
@@ -21,7 +22,8 @@ from hri_teleop.hardware.sim.config import (
     world_config_from_dict,
     world_overrides_from_params,
 )
-from hri_teleop.hardware.sim.hand import OBJECTS, Attachment, GraspObject, HandParams
+from hri_teleop.hardware.sim.grasp_objects import OBJECTS, GraspObject
+from hri_teleop.hardware.sim.hand_params import HandParams
 from hri_teleop.hardware.sim.world import LAB_ARM_CONFIG, LabWorld, WorldConfig
 
 REPO = Path(__file__).resolve().parents[2]

@@ -12,29 +12,29 @@ import pytest
 from hypothesis import given, settings
 from hypothesis import strategies as st
 
-from hri_teleop.core import fsr
+from hri_teleop.core import attachment, fsr
+from hri_teleop.core.attachment import Attachment, AttachmentError
 from hri_teleop.core.gripper import GoalThrottle
 from hri_teleop.core.teleop import GRIPPER_MAX_WIDTH_M
+from hri_teleop.hardware.sim import grasp_objects, gripper_goals, hand_params
 from hri_teleop.hardware.sim import hand as hand_module
-from hri_teleop.hardware.sim.hand import (
+from hri_teleop.hardware.sim.grasp_objects import OBJECTS, GraspObject, holding_force_n, is_held
+from hri_teleop.hardware.sim.gripper_goals import (
+    GoalStatus,
+    GraspCommand,
+    HomingCommand,
+    MoveCommand,
+    StopCommand,
+)
+from hri_teleop.hardware.sim.hand import HandSim
+from hri_teleop.hardware.sim.hand_params import (
     COMMAND_ABORTED,
     COMMAND_FAILED,
     GRAVITY_M_PER_S2,
     MAX_FORCE_N,
     MAX_SPEED_M_PER_S,
-    OBJECTS,
-    Attachment,
-    GoalStatus,
-    GraspCommand,
-    GraspObject,
     HandParams,
-    HandSim,
     HandSimError,
-    HomingCommand,
-    MoveCommand,
-    StopCommand,
-    holding_force_n,
-    is_held,
 )
 
 DT = 0.001  # the simulation node steps at 1 kHz
@@ -638,7 +638,6 @@ def test_time_must_not_run_backwards():
     (lambda: HandParams(max_speed_m_per_s=0.0), "max_speed_m_per_s"),
     (lambda: HandParams(initial_width_m=0.1), "initial_width_m"),
     (lambda: HandParams(move_force_n=100.0), "move_force_n"),
-    (lambda: Attachment(piston_travel_m=-0.001), "piston_travel_m"),
     (lambda: GraspObject("x", width_m=0.04, stiffness_n_per_m=0.0, mass_kg=0.1, friction_coefficient=0.4),
      "stiffness_n_per_m"),
     (lambda: GraspObject("x", width_m=0.04, stiffness_n_per_m=1e3, mass_kg=0.1, friction_coefficient=0.4,
@@ -653,8 +652,14 @@ def test_bad_settings_raise_one_error_class_that_names_the_field(make, match):
         make()
 
 
-def test_module_is_pure():
-    tree = ast.parse(Path(hand_module.__file__).read_text())
+def test_a_bad_attachment_setting_names_the_field():
+    with pytest.raises(AttachmentError, match="piston_travel_m"):
+        Attachment(piston_travel_m=-0.001)
+
+
+@pytest.mark.parametrize("module", [hand_module, hand_params, grasp_objects, gripper_goals, attachment])
+def test_the_hand_model_is_pure(module):
+    tree = ast.parse(Path(module.__file__).read_text())
     imported = {alias.name.split(".")[0] for node in ast.walk(tree) if isinstance(node, ast.Import)
                 for alias in node.names}
     imported |= {node.module.split(".")[0] for node in ast.walk(tree)

@@ -5,9 +5,11 @@ from __future__ import annotations
 import pytest
 
 from hri_teleop.core import fsr
+from hri_teleop.core.attachment import PISTON_TRAVEL_M
 from hri_teleop.core.limits import DEFAULT_LIMITS, TwistLimiter
 from hri_teleop.hardware.sim.board import BoardConfig
-from hri_teleop.hardware.sim.hand import OBJECTS, PISTON_TRAVEL_M, MoveCommand
+from hri_teleop.hardware.sim.grasp_objects import OBJECTS
+from hri_teleop.hardware.sim.gripper_goals import MoveCommand
 from hri_teleop.hardware.sim.world import LabWorld, WorldConfig, WorldError
 
 QUIET = BoardConfig(noise_counts=0.0)

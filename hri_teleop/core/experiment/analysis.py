@@ -220,9 +220,8 @@ def _unpaired_message(metrics: Sequence[TrialMetrics], left_out: Sequence[str]) 
 
 
 def analyse_trials(trials: Sequence[LoadedTrial], *, max_sensor_force: Optional[float] = None,
-                   figure: Optional[Union[str, Path]] = None, allow_unpaired: bool = False,
-                   folder: Optional[Path] = None) -> StudyResult:
-    """Measure, compare and (with ``figure``, a PNG path) plot the trials; see the module doc.
+                   allow_unpaired: bool = False, folder: Optional[Path] = None) -> StudyResult:
+    """Measure and compare the trials; see the module doc (:func:`hri_teleop.plots.study.save_result_figure` draws).
 
     ``max_sensor_force`` overrides every trial's stored calibration (count at full travel).
     """
@@ -274,11 +273,4 @@ def analyse_trials(trials: Sequence[LoadedTrial], *, max_sensor_force: Optional[
                 result.comparisons["raw_tlx"] = paired_comparison(t_without, t_with)
             except StatsError as exc:
                 result.notes.append(f"raw TLX not compared: {exc}")
-    if figure is not None:
-        from hri_teleop.plots.common import save_figure  # noqa: PLC0415
-        from hri_teleop.plots.study import draw_study  # noqa: PLC0415 - matplotlib only when drawing
-
-        fig = draw_study(list(zip(metrics, [t.record for t in ordered])), calibrations, result.peak_force)
-        result.figure_panels = tuple(ax.get_title() for ax in fig.axes)
-        result.figure = save_figure(fig, Path(figure))
     return result

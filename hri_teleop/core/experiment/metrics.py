@@ -6,7 +6,7 @@ agree on what "peak grasp force" or "time to grasp" means.  Definitions:
 * **grasp force (N)** is the FSR's force, read back from ``/pub_force`` through the FSR
   model (:func:`hri_teleop.core.fsr.count_to_force`) and the lab's one-point calibration: the
   count ``max_sensor_force`` measured at full piston travel (Ex. 11) is taken to be the
-  spring's full-travel force (:attr:`hri_teleop.hardware.sim.hand.Attachment.full_travel_force_n`,
+  spring's full-travel force (:attr:`hri_teleop.core.attachment.Attachment.full_travel_force_n`,
   1.77 N), which scales the nominal model to this part (FSRs differ by about 10 %).  The
   FSR feels at most that force: a squeeze past full travel (the housing presses the
   object) reads as the maximum, so :attr:`TrialMetrics.saturated_s` says how long the
@@ -30,10 +30,9 @@ from typing import List, Optional, Sequence, Tuple
 import numpy as np
 
 from hri_teleop.core import fsr
+from hri_teleop.core.attachment import Attachment
 from hri_teleop.core.errors import HriTeleopError
-from hri_teleop.core.run_record import LabRecord, time_above
-from hri_teleop.hardware.sim.hand import Attachment
-from hri_teleop.hardware.sim.world import LIFTED_M
+from hri_teleop.core.run_record import LIFTED_M, LabRecord, time_above
 
 __all__ = ["MetricsError", "TrialMeta", "TrialMetrics", "CONDITIONS", "calibrated_force_n", "trial_metrics",
            "per_participant", "paired_by_participant"]

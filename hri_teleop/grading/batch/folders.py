@@ -120,7 +120,7 @@ def live_graph_cache(out: Path, checks: Optional[Sequence[str]]) -> Optional[Pat
 
     None when ``checks`` leaves ``graph`` out.
     """
-    from hri_teleop.grading.judge.checks import live_graph
+    from hri_teleop.grading.judge.graph import live_graph
 
     if checks and "graph" not in checks:
         return None

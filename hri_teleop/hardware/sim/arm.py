@@ -1,78 +1,9 @@
 """A simulated Franka Panda under a Cartesian velocity controller: moves and judges like the robot.
 
-Why: at home there is no robot, yet the command stream the teleoperation node produces
-must be one the Panda accepts.  This arm takes the same velocity command the lab's
-Cartesian velocity controller takes (a twist in the base frame: ``vx vy vz`` in m/s,
-``wx wy wz`` in rad/s), runs the robot's 1 kHz cycle on it, refuses it the way the robot
-does (same error names, motion aborted) and moves the end effector otherwise.  Pure and
-deterministic: no rospy, no I/O, no clock; the caller passes every time in seconds.
-
-The cycle, every ``ROBOT_PERIOD_S`` (1 ms):
-
-1. *Zero-order hold*: the controller's command is the latest twist received
-   (:meth:`SimArm.command`), as a ROS controller's command is the latest message.
-2. *Judge* it as Control does: it differentiates the commanded signal with backward
-   Euler, ``a_k = (v_k - v_{k-1}) / 1 ms`` and ``j_k = (a_k - a_{k-1}) / 1 ms`` (Franka
-   docs, libfranka.rst, "Errors due to noncompliant commanded values"), and compares the
-   norm of each group (translation, rotation) with its limit (docs/lab-facts.md's table,
-   :data:`hri_teleop.core.limits.PANDA_LIMITS`).  The arithmetic is the same as
-   :func:`hri_teleop.core.limits.limit_violations` (same tolerance, same operations), so the
-   two agree bit for bit on any sequence; a test checks it.
-3. On a violation: a *reflex*.  The motion is aborted, the velocity set to zero, the
-   state becomes ``"reflex"`` with the error names, every violation is recorded
-   (:class:`LimitViolation`) and counted, and further commands are ignored until
-   :meth:`SimArm.recover` (franka_control's ``ErrorRecoveryAction``,
-   ``franka::Robot::automaticErrorRecovery``).  The real robot brakes within a few
-   milliseconds; the sim stops dead, which changes nothing a student can observe.
-4. Otherwise *integrate* the pose: position ``+= v dt``; orientation (quaternion xyzw)
-   rotated by the exact rotation ``exp(w dt)`` about the base-frame angular velocity
-   (left multiplication), then normalised.
-
-Error names (libfranka ``include/franka/errors.h``, fields of ``franka::Errors``; their
-meaning from the Franka docs' libfranka page, which annotates each one).  In libfranka's
-naming the word after "motion_generator" is the quantity whose *continuity* is judged,
-so a "velocity discontinuity" is an acceleration violation:
-
-=======================  ========================================================
-violated limit           libfranka error
-=======================  ========================================================
-velocity  ``|v|``        ``cartesian_motion_generator_velocity_limits_violation``
-acceleration ``|dv/dt|`` ``cartesian_motion_generator_velocity_discontinuity``
-jerk ``|da/dt|``         ``cartesian_motion_generator_acceleration_discontinuity``
-=======================  ========================================================
-
-A command with NaN or inf is not a ``franka::Errors`` flag: libfranka refuses it with
-``std::invalid_argument("Commanding value is infinite or NaN.")`` before it reaches the
-robot, which ends the control loop.  The sim stops the same way (state ``"reflex"``)
-under the name :data:`NON_FINITE_COMMAND`, so a broken node is caught, not flung.
-
-Judged strictly, i.e. as libfranka with its rate limiter *off*.  franka_ros turns
-libfranka's rate limiter and a 100 Hz low-pass filter *on* by default
-(franka_control_node.yaml), which would smooth a small step instead of refusing it; the
-Franka docs warn against relying on that ("a robustness feature ... to be used after you
-have already designed a smooth motion generator") and the lab's rule is "never step the
-velocity" (docs/lab-facts.md).  A stream this sim accepts is accepted with or without the rate limiter.
-
-Command timeout (a sim decision, documented because the real stack varies): no command
-for longer than ``timeout_s`` means the node is gone, so the controller commands zero.  A
-jump to zero would itself break the acceleration limit (above 13 mm/s), so the
-controller ramps the velocity to zero with :class:`hri_teleop.core.limits.TwistLimiter` at
-1 ms, started in the current velocity and acceleration, inside ``stop_limits`` (default:
-the judged limits -- what libfranka's rate limiter would make of a zero command).  From
-0.1 m/s that takes about 8 ms.  The ramp is judged like any command, and produces no
-violation.  One ``"command timeout"`` event per episode; the state stays ``"timeout"``
-until the next command, which is judged against the ramp's last value as usual.  The
-timeout runs only once a command was received (since start or the last recovery).
-
-Workspace box (also a sim decision): the simulated arm never leaves the box.  At a wall
-the outward velocity component is not applied (the position is clamped) and a
-``"workspace limit"`` event is recorded when the contact begins -- not a reflex.  (The
-real Panda's virtual walls, set in Desk, are a reflex,
-``cartesian_position_limits_violation``; the sim clamps so that a student can keep
-driving along the wall.)  The judge sees the command, as the robot does, not the clamp.
-
-Speed: the cycle is plain float arithmetic (numpy per 6-vector is slower); see
-:meth:`SimArm.run_until`.
+It takes the lab controller's twist, runs the robot's 1 kHz cycle on it (hold, judge with
+:func:`hri_teleop.core.limits.limit_violations`' arithmetic, reflex or integrate), refuses a
+command with libfranka's error names, ramps to zero on a command timeout and clamps at the
+workspace box. Pure and deterministic; the model and its sources: docs/simulation.md.
 """
 
 from __future__ import annotations

@@ -10,7 +10,7 @@ and the fix -- the same rules as :mod:`hri_teleop.core.config` for teleop.yaml.
 The file (every key optional; a missing key takes the default of the dataclass it sets,
 so an empty file is :class:`~hri_teleop.hardware.sim.world.WorldConfig` ``()`` -- no object)::
 
-    object: egg                # a name from hri_teleop.hardware.sim.hand.OBJECTS, none, or a mapping
+    object: egg                # a name from hri_teleop.hardware.sim.grasp_objects.OBJECTS, none, or a mapping
                                # of GraspObject fields (name, width_m, stiffness_n_per_m,
                                # mass_kg, friction_coefficient, breaking_force_n, note)
     object_xy_m: null          # (x, y) in the base frame, m; null = right below the start pose
@@ -42,13 +42,15 @@ import difflib
 from pathlib import Path
 from typing import Any, Dict, List, Mapping, Optional, Sequence, Tuple, Union
 
+from hri_teleop.core.attachment import Attachment
 from hri_teleop.core.checks import is_finite_number, is_int
 from hri_teleop.core.errors import HriTeleopError
 from hri_teleop.core.paths import LAB_CONFIG
 from hri_teleop.core.yamlfile import read_yaml
 from hri_teleop.hardware.sim.arm import SimArmConfig, SimArmError
 from hri_teleop.hardware.sim.board import HANDOUT_FIRMWARE_RATE_HZ, BoardConfig, BoardError
-from hri_teleop.hardware.sim.hand import OBJECTS, Attachment, GraspObject, HandParams, HandSimError
+from hri_teleop.hardware.sim.grasp_objects import OBJECTS, GraspObject
+from hri_teleop.hardware.sim.hand_params import HandParams, HandSimError
 from hri_teleop.hardware.sim.world import LAB_ARM_CONFIG, WorldConfig, WorldError
 
 __all__ = [

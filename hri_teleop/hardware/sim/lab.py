@@ -37,11 +37,11 @@ from hri_teleop.core.gamepad import GamepadError, RumbleRequests
 from hri_teleop.core.gripper import GoalThrottle
 from hri_teleop.core.limits import DEFAULT_LIMITS, CartesianLimits, Watchdog
 from hri_teleop.core.mapping import map_force
-from hri_teleop.core.run_record import LabRecord
+from hri_teleop.core.run_record import LIFTED_M, LabRecord
 from hri_teleop.core.teleop import TeleopController, TeleopParams
-from hri_teleop.hardware.sim.hand import GoalRecord, MoveCommand
+from hri_teleop.hardware.sim.gripper_goals import GoalRecord, MoveCommand
 from hri_teleop.hardware.sim.virtual_pad import ScriptedPad, ScriptStep, load_script
-from hri_teleop.hardware.sim.world import LIFTED_M, LabWorld, WorldConfig
+from hri_teleop.hardware.sim.world import LabWorld, WorldConfig
 
 __all__ = ["LabRunError", "ManagerParams", "run_lab"]
 

@@ -165,7 +165,7 @@ def study_scenario(condition: str, seed: int, object_name: str = "egg", *, quick
     the fast close goes 4 taps further (and 4 taps fewer follow), the lift is 3 cm and the
     hold 0.4 s: a trial of about 7 s instead of 16 s, with the same grasp.
     """
-    from hri_teleop.hardware.sim.hand import OBJECTS  # noqa: PLC0415 - keeps this module light
+    from hri_teleop.hardware.sim.grasp_objects import OBJECTS  # noqa: PLC0415 - keeps this module light
     from hri_teleop.hardware.sim.world import LAB_ARM_CONFIG  # noqa: PLC0415
 
     if object_name not in OBJECTS:

@@ -24,10 +24,11 @@ from hri_teleop.core.experiment.metrics import TrialMeta
 from hri_teleop.core.experiment.plan import counterbalanced_plan, trial_seed
 from hri_teleop.core.teleop import TeleopParams
 from hri_teleop.hardware.sim.config import world_config_from_dict
-from hri_teleop.hardware.sim.hand import OBJECTS
+from hri_teleop.hardware.sim.grasp_objects import OBJECTS
 from hri_teleop.hardware.sim.lab import LabRecord, run_lab
 from hri_teleop.hardware.sim.operators import study_scenario
 from hri_teleop.hardware.sim.virtual_pad import ScriptStep
+from hri_teleop.plots.study import save_result_figure
 
 __all__ = ["StudyError", "participant_codes", "simulate_trial", "simulate_study"]
 
@@ -81,5 +82,6 @@ def simulate_study(participants: Union[int, Sequence[str]] = 6, objects: Sequenc
         if progress is not None:
             progress(f"[study] {k}/{len(plan)} {meta.label}: {record.ended_by}, "
                      f"{record.duration_s():.1f} s of lab")
-    return analyse_trials(trials, figure=figure)
+    result = analyse_trials(trials)
+    return save_result_figure(result, figure) if figure is not None else result
 

@@ -28,21 +28,18 @@ import math
 from dataclasses import dataclass, field
 from typing import List, Optional, Sequence, Tuple
 
+from hri_teleop.core.attachment import Attachment
 from hri_teleop.core.checks import is_finite_number
 from hri_teleop.core.errors import HriTeleopError
+from hri_teleop.core.run_record import LIFTED_M
 from hri_teleop.hardware.sim.arm import ROBOT_PERIOD_S, SimArm, SimArmConfig
 from hri_teleop.hardware.sim.board import BoardConfig, SensorBoard
-from hri_teleop.hardware.sim.hand import (
-    Attachment,
-    Command,
-    GoalRecord,
-    GraspObject,
-    HandParams,
-    HandSim,
-    is_held,
-)
+from hri_teleop.hardware.sim.grasp_objects import GraspObject, is_held
+from hri_teleop.hardware.sim.gripper_goals import Command, GoalRecord
+from hri_teleop.hardware.sim.hand import HandSim
+from hri_teleop.hardware.sim.hand_params import HandParams
 
-__all__ = ["WorldError", "WorldConfig", "ObjectStatus", "LabWorld", "LAB_ARM_CONFIG", "LIFTED_M"]
+__all__ = ["WorldError", "WorldConfig", "ObjectStatus", "LabWorld", "LAB_ARM_CONFIG"]
 
 #: The arm as the lab world uses it: SimArm's defaults, with the workspace floor lowered to
 #: 15 mm above the table so that the fingers reach an object lying on it, and a command
@@ -50,8 +47,6 @@ __all__ = ["WorldError", "WorldConfig", "ObjectStatus", "LabWorld", "LAB_ARM_CON
 #: laptop a Python node can stall for a tenth of a second, and a stall must not look like
 #: a dead node (the ramp to zero would then make the next command a step).
 LAB_ARM_CONFIG = SimArmConfig(workspace_min_m=(0.2, -0.5, 0.015), timeout_s=0.3)
-#: An object this far above the table counts as lifted (m).
-LIFTED_M = 0.005
 
 
 class WorldError(HriTeleopError, ValueError):
@@ -78,7 +73,7 @@ class WorldConfig:
                 raise WorldError(f"WorldConfig.{name} must be a {kind.__name__}, got {type(getattr(self, name)).__name__}")
         if self.object is not None and not isinstance(self.object, GraspObject):
             raise WorldError(f"WorldConfig.object must be a GraspObject or None, got {self.object!r}; "
-                             "e.g. hri_teleop.hardware.sim.hand.OBJECTS['egg']")
+                             "e.g. hri_teleop.hardware.sim.grasp_objects.OBJECTS['egg']")
         if not (is_finite_number(self.capture_radius_m) and self.capture_radius_m > 0):
             raise WorldError(f"capture_radius_m must be a positive distance in m, got {self.capture_radius_m!r}; e.g. 0.01")
         if not is_finite_number(self.table_z_m):

@@ -1,0 +1,149 @@
+"""Ex. 15's check: the student's computation graph against the lab's live one (cached per reference)."""
+
+from __future__ import annotations
+
+import json
+import os
+import shutil
+import sys
+import tempfile
+import time
+from pathlib import Path
+from typing import Any, Dict, Optional, Union
+
+import yaml
+
+from hri_teleop.grading.judge import compare
+from hri_teleop.grading.judge.harness import (
+    _grader_env,
+    _missing_result,
+    _require_ros,
+    _resolve,
+    _reusable,
+    run_session_plan,
+)
+from hri_teleop.grading.results import CheckResult, GradingError
+from hri_teleop.grading.run.workspace import (
+    REPO,
+)
+
+__all__ = ["LIVE_GRAPH_NODES", "graph_cache_file", "live_graph", "grade_graph"]
+
+PathLike = Union[str, Path]
+
+
+_LIVE_GRAPH: Dict[str, Dict[str, Any]] = {}
+LIVE_GRAPH_NODES = ("/FSR_sensor", "/mapping_node", "/gripper_manager", "/teleoperation")
+
+
+def graph_cache_file(reference: Path = REPO / "hri_lab") -> Path:
+    """Where the lab's live graph is kept between runs: named after what shapes it.
+
+    The key is a digest of the reference package's launch, script and config files, the
+    ROS distribution and the Python version, so a changed pipeline is read afresh.
+    """
+    import hashlib
+
+    digest = hashlib.sha256(f"{os.environ.get('ROS_DISTRO', '')} {sys.version_info[:2]}".encode())
+    for folder in ("launch", "scripts", "config"):
+        for path in sorted((reference / folder).glob("*")):
+            if path.is_file():
+                digest.update(f"{folder}/{path.name}\0".encode() + path.read_bytes() + b"\0")
+    base = Path(os.environ.get("XDG_CACHE_HOME") or Path.home() / ".cache")
+    return base / "hri-teleop" / f"live-graph-{digest.hexdigest()[:16]}.json"
+
+
+def live_graph(cache_file: Optional[PathLike] = None) -> Dict[str, Any]:
+    """The graph of the lab's pipeline (hri_lab teleoperation.launch without hardware), once per process.
+
+    ``cache_file``: read it if it exists, else write it (``make grade`` computes it once for
+    all). Without one, :func:`graph_cache_file` keeps it between runs (written if it can be).
+    """
+    if "graph" in _LIVE_GRAPH:
+        return _LIVE_GRAPH["graph"]
+    from hri_teleop.grading.run.workspace import REFERENCE_PACKAGE
+
+    if cache_file is None and (REFERENCE_PACKAGE / "launch" / "teleoperation.launch").is_file():
+        cache_file = graph_cache_file(REFERENCE_PACKAGE)
+    if cache_file and Path(cache_file).is_file():
+        try:
+            _LIVE_GRAPH["graph"] = json.loads(Path(cache_file).read_text(encoding="utf-8"))
+            return _LIVE_GRAPH["graph"]
+        except (OSError, ValueError):
+            pass  # unreadable or cut short: compute it again
+    if not (REFERENCE_PACKAGE / "launch" / "teleoperation.launch").is_file():
+        return _graph_of_running_master()  # the student bundle: the pipeline its notebook started
+    _require_ros()
+    session_dir = Path(tempfile.mkdtemp(prefix="hri-grade-graph-"))
+    try:
+        env = _grader_env()
+        plan = {"kind": "live-graph", "session_dir": str(session_dir), "student_folder": "", "uid": None,
+                "python": sys.executable, "env": dict(env, TMPDIR=str(session_dir)),
+                "out": str(session_dir / "live-graph.out.json"),
+                "launch_args": ["robot:=false", "arduino:=false", "pad:=virtual"], "nodes": list(LIVE_GRAPH_NODES),
+                "start_timeout_s": 30.0}
+        graph = run_session_plan(plan, session_dir, 90.0)
+    finally:
+        shutil.rmtree(session_dir, ignore_errors=True)
+    if graph.get("session_error") or graph.get("problem"):
+        raise GradingError(f"could not read the lab's live graph: {graph.get('session_error') or graph.get('problem')}")
+    _LIVE_GRAPH["graph"] = graph
+    if cache_file:
+        try:
+            Path(cache_file).parent.mkdir(parents=True, exist_ok=True)
+            partial = Path(cache_file).with_suffix(f".{os.getpid()}.tmp")
+            partial.write_text(json.dumps(graph, sort_keys=True), encoding="utf-8")
+            partial.replace(cache_file)  # whole or not at all: graders running side by side read it
+        except OSError:
+            pass  # a read-only home: the graph is computed again next time
+    return graph
+
+
+def _graph_of_running_master() -> Dict[str, Any]:
+    """The graph on this process's master (ROS_MASTER_URI), once two readings 0.3 s apart agree."""
+    from hri_teleop.course.notebook_ros import NotebookRosError, master_call
+
+    try:
+        previous: Any = None
+        for _ in range(50):
+            pubs, subs, _services = master_call("getSystemState")
+            reading = (sorted((t, sorted(n)) for t, n in pubs), sorted((t, sorted(n)) for t, n in subs))
+            if reading == previous:
+                break
+            previous = reading
+            time.sleep(0.3)
+        types = dict(master_call("getTopicTypes"))
+    except NotebookRosError as exc:
+        raise GradingError(f"no pipeline to compare with: {exc}") from None
+    running = {n for _t, names in pubs for n in names} | {n for _t, names in subs for n in names}
+    missing = [n for n in LIVE_GRAPH_NODES if n not in running]
+    if missing:
+        raise GradingError(f"the pipeline is not running here ({', '.join(missing)} missing): run the cell that "
+                           "starts it (start_pipeline()) first, then this check")
+    return {"kind": "live-graph", "problem": "", "publishers": {t: sorted(n) for t, n in pubs},
+            "subscribers": {t: sorted(n) for t, n in subs}, "types": types}
+
+
+@_reusable("graph")
+def grade_graph(path: PathLike, *, seed: Optional[int] = None, out_dir: Optional[PathLike] = None,
+                graph_cache: Optional[PathLike] = None) -> CheckResult:
+    """Ex. 15: the student's nodes, topics and types against the live graph of the lab's pipeline."""
+    key = "graph"
+    root, given, found = _resolve(path, key)
+    started = time.monotonic()
+    if found is None:
+        return _missing_result("graph", key, compare.GRAPH, root, None)
+    error, answer = "", None
+    try:
+        if found.stat().st_size > 100_000:
+            error = "graph.yaml is larger than 100 kB; list only the pipeline's nodes and topics"
+        else:
+            answer = yaml.safe_load(found.read_text(encoding="utf-8"))
+    except (OSError, UnicodeDecodeError) as exc:
+        error = f"graph.yaml cannot be read ({exc})"
+    except yaml.YAMLError as exc:
+        mark = getattr(exc, "problem_mark", None)
+        error = f"graph.yaml line {mark.line + 1 if mark else '?'}: {getattr(exc, 'problem', exc)}; fix the YAML syntax"
+    parts = compare.compare_graph(answer, live_graph(graph_cache) if not error and isinstance(answer, dict) else {},
+                                  error)
+    return CheckResult("graph", str(found), parts, None, time.monotonic() - started)

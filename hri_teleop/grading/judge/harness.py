@@ -1,0 +1,321 @@
+"""What every check shares: the grader's environment, one run's folders and workspace, reuse of
+results, the sandboxed probe and session runs, and the refusal of the lab's reference code."""
+
+from __future__ import annotations
+
+import functools
+import json
+import os
+import shutil
+import signal
+import subprocess
+import sys
+import tempfile
+import time
+from pathlib import Path
+from typing import Any, Callable, Dict, List, Optional, Sequence, Tuple, Union
+
+from hri_teleop.core.config import DEFAULT_TWIST_TOPIC
+from hri_teleop.grading.cases import inputs as C
+from hri_teleop.grading.judge import compare, reuse
+from hri_teleop.grading.judge.reference_guard import reference_uses, refusal
+from hri_teleop.grading.results import CheckResult, GradingError, Part, not_judged
+from hri_teleop.grading.run.sandbox import (
+    DEFAULT_LIMITS,
+    StudentProcess,
+    describe_exit,
+    sandbox_mode,
+    session_argv,
+    student_uid,
+)
+from hri_teleop.grading.run.workspace import (
+    DELIVERABLES,
+    REPO,
+    Workspace,
+    find_package_root,
+    prepare_workspace,
+    ros_package_path,
+)
+from hri_teleop.ros.master import lab_shell_env
+
+PathLike = Union[str, Path]
+_PROBE_TIMEOUT_S = 20.0
+TWIST_TOPIC = DEFAULT_TWIST_TOPIC
+
+
+def _require_ros() -> None:
+    for tool in ("roscore", "roslaunch"):
+        if shutil.which(tool, path=_grader_env()["PATH"]) is None:
+            raise GradingError(f"{tool} not found: run 'make setup' (it installs ROS 1) and source tools/env.sh")
+
+
+def _grader_env(package_path: str = "") -> Dict[str, str]:
+    """tools/env.sh's environment with ``package_path`` (default: the lab's hri_lab) and no outside master."""
+    env = lab_shell_env(package_root=REPO)
+    if package_path:
+        env["ROS_PACKAGE_PATH"] = package_path
+    for key in ("ROS_MASTER_URI", "ROS_IP"):
+        env.pop(key, None)
+    env["ROS_HOSTNAME"] = "127.0.0.1"
+    env["PYTHONUNBUFFERED"] = "1"
+    return env
+
+
+_OPEN_RUNS: "List[_Run]" = []
+
+
+def _closing(check: Callable[..., CheckResult]) -> Callable[..., CheckResult]:
+    """Whatever happens inside a check, its scratch folder does not outlive it."""
+    @functools.wraps(check)
+    def wrapper(*args: Any, **kwargs: Any) -> CheckResult:
+        try:
+            return check(*args, **kwargs)
+        finally:
+            for run in list(_OPEN_RUNS):
+                run.close()
+    return wrapper
+
+
+#: Keyword arguments that do not change a check's result (the lab's graph is the same from a cache).
+_SAME_RESULT_KWARGS = {"seed", "out_dir", "graph_cache"}
+
+
+def _reusable(check: str) -> Callable[[Callable[..., CheckResult]], Callable[..., CheckResult]]:
+    """In make grade only: the files job stores each result, a notebook's check cell of the same
+    package takes it (:mod:`hri_teleop.grading.judge.reuse`). A file given alone, or arguments that
+    change what is judged (``node=False``), always run the check."""
+    def decorate(grade_fn: Callable[..., CheckResult]) -> Callable[..., CheckResult]:
+        @functools.wraps(grade_fn)
+        def wrapper(path: PathLike, **kwargs: Any) -> CheckResult:
+            write, read = os.environ.get(reuse.WRITE_ENV), os.environ.get(reuse.READ_ENV)
+            given = Path(path).expanduser()
+            if not (write or read) or not set(kwargs) <= _SAME_RESULT_KWARGS or not given.is_dir():
+                return grade_fn(path, **kwargs)
+            root = find_package_root(given)
+            seed = C.seed_for(root) if kwargs.get("seed") is None else int(kwargs["seed"])
+            if read and not write:
+                found = reuse.load(Path(read), check, seed, root)
+                if found is not None:
+                    return found
+            result = grade_fn(path, **kwargs)
+            if write:
+                reuse.store(Path(write), check, seed, root, result)
+            return result
+        return wrapper
+    return decorate
+
+
+class _Run:
+    """One check's scratch folder (a fresh workspace) and where its plots and logs go."""
+
+    def __init__(self, check: str, submission: PathLike, out_dir: Optional[PathLike], key: str,
+                 single_file: Optional[Path], reference: Sequence[str] = ()) -> None:
+        self.check = check
+        self.session_dir = Path(tempfile.mkdtemp(prefix=f"hri-grade-{check}-"))
+        # Without out_dir, plots of failed parts go to a fresh temp path (created only if one is drawn)
+        # and the logs are not kept.
+        self.keep_logs = out_dir is not None
+        self.out_dir = Path(out_dir) / check if out_dir else \
+            Path(tempfile.gettempdir()) / f"hri-grade-out-{check}-{os.getpid()}-{time.monotonic_ns()}"
+        if out_dir:
+            self.out_dir.mkdir(parents=True, exist_ok=True)
+        self.uid = student_uid()
+        self.closed = False
+        _OPEN_RUNS.append(self)
+        self.space: Workspace = prepare_workspace(submission, self.session_dir, self.uid, single_file, key,
+                                                  reference=reference)
+        self.started = time.monotonic()
+
+    def close(self) -> None:
+        """Keep the logs (256 kB each) next to the plots, delete the scratch folder; safe to call twice."""
+        if self.closed:
+            return
+        self.closed = True
+        if self in _OPEN_RUNS:
+            _OPEN_RUNS.remove(self)
+        logs = self.session_dir / "logs"
+        if logs.is_dir() and self.keep_logs:
+            target = self.out_dir / "logs"
+            target.mkdir(parents=True, exist_ok=True)
+            for log in logs.glob("*.log"):
+                with open(log, "rb") as src, open(target / log.name, "wb") as dst:
+                    dst.write(src.read(256 * 1024))
+        if not os.environ.get("HRI_GRADE_KEEP"):
+            shutil.rmtree(self.session_dir, ignore_errors=True)
+
+    def env(self) -> Dict[str, str]:
+        return _grader_env(ros_package_path(self.space.ws))
+
+    def probe(self, command: str, target: Path, name: str, plan: Optional[Path] = None
+              ) -> Tuple[Optional[Dict[str, Any]], Dict[str, Any]]:
+        """Run a probe as a student process (no network); (its JSON or None, facts about the process)."""
+        out = self.space.grader_dir / f"{name}.json"
+        env = self.env()
+        env.update({"HOME": str(self.space.package), "ROS_HOME": str(self.space.package / ".ros"),
+                    "PYTHONDONTWRITEBYTECODE": "1", "MPLBACKEND": "Agg", "SDL_VIDEODRIVER": "dummy",
+                    "SDL_AUDIODRIVER": "dummy"})
+        argv = [sys.executable, "-m", "hri_teleop.grading.run.probe", command, str(target)]
+        argv += ([str(plan)] if plan is not None else []) + [str(out)]
+        proc = StudentProcess(argv, self.space.package, env, self.session_dir / "logs" / f"{name}.log",
+                              DEFAULT_LIMITS, uid=self.uid, nested=True, network=False)
+        code = proc.wait(_PROBE_TIMEOUT_S)
+        problem = "" if code is not None else f"was still running after {_PROBE_TIMEOUT_S:.0f} s (an endless loop?)"
+        proc.stop()
+        facts = {"exit_code": proc.returncode, "output_tail": proc.output_tail(), "output_bytes": proc.output_size(),
+                 "problem": problem or (describe_exit(proc.returncode) if proc.returncode else "")}
+        data: Optional[Dict[str, Any]] = None
+        if out.is_file() and code == 0:
+            try:
+                data = json.loads(out.read_text(encoding="utf-8"))
+            except (OSError, ValueError):
+                data = None
+        return data, facts
+
+    def session(self, plan: Dict[str, Any], timeout_s: float) -> Dict[str, Any]:
+        """Run a session plan (sandboxed: own network namespace) and return its observation."""
+        plan = dict(plan)
+        plan.update({"session_dir": str(self.session_dir), "student_folder": str(self.space.package),
+                     "uid": self.uid, "python": sys.executable, "env": dict(self.env(), TMPDIR=str(self.session_dir)),
+                     "out": str(self.session_dir / f"{plan['kind']}.out.json"),
+                     "limits": {"cpu_s": DEFAULT_LIMITS.cpu_s, "memory_bytes": DEFAULT_LIMITS.memory_bytes,
+                                "file_bytes": DEFAULT_LIMITS.file_bytes, "processes": DEFAULT_LIMITS.processes,
+                                "open_files": DEFAULT_LIMITS.open_files}})
+        return run_session_plan(plan, self.session_dir, timeout_s)
+
+
+def run_session_plan(plan: Dict[str, Any], session_dir: Path, timeout_s: float) -> Dict[str, Any]:
+    """Start ``python -m hri_teleop.grading.run.session`` (in bubblewrap where it works), wait, read."""
+    plan_path = session_dir / f"{plan['kind']}.plan.json"
+    plan_path.write_text(json.dumps(plan), encoding="utf-8")
+    out = Path(plan["out"])
+    argv = session_argv([sys.executable, "-m", "hri_teleop.grading.run.session", str(plan_path)], session_dir)
+    log = open(session_dir / f"{plan['kind']}.session.log", "wb")
+    proc = subprocess.Popen(argv, env=plan["env"], stdin=subprocess.DEVNULL, stdout=log, stderr=subprocess.STDOUT,
+                            start_new_session=True, cwd=str(session_dir))
+    try:
+        proc.wait(timeout=timeout_s)
+    except subprocess.TimeoutExpired:
+        for sig in (signal.SIGTERM, signal.SIGKILL):
+            try:
+                os.killpg(proc.pid, sig)
+            except ProcessLookupError:
+                break
+            try:
+                proc.wait(timeout=3)
+                break
+            except subprocess.TimeoutExpired:
+                continue
+        log.close()
+        return {"session_error": f"the grading session did not finish within {timeout_s:.0f} s"}
+    log.close()
+    if not out.is_file():
+        tail = (session_dir / f"{plan['kind']}.session.log").read_text(errors="replace")[-1500:]
+        return {"session_error": f"the grading session ended without a result (status {proc.returncode}): {tail}"}
+    return json.loads(out.read_text(encoding="utf-8"))
+
+
+def _missing_result(check: str, key: str, table: Dict[str, Tuple[str, float]], root: Path, seed: Optional[int]) -> CheckResult:
+    sub = DELIVERABLES[key]
+    entries = list(table.values())
+    parts = [Part(entries[0][0], entries[0][1], False, f"{sub} was not found in {root}: put it at {sub} in your "
+                                                        "hri_lab package")]
+    parts += [not_judged(name, points, f"{sub} was not found") for name, points in entries[1:]]
+    return CheckResult(check, str(root / sub), parts, seed)
+
+
+def _resolve(path: PathLike, key: str) -> Tuple[Path, Optional[Path], Optional[Path]]:
+    """(package root, the file given explicitly or None, the file found or None)."""
+    path = Path(path).expanduser()
+    if not path.exists():
+        raise GradingError(f"{path}: no such file or folder; give the student's {DELIVERABLES[key]} or their "
+                           "hri_lab folder")
+    root = find_package_root(path)
+    if path.is_file():
+        return root, path, path
+    from hri_teleop.grading.run.workspace import locate
+
+    return root, None, locate(root, key)
+
+
+def _finish(check: str, run: _Run, parts: List[Part], seed: Optional[int], notes: Sequence[str] = ()) -> CheckResult:
+    target = run.space.originals.get(_KEY[check])
+    mode = sandbox_mode(warn=False)
+    all_notes = list(notes) + ([] if mode == "bwrap" else ["student code ran without bubblewrap (limits only)"])
+    if run.space.substituted:
+        names = ", ".join(Path(DELIVERABLES[k]).name for k in run.space.substituted)
+        all_notes.append(f"ran the lab's {names} in place of yours: each is graded in its own check, so a mistake "
+                         "there costs points there only")
+    result = CheckResult(check, str(target) if target else "", parts, seed, time.monotonic() - run.started,
+                         tuple(all_notes))
+    run.close()
+    return result
+
+
+#: Other exercises' deliverables a check's run needs: the lab's versions stand in for the student's.
+_REFERENCE_FOR: Dict[str, Tuple[str, ...]] = {"sensor-launch": ("mapping_node", "robot_params"),
+                                              "teleoperation-launch": ("mapping_node", "teleoperation")}
+_KEY = {"robot-params": "robot_params", "mapping-node": "mapping_node", "sensor-launch": "sensor_launch",
+        "teleoperation": "teleoperation", "teleoperation-launch": "teleoperation_launch", "graph": "graph"}
+
+
+def _table_for(check: str) -> Dict[str, Tuple[str, float]]:
+    if check == "robot-params":
+        from hri_teleop.grading.judge.robot_params import part_table
+
+        return part_table()
+    return {"mapping-node": compare.MAPPING, "sensor-launch": compare.SENSOR_LAUNCH, "teleoperation": compare.TELEOP,
+            "teleoperation-launch": compare.TELEOP_LAUNCH, "graph": compare.GRAPH}[check]
+
+
+def _start(check: str, path: PathLike, out_dir: Optional[PathLike], seed: Optional[int]
+           ) -> Tuple[Optional[_Run], Optional[CheckResult], int]:
+    key = _KEY[check]
+    root, given, found = _resolve(path, key)
+    seed = C.seed_for(root) if seed is None else int(seed)
+    if found is None:
+        hidden = check in ("mapping-node", "teleoperation")
+        return None, _missing_result(check, key, _table_for(check), root, seed if hidden else None), seed
+    sandbox_mode()  # says once when bubblewrap is missing
+    return _Run(check, root if given is None else given, out_dir, key, given or found,
+                reference=_REFERENCE_FOR.get(check, ())), None, seed
+
+
+def _refuse_reference(run: _Run, check: str, table: Dict[str, Tuple[str, float]], seed: Optional[int]
+                      ) -> Optional[CheckResult]:
+    """Every part failed when the student's file uses the lab's reference rules (None: it does not)."""
+    target = run.space.files[_KEY[check]]
+    try:
+        uses = reference_uses(target.read_text(encoding="utf-8")) if target is not None else []
+    except (OSError, UnicodeDecodeError):
+        uses = []  # the check itself says the file cannot be read
+    if not uses:
+        return None
+    entries = list(table.values())
+    message = refusal(Path(DELIVERABLES[_KEY[check]]).name, uses)
+    parts = [Part(entries[0][0], entries[0][1], False, message)]
+    parts += [not_judged(name, points, "the file uses the lab's reference implementation") for name, points in entries[1:]]
+    return _finish(check, run, parts, seed)
+
+
+def _parse_launch(run: _Run, key: str) -> Tuple[Dict[str, Any], Dict[str, Any]]:
+    data, facts = run.probe("launch-parse", run.space.files[key], f"parse-{key}")
+    return (data if data is not None else {"ok": False, "error": ""}), facts
+
+
+#: ``HRI_GRADE_CLOCK=real`` runs the nodes in real time, as before the grader owned the clock
+#: (to compare, or to rule the clock out when a node behaves differently under grading).
+CLOCK_ENV = "HRI_GRADE_CLOCK"
+
+
+def grading_clock() -> str:
+    """"grader" (the default: /use_sim_time, /clock stepped by the grader) or "real time"."""
+    value = os.environ.get(CLOCK_ENV, "grader").strip() or "grader"
+    if value not in ("grader", "real"):
+        raise GradingError(f"{CLOCK_ENV} is {value!r}; use grader (the default: the grader owns /clock) or real "
+                           "(the nodes run in real time)")
+    return "grader" if value == "grader" else "real time"
+
+
+def _full_name(node: Dict[str, Any]) -> str:
+    """A parsed launch node's ROS name, ``/ns/name``."""
+    return f"{node['namespace'].rstrip('/')}/{node['name']}"

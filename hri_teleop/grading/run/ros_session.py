@@ -1,0 +1,163 @@
+"""One grading session's ROS side: its private master, the student's processes on it, and what
+their nodes subscribe and publish (read from the master, not from their code)."""
+
+from __future__ import annotations
+
+import os
+import time
+from pathlib import Path
+from typing import Any, Callable, Dict, List, Optional, Set, Tuple
+
+from hri_teleop.grading.run.lockstep import (
+    GRADER_NODE,
+    wait_for,
+)
+
+__all__ = ["Session"]
+
+_IGNORED_TOPICS = ("/rosout", "/rosout_agg")
+
+
+# -- what a student's node did ------------------------------------------------------------
+
+def _graph(master: Any) -> Tuple[Dict[str, Set[str]], Dict[str, Set[str]], Dict[str, str]]:
+    """(topic -> publisher nodes, topic -> subscriber nodes, topic -> type) from the master."""
+    pubs, subs, _ = master.system_state()
+    types = master.topic_types()
+    return ({t: set(n) for t, n in pubs}, {t: set(n) for t, n in subs}, types)
+
+
+def _student_nodes(master: Any, baseline: Set[str]) -> Set[str]:
+    return {n for n in master.node_names() if n not in baseline and n != GRADER_NODE and n != "/rosout"}
+
+
+def _forget_nodes(master: Any, nodes: Set[str]) -> None:
+    """Remove a stopped student node's registrations: a killed node never unregisters itself,
+    and the next run may reuse its name."""
+    proxy = master._proxy()
+    pubs, subs, srvs = master.system_state()
+    for node in nodes:
+        code, _, uri = proxy.lookupNode(GRADER_NODE, node)
+        if code != 1:
+            continue
+        for topic, names in pubs:
+            if node in names:
+                proxy.unregisterPublisher(node, topic, uri)
+        for topic, names in subs:
+            if node in names:
+                proxy.unregisterSubscriber(node, topic, uri)
+        for service, names in srvs:
+            if node in names:
+                code, _, service_uri = proxy.lookupService(GRADER_NODE, service)
+                if code == 1:
+                    proxy.unregisterService(node, service, service_uri)
+
+
+def _node_io(master: Any, nodes: Set[str]) -> Tuple[List[List[str]], List[List[str]]]:
+    """[[topic, type], ...] the nodes subscribe and publish (rosout left out)."""
+    pubs, subs, types = _graph(master)
+    sub = sorted([t, types.get(t, "")] for t, n in subs.items() if n & nodes and t not in _IGNORED_TOPICS)
+    pub = sorted([t, types.get(t, "")] for t, n in pubs.items() if n & nodes and t not in _IGNORED_TOPICS)
+    return sub, pub
+
+
+def _facts(proc: Any, nodes: Set[str], sub: List[List[str]], pub: List[List[str]], problem: str,
+           exited_by_itself: bool) -> Dict[str, Any]:
+    return {
+        "started": bool(nodes), "nodes": sorted(nodes), "subscriptions": sub, "publications": pub,
+        "exited_by_itself": exited_by_itself, "exit_code": proc.returncode, "output_tail": proc.output_tail(),
+        "output_bytes": proc.output_size(), "problem": problem,
+    }
+
+
+# -- the session ---------------------------------------------------------------------------
+
+class Session:
+    def __init__(self, plan: Dict[str, Any]) -> None:
+        from hri_teleop.grading.run.sandbox import Limits
+        from hri_teleop.ros.master import PrivateMaster
+
+        self.plan = plan
+        self._t0 = time.monotonic()
+        #: Wall seconds from the session's start to each named phase: where a slow check spends its time.
+        self.phases: Dict[str, float] = {}
+        self.dir = Path(plan["session_dir"])
+        self.folder = Path(plan["student_folder"]) if plan.get("student_folder") else None
+        self.limits = Limits(**plan.get("limits", {}))
+        self.uid = plan.get("uid")
+        self.env = dict(plan["env"])
+        self.master = PrivateMaster(base_env=self.env, work_dir=self.dir / "ros")
+        self.master.start()
+        for key in ("ROS_MASTER_URI", "ROS_HOSTNAME", "ROS_LOG_DIR", "ROS_HOME"):
+            os.environ[key] = self.master.env[key]
+        import rospy
+
+        rospy.init_node(GRADER_NODE.strip("/"), disable_signals=True, disable_rosout=True)
+        self.baseline = set(self.master.node_names())
+        self.started: List[Any] = []
+        self.phase("master up")
+
+    def phase(self, name: str) -> None:
+        self.phases[name] = round(time.monotonic() - self._t0, 3)
+
+    def student_env(self) -> Dict[str, str]:
+        env = dict(self.master.env)
+        assert self.folder is not None
+        ros_home = self.folder / ".ros"
+        env.update({"ROS_HOME": str(ros_home), "ROS_LOG_DIR": str(ros_home / "log"), "HOME": str(self.folder),
+                    "PYTHONDONTWRITEBYTECODE": "1", "PYTHONUNBUFFERED": "1", "MPLBACKEND": "Agg",
+                    "SDL_VIDEODRIVER": "dummy", "SDL_AUDIODRIVER": "dummy"})
+        return env
+
+    def start_student(self, argv: List[str], name: str, extra_env: Optional[Dict[str, str]] = None) -> Any:
+        from hri_teleop.grading.run.sandbox import StudentProcess
+
+        assert self.folder is not None
+        proc = StudentProcess(argv, self.folder, dict(self.student_env(), **(extra_env or {})),
+                              self.dir / "logs" / f"{name}.log", self.limits, uid=self.uid, nested=True)
+        self.started.append(proc)
+        return proc
+
+    def stop(self) -> None:
+        """Every student process at once (each gets its SIGINT grace), then the grader's helpers and the master."""
+        from hri_teleop.ros.master import stop_side_by_side
+
+        stop_side_by_side(self.started)
+        self.master.stop(quick=True)
+
+
+def _start_problem(proc: Any, timeout_s: float, what: str) -> str:
+    from hri_teleop.grading.run.sandbox import describe_exit
+
+    if not proc.running:
+        return f"{describe_exit(proc.returncode)} before {what}"
+    count = proc.process_count()
+    crowd = (f"; it ran {count} processes and threads at once (the limit is {proc.limits.processes}): do not "
+             "fork or start threads in a loop") if count > 40 else ""
+    return (f"was still running after {timeout_s:.0f} s without {what} (an endless loop before it, "
+            f"or waiting for something that never comes?){crowd}")
+
+
+def _wait_for_node(session: Session, proc: Any, timeout_s: float, want: Callable[[List, List], bool]
+                   ) -> Tuple[Set[str], List, List, bool]:
+    """Wait until the student's node(s) satisfy ``want(subs, pubs)``, it dies, or the time is up."""
+    state: Dict[str, Any] = {"nodes": set(), "sub": [], "pub": []}
+
+    def ready() -> bool:
+        state["nodes"] = _student_nodes(session.master, session.baseline)
+        if state["nodes"]:
+            state["sub"], state["pub"] = _node_io(session.master, state["nodes"])
+        return (bool(state["nodes"]) and want(state["sub"], state["pub"])) or not proc.running
+
+    ok = wait_for(ready, timeout_s, 0.05) and proc.running
+    return state["nodes"], state["sub"], state["pub"], ok
+
+
+def _pick(topics: List[List[str]], wanted: str) -> Tuple[str, str]:
+    """(topic, type): ``wanted`` if present, else the only other one, else ('', '')."""
+    for topic, kind in topics:
+        if topic == wanted:
+            return topic, kind
+    if len(topics) == 1:
+        return topics[0][0], topics[0][1]
+    return "", ""
