@@ -460,13 +460,37 @@ class PrivateMaster:
         argv += [f"{k}:={v}" for k, v in (args or {}).items()]
         return self.run(argv, name or Path(launch_file).stem)
 
+    def connections(self, node: str, topic: str, direction: str = "i") -> int:
+        """How many connections ``node`` has on ``topic`` now, by its own bus info (as ``rosnode
+        info`` reads it): ``direction`` "i" to publishers it subscribes to, "o" to subscribers.
+
+        The master only knows who registered; a connection may still be forming, and a
+        publisher sends a message only to the connections it has counted.
+        """
+        try:
+            code, _msg, uri = self._proxy().lookupNode("/hri_probe", node)
+            if code != 1:
+                return 0
+            node_api: Any = xmlrpc.client.ServerProxy(uri)  # XML-RPC answers are untyped lists
+            code, _msg, bus = node_api.getBusInfo("/hri_probe")
+        except (OSError, xmlrpc.client.Error):
+            return 0
+        return sum(1 for c in bus if code == 1 and len(c) > 5 and c[2] == direction and c[4] == topic and c[5])
+
     def record(self, bag_path: Path, topics: Sequence[str], timeout_s: float = 15.0) -> ManagedProcess:
-        """``rosbag record`` the topics into ``bag_path``; returns once it has subscribed."""
-        proc = self.run(["rosbag", "record", "--tcpnodelay", "-O", str(bag_path), *topics],
-                        f"record-{Path(bag_path).stem}")
-        self.wait_for(lambda: all(any(n.startswith("/record") for n in self.subscribers(t))
-                                  for t in topics) or not proc.running,
-                      timeout_s, f"rosbag record to subscribe to {', '.join(topics)}")
+        """``rosbag record`` the topics into ``bag_path``; returns once it is connected to every
+        publisher each topic has now (a topic without one yet: once it has subscribed)."""
+        recorder = f"/record_{Path(bag_path).stem}_{os.getpid()}_{len(self.started)}".replace("-", "_")
+        proc = self.run(["rosbag", "record", "--tcpnodelay", "-O", str(bag_path), f"__name:={recorder[1:]}",
+                         *topics], f"record-{Path(bag_path).stem}")
+
+        def connected(topic: str) -> bool:
+            if recorder not in self.subscribers(topic):
+                return False
+            return self.connections(recorder, topic) >= len(self.publishers(topic))
+
+        self.wait_for(lambda: all(connected(t) for t in topics) or not proc.running,
+                      timeout_s, f"rosbag record to connect to {', '.join(topics)}")
         if not proc.running:
             raise MasterError(f"rosbag record exited: {proc.output().strip()[-400:]}")
         return proc

@@ -272,25 +272,8 @@ def last_value(recorder: Recorder, topic: str, default: float) -> float:
 
 
 def connections(session: Session, node: str, topic: str, direction: str = "i") -> int:
-    """How many connections ``node`` has on ``topic`` now, by its own bus info (as ``rosnode info``
-    reads it): ``direction`` "i" to publishers it subscribes to, "o" to subscribers of what it publishes.
-
-    The master only knows who registered; a connection may still be forming, and under the
-    grader's clock ticks would pass meanwhile (a publisher sends a message only to the
-    connections it has counted).
-    """
-    import xmlrpc.client
-
-    try:
-        master: Any = xmlrpc.client.ServerProxy(session.master.uri)  # XML-RPC answers are untyped lists
-        code, _msg, uri = master.lookupNode(GRADER_NODE, node)
-        if code != 1:
-            return 0
-        node_api: Any = xmlrpc.client.ServerProxy(uri)
-        code, _msg, bus = node_api.getBusInfo(GRADER_NODE)
-    except (OSError, xmlrpc.client.Error):
-        return 0
-    return sum(1 for c in bus if code == 1 and len(c) > 5 and c[2] == direction and c[4] == topic and c[5])
+    """How many connections ``node`` has on ``topic`` now (:meth:`PrivateMaster.connections`)."""
+    return session.master.connections(node, topic, direction)
 
 
 def node_rate_hz(session: Session, node: str, default_hz: float, param: str = "rate") -> float:

@@ -42,7 +42,7 @@ import difflib
 from pathlib import Path
 from typing import Any, Dict, List, Mapping, Optional, Sequence, Tuple, Union
 
-from hri_teleop.core.attachment import Attachment
+from hri_teleop.core.attachment import Attachment, AttachmentError
 from hri_teleop.core.checks import is_finite_number, is_int
 from hri_teleop.core.errors import HriTeleopError
 from hri_teleop.core.paths import LAB_CONFIG
@@ -366,7 +366,7 @@ class _Builder:
         kwargs = {key: self.number(f"attachment.{key}", values[key]) for key in _ATTACHMENT_KEYS if key in values}
         try:
             return Attachment(**kwargs)
-        except HandSimError as exc:
+        except AttachmentError as exc:
             raise self.wrapped("attachment", exc, ("Attachment.",)) from None
 
     def board(self) -> BoardConfig:
