@@ -313,10 +313,10 @@ def build_course(root: Path, notebooks: Optional[Sequence[str]], plan: Sequence[
     ``hri_lab`` templates; then ``submitted/<student>/preparation/``. Returns ``root``.
     """
     from hri_teleop.core.paths import SOLUTIONS
-    from hri_teleop.course.labkernel import install_kernelspec
     from hri_teleop.course.nodes import STUDENT_PACKAGE
     from hri_teleop.course.release import COURSE_DIR
     from hri_teleop.grading.cases.templates import generate_templates
+    from hri_teleop.ros.kernel import install_kernelspec
 
     if root.exists():
         shutil.rmtree(root)

@@ -221,7 +221,7 @@ def _floor_notebook(path: Path) -> Path:
     """A one-cell notebook on the course's kernel (the kernel name the source notebooks use)."""
     import nbformat
 
-    from hri_teleop.course.labkernel import KERNEL_NAME
+    from hri_teleop.ros.kernel import KERNEL_NAME
 
     nb = nbformat.v4.new_notebook()
     nb.cells = [nbformat.v4.new_code_cell(FLOOR_CELL)]

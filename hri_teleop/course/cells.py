@@ -14,6 +14,9 @@ from pathlib import Path
 from typing import Any, Union
 
 from hri_teleop.course.errors import CourseError
+from hri_teleop.grading.judge.checks import grade_teleoperation
+from hri_teleop.grading.judge.compare import TELEOP
+from hri_teleop.grading.results import feedback_text
 
 __all__ = ["FAST_ENV", "fast", "seconds", "score", "show_file", "import_student_file",
            "grade_teleoperation_parts", "grade_teleoperation_node"]
@@ -40,22 +43,16 @@ def score(result: Any) -> float:
     credit), so a student loses the points of the parts that fail and keeps the rest,
     exactly as ``hri-grade`` and ``make grade`` score them.
     """
-    from hri_teleop.grading.results import feedback_text
-
     print(feedback_text([result]))
     return float(result.score)
 
 
 def _node_part_names() -> set:
-    from hri_teleop.grading.judge.compare import TELEOP
-
     return {name for key, (name, _points) in TELEOP.items() if key.startswith("node_")}
 
 
 def grade_teleoperation_parts(path: PathLike, **kwargs: Any) -> Any:
     """Ex. 8: the teleoperation check's parts of the class (gripper, sticks, toggle, rumble), no ROS node."""
-    from hri_teleop.grading.judge.checks import grade_teleoperation
-
     result = grade_teleoperation(path, node=False, **kwargs)
     node = _node_part_names()
     return dataclasses.replace(result, parts=[p for p in result.parts if p.name not in node])
@@ -63,8 +60,6 @@ def grade_teleoperation_parts(path: PathLike, **kwargs: Any) -> Any:
 
 def grade_teleoperation_node(path: PathLike, **kwargs: Any) -> Any:
     """Ex. 9: the teleoperation check's parts of the ROS node (topics, types, values with the virtual pad)."""
-    from hri_teleop.grading.judge.checks import grade_teleoperation
-
     result = grade_teleoperation(path, **kwargs)
     node = _node_part_names()
     failed_ex8 = [p.name for p in result.parts if p.name not in node and not p.passed]
@@ -80,7 +75,7 @@ def show_file(path: PathLike) -> Path:
         raise FileNotFoundError(f"{target}: not found next to this notebook; it comes with the assignment "
                                 f"(restore it from the released version if you deleted it)")
     try:
-        from IPython.display import Code, Markdown, display
+        from IPython.display import Code, Markdown, display  # noqa: PLC0415 - plain Python has no IPython
     except ImportError:  # plain Python: print it
         print(f"{target.resolve()}\n{target.read_text(encoding='utf-8')}")
         return target

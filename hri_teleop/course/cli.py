@@ -10,7 +10,6 @@ from typing import List, Optional
 
 from hri_teleop.course.errors import CourseError
 from hri_teleop.course.release import (
-    ASSIGNMENTS,
     COURSE_DIR,
     build_release,
     bundle_leaks,
@@ -19,6 +18,7 @@ from hri_teleop.course.release import (
     source_notebooks,
     strip_outputs,
 )
+from hri_teleop.grading.batch.assignments import ASSIGNMENTS
 
 __all__ = ["main"]
 

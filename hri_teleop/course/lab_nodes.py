@@ -13,10 +13,12 @@ import time
 from pathlib import Path
 from typing import Any, Dict, Optional, Union
 
-from hri_teleop.core.config import DEFAULT_TWIST_TOPIC
+from hri_teleop.core.config import DEFAULT_TWIST_TOPIC, LAB_TELEOP_CONFIG, lab_max_sensor_force
 from hri_teleop.core.modes import HARDWARE_NODES, LAB, mode_from_env, pad_params, simulation_refusal
 from hri_teleop.course.errors import CourseError
 from hri_teleop.course.nodes import STUDENT_PACKAGE, launch, run_provided_node, run_student_node
+from hri_teleop.grading.run.workspace import REFERENCE_PACKAGE
+from hri_teleop.ros.master_api import master_call, running_nodes
 
 __all__ = ["mode", "start_robot", "start_board", "start_pipeline", "wait_for_subscriber", "hand_z_m",
            "pad_params"]
@@ -31,16 +33,12 @@ def mode() -> str:
 
 
 def _refusal(what: str) -> Optional[str]:
-    from hri_teleop.course.notebook_ros import running_nodes
-
     current = mode()
     hardware = [] if current == LAB else running_nodes(among=list(HARDWARE_NODES))
     return simulation_refusal(current, what, hardware)
 
 
 def _topic_nodes(topic: str, publishers: bool) -> list:
-    from hri_teleop.course.notebook_ros import master_call
-
     state = master_call("getSystemState")
     section = state[0] if publishers else state[1]
     return [nodes for name, nodes in section if name == topic][:1] or [[]]
@@ -114,9 +112,6 @@ class NodeGroup:
 def _home_pipeline(package: Path) -> NodeGroup:
     """The pipeline without the lab's launch file (the student bundle has none): the provided
     nodes, and the student's own mapping_node.py and teleoperation.py of ``package``."""
-    from hri_teleop.core.config import LAB_TELEOP_CONFIG, lab_max_sensor_force
-    from hri_teleop.course.notebook_ros import master_call
-
     scripts = package / "scripts"
     for script in ("mapping_node.py", "teleoperation.py"):
         if not (scripts / script).is_file():
@@ -140,8 +135,6 @@ def _home_pipeline(package: Path) -> NodeGroup:
 
 def lab_launch_file() -> Path:
     """The lab's own teleoperation.launch (instructors' checkout; the student bundle leaves it out)."""
-    from hri_teleop.grading.run.workspace import REFERENCE_PACKAGE
-
     return REFERENCE_PACKAGE / "launch" / "teleoperation.launch"
 
 
@@ -177,8 +170,8 @@ def hand_z_m(timeout_s: float = 10.0) -> float:
     if mode() == LAB:
         raise CourseError("lab mode: this check reads the simulated robot; it is judged when your notebook is "
                           "graded, in the lab look at the real hand")
-    import rospy
-    from geometry_msgs.msg import PoseStamped
+    import rospy  # noqa: PLC0415 - ROS only in the cell that reads the pose
+    from geometry_msgs.msg import PoseStamped  # noqa: PLC0415
 
     try:
         pose = rospy.wait_for_message(EE_POSE_TOPIC, PoseStamped, timeout=timeout_s)

@@ -17,7 +17,11 @@ import time
 from pathlib import Path
 from typing import Any, Dict, List, Optional, Sequence, Union
 
+from hri_teleop.core.modes import duplicate_refusal
 from hri_teleop.course.errors import CourseError
+from hri_teleop.grading.run.workspace import REFERENCE_PACKAGE, prepare_workspace, ros_package_path
+from hri_teleop.ros.master import ManagedProcess, stop_side_by_side
+from hri_teleop.ros.master_api import master_call, running_nodes
 
 __all__ = ["STUDENT_PACKAGE", "stop_nodes", "run_provided_node", "run_student_node", "rosrun_student", "launch",
            "wait_for_publisher", "student_workspace", "launch_student"]
@@ -47,10 +51,6 @@ def _ros_args(params: Dict[str, Any]) -> List[str]:
 def _start(argv: Sequence[str], name: str, extra_env: Optional[Dict[str, str]] = None,
            cwd: Optional[Path] = None, nodes: Optional[Sequence[str]] = None) -> Any:
     """Start ``argv`` (its ROS node names ``nodes``, default ``[name]``), unless one of them runs already."""
-    from hri_teleop.core.modes import duplicate_refusal
-    from hri_teleop.course.notebook_ros import running_nodes
-    from hri_teleop.ros.master import ManagedProcess
-
     if not os.environ.get("ROS_MASTER_URI"):
         raise CourseError("no ROS master for this kernel: run ensure_ros() (hri_teleop.course.notebook_ros) first; "
                           "it says in one line what is missing")
@@ -68,8 +68,6 @@ def _start(argv: Sequence[str], name: str, extra_env: Optional[Dict[str, str]] =
 
 def stop_nodes() -> None:
     """Stop every node and launch this notebook started, side by side (the master keeps running)."""
-    from hri_teleop.ros.master import stop_side_by_side
-
     procs = list(_STARTED)
     _STARTED.clear()
     stop_side_by_side(procs)
@@ -77,8 +75,6 @@ def stop_nodes() -> None:
 
 def run_provided_node(script: str, **params: Any) -> Any:
     """Start one of the lab's own nodes (``FSR_sensor.py``, ``lab_sim.py``, ...) with private parameters."""
-    from hri_teleop.grading.run.workspace import REFERENCE_PACKAGE
-
     path = REFERENCE_PACKAGE / "scripts" / script
     if not path.is_file():
         raise CourseError(f"{script}: not one of the lab's nodes in {path.parent}")
@@ -121,8 +117,6 @@ def launch(package: str, launch_file: str, **args: Any) -> Any:
 
 def wait_for_publisher(topic: str, process: Any = None, timeout_s: float = 20.0) -> bool:
     """Wait until somebody publishes ``topic`` (False after ``timeout_s`` or when ``process`` ended)."""
-    from hri_teleop.course.notebook_ros import master_call
-
     deadline = time.monotonic() + timeout_s
     while time.monotonic() < deadline:
         if any(name == topic and nodes for name, nodes in master_call("getSystemState")[0]):
@@ -141,15 +135,11 @@ def student_workspace(package: PathLike = STUDENT_PACKAGE) -> Path:
     so ``roslaunch`` of the student's launch file finds *their* nodes, and FSR_sensor.py,
     gripper_manager.py and a stand-in franka_control from the lab.
     """
-    from hri_teleop.grading.run.workspace import prepare_workspace
-
     return prepare_workspace(package, _scratch("hri-notebook-ws-")).ws
 
 
 def launch_student(launch_file: str, package: PathLike = STUDENT_PACKAGE, **args: Any) -> Any:
     """``roslaunch hri_lab FILE`` with the student's package (their nodes, the lab's provided ones)."""
-    from hri_teleop.grading.run.workspace import ros_package_path
-
     ws = student_workspace(package)
     path = ws / "hri_lab" / "launch" / launch_file
     if not path.is_file():

@@ -1,24 +1,9 @@
 """ROS inside a Jupyter kernel: one node per kernel, and a private roscore when none is reachable.
 
-Why a module: every lab notebook needs a node (live plots, calibration), and three things
-go wrong when each notebook does it by hand:
-
-* re-running the cell raises rospy's "init_node called twice" -- here
-  :func:`ensure_ros` initialises rospy once per kernel and returns the same
-  :class:`RosSession` on every later call;
-* at home there is no roscore -- here one is started on a free port (never 11311,
-  :class:`hri_teleop.ros.master.PrivateMaster`), the kernel's environment is pointed at it
-  (so ``!rostopic list`` and ``!roslaunch`` in a cell use it too), and it is stopped when
-  the kernel stops (``atexit`` and a ``weakref.finalize`` on the session);
-* a laptop without ROS -- ``rospy`` is imported only inside :func:`ensure_ros`, which then
-  prints one line saying what to install and returns a session that is false; the
-  ROS-free widgets (FSR, dead zone, controller) keep working.
-
-The master is spoken to over XML-RPC (:func:`master_call`), which needs no rospy: the
-computation-graph view uses it directly.
-
-rospy is initialised with ``disable_signals=True``: Jupyter's "interrupt kernel" sends
-SIGINT, which must stop the running cell, not the kernel's ROS node.
+:func:`ensure_ros` initialises rospy once per kernel (a re-run cell gets the same session),
+starts a private roscore at home and points the kernel's ``ROS_MASTER_URI`` at it (so ``!rostopic``
+in a cell sees it too), and stops it with the kernel. Without rospy it says what to install and
+returns a false session, so the ROS-free widgets keep working.
 """
 
 from __future__ import annotations
@@ -27,100 +12,22 @@ import atexit
 import os
 import sys
 import weakref
-import xmlrpc.client
 from dataclasses import dataclass, field
 from typing import Any, List, Optional
 
 from hri_teleop.core.errors import HriTeleopError
-from hri_teleop.ros.master import interrupt_nodes, stop_all  # its exit hook runs after ours
+from hri_teleop.core.modes import LAB, ModeError, mode_from_env
+from hri_teleop.ros.master import MasterError, PrivateMaster, interrupt_nodes, stop_all
+from hri_teleop.ros.master_api import master_reachable, master_uri
 
-__all__ = [
-    "NotebookRosError",
-    "NO_ROSPY_MESSAGE",
-    "DEFAULT_MASTER_URI",
-    "RosSession",
-    "ensure_ros",
-    "current_session",
-    "master_uri",
-    "master_call",
-    "master_reachable",
-]
+__all__ = ["NotebookRosError", "NO_ROSPY_MESSAGE", "RosSession", "ensure_ros", "current_session"]
 
 #: What a kernel without rospy prints (one line: the cause and the fix).
 NO_ROSPY_MESSAGE = "rospy is not installed: run `make setup` or install ROS Noetic (see README)"
-#: Where ROS looks when ROS_MASTER_URI is unset.
-DEFAULT_MASTER_URI = "http://localhost:11311/"
-_CALLER_ID = "/hri_notebook_probe"
 
 
 class NotebookRosError(HriTeleopError, RuntimeError):
     """ROS is not usable in this kernel (one line: the cause and the fix)."""
-
-
-class _TimeoutTransport(xmlrpc.client.Transport):
-    """XML-RPC over HTTP with a socket timeout: an unreachable master must not hang a cell."""
-
-    def __init__(self, timeout_s: float) -> None:
-        super().__init__()
-        self._timeout_s = timeout_s
-
-    def make_connection(self, host: Any) -> Any:
-        connection = super().make_connection(host)
-        connection.timeout = self._timeout_s
-        return connection
-
-
-def master_uri() -> str:
-    """The master this kernel talks to: ``$ROS_MASTER_URI``, or ROS's default."""
-    return os.environ.get("ROS_MASTER_URI") or DEFAULT_MASTER_URI
-
-
-def master_call(method: str, *args: Any, uri: Optional[str] = None, timeout_s: float = 2.0) -> Any:
-    """Call a ROS master API method (``getSystemState``, ``getTopicTypes``, ...) and return its value.
-
-    Raises :class:`NotebookRosError` when the master is unreachable or refuses the call.
-    """
-    where = uri or master_uri()
-    proxy = xmlrpc.client.ServerProxy(where, transport=_TimeoutTransport(timeout_s))
-    try:
-        code, message, value = getattr(proxy, method)(_CALLER_ID, *args)
-    except (OSError, xmlrpc.client.Error) as exc:
-        raise NotebookRosError(f"no ROS master at {where} ({exc.__class__.__name__}): start the lab's launch "
-                               "file, or run ensure_ros() to start a private roscore") from None
-    if code != 1:
-        raise NotebookRosError(f"the master at {where} refused {method}: {message}")
-    return value
-
-
-def running_nodes(among: Optional[List[str]] = None, uri: Optional[str] = None, timeout_s: float = 1.0) -> List[str]:
-    """Nodes registered on the master that still answer (optionally only those ``among``).
-
-    A node killed with SIGKILL stays registered; asking it for its pid tells the two apart,
-    so a stale registration never blocks a restart.
-    """
-    state = master_call("getSystemState", uri=uri)
-    names = sorted({node for section in state for _topic, nodes in section for node in nodes})
-    if among is not None:
-        wanted = {name if name.startswith("/") else "/" + name for name in among}
-        names = [name for name in names if name in wanted]
-    alive = []
-    for name in names:
-        try:
-            node_uri = master_call("lookupNode", name, uri=uri)
-            xmlrpc.client.ServerProxy(node_uri, transport=_TimeoutTransport(timeout_s)).getPid(_CALLER_ID)
-        except (NotebookRosError, OSError, xmlrpc.client.Error):
-            continue
-        alive.append(name)
-    return alive
-
-
-def master_reachable(uri: Optional[str] = None, timeout_s: float = 1.0) -> bool:
-    """True if a ROS master answers at ``uri`` (default: :func:`master_uri`) within ``timeout_s``."""
-    try:
-        master_call("getPid", uri=uri, timeout_s=timeout_s)
-    except NotebookRosError:
-        return False
-    return True
 
 
 @dataclass
@@ -185,8 +92,8 @@ def _shutdown_at_exit() -> None:
 
     The nodes get their SIGINT first and shut down while rospy does (0.6 s: it waits for
     its XML-RPC server's poll), with the master still up for the kernel's node to unregister.
-    Registered again once rospy is imported (see _start), so it runs before rospy's own exit
-    hook and ros.master's. A notebook restart or nbgrader's next notebook waits for this:
+    Registered once rospy is imported (see _start), so it runs before rospy's own exit hook
+    and ros.master's. A notebook restart or nbgrader's next notebook waits for this:
     about 0.7 s, 2.2 s when everything was stopped cleanly one after another.
     """
     interrupt_nodes()
@@ -205,19 +112,12 @@ def _shutdown_at_exit() -> None:
             func(*args)  # the master is stopped already: this removes its folder
 
 
-atexit.register(_shutdown_at_exit)
-
-
 def _start(node_name: str, anonymous: bool, start_master: bool, timeout_s: float) -> RosSession:
-    from hri_teleop.core.modes import LAB, ModeError, mode_from_env  # noqa: PLC0415 - keeps import light
-
     try:
         mode = mode_from_env(os.environ)
     except ModeError as exc:
         raise NotebookRosError(str(exc)) from None
     rospy = _import_rospy()
-    atexit.unregister(_shutdown_at_exit)  # rospy registered its own exit hook: ours must run first
-    atexit.register(_shutdown_at_exit)
     if rospy.core.is_initialized():
         # Somebody (a student's cell) already called rospy.init_node: use that node.
         return RosSession(True, master_uri=master_uri(), node_name=rospy.get_name(), mode=mode)
@@ -231,8 +131,6 @@ def _start(node_name: str, anonymous: bool, start_master: bool, timeout_s: float
         if not start_master:
             raise NotebookRosError(f"no ROS master at {uri}: start roscore (or the lab's launch file) in a "
                                    "terminal, or call ensure_ros(start_master=True)")
-        from hri_teleop.ros.master import MasterError, PrivateMaster  # noqa: PLC0415 - only when needed
-
         master = PrivateMaster(base_env=os.environ)
         try:
             master.start(timeout_s=timeout_s)
@@ -285,6 +183,9 @@ def ensure_ros(node_name: str = "hri_notebook", *, anonymous: bool = True, start
             print(failed.describe(), file=sys.stderr)
         return failed
     _SESSION = session
+    # After rospy's exit hook and ros.master's (its private roscore started first), so it runs before both.
+    atexit.unregister(_shutdown_at_exit)
+    atexit.register(_shutdown_at_exit)
     if not quiet:
         print(session.describe())
     return session

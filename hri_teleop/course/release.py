@@ -11,8 +11,15 @@ import os
 import shutil
 import subprocess
 import sys
+import time
+from concurrent.futures import ProcessPoolExecutor
 from pathlib import Path
-from typing import Any, Dict, Iterable, List, Mapping, Optional, Sequence, Tuple, Union
+from typing import Any, Dict, Iterable, List, Optional, Sequence, Tuple, Union
+
+import nbformat
+from nbclient import NotebookClient
+from nbgrader.utils import determine_grade, is_grade, is_solution
+from nbgrader.validator import Validator
 
 from hri_teleop.core.paths import NOTEBOOKS, REPO, SOLUTIONS
 from hri_teleop.course.bundle import (
@@ -26,9 +33,13 @@ from hri_teleop.course.bundle import (
 )
 from hri_teleop.course.errors import CourseError
 from hri_teleop.course.nodes import STUDENT_PACKAGE
+from hri_teleop.grading.batch.assignments import ASSIGNMENTS, nbgrader_env
+from hri_teleop.grading.cases.templates import generate_templates
+from hri_teleop.grading.run.workspace import DELIVERABLES
+from hri_teleop.ros.kernel import install_kernelspec, ipc_kernel_config
 
 __all__ = [
-    "REPO", "COURSE_DIR", "SOLUTIONS", "ASSIGNMENTS", "ASSIGNMENT_CHECKS", "STUDENT_MAKES_EXECUTABLE", "nbgrader_env",
+    "REPO", "COURSE_DIR", "SOLUTIONS", "STUDENT_MAKES_EXECUTABLE",
     "student_files", "exclude_overwriting", "link_answer_key", "source_notebooks", "solution_texts",
     "bundle_leaks", "generate_assignments", "build_release", "notebook_output_problems", "strip_outputs",
     "validate_release", "run_source", "prepare_course_copy", "run_course", "check_course",
@@ -38,22 +49,12 @@ PathLike = Union[str, Path]
 COURSE_DIR = NOTEBOOKS
 #: Scripts the handout has students make executable (Ex. 9, Ex. 12 c): released without the bit.
 STUDENT_MAKES_EXECUTABLE = ("scripts/teleoperation.py", "scripts/gripper_manager.py")
-#: nbgrader assignments: the preparation at home (Ex. 1-7), the lab session (Ex. 8-15).
-ASSIGNMENTS = ("preparation", "lab")
-#: The grader's checks of the student files each assignment's notebooks grade (``make grade`` runs
-#: them on ``submitted/<student>/<assignment>/hri_lab`` beside nbgrader's autograde).
-ASSIGNMENT_CHECKS: Dict[str, Tuple[str, ...]] = {
-    "preparation": ("robot-params", "mapping-node", "sensor-launch"),
-    "lab": ("teleoperation", "teleoperation-launch", "graph", "catkin-package"),
-}
 
 
 # -- the course's files -------------------------------------------------------------------------
 
 def student_files() -> List[str]:
     """The files a student writes, relative to the assignment folder (``hri_lab/...``)."""
-    from hri_teleop.grading.run.workspace import DELIVERABLES
-
     return [f"{STUDENT_PACKAGE}/{sub}" for sub in DELIVERABLES.values()]
 
 
@@ -94,13 +95,6 @@ def source_notebooks(course_dir: PathLike = COURSE_DIR) -> List[Path]:
 
 # -- release -----------------------------------------------------------------------------------
 
-def nbgrader_env(base: Optional[Mapping[str, str]] = None) -> Dict[str, str]:
-    """The environment nbgrader runs in (``base``: default this process's): no Python warnings, since
-    nbgrader scores a cell that wrote to stderr with 0 points (a DeprecationWarning must not cost a
-    student a grade)."""
-    return dict(os.environ if base is None else base, PYTHONWARNINGS="ignore")
-
-
 def _nbgrader(args: Sequence[str], course_dir: Path) -> str:
     argv = [sys.executable, "-m", "nbgrader", *args, f"--CourseDirectory.root={course_dir}"]
     proc = subprocess.run(argv, cwd=str(course_dir), stdout=subprocess.PIPE, stderr=subprocess.STDOUT,
@@ -113,8 +107,6 @@ def _nbgrader(args: Sequence[str], course_dir: Path) -> str:
 
 def generate_assignments(course_dir: PathLike = COURSE_DIR) -> List[Path]:
     """``nbgrader generate_assignment`` for every assignment, then its hri_lab templates; release folders."""
-    from hri_teleop.grading.cases.templates import generate_templates
-
     course = Path(course_dir).resolve()
     link_answer_key(course)
     released = []
@@ -169,8 +161,6 @@ def notebook_output_problems(paths: Iterable[PathLike]) -> List[str]:
 
 def strip_outputs(paths: Iterable[PathLike]) -> List[Path]:
     """Remove outputs and execution counts (and nbgrader checksums of source cells); the files changed."""
-    import nbformat
-
     changed = []
     for path in map(Path, paths):
         nb = nbformat.read(str(path), as_version=4)
@@ -192,10 +182,6 @@ def strip_outputs(paths: Iterable[PathLike]) -> List[Path]:
 
 def validate_release(notebook: PathLike, timeout_s: int = 300) -> Dict[str, Any]:
     """nbgrader's ``validate --invert`` on one student version: the autograded cells that PASS (should be none)."""
-    from nbgrader.validator import Validator
-
-    from hri_teleop.course.labkernel import ipc_kernel_config
-
     with ipc_kernel_config() as config:
         config.Validator.invert = True
         config.Execute.timeout = timeout_s
@@ -209,14 +195,6 @@ def run_source(notebook: PathLike, timeout_s: int = 300) -> Dict[str, Any]:
     Returns ``errors`` (every code cell that raised or wrote to stderr), ``grades``
     ({grade_id: [score, max]} of the autograded cells) and ``seconds``.
     """
-    import time
-
-    import nbformat
-    from nbclient import NotebookClient
-    from nbgrader.utils import determine_grade, is_grade, is_solution
-
-    from hri_teleop.course.labkernel import ipc_kernel_config
-
     path = Path(notebook)
     nb = nbformat.read(str(path), as_version=4)
     started = time.monotonic()
@@ -240,7 +218,6 @@ def run_source(notebook: PathLike, timeout_s: int = 300) -> Dict[str, Any]:
 
 def _validate_job(job: Tuple[str, str]) -> Tuple[str, str, Dict[str, Any]]:
     kind, path = job
-    import time
 
     started = time.monotonic()
     if kind == "source":
@@ -257,8 +234,6 @@ def prepare_course_copy(work_dir: PathLike, course_dir: PathLike = COURSE_DIR, r
     ``release=False``: only the source half, each assignment linked to the answer key, for
     running the source notebooks (nbgrader's generate_assignment takes ~10 s).
     """
-    from hri_teleop.course.labkernel import install_kernelspec
-
     course = Path(work_dir) / "course"
     if course.exists():
         shutil.rmtree(course)
@@ -282,8 +257,6 @@ def run_course(course: PathLike, jobs: int = 2) -> Dict[str, Dict[str, Any]]:
     Returns {notebook name: {"source": run_source(...), "release": validate_release(...)}}.
     Real-time cells run short (:func:`fast`). The student versions run in place.
     """
-    from concurrent.futures import ProcessPoolExecutor
-
     course = Path(course)
     os.environ["HRI_NOTEBOOK_FAST"] = "1"
     jobs_list = []

@@ -19,6 +19,11 @@ import time
 from pathlib import Path
 from typing import Any, Dict, List, Optional, Sequence, Tuple
 
+import nbformat
+from nbclient import NotebookClient
+
+from hri_teleop.ros.kernel import KernelError, install_kernelspec, ipc_kernel_config
+
 __all__ = ["cell_points", "notebook_points", "find_notebooks", "main"]
 
 
@@ -44,11 +49,6 @@ def cell_points(cell: Any) -> Tuple[float, float]:
 
 def notebook_points(path: Path, timeout_s: int = 600) -> Dict[str, Any]:
     """Run one notebook (not saved) and return {"grades": {grade_id: [got, most]}, "error": str, "seconds": s}."""
-    import nbformat
-    from nbclient import NotebookClient
-
-    from hri_teleop.course.labkernel import ipc_kernel_config
-
     nb = nbformat.read(str(path), as_version=4)
     started = time.monotonic()
     error = ""
@@ -90,11 +90,10 @@ def main(argv: Optional[Sequence[str]] = None) -> int:
         print(f"check: no notebook {'matching ' + args.only + ' ' if only else ''}in {folder}/*/ex*.ipynb: "
               "run `make check` in the bundle's top folder", file=sys.stderr)
         return 1
-    from hri_teleop.course.labkernel import LabError, install_kernelspec
 
     try:
         install_kernelspec()
-    except LabError as exc:
+    except KernelError as exc:
         print(f"check: {exc}", file=sys.stderr)
         return 1
     os.environ.setdefault("HRI_NOTEBOOK_FAST", "1")  # real-time demos run short; the checks are the same

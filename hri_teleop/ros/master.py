@@ -34,6 +34,7 @@ class MasterError(HriTeleopError, RuntimeError):
 
 
 _LIVE: "Set[ManagedProcess]" = set()
+_HOOKED: List[bool] = []
 
 
 def stop_all() -> None:
@@ -48,7 +49,13 @@ def stop_all() -> None:
             proc.kill()
 
 
-atexit.register(stop_all)
+def _track(proc: "ManagedProcess") -> None:
+    """Remember a live process; the first one registers :func:`stop_all` as the exit hook
+    (on use, not on import: importing this module changes nothing)."""
+    if not _LIVE and not _HOOKED:
+        atexit.register(stop_all)
+        _HOOKED.append(True)
+    _LIVE.add(proc)
 
 
 def interrupt_nodes() -> None:
@@ -155,7 +162,7 @@ class ManagedProcess:
             start_new_session=True,
         )
         self.pgid = self.popen.pid  # start_new_session: the child leads its own group
-        _LIVE.add(self)
+        _track(self)
         _stop_children_on_sigterm()
 
     @property

@@ -117,7 +117,8 @@ def calibrate(file: str, out: str) -> None:
 def twice(out: str) -> None:
     import os
 
-    from hri_teleop.course.notebook_ros import ensure_ros, master_call
+    from hri_teleop.course.notebook_ros import ensure_ros
+    from hri_teleop.ros.master_api import master_call
 
     first = ensure_ros("twice")
     second = ensure_ros("twice")  # re-running the cell

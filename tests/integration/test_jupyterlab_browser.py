@@ -20,7 +20,7 @@ from pathlib import Path
 
 import pytest
 
-from hri_teleop.course.labkernel import KERNEL_NAME, install_kernelspec
+from hri_teleop.ros.kernel import KERNEL_NAME, install_kernelspec
 from hri_teleop.ros.master import ManagedProcess, free_port
 
 REPO = Path(__file__).resolve().parents[2]

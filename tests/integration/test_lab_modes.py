@@ -10,7 +10,7 @@ import pytest
 from hri_teleop import course
 from hri_teleop.course import lab_nodes
 from hri_teleop.course.errors import CourseError
-from hri_teleop.course.notebook_ros import running_nodes
+from hri_teleop.ros.master_api import running_nodes
 
 pytestmark = pytest.mark.ros
 

@@ -70,7 +70,8 @@ def test_without_rospy_ros_cells_say_what_to_install_in_one_line_and_the_rest_wo
 def test_without_a_master_a_private_roscore_starts_and_stops_when_the_process_exits(tmp_path):
     code = textwrap.dedent("""
         import os
-        from hri_teleop.course.notebook_ros import ensure_ros, master_reachable
+        from hri_teleop.ros.master_api import master_reachable
+        from hri_teleop.course.notebook_ros import ensure_ros
         session = ensure_ros("private")
         assert ensure_ros() is session
         print(session.master_uri, os.environ["ROS_MASTER_URI"], session.started_master,
@@ -94,7 +95,7 @@ def test_without_a_master_a_private_roscore_starts_and_stops_when_the_process_ex
 def test_in_a_jupyter_kernel_rerunning_the_cell_keeps_one_node_and_stopping_the_kernel_stops_roscore(tmp_path):
     nbformat = pytest.importorskip("nbformat")
     nbclient = pytest.importorskip("nbclient")
-    from hri_teleop.course.labkernel import install_kernelspec
+    from hri_teleop.ros.kernel import install_kernelspec
 
     install_kernelspec()  # what `make lab` does; idempotent
     cell = ("from hri_teleop.course.notebook_ros import ensure_ros\nsession = ensure_ros()\n"

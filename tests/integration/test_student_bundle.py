@@ -22,7 +22,8 @@ from hri_teleop.course.bundle import (
     toolkit_leaks,
 )
 from hri_teleop.course.nodes import STUDENT_PACKAGE
-from hri_teleop.course.release import ASSIGNMENTS, prepare_course_copy, solution_texts
+from hri_teleop.course.release import prepare_course_copy, solution_texts
+from hri_teleop.grading.batch.assignments import ASSIGNMENTS
 from hri_teleop.grading.cases.templates import make_answer
 
 pytestmark = pytest.mark.ros

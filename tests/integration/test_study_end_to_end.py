@@ -262,7 +262,7 @@ def test_the_analysis_notebook_runs_on_the_recorded_folder(study, monkeypatch):
     import nbformat
     from nbclient import NotebookClient
 
-    from hri_teleop.course.labkernel import KERNEL_NAME, install_kernelspec, ipc_kernel_config
+    from hri_teleop.ros.kernel import KERNEL_NAME, install_kernelspec, ipc_kernel_config
 
     install_kernelspec()
     monkeypatch.setenv("HRI_TRIALS", str(study.folder))
@@ -290,7 +290,7 @@ def test_a_fresh_analysis_notebook_offers_a_rehearsal_and_says_in_one_line_what_
     import nbformat
     from nbclient import NotebookClient
 
-    from hri_teleop.course.labkernel import KERNEL_NAME, install_kernelspec, ipc_kernel_config
+    from hri_teleop.ros.kernel import KERNEL_NAME, install_kernelspec, ipc_kernel_config
 
     install_kernelspec()
     empty = tmp_path / "no_trials_yet"

@@ -6,6 +6,7 @@ import pytest
 
 from hri_teleop import course
 from hri_teleop.course import cells, release
+from hri_teleop.grading.batch.assignments import ASSIGNMENTS
 from hri_teleop.grading.judge.compare import TELEOP
 from hri_teleop.grading.results import CheckResult, Part
 
@@ -73,14 +74,14 @@ def test_exclude_overwriting_names_every_student_file_in_both_assignments():
     from hri_teleop.grading.run.workspace import DELIVERABLES
 
     files = release.exclude_overwriting()
-    assert set(files) == set(release.ASSIGNMENTS)
+    assert set(files) == set(ASSIGNMENTS)
     for listed in files.values():
         # the six deliverables, and the CMakeLists.txt students add their scripts to (Ex. 9, 12 c)
         assert sorted(listed) == sorted([f"hri_lab/{sub}" for sub in DELIVERABLES.values()] + ["hri_lab/CMakeLists.txt"])
 
 
 def test_link_answer_key_refuses_a_copy_of_the_answer_key_in_source(tmp_path):
-    for assignment in release.ASSIGNMENTS:
+    for assignment in ASSIGNMENTS:
         (tmp_path / "source" / assignment).mkdir(parents=True)
     (tmp_path / "source" / "preparation" / "hri_lab").mkdir()
     with pytest.raises(course.CourseError, match="never hold a copy"):

@@ -11,7 +11,6 @@ import pytest
 
 from hri_teleop.core.paths import SOLUTIONS
 from hri_teleop.course.release import (
-    ASSIGNMENTS,
     COURSE_DIR,
     exclude_overwriting,
     notebook_output_problems,
@@ -20,6 +19,7 @@ from hri_teleop.course.release import (
     strip_outputs,
     student_files,
 )
+from hri_teleop.grading.batch.assignments import ASSIGNMENTS
 
 NOTEBOOKS = source_notebooks()
 EXERCISES = {"preparation": set(range(1, 8)), "lab": set(range(8, 16))}

@@ -8,7 +8,8 @@ import subprocess
 import sys
 from pathlib import Path
 
-from hri_teleop.course.labkernel import KERNEL_NAME, install_kernelspec, kernelspec, lab_command
+from hri_teleop.course.labkernel import lab_command
+from hri_teleop.ros.kernel import KERNEL_NAME, install_kernelspec, kernelspec
 
 REPO = Path(__file__).resolve().parents[2]
 
@@ -63,7 +64,7 @@ def test_notebook_kernels_talk_over_private_unix_sockets_with_no_tcp_port_to_los
     import nbformat
     from nbclient import NotebookClient
 
-    from hri_teleop.course.labkernel import ipc_kernel_argv, ipc_kernel_config
+    from hri_teleop.ros.kernel import ipc_kernel_argv, ipc_kernel_config
 
     install_kernelspec()
     nb = nbformat.v4.new_notebook()

@@ -7,14 +7,9 @@ import time
 import pytest
 
 from hri_teleop.course import notebook_ros
-from hri_teleop.course.notebook_ros import (
-    NotebookRosError,
-    RosSession,
-    ensure_ros,
-    master_call,
-    master_reachable,
-)
+from hri_teleop.course.notebook_ros import NotebookRosError, RosSession, ensure_ros
 from hri_teleop.ros.master import free_port
+from hri_teleop.ros.master_api import MasterApiError, master_call, master_reachable
 
 
 def test_a_closed_port_is_not_a_master_and_says_so_quickly():
@@ -22,7 +17,7 @@ def test_a_closed_port_is_not_a_master_and_says_so_quickly():
     started = time.monotonic()
     assert not master_reachable(uri)
     assert time.monotonic() - started < 1.5
-    with pytest.raises(NotebookRosError, match=f"no ROS master at {uri}.*ensure_ros"):
+    with pytest.raises(MasterApiError, match=f"no ROS master at {uri}.*ensure_ros"):
         master_call("getSystemState", uri=uri)
 
 

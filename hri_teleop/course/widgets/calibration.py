@@ -24,6 +24,7 @@ import ipywidgets as widgets
 from hri_teleop.core.checks import is_int
 from hri_teleop.core.mapping import ADC_MAX_COUNT
 from hri_teleop.core.paramfile import PARAM_NAME, ParamFileError, write_max_sensor_force
+from hri_teleop.course.notebook_ros import ensure_ros
 from hri_teleop.course.widgets._base import Ticker, WidgetError, message_html, replace_in_cell
 from hri_teleop.hardware.real.calibrate import CalibrateError, calibration_max
 
@@ -111,8 +112,6 @@ class CalibrationWidget(widgets.VBox):
     def __init__(self, file: Any = None, *, duration_s: Optional[float] = 10.0, topic: str = "/pub_force",
                  session: Any = None, interval_s: float = 0.2,
                  clock: Callable[[], float] = time.monotonic) -> None:
-        from hri_teleop.course.notebook_ros import ensure_ros  # noqa: PLC0415
-
         self.topic = topic
         self.recorder = MaxRecorder()
         self._clock = clock

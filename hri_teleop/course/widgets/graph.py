@@ -16,7 +16,9 @@ from typing import Any, Dict, Iterable, List, Mapping, Optional, Sequence, Set, 
 import ipywidgets as widgets
 from matplotlib.figure import Figure
 
+from hri_teleop.course.notebook_ros import current_session
 from hri_teleop.course.widgets._base import FigureView, message_html
+from hri_teleop.ros.master_api import MasterApiError, master_call, master_uri
 
 __all__ = ["RosGraph", "ROS_INTERNAL_TOPICS", "ROS_INTERNAL_NODES", "graph_from_state", "layered_layout",
            "wrap_name", "draw_graph", "read_graph", "GraphView"]
@@ -208,10 +210,8 @@ def read_graph(uri: Optional[str] = None, *, hide_nodes: Optional[Iterable[str]]
     """The live graph from the master at ``uri`` (default: this kernel's ``ROS_MASTER_URI``).
 
     ``hide_nodes`` defaults to this kernel's own node (:func:`~hri_teleop.course.notebook_ros.ensure_ros`),
-    which is an observer, not part of the pipeline. NotebookRosError if no master answers.
+    which is an observer, not part of the pipeline. MasterApiError if no master answers.
     """
-    from hri_teleop.course.notebook_ros import current_session, master_call  # noqa: PLC0415
-
     if hide_nodes is None:
         session = current_session()
         hide_nodes = [session.node_name] if session is not None and session.node_name else []
@@ -239,12 +239,10 @@ class GraphView(widgets.VBox):
 
     def refresh(self) -> Optional[RosGraph]:
         """Read the graph again and draw it; a missing master becomes one line in the widget."""
-        from hri_teleop.course.notebook_ros import NotebookRosError, master_uri  # noqa: PLC0415
-
         uri = self.uri or master_uri()
         try:
             graph = read_graph(uri, show_ros_internals=self.internals.value)
-        except NotebookRosError as exc:
+        except MasterApiError as exc:
             self.status.value = message_html(str(exc), error=True)
             return None
         self.graph = graph

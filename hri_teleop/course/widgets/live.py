@@ -27,6 +27,7 @@ import ipywidgets as widgets
 import numpy as np
 from matplotlib.figure import Figure
 
+from hri_teleop.course.notebook_ros import ensure_ros
 from hri_teleop.course.widgets._base import (
     FigureView,
     Ticker,
@@ -168,7 +169,7 @@ def _specs(topics: TopicsArg, uri: Optional[str] = None) -> List[TopicSpec]:
             specs.append(known[item])
         else:
             if types is None:
-                from hri_teleop.course.notebook_ros import master_call  # noqa: PLC0415
+                from hri_teleop.ros.master_api import master_call  # noqa: PLC0415
 
                 types = dict(master_call("getTopicTypes", uri=uri))
             if item not in types:
@@ -230,8 +231,6 @@ class LivePlot(widgets.VBox):
     def __init__(self, topics: TopicsArg = None, *, window_s: float = 10.0, interval_s: float = 0.5,
                  maxlen: int = DEFAULT_MAXLEN, session: Any = None, figure: str = "auto",
                  autostart: bool = True) -> None:
-        from hri_teleop.course.notebook_ros import ensure_ros  # noqa: PLC0415
-
         if not 0.0 < float(window_s) <= 3600.0:
             raise WidgetError(f"window_s must be in (0, 3600] s, got {window_s!r}; e.g. 10")
         self.window_s = float(window_s)

@@ -14,6 +14,8 @@ from typing import Any, Callable, List, Optional, Union
 
 import ipywidgets as widgets
 
+from hri_teleop.ros.trial import load_trials, rehearse
+
 __all__ = ["RehearsalOffer", "count_trials"]
 
 
@@ -26,8 +28,6 @@ def count_trials(folder: Path) -> int:
 
 def _default_rehearse(participants: List[str], objects: List[str], out: Path,
                       progress: Callable[[str], None]) -> Any:
-    from hri_teleop.ros.trial import rehearse  # noqa: PLC0415 - ROS only when asked to rehearse
-
     return rehearse(participants, objects, out, quick=True, analyse=False, progress=progress)
 
 
@@ -82,6 +82,5 @@ class RehearsalOffer(widgets.VBox):
             print(f"no trials in {self.folder} yet: press Rehearse above (or record them in the lab), then run "
                   "the cells below again")
             return []
-        from hri_teleop.ros.trial import load_trials  # noqa: PLC0415 - reads bags
 
         return load_trials(self.folder)

@@ -6,7 +6,7 @@
 run again, manual grades stay), then ``nbgrader generate_feedback`` (the HTML feedback in
 the course's ``feedback/``), and beside it ``hri-grade submission`` on the student's
 ``hri_lab`` of each assignment with that assignment's checks
-(:data:`hri_teleop.course.release.ASSIGNMENT_CHECKS`). Each (student, assignment) is a job of its
+(:data:`hri_teleop.grading.batch.assignments.ASSIGNMENT_CHECKS`). Each (student, assignment) is a job of its
 own (:mod:`hri_teleop.grading.run.jobs`), so a notebook that crashes its kernel or hangs costs
 that job only; the files-only mode and the entry point are :mod:`hri_teleop.grading.batch.folders`.
 
@@ -41,7 +41,7 @@ from dataclasses import asdict, dataclass
 from pathlib import Path
 from typing import Any, Callable, Dict, List, Mapping, Optional, Sequence, Tuple
 
-from hri_teleop.course.labkernel import ipc_kernel_argv
+from hri_teleop.grading.batch.assignments import ASSIGNMENT_CHECKS, ASSIGNMENTS, nbgrader_env
 from hri_teleop.grading.batch.folders import (
     PER_SUBMISSION_TIMEOUT_S,
     BatchError,
@@ -53,6 +53,7 @@ from hri_teleop.grading.batch.folders import (
 from hri_teleop.grading.batch.spare_kernels import PROVISIONER, PROVISIONER_ENV, SPARES_ENV
 from hri_teleop.grading.judge import reuse
 from hri_teleop.grading.run.jobs import Progress, job_count, print_line, run_all, run_job
+from hri_teleop.ros.kernel import ipc_kernel_argv
 
 __all__ = ["BatchError", "JobOutcome", "course_layout", "course_submissions", "grade_course", "nbgrader_job_env"]
 
@@ -85,7 +86,6 @@ class JobOutcome:
 
 
 def _assignment_order(names: Sequence[str]) -> List[str]:
-    from hri_teleop.course.release import ASSIGNMENTS
 
     known = [a for a in ASSIGNMENTS if a in names]
     return known + sorted(set(names) - set(known))
@@ -225,9 +225,8 @@ def _failure_reason(log: Path) -> str:
 
 
 def nbgrader_job_env(base: Optional[Mapping[str, str]] = None) -> Dict[str, str]:
-    """What each nbgrader autograde runs in: course.nbgrader_env, and no reachable ROS master,
+    """What each nbgrader autograde runs in: assignments.nbgrader_env, and no reachable ROS master,
     so that every kernel starts a private roscore (benchmarks run their reference in the same)."""
-    from hri_teleop.course.release import nbgrader_env
 
     return dict(nbgrader_env(base), ROS_MASTER_URI=_NO_MASTER)
 
@@ -373,9 +372,8 @@ def grade_course(course: Path, submitted: Path, out: Path, jobs: Optional[int] =
     them); ``timeout_s`` limits each (student, assignment) job. 0 when everything was
     graded, 2 when anything could not be (the reason is in grades.csv).
     """
-    from hri_teleop.course.labkernel import install_kernelspec
-    from hri_teleop.course.release import ASSIGNMENT_CHECKS
     from hri_teleop.grading.run.sandbox import sandbox_mode
+    from hri_teleop.ros.kernel import install_kernelspec
 
     course, submitted, out = Path(course).resolve(), Path(submitted).resolve(), Path(out).resolve()
     pairs, empty = course_submissions(course, submitted)

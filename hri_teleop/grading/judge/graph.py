@@ -2,6 +2,7 @@
 
 from __future__ import annotations
 
+import hashlib
 import json
 import os
 import shutil
@@ -24,8 +25,10 @@ from hri_teleop.grading.judge.harness import (
 )
 from hri_teleop.grading.results import CheckResult, GradingError
 from hri_teleop.grading.run.workspace import (
+    REFERENCE_PACKAGE,
     REPO,
 )
+from hri_teleop.ros.master_api import MasterApiError, master_call
 
 __all__ = ["LIVE_GRAPH_NODES", "graph_cache_file", "live_graph", "grade_graph"]
 
@@ -42,8 +45,6 @@ def graph_cache_file(reference: Path = REPO / "hri_lab") -> Path:
     The key is a digest of the reference package's launch, script and config files, the
     ROS distribution and the Python version, so a changed pipeline is read afresh.
     """
-    import hashlib
-
     digest = hashlib.sha256(f"{os.environ.get('ROS_DISTRO', '')} {sys.version_info[:2]}".encode())
     for folder in ("launch", "scripts", "config"):
         for path in sorted((reference / folder).glob("*")):
@@ -61,7 +62,6 @@ def live_graph(cache_file: Optional[PathLike] = None) -> Dict[str, Any]:
     """
     if "graph" in _LIVE_GRAPH:
         return _LIVE_GRAPH["graph"]
-    from hri_teleop.grading.run.workspace import REFERENCE_PACKAGE
 
     if cache_file is None and (REFERENCE_PACKAGE / "launch" / "teleoperation.launch").is_file():
         cache_file = graph_cache_file(REFERENCE_PACKAGE)
@@ -101,8 +101,6 @@ def live_graph(cache_file: Optional[PathLike] = None) -> Dict[str, Any]:
 
 def _graph_of_running_master() -> Dict[str, Any]:
     """The graph on this process's master (ROS_MASTER_URI), once two readings 0.3 s apart agree."""
-    from hri_teleop.course.notebook_ros import NotebookRosError, master_call
-
     try:
         previous: Any = None
         for _ in range(50):
@@ -113,7 +111,7 @@ def _graph_of_running_master() -> Dict[str, Any]:
             previous = reading
             time.sleep(0.3)
         types = dict(master_call("getTopicTypes"))
-    except NotebookRosError as exc:
+    except MasterApiError as exc:
         raise GradingError(f"no pipeline to compare with: {exc}") from None
     running = {n for _t, names in pubs for n in names} | {n for _t, names in subs for n in names}
     missing = [n for n in LIVE_GRAPH_NODES if n not in running]
