@@ -1,29 +1,20 @@
 """Is this value a number? Checks that refuse bools, for every module that validates input.
 
-Why a module for one-liners: ``bool`` is a subclass of ``int`` in Python, so
-``isinstance(True, int)`` holds and ``True * 0.5 == 0.5``.  YAML (1.1) and rosparam hand us
-bools for ``true``, ``yes`` and ``on``, so a student's ``deadzone: yes`` or ``rosparam set
-/rate true`` would silently become 1 unless every check says "not bool" as well.  Writing
-that by hand at each call site is how one of them forgets it.
-
-Two kinds of value, chosen per call site with ``numpy=``:
-
-* ``numpy=False`` (default): Python ``int`` and ``float`` only, i.e. what YAML, rosparam
-  and JSON produce.  numpy scalars are refused, except ``numpy.float64``, which is a
-  subclass of ``float``.
-* ``numpy=True``: numpy integer and floating scalars (``np.int64``, ``np.float32``, ...)
-  count too, for the numerical code (FSR model, force mapping) and the gamepad, whose
-  values may come out of numpy arrays.  ``numpy.bool_`` is refused like ``bool``.
-
-Nothing here imports numpy: a numpy scalar can only exist once numpy has been imported,
-so it is looked up in ``sys.modules`` (the gamepad modules stay numpy-free).
+``bool`` is a subclass of ``int``, and YAML and rosparam give bools for ``true``, ``yes`` and ``on``:
+a student's ``deadzone: yes`` would silently become 1 unless every check says "not bool" too.
+``numpy=False`` accepts Python ``int`` and ``float`` (what YAML, rosparam and JSON give);
+``numpy=True`` also numpy integer and floating scalars, never ``numpy.bool_``. numpy is looked up
+in ``sys.modules``, never imported, so the gamepad modules stay numpy-free.
 """
 
 from __future__ import annotations
 
 import math
 import sys
-from typing import Type
+from typing import TYPE_CHECKING, Tuple, Type
+
+if TYPE_CHECKING:  # typing.TypeGuard is Python 3.10; annotations only, never imported at run time
+    from typing_extensions import TypeGuard
 
 __all__ = ["ADC_MAX_COUNT", "checked_float", "is_number", "is_finite_number", "is_positive_number", "is_int", "is_count",
            "is_calibration_count"]
@@ -32,13 +23,13 @@ __all__ = ["ADC_MAX_COUNT", "checked_float", "is_number", "is_finite_number", "i
 ADC_MAX_COUNT = 1023
 
 
-def _numpy_types(*names: str) -> tuple:
+def _numpy_types(*names: str) -> Tuple[type, ...]:
     """numpy's scalar classes ``names``, or () if numpy is not loaded (then no value is one)."""
     np = sys.modules.get("numpy")
     return tuple(getattr(np, name) for name in names) if np is not None else ()
 
 
-def is_number(value: object, *, numpy: bool = False) -> bool:
+def is_number(value: object, *, numpy: bool = False) -> TypeGuard[float]:
     """True for an int or a float (NaN and inf included), False for a bool, str or None."""
     if isinstance(value, bool):
         return False
@@ -47,9 +38,9 @@ def is_number(value: object, *, numpy: bool = False) -> bool:
     return numpy and isinstance(value, _numpy_types("integer", "floating"))
 
 
-def is_finite_number(value: object, *, numpy: bool = False) -> bool:
+def is_finite_number(value: object, *, numpy: bool = False) -> TypeGuard[float]:
     """``is_number`` and neither NaN nor +-inf."""
-    return is_number(value, numpy=numpy) and math.isfinite(value)  # type: ignore[arg-type]
+    return is_number(value, numpy=numpy) and math.isfinite(value)
 
 
 def checked_float(value: object, name: str, fix: str, error: Type[Exception], *, lowest: str = "") -> float:
@@ -59,18 +50,18 @@ def checked_float(value: object, name: str, fix: str, error: Type[Exception], *,
     """
     if not is_finite_number(value, numpy=True):
         raise error(f"{name} must be a finite number, got {value!r}; {fix}")
-    number = float(value)  # type: ignore[arg-type]
+    number = float(value)
     if (lowest == ">0" and not number > 0.0) or (lowest == ">=0" and not number >= 0.0):
         raise error(f"{name} must be {lowest.replace('0', ' 0')}, got {value!r}; {fix}")
     return number
 
 
-def is_positive_number(value: object, *, numpy: bool = False) -> bool:
+def is_positive_number(value: object, *, numpy: bool = False) -> TypeGuard[float]:
     """``is_number`` and ``0 < value < inf`` (refuses NaN): a rate, a duration, a gain."""
-    return is_number(value, numpy=numpy) and 0 < value < math.inf  # type: ignore[operator]
+    return is_number(value, numpy=numpy) and 0 < value < math.inf
 
 
-def is_int(value: object, *, numpy: bool = False) -> bool:
+def is_int(value: object, *, numpy: bool = False) -> TypeGuard[int]:
     """True for an integer (``numpy=True``: numpy integers too), False for a bool or a float."""
     if isinstance(value, bool):
         return False
@@ -79,11 +70,11 @@ def is_int(value: object, *, numpy: bool = False) -> bool:
     return numpy and isinstance(value, _numpy_types("integer"))
 
 
-def is_count(value: object, *, numpy: bool = False) -> bool:
+def is_count(value: object, *, numpy: bool = False) -> TypeGuard[int]:
     """A reading of the board: a whole count 0..1023 (``is_int``, so no bool, no float)."""
-    return is_int(value, numpy=numpy) and 0 <= value <= ADC_MAX_COUNT  # type: ignore[operator]
+    return is_int(value, numpy=numpy) and 0 <= value <= ADC_MAX_COUNT
 
 
-def is_calibration_count(value: object, *, numpy: bool = False) -> bool:
+def is_calibration_count(value: object, *, numpy: bool = False) -> TypeGuard[int]:
     """A ``/max_sensor_force`` given as a count: a whole count 1..1023 (0 would divide by zero)."""
     return is_count(value, numpy=numpy) and value != 0

@@ -1,14 +1,10 @@
 """The teleoperation config (``hri_lab/config/teleop.yaml``): read, check, turn into core objects.
 
-Why checked so strictly: the file is edited by students and loaded onto the parameter
-server by the launch file, where a typo (``k_tran``) or a quoted number (``"0.1"``)
-would otherwise be silently ignored or crash a node later with a traceback.  Every
-problem is one line: the file (and line, for YAML syntax errors), the key, what was
-found, and the fix.
-
-Keys are flat (rosparam-friendly: the node reads its private namespace ``~`` as one
-dict and passes it to :func:`teleop_config_from_dict`).  Missing keys take the defaults
-of :class:`~hri_teleop.core.teleop.TeleopParams` and :data:`~hri_teleop.core.limits.DEFAULT_LIMITS`.
+Students edit the file and the launch file loads it, where a typo (``k_tran``) or a quoted number
+(``"0.1"``) would be silently ignored or crash a node later; so every problem is one line naming
+the file (and line), the key, what was found and the fix. Keys are flat: the node passes its
+private namespace to :func:`teleop_config_from_dict`, and missing keys take the defaults of
+:class:`~hri_teleop.core.teleop.TeleopParams` and :data:`~hri_teleop.core.limits.DEFAULT_LIMITS`.
 """
 
 from __future__ import annotations
@@ -17,7 +13,7 @@ import difflib
 import re
 from dataclasses import dataclass
 from pathlib import Path
-from typing import Any, Dict, Mapping, Optional, Union
+from typing import Any, Dict, Mapping, Optional, Tuple, Union
 
 from hri_teleop.core.checks import is_finite_number
 from hri_teleop.core.errors import HriTeleopError
@@ -52,7 +48,7 @@ LAB_TELEOP_CONFIG = LAB_CONFIG / "teleop.yaml"
 LAB_CALIBRATION = LAB_TELEOP_CONFIG.with_name("calibration.yaml")
 
 # YAML key -> (TeleopParams field, meaning for messages)
-_NUMBER_KEYS: Dict[str, tuple] = {
+_NUMBER_KEYS: Dict[str, Tuple[str, str]] = {
     "rate": ("rate_hz", "control loop rate in Hz"),
     "k_trans": ("k_trans", "m/s at full stick"),
     "k_rot": ("k_rot", "rad/s at full stick"),
@@ -108,7 +104,7 @@ def load_yaml(path: Union[str, Path]) -> Dict[str, Any]:
     return data
 
 
-def _unknown(key: str, where: str, valid: tuple, source: str) -> ConfigError:
+def _unknown(key: str, where: str, valid: Tuple[str, ...], source: str) -> ConfigError:
     close = difflib.get_close_matches(key, valid, n=1)
     hint = f"did you mean {close[0]!r}? " if close else ""
     return ConfigError(f"{source}: unknown key {where}{key!r}; {hint}valid keys are {', '.join(valid)}")
@@ -120,7 +116,7 @@ def _number(value: object, key: str, meaning: str, source: str) -> float:
             f"{source}: {key} must be a number ({meaning}), got {value!r} of type {type(value).__name__}; "
             "write a plain number without quotes"
         )
-    return float(value)  # type: ignore[arg-type]
+    return float(value)
 
 
 def _mapping(value: object, key: str, source: str, example: str) -> Mapping[str, Any]:

@@ -1,35 +1,20 @@
 """The FSR 402 force sensor as the lab wires it, from force to ADC count and back.
 
-Why a model at all: the students never see newtons, only the Arduino's 10-bit count on
-``/pub_force``.  The simulated sensor board, the notebooks and the grader need the
-same physics the real board has, so that a simulated press looks like a real one
-(steep at light touch, saturating under a firm press) and so that a count can be read
-back as an estimated force.
-
-The chain (docs/lab-facts.md, "The force sensor and the board"):
-
-* force -> resistance: the FSR 402 follows roughly a power law ``R = R1 * F**-n``.  We fit
-  it by least squares in log-log space to the datasheet points in :data:`FSR402_POINTS`.
-  With no force the sensor is an open circuit (``R = inf``).
-* resistance -> voltage: a divider with the FSR on top and a pull-down to ground,
-  ``V = Vcc * R_pd / (R_pd + R_fsr)`` (10 kOhm at 5 V in the lab).
-* voltage -> count: the Uno's ADC, ``count = floor(V * 2**bits / Vref)`` clipped to
-  ``0 .. 2**bits - 1`` (Arduino's own convention, 1024 steps for 10 bits).
-
-Every function is vectorised with numpy: arrays in, arrays out; a scalar in gives a
-numpy scalar out.  The divider resistor, the supply voltage and the ADC resolution are
-arguments because students meet other boards (3.3 V, 12-bit ADCs) and other resistors.
-Part-to-part spread of real FSRs is about +-10 %; the model is a typical part, not a
-calibration.
+Students only see the Arduino's 10-bit count on ``/pub_force``; the simulated board, the notebooks
+and the grader need the same physics (steep at a light touch, saturating under a firm press) and
+read a count back as a force. The chain (docs/lab-facts.md): force -> resistance (a power law fitted
+to :data:`FSR402_POINTS`) -> divider voltage -> count. Functions take numpy arrays or scalars; the
+divider, supply and ADC bits are arguments for other boards. A typical part, not a calibration.
 """
 
 from __future__ import annotations
 
 import math
 from dataclasses import dataclass
-from typing import Any, Iterable, Tuple
+from typing import Any, Iterable, Tuple, Union
 
 import numpy as np
+import numpy.typing as npt
 
 from hri_teleop.core.checks import is_int, is_number, is_positive_number
 from hri_teleop.core.errors import HriTeleopError
@@ -116,7 +101,7 @@ def fit_power_law(points: Iterable[Tuple[float, float]]) -> PowerLaw:
 FSR402: PowerLaw = fit_power_law(FSR402_POINTS)
 
 
-def _out(values: np.ndarray) -> Any:
+def _out(values: npt.NDArray[Union[np.float64, np.int64]]) -> Any:
     """0-d arrays become numpy scalars, other arrays stay arrays."""
     return values[()]
 

@@ -1,22 +1,8 @@
 """When to send the gripper a new width goal: the rule gripper_manager.py follows.
 
-Why: teleoperation publishes ``/gripper_width`` at its loop rate (50 Hz by default) and,
-while cross or circle is held, the width changes by k_gripper / rate every tick (0.8 mm at
-0.04 m/s and 50 Hz). Forwarding each of these as a franka_gripper ``move`` goal floods the
-Franka Hand: each goal is a blocking motion on the gripper, the action server queues and
-preempts them, and the hand stutters. So a goal goes out only when
-
-* nothing has been sent yet, or
-* the target moved by at least ``min_step_m`` from the last goal sent, or
-* the target differs from the last goal sent by any amount (more than ``tolerance_m``) and
-  has stayed put for ``settle_s``: a small final correction is not lost after the button
-  is released, and a target sitting exactly at the width limits (fully open or closed)
-  is always reached;
-
-and in every case no sooner than ``1 / max_goal_rate_hz`` after the previous goal. A goal
-that is sent replaces the older one (the node cancels the previous goal first). The class
-is pure: the caller passes the time, so the tests are deterministic; when no time is
-passed, ``clock`` (``time.monotonic`` by default) is read.
+Teleoperation publishes ``/gripper_width`` at 50 Hz, and forwarding every small change as a
+franka_gripper ``move`` goal makes the Franka Hand stutter. :class:`GoalThrottle` decides which
+targets become goals; it is pure (the caller may pass the time), so the tests are deterministic.
 """
 
 from __future__ import annotations
@@ -35,7 +21,7 @@ class GripperError(HriTeleopError, ValueError):
 
 
 class GoalThrottle:
-    """Decides which gripper width targets become action goals (see the module doc)."""
+    """Decides which gripper width targets become action goals (the rule: docs/teleoperation.md)."""
 
     def __init__(
         self,

@@ -1,55 +1,10 @@
 """Cartesian velocity, acceleration and jerk limits, and the filter that keeps a twist inside them.
 
-Why: the Panda differentiates every command at 1 kHz and stops with a reflex error as
-soon as the commanded velocity, acceleration or jerk exceeds its limits (docs/lab-facts.md).  A
-gamepad is a step input -- a stick let go, a mode switch, a lost pad, a quit -- so the
-teleoperation node never sends the operator's wish directly.  It sends the output of
-:class:`TwistLimiter`, which follows the wish as fast as the configured limits allow and
-never beyond them, including on the way back to zero.
-
-The limits apply per group (translation ``vx vy vz`` in m/s, rotation ``wx wy wz`` in
-rad/s) to the Euclidean norm of the group, and to the output *sequence* as the robot sees
-it: with ``v_k`` the k-th command and ``dt_k`` the time since the previous one,
-
-* velocity ``|v_k| <= v_max``,
-* acceleration ``|a_k| <= a_max`` with ``a_k = (v_k - v_{k-1}) / dt_k``,
-* jerk ``|(a_k - a_{k-1}) / dt_k| <= j_max``,
-
-starting from rest (``v_{-1} = a_{-1} = 0``).
-
-The tracking law (one group, vectors in R^3), per step of length ``dt``:
-
-1. The target is sanitised: non-finite components (NaN, +-inf) count as 0 -- a broken
-   input must stop the robot, not fling it -- and the target is scaled down along its
-   direction to norm ``v_max``.
-2. *Landing*: if the error ``e = target - v`` can be closed in this very step with an
-   acceleration ``e/dt`` that is jerk-reachable and small enough to be removed again in
-   the next step (``|e/dt| <= j_max*dt``), the output is the target exactly.  This is
-   what makes a constant target be *reached* (bit for bit, e.g. an exact zero after
-   quitting) instead of approached forever.
-3. Otherwise the desired acceleration points along ``e`` with the largest magnitude
-   ``x <= a_max`` from which a maximal-jerk braking ramp ends exactly on the target:
-   applying ``x`` now and then ``x - j dt, x - 2 j dt, ... , 0`` changes the velocity by
-   ``D(x) = dt * sum_{i>=0} max(x - i*j*dt, 0)``; we solve ``D(x) = |e|`` in closed form.
-   This is the discrete time-optimal switching curve: on it, the braking ramp is itself
-   what the law asks for at every later step, so (with ``a`` along ``e``, e.g. from
-   rest) a constant target is reached in finite time without overshoot and without a
-   limit cycle; a sideways ``a`` left over from an earlier target is turned towards
-   ``e`` first (the property tests check convergence from random states).  The step moves the current
-   acceleration towards the desired one by at most ``j_max*dt`` (jerk limit) and stays
-   inside the disc ``|a| <= a_max`` (both are convex, so the move stays in both).
-4. *Velocity safety*: an acceleration ``a`` can always be braked to zero at ``j_max``,
-   during which the velocity still moves by at most ``|a|^2/(2 j_max)`` along ``a`` (the
-   continuous-time bound, an upper bound for any sequence of future time steps).  A
-   state is *viable* if ``|v + a dt| <= v_max`` and ``|v + a dt + a|a|/(2 j_max)| <= v_max``.
-   Braking (``a -> a - j_max dt * a/|a|``) keeps a viable state viable, so the viable
-   set is never empty; if the step of 3. is not viable we take the largest viable point
-   on the segment from the braking step to it (bisection).  Hence the velocity limit
-   holds for every future step whatever the targets and time steps are.
-
-State kept between steps is the *realised* velocity and acceleration (the finite
-differences of the emitted floats), so rounding cannot accumulate; the limits are
-enforced with a margin of one part in 10^9 to absorb the rounding of those differences.
+The Panda differentiates every command at 1 kHz and stops with a reflex when a limit is broken
+(docs/lab-facts.md), while a gamepad is a step input: a stick let go, a mode switch, a lost pad.
+So the teleoperation node sends the output of :class:`TwistLimiter`, which follows the operator's
+wish as fast as the limits allow and never beyond them, also on the way back to zero. Its tracking
+law, and why it reaches a target without overshoot: docs/teleoperation.md.
 """
 
 from __future__ import annotations
@@ -77,6 +32,7 @@ __all__ = [
 ]
 
 Vec3 = Tuple[float, float, float]
+Twist = Tuple[float, float, float, float, float, float]
 
 # Relative margin inside the configured limits, so that finite differences of the
 # emitted floats (which carry rounding error) still satisfy the limits exactly.
@@ -209,6 +165,11 @@ def _sub(x: Vec3, y: Vec3) -> Vec3:
     return (x[0] - y[0], x[1] - y[1], x[2] - y[2])
 
 
+def _vec3(values: Sequence[float]) -> Vec3:
+    x, y, z = (float(c) for c in values)
+    return (x, y, z)
+
+
 def _add(x: Vec3, y: Vec3) -> Vec3:
     return (x[0] + y[0], x[1] + y[1], x[2] + y[2])
 
@@ -231,7 +192,7 @@ def _sanitize_clip(target: Sequence[float], limit: float) -> Vec3:
 
 
 def _accel_for_error(error: float, dt_s: float, jerk_step: float) -> float:
-    """The acceleration x >= 0 with ``D(x) = error``, D as in the module docstring.
+    """The acceleration x >= 0 with ``D(x) = error``, D as in docs/teleoperation.md (the tracking law, step 3).
 
     On ``x in [n h, (n+1) h)`` (``h = jerk_step = j dt``) D is linear:
     ``D(x) = dt * ((n+1) x - h n (n+1) / 2)``, and ``D(n h) = dt h n (n+1) / 2``.
@@ -248,7 +209,7 @@ def _accel_for_error(error: float, dt_s: float, jerk_step: float) -> float:
 
 
 class _GroupLimiter:
-    """The tracking law of the module docstring for one 3-vector group."""
+    """The tracking law of docs/teleoperation.md for one 3-vector group."""
 
     def __init__(self, limits: AxisLimits) -> None:
         self.limits = limits
@@ -321,7 +282,7 @@ class _GroupLimiter:
 
 
 class TwistLimiter:
-    """Turns any sequence of target twists into one the robot accepts (see the module docstring).
+    """Turns any sequence of target twists into one the robot accepts (the law: docs/teleoperation.md).
 
     ``step(target, dt_s)`` returns the next command ``(vx, vy, vz, wx, wy, wz)``.  For ANY
     targets (huge, NaN or inf components count as 0) and any positive ``dt_s`` the
@@ -358,21 +319,21 @@ class TwistLimiter:
         for g, group in enumerate(self._groups):
             group.reset()
             if velocity is not None:
-                group.v = tuple(float(c) for c in velocity[3 * g: 3 * g + 3])  # type: ignore[assignment]
+                group.v = _vec3(velocity[3 * g: 3 * g + 3])
             if acceleration is not None:
-                group.a = tuple(float(c) for c in acceleration[3 * g: 3 * g + 3])  # type: ignore[assignment]
+                group.a = _vec3(acceleration[3 * g: 3 * g + 3])
 
     @property
-    def velocity(self) -> Tuple[float, ...]:
+    def velocity(self) -> Twist:
         """The last command (6 values), zeros before the first step."""
         return self._groups[0].v + self._groups[1].v
 
     @property
-    def acceleration(self) -> Tuple[float, ...]:
+    def acceleration(self) -> Twist:
         """The last command's finite-difference acceleration (6 values)."""
         return self._groups[0].a + self._groups[1].a
 
-    def step(self, target: Sequence[float], dt_s: float) -> Tuple[float, ...]:
+    def step(self, target: Sequence[float], dt_s: float) -> Twist:
         """Advance by ``dt_s`` seconds towards ``target`` (6 values) and return the new command."""
         if not is_positive_number(dt_s):
             raise LimitsError(f"dt_s must be a positive finite time step in seconds, got {dt_s!r}; pass 1/rate_hz")
@@ -424,7 +385,9 @@ def limit_violations(
 
 def _get(limits: CartesianLimits, dotted: str) -> float:
     group, name = dotted.split(".")
-    return getattr(getattr(limits, group), name)
+    axis: AxisLimits = getattr(limits, group)
+    value: float = getattr(axis, name)
+    return value
 
 
 class Watchdog:

@@ -1,23 +1,9 @@
 """Write the calibration value (Ex. 11) into a student's launch or YAML file, changing nothing else.
 
-Why: after calibrating, ``/max_sensor_force`` must survive the next ``roslaunch``, so it
-belongs in the student's ``teleoperation.launch`` / ``sensor.launch`` (Ex. 6, 12 g) or in a
-YAML file they load. Those files are the student's own work, with their comments and
-layout: rewriting them through an XML or YAML library would reorder attributes, drop
-comments and re-indent. So the edit is textual and minimal -- only the characters of the
-one value change -- and the result is parsed again to prove it is still valid and now
-holds the new value.
-
-What counts as the calibration parameter:
-
-* launch files: a ``<param name="max_sensor_force" value="700"/>`` that sets the global
-  parameter (outside ``<node>`` and namespaced ``<group>``, or named ``/max_sensor_force``).
-  If its value is ``$(arg X)``, the default (or value) of ``<arg name="X" .../>`` changes
-  instead. Without such a param, ``<arg name="max_sensor_force" default="..."/>`` is used.
-* YAML files: a top-level ``max_sensor_force: 700`` line (its trailing comment stays).
-
-Anything else is refused with one line naming the file and what to add: guessing where a
-value might go in somebody's file is worse than asking them to add the line.
+After calibrating, ``/max_sensor_force`` must survive the next ``roslaunch``, so it goes into the
+student's own file, whose comments and layout an XML or YAML library would lose. So the edit is
+textual: only the characters of the one value change, and the result is parsed again to prove it
+now holds the new value. A file without a place for it is refused with one line saying what to add.
 """
 
 from __future__ import annotations
@@ -56,10 +42,10 @@ class ParamEdit:
 
 
 def _check_value(value: object, source: str) -> str:
-    if not is_int(value, numpy=True) or not 0 < int(value) <= ADC_MAX_COUNT:  # type: ignore[call-overload]
+    if not is_int(value, numpy=True) or not 0 < int(value) <= ADC_MAX_COUNT:
         raise ParamFileError(f"{source}: /{PARAM_NAME} must be an integer ADC count 1..{ADC_MAX_COUNT}, "
                              f"got {value!r}; calibrate again with the piston pressed in")
-    return str(int(value))  # type: ignore[call-overload]
+    return str(int(value))
 
 
 # -- launch files (XML) -------------------------------------------------------------------
@@ -86,6 +72,13 @@ class _Tag:
             if key == name:
                 return value, offset
         return None
+
+    def value_of(self, name: str) -> Tuple[str, int]:
+        """``get(name)`` of an attribute the caller has checked is there."""
+        found = self.get(name)
+        if found is None:
+            raise KeyError(f"<{self.tag}> has no {name} attribute")
+        return found
 
 
 def _tags(text: str) -> List[_Tag]:
@@ -130,7 +123,12 @@ def _parse_xml(text: str, source: str, fix: str) -> None:
 
 
 def set_in_launch(text: str, value: int, source: str = "<launch>") -> Tuple[str, List[ParamEdit]]:
-    """``text`` with the calibration value set (see the module doc), and the edits made.
+    """``text`` with the calibration value set, and the edits made.
+
+    The value set is a ``<param name="max_sensor_force" value="700"/>`` that sets the global
+    parameter (outside ``<node>`` and namespaced ``<group>``, or named ``/max_sensor_force``);
+    if its value is ``$(arg X)``, the default (or value) of ``<arg name="X" .../>`` changes
+    instead. Without such a param, ``<arg name="max_sensor_force" default="..."/>`` is used.
 
     Raises :class:`ParamFileError` if the file is not well-formed XML, has no
     ``max_sensor_force`` param or arg, or sets it with a substitution other than ``$(arg)``.
@@ -145,7 +143,7 @@ def set_in_launch(text: str, value: int, source: str = "<launch>") -> Tuple[str,
             continue
         if name[0] == "/" + PARAM_NAME or (name[0] == PARAM_NAME and tag.scope == "global"):
             params.append(tag)
-    args = {tag.get("name")[0]: tag for tag in tags  # type: ignore[index]
+    args = {tag.value_of("name")[0]: tag for tag in tags
             if tag.tag == "arg" and tag.get("name") is not None and tag.scope == "global"}
 
     targets: List[Tuple[_Tag, str]] = []  # (tag, attribute to change)
@@ -186,12 +184,12 @@ def set_in_launch(text: str, value: int, source: str = "<launch>") -> Tuple[str,
     edits: List[ParamEdit] = []
     spans = {}
     for tag, attribute in targets:
-        old, offset = tag.get(attribute)  # type: ignore[misc]
+        old, offset = tag.value_of(attribute)
         if offset in spans:
             continue  # two params naming the same arg
         spans[offset] = (offset, offset + len(old))
         edits.append(ParamEdit(_line_of(text, offset), old, new_value,
-                               f"<{tag.tag} name=\"{tag.get('name')[0]}\"> {attribute}"))  # type: ignore[index]
+                               f"<{tag.tag} name=\"{tag.value_of('name')[0]}\"> {attribute}"))
     result = text
     for start, end in sorted(spans.values(), reverse=True):
         result = result[:start] + new_value + result[end:]

@@ -1,38 +1,10 @@
 """The plain-serial sensor board's line protocol (``firmware/fsr_serial``), parsed without I/O.
 
-Why a protocol of our own: the handout's rosserial sketch sends about 3 counts a second and
-needs ``rosserial_python`` on the host.  The ``fsr_serial`` sketch sends the same count over
-plain USB serial at 100 Hz, as text lines a student can read in any serial monitor, and the
-host (``hri_lab/scripts/serial_bridge.py``, ``python -m hri_teleop.hardware.real.calibrate``) must still
-tell a good count from a line garbled by a loose cable or cut short by an unplug.  Sequence
-numbers reveal lost lines, a checksum reveals corrupt ones.
-
-The protocol, version 1 (115200 baud, 8N1; the sketch's header says the same)::
-
-    F <seq> <count> <crc>\\n        one sample, e.g. "F 1234 517 3C\\n"
-    # <text>\\n                     information from the board; at start-up it sends
-                                    "# fsr_serial v1 period_us=10000 baud=115200\\n"
-
-* ``seq``: decimal 0..65535, one more per sample, back to 0 after 65535 and at every
-  start of the board.  A gap says how many lines were lost (unread, dropped by the board
-  when its send buffer was full, or corrupt).
-* ``count``: decimal 0..1023, the ``analogRead(A0)`` of the FSR divider.
-* ``crc``: two upper-case hex digits, CRC-8 (polynomial 0x07, initial value 0, no
-  reflection, no final XOR; "CRC-8/SMBUS") of every byte before the space in front of it,
-  i.e. of ``"F <seq> <count>"``.
-* Lines end in ``\\n``; a ``\\r`` before it is tolerated.  No line is longer than
-  :data:`MAX_LINE_BYTES`.
-* A line starting with ``# fsr_serial`` is the start-up banner: the board has (re)started
-  and its next ``seq`` starts again from 0.  Other ``#`` lines are informational.
-
-Anything else is corrupt.  A ``seq`` that goes *backwards* by more than half the range with
-no banner is read as a restart whose banner was lost, not as 65000 lost lines.
-
-What lives here is pure: :func:`parse_line` (one line -> :class:`Sample` or
-:class:`BoardInfo`, or :class:`SerialProtocolError` naming the reason),
-:class:`SequenceTracker` (lost lines from gaps), :class:`LineFramer` (bytes -> lines) and
-:class:`BoardStream` (all three, plus :class:`LinkCounters`).  Reading the port is the
-caller's job.
+The fsr_serial sketch sends each count at 100 Hz as a checked text line instead of rosserial's
+frames (the protocol: firmware/README.md). The host (``serial_bridge.py``, ``hardware.real.calibrate``)
+must tell a good count from a line garbled by a loose cable or cut short by an unplug: sequence
+numbers reveal lost lines, a CRC-8 corrupt ones. :func:`parse_line`, :class:`SequenceTracker`,
+:class:`LineFramer` and :class:`BoardStream` do that; reading the port is the caller's job.
 """
 
 from __future__ import annotations

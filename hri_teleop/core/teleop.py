@@ -1,28 +1,10 @@
 """The teleoperation rules of handout Ex. 8 as a pure controller: pad in, robot command out.
 
-Why pure: the same rules run in the ROS node in the lab, in the notebooks at home, in
-the grader and in the tests.  :class:`TeleopController` has no clock, no rospy and no
-pygame; each call to :meth:`TeleopController.step` gets the pad's state, the latest
-mapped force with its age and the time step, and returns a :class:`TeleopCommand`.
-
-The rules (Ex. 8, docs/lab-facts.md):
-
-* The sticks drive the velocity: which stick axis drives which twist component, and with
-  which sign, is configuration (:class:`AxisAssignment`); each stick passes the dead
-  zone filter :func:`hri_teleop.core.gamepad.normalize_analog_input` and is scaled by
-  ``k_trans`` (m/s at full stick) or ``k_rot`` (rad/s at full stick).
-* North (triangle / Y) toggles translation <-> rotation, once per press.
-* South (cross / A) closes and east (circle / B) opens the gripper by
-  ``k_gripper / rate_hz`` metres per tick while held; both held cancel.  The width stays
-  within ``width_min_m .. width_max_m`` (the Franka Hand opens 0 .. 0.08 m).
-* West (square / X) quits: ``quit`` becomes True and stays True, input is ignored from
-  then on, and the twist ramps to zero; the node exits once :attr:`finished` is True.
-* The twist always passes a :class:`~hri_teleop.core.limits.TwistLimiter`, so it never
-  exceeds the configured limits -- not when the operator slams a stick, switches mode,
-  quits, or the pad is lost.  A missing or disconnected pad (``pad`` None or
-  ``connected`` False) means "stopping": target zero, ramped inside the limits.
-* Rumble is the mapped force (0..1) while it is fresh (age <= ``force_timeout_s``) and
-  above ``rumble_threshold``, else 0: a stale force must not keep the pad shaking.
+The same rules run in the lab's node, the notebooks, the grader and the tests, so
+:class:`TeleopController` has no clock, no rospy and no pygame: each ``step`` gets the pad's
+state, the latest mapped force with its age and the time step, and returns a
+:class:`TeleopCommand`. The rules themselves (sticks, mode toggle, gripper steps, quit, limiter,
+rumble) are listed in docs/teleoperation.md.
 """
 
 from __future__ import annotations
@@ -39,6 +21,7 @@ from hri_teleop.core.limits import (
     DEFAULT_LIMITS,
     CartesianLimits,
     LimitsError,
+    Twist,
     TwistLimiter,
     check_command_rate,
 )
@@ -58,7 +41,6 @@ __all__ = [
 #: The Franka Hand opens from 0 to 0.08 m (docs/lab-facts.md).
 GRIPPER_MAX_WIDTH_M = 0.08
 
-Twist = Tuple[float, float, float, float, float, float]
 _ZERO_TWIST: Twist = (0.0, 0.0, 0.0, 0.0, 0.0, 0.0)
 
 
@@ -368,7 +350,7 @@ class TeleopController:
         twist = self._limiter.step(target, float(dt_s))
         rumble = 0.0 if stopping else self.rumble_for(mapped_force, force_age_s)
         return TeleopCommand(
-            twist=tuple(twist),  # type: ignore[arg-type]
+            twist=twist,
             gripper_width_m=self._width_m,
             rumble=rumble,
             quit=self._quit,

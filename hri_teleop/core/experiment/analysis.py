@@ -1,27 +1,8 @@
 """Ex. 14's analysis: a folder of recorded trials in, metrics, rates, the paired test and the figure out.
 
-Why one function per step: the analysis notebook (``notebooks/experiment/analysis.ipynb``),
-``python -m hri_teleop.ros.trial analyse`` and the tests must compute the same numbers, so
-the notebook only calls these:
-
-* :func:`analyse_trials` -- per-trial :class:`~hri_teleop.core.experiment.metrics.TrialMetrics`
-  (force through the FSR model and each trial's own calibration, stored in its sidecar),
-  success and crush rates per condition, the paired comparisons of peak force and of the
-  crush rate (and of the raw TLX when every pair answered it), and the figure;
-* :class:`StudyResult` -- the answer, with :meth:`~StudyResult.table`,
-  :meth:`~StudyResult.rates`, :meth:`~StudyResult.report` and :meth:`~StudyResult.write_csv`.
-
-What counts, where it comes from: lifted and crushed come from the simulation's object in
-simulated trials and from the experimenter's ``outcome`` (``trial outcome``) in the lab,
-where no sensor sees the object; a lab trial without an outcome is refused, not guessed.
-
-The comparison is within participants: each participant's mean over their trials in a
-condition, no feedback minus feedback (exact Wilcoxon signed-rank test and rank-biserial
-effect size, :mod:`hri_teleop.core.experiment.stats`, assumptions printed with it).  A
-participant with trials in only one condition cannot be paired: the analysis stops with
-one line naming them, unless ``allow_unpaired`` leaves them out of the test (they stay in
-the table and the figure).
-
+The analysis notebook, ``python -m hri_teleop.ros.trial analyse`` and the tests must compute the
+same numbers, so the notebook only calls :func:`analyse_trials` and reads its
+:class:`StudyResult`. What counts as success and how participants are paired: docs/experiment.md.
 Pure: reading a folder of bags is :func:`hri_teleop.ros.trial.analyse_folder`'s (rosbag).
 """
 
@@ -114,7 +95,7 @@ def _rounded(value: Any) -> Any:
 
 @dataclass
 class StudyResult:
-    """What :func:`analyse_trials` found (see the module doc)."""
+    """What :func:`analyse_trials` found: per-trial metrics, rates per condition, the paired comparisons."""
 
     trials: List[LoadedTrial]
     metrics: List[TrialMetrics]
@@ -221,7 +202,7 @@ def _unpaired_message(metrics: Sequence[TrialMetrics], left_out: Sequence[str]) 
 
 def analyse_trials(trials: Sequence[LoadedTrial], *, max_sensor_force: Optional[float] = None,
                    allow_unpaired: bool = False, folder: Optional[Path] = None) -> StudyResult:
-    """Measure and compare the trials; see the module doc (:func:`hri_teleop.plots.study.save_result_figure` draws).
+    """Measure and compare the trials (docs/experiment.md); :func:`hri_teleop.plots.study.save_result_figure` draws.
 
     ``max_sensor_force`` overrides every trial's stored calibration (count at full travel).
     """

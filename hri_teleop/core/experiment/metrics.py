@@ -1,33 +1,17 @@
 """Per-trial numbers of the force-feedback experiment, from what a trial recorded.
 
-Why here: the analysis notebook, the recording command's quick summary and the tests must
-agree on what "peak grasp force" or "time to grasp" means.  Definitions:
-
-* **grasp force (N)** is the FSR's force, read back from ``/pub_force`` through the FSR
-  model (:func:`hri_teleop.core.fsr.count_to_force`) and the lab's one-point calibration: the
-  count ``max_sensor_force`` measured at full piston travel (Ex. 11) is taken to be the
-  spring's full-travel force (:attr:`hri_teleop.core.attachment.Attachment.full_travel_force_n`,
-  1.77 N), which scales the nominal model to this part (FSRs differ by about 10 %).  The
-  FSR feels at most that force: a squeeze past full travel (the housing presses the
-  object) reads as the maximum, so :attr:`TrialMetrics.saturated_s` says how long the
-  piston was bottomed out.  A crush is faster than the board: an egg's shell gives way
-  within about 10 ms of full travel and the force drops, so a 100 Hz board sees that
-  peak at most once -- a crushed trial's peak force is a lower bound.
-* **contact**: a count above ``contact_fraction`` of ``max_sensor_force`` (default 0.01:
-  the rumble threshold, above the ADC's noise at rest).
-* **time to grasp**: from the start of the trial to the first contact.  **time to lift**:
-  to the first moment the object is more than 5 mm above the table (known in simulation;
-  in the lab the experimenter's ``outcome`` says whether it was lifted, and the time is
-  not measured).
-* **success**: lifted at the end of the trial and not crushed.
+The analysis notebook, the recording command's summary and the tests must agree on what "peak
+grasp force" or "time to grasp" means; :func:`trial_metrics` is that definition, written out in
+docs/experiment.md (force through the FSR model and the trial's own calibration).
 """
 
 from __future__ import annotations
 
 from dataclasses import dataclass
-from typing import List, Optional, Sequence, Tuple
+from typing import Dict, List, Optional, Sequence, Tuple
 
 import numpy as np
+import numpy.typing as npt
 
 from hri_teleop.core import fsr
 from hri_teleop.core.attachment import Attachment
@@ -86,8 +70,8 @@ class TrialMetrics:
     raw_tlx: Optional[float] = None  # the participant's raw NASA-TLX after the trial (0..100), if asked
 
 
-def calibrated_force_n(counts: Sequence[float], max_sensor_force: float,
-                       full_travel_force_n: Optional[float] = None) -> np.ndarray:
+def calibrated_force_n(counts: npt.ArrayLike, max_sensor_force: float,
+                       full_travel_force_n: Optional[float] = None) -> npt.NDArray[np.float64]:
     """FSR force (N) of each count, scaled so that ``max_sensor_force`` reads ``full_travel_force_n``."""
     if not max_sensor_force > 0:
         raise MetricsError(f"max_sensor_force must be a positive count, got {max_sensor_force!r}; use the Ex. 11 value")
@@ -108,7 +92,7 @@ def trial_metrics(record: LabRecord, meta: TrialMeta, max_sensor_force: float, *
                   contact_fraction: float = 0.01, full_travel_force_n: Optional[float] = None,
                   outcome_lifted: Optional[bool] = None, outcome_crushed: Optional[bool] = None,
                   raw_tlx: Optional[float] = None) -> TrialMetrics:
-    """The metrics of one trial (see the module doc).
+    """The metrics of one trial (their definitions: docs/experiment.md).
 
     ``outcome_lifted``/``outcome_crushed``: the experimenter's judgement in the lab, where
     no sensor sees the object; None takes the simulation's word from ``record``.
@@ -144,7 +128,7 @@ def trial_metrics(record: LabRecord, meta: TrialMeta, max_sensor_force: float, *
 
 def per_participant(metrics: Sequence[TrialMetrics], value: str, condition: str) -> List[Tuple[str, float]]:
     """(participant, mean of ``value`` over their trials in ``condition``), sorted by participant."""
-    groups = {}
+    groups: Dict[str, List[float]] = {}
     for m in metrics:
         if m.meta.condition == condition:
             v = getattr(m, value)

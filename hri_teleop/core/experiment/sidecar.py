@@ -1,18 +1,8 @@
 """A trial's sidecar: the YAML file beside its bag that says who did what, and what came after.
 
-Why a file of its own: the metadata (participant, object, condition, trial number) is
-written when the trial is recorded; the experimenter's outcome (lab trials) and the
-participant's questionnaire (raw TLX) are added minutes later, by other commands or a
-notebook widget.  Every writer goes through :func:`update_sidecar`, which keeps the keys it
-does not know, and writes atomically (a crash or a full disk leaves the old file or the
-new one, never half of one -- a half-written sidecar would lose the trial).
-
-Keys written by ``python -m hri_teleop.ros.trial record``: participant, object_name,
-condition, trial, sim, master, launch_args, max_sensor_force, feedback_param, ended_by,
-operator (simulated participants: script and seed).  Added later: ``outcome: {lifted,
-crushed}`` and ``tlx: {mental, ..., frustration, raw_tlx}``.
-
-Pure: YAML files only, no ROS.
+Metadata is written when a trial is recorded, the outcome and the questionnaire minutes later by
+other commands, so every writer goes through :func:`update_sidecar`: it keeps the keys it does not
+know and writes atomically. The keys: docs/experiment.md. Pure: YAML files only, no ROS.
 """
 
 from __future__ import annotations

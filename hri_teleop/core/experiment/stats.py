@@ -1,19 +1,8 @@
 """The paired comparison for a small study: exact Wilcoxon signed-rank test and its effect size.
 
-Why this test: each participant grasps under both conditions (feedback on and off), so
-the data are pairs; a lab group is a handful of people, far too few to trust a normal
-approximation or to check normality.  The Wilcoxon signed-rank test compares the paired
-differences without assuming a distribution; with ``n`` <= 25 pairs its p-value is
-computed *exactly* here, from the distribution of the signed-rank sum over all ``2^n``
-sign assignments (dynamic programming over the ranks, so no enumeration).
-
-Assumptions, stated with every result (:attr:`PairedComparison.assumptions`): the pairs
-are independent of each other (different participants), the differences are at least
-ordinal, and their distribution is symmetric about its median.  Zero differences are
-dropped (Wilcoxon's convention) and tied absolute differences get their mean rank.
-
-Effect size: the matched-pairs rank-biserial correlation ``r = (W+ - W-) / (W+ + W-)``
-(Kerby 2014), from -1 (every pair lower with the first condition) to +1.
+Each participant grasps under both conditions, and a lab group is too small for a normal
+approximation, so the p-value is exact (up to 25 pairs) and every result states its assumptions
+(:attr:`PairedComparison.assumptions`). The test and the rank-biserial effect size: docs/experiment.md.
 """
 
 from __future__ import annotations

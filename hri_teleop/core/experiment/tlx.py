@@ -1,26 +1,9 @@
 """The workload questionnaire after a trial: raw NASA-TLX (six ratings, their mean is the score).
 
-Why raw TLX: the full NASA-TLX weights the six subscales by 15 pairwise comparisons per
-participant; the *raw* TLX (Hart 2006, "NASA-TLX 20 years later") drops the weighting and
-takes the plain mean, which correlates highly with the weighted score and takes a minute
-after each trial instead of five -- what a lab session has time for.
-
-The six subscales, each rated on a 0..100 scale in steps of 5 (the paper form's 21 tick
-marks).  Low is always "little workload": *performance* runs from "perfect" (0) to
-"failure" (100), so a higher number means worse, as on the original form:
-
-* ``mental``: how mentally demanding was the task?
-* ``physical``: how physically demanding was the task?
-* ``temporal``: how hurried or rushed was the pace of the task?
-* ``performance``: how successful were you in accomplishing what you were asked to do?
-  (0 perfect .. 100 failure)
-* ``effort``: how hard did you have to work to accomplish your level of performance?
-* ``frustration``: how insecure, discouraged, irritated, stressed and annoyed were you?
-
-Pure: no widgets, no ROS.  :class:`hri_teleop.course.widgets.TlxWidget` is the form,
-``python -m hri_teleop.ros.trial tlx`` the command line; both store
-:meth:`TlxRatings.to_dict` under ``tlx`` in the trial's sidecar
-(:func:`hri_teleop.core.experiment.sidecar.update_sidecar`).
+Raw TLX, without the pairwise weighting, takes a minute after each trial instead of five (why,
+and the scales: docs/experiment.md). Pure: :class:`hri_teleop.course.widgets.TlxWidget` is the
+form, ``python -m hri_teleop.ros.trial tlx`` the command line; both store
+:meth:`TlxRatings.to_dict` under ``tlx`` in the trial's sidecar.
 """
 
 from __future__ import annotations
@@ -69,9 +52,10 @@ def _rating(key: str, value: Any, source: str) -> int:
     where = f"{source}: " if source else ""
     if isinstance(value, bool) or not isinstance(value, numbers.Real) or value != value:
         raise TlxError(f"{where}TLX {key} must be a number 0..100 in steps of {STEP}, got {value!r}")
-    if not 0 <= value <= 100 or float(value) % STEP != 0:
+    number = float(value)
+    if not 0 <= number <= 100 or number % STEP != 0:
         raise TlxError(f"{where}TLX {key} is {value!r}; rate 0..100 in steps of {STEP} (0, 5, ..., 100)")
-    return int(value)
+    return int(number)
 
 
 @dataclass(frozen=True)
@@ -92,7 +76,8 @@ class TlxRatings:
     @property
     def raw_tlx(self) -> float:
         """The raw TLX score: the mean of the six ratings (0..100)."""
-        return sum(getattr(self, k) for k in SUBSCALE_KEYS) / float(len(SUBSCALE_KEYS))
+        total: int = sum(getattr(self, k) for k in SUBSCALE_KEYS)
+        return total / float(len(SUBSCALE_KEYS))
 
     def to_dict(self) -> Dict[str, Union[int, float]]:
         """What the sidecar stores: the six ratings and, for a reader of the YAML, the score."""

@@ -1,16 +1,9 @@
 """The handout's stick dead zone (Ex. 8, Figure 8), made continuous at the dead-zone edge.
 
-A centred stick never reads exactly 0, so without a dead zone the robot drifts. The
-handout's filter zeroes everything inside the dead zone and passes the raw value outside
-it, which makes the commanded velocity jump from 0 to ``deadzone * k_trans`` the moment
-the stick leaves the dead zone -- a step the Panda turns into a reflex error. Here the
-output instead ramps up from 0 at the edge and still reaches full scale at full
-deflection:
-
-    f(v) = 0                                   for |v| <= dz
-    f(v) = sign(v) * (|v| - dz) / (1 - dz)     for |v| >  dz, clipped to [-1, 1]
-
-f is odd, monotone, continuous, f(+-1) = +-1, and has slope 1 / (1 - dz) outside the dead zone.
+The handout's filter passes the raw value outside the dead zone, so the velocity jumps from 0 to
+``deadzone * k_trans`` as the stick leaves it, a step the Panda refuses. Here the output ramps up
+from 0 at the edge and still reaches full scale at full deflection (the formula:
+docs/teleoperation.md).
 """
 
 from __future__ import annotations
@@ -25,7 +18,7 @@ __all__ = ["normalize_analog_input", "check_deadzone"]
 
 def check_deadzone(deadzone: object) -> float:
     """deadzone as a float in [0, 1), or GamepadError saying what to set instead."""
-    value = float(deadzone) if is_number(deadzone, numpy=True) else float("nan")  # type: ignore[arg-type]
+    value = float(deadzone) if is_number(deadzone, numpy=True) else float("nan")
     if not 0.0 <= value < 1.0:  # also refuses NaN
         raise GamepadError("dead zone %r is not a number in [0, 1): set deadzone to a fraction of "
                            "full stick travel, e.g. 0.1" % (deadzone,))

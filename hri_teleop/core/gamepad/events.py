@@ -1,12 +1,9 @@
 """Pad snapshots -> the handout's pygame-style events (JOYAXISMOTION, JOYBUTTONDOWN, JOYBUTTONUP).
 
-Why: handout Ex. 8 explains the teleoperation script through pygame's events -- a button
-press arrives once as JOYBUTTONDOWN, its release once as JOYBUTTONUP, a stick motion as
-JOYAXISMOTION -- and students write code that reacts to them (triangle toggles the mode
-once per press). The toolkit's pads (pygame, virtual, scripted) deliver snapshots
-(:class:`~hri_teleop.core.gamepad.PadState`), so the student's template, the grader's pad
-traces and the tests turn two consecutive snapshots into the events between them here,
-with positional names instead of raw pygame indices.
+Handout Ex. 8 explains the teleoperation script through pygame's events, while the toolkit's pads
+deliver snapshots (:class:`~hri_teleop.core.gamepad.PadState`). The student's template, the
+grader's pad traces and the tests turn two consecutive snapshots into the events between them
+here, with positional names instead of raw pygame indices.
 """
 
 from __future__ import annotations

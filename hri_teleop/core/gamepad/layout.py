@@ -1,26 +1,8 @@
 """Controller mapping files: raw SDL/pygame indices <-> positional names.
 
-Raw indices depend on the controller, its kernel driver and SDL's backend, so each
-supported controller has one YAML file in ``layouts/`` that says where every logical
-axis and button sits and where that was verified. The files describe pygame 2 / SDL2 on
-Linux with the kernel driver (evdev) backend, which is what ``PygamePad`` selects.
-
-File format::
-
-    name: dualshock4
-    description: one line shown to users
-    verified: where the indices come from (driver source, SDL mapping database, ...)
-    axes:            # logical name -> raw axis index
-      left_x: {index: 0}
-      left_y: {index: 1, invert: true}     # SDL reports up as -1; invert makes up +1
-      l2: {index: 2, rest: -1.0}           # trigger resting at -1: mapped to 0..1
-    buttons:         # positional name -> raw button index
-      south: 0
-    labels:          # optional: what the buttons are called on this pad
-      south: cross
-
-A logical axis is computed from the raw value r as ``n = (r - rest) / (1 - rest)``,
-negated if ``invert``; sticks rest at 0 (n = r), triggers at -1 (n = (r + 1) / 2).
+Raw indices depend on the controller, its kernel driver and SDL's backend, so each supported
+controller has one YAML file in ``layouts/`` saying where every logical axis and button sits and
+where that was verified. The file format and the axis normalisation: docs/teleoperation.md.
 """
 
 from __future__ import annotations
@@ -240,7 +222,7 @@ def _looks_like_path(name_or_path: str) -> bool:
             or name_or_path.endswith((".yaml", ".yml")))
 
 
-def load_layout(name_or_path: str) -> Layout:
+def load_layout(name_or_path: Union[Layout, str, Path]) -> Layout:
     """A shipped layout by name (``dualshock4``) or any layout file by path.
 
     Unknown names, missing files, YAML syntax errors and missing or wrong keys each raise a
@@ -271,4 +253,4 @@ def as_layout(layout: Union[Layout, str, Path, None]) -> Layout:
     """A Layout from a Layout, a name or a path; None gives the default (DualShock 4)."""
     if layout is None:
         return load_layout(DEFAULT_LAYOUT)
-    return load_layout(layout)  # type: ignore[arg-type]
+    return load_layout(layout)
