@@ -1,14 +1,10 @@
 """Ex. 11's calibration without ROS: the largest count the plain-serial board sends.
 
-Why: the calibration value ``/max_sensor_force`` is the count with the piston pressed level
-with the housing. With the ``fsr_serial`` sketch on the board no roscore, serial node or
-``rostopic echo`` is needed to find it::
+With the ``fsr_serial`` sketch on the board, ``/max_sensor_force`` (the count with the piston
+pressed level with the housing) needs no roscore: press the piston fully a few times while it
+reads. :func:`calibration_max` is the rule (pure); :func:`read_counts` and :func:`main` the shell.
 
     python -m hri_teleop.hardware.real.calibrate --port /dev/ttyACM0 --seconds 10
-
-Press the piston fully (level with the housing) a few times while it reads; it prints the
-maximum and how to use it. :func:`calibration_max` is the rule (pure, tested on its own);
-:func:`read_counts` and :func:`main` are the pyserial shell around it.
 """
 
 from __future__ import annotations

@@ -1,18 +1,11 @@
 """A real gamepad through pygame 2 / SDL2, with hot-plugging and rumble.
 
-pygame is imported here only, and only when a PygamePad is created, so the rest of the
-toolkit (and every test that uses the virtual pad) runs without it.
-
-Choices that matter in the lab:
-
-* ``SDL_JOYSTICK_HIDAPI=0`` (unless already set): SDL then reads PlayStation pads through
-  the kernel driver, whose raw order the files in ``layouts/`` describe. With SDL's
-  HIDAPI driver the order would depend on whether /dev/hidraw* happens to be readable.
-* The event queue is pumped but no window is opened; without a display (ssh, CI) the
-  ``dummy`` video driver is used, which is all joystick input needs.
-* ``poll`` never raises for a pad that went away: it reports ``connected=False`` (the
-  controller then ramps the robot to a stop) and reopens the pad when it is plugged in again.
-* A pad that cannot rumble logs one warning and keeps working.
+pygame is imported only when a PygamePad is created, so everything else runs without it.
+``SDL_JOYSTICK_HIDAPI=0`` (unless set) makes SDL read PlayStation pads through the kernel driver,
+whose raw order ``layouts/`` describe. No window is opened (``dummy`` video driver without a
+display). ``poll`` never raises for a pad that went away: it reports ``connected=False`` (the
+controller ramps to a stop) and reopens the pad when it is plugged in again. A pad that cannot
+rumble logs one warning and keeps working.
 """
 
 from __future__ import annotations

@@ -1,22 +1,8 @@
 """The simulated sensor board: the Arduino that samples the FSR divider and sends the count.
 
-Why: in the lab an Uno reads A0 and publishes the 10-bit count on ``/pub_force``; at home
-the simulated hand's FSR count (:attr:`hri_teleop.hardware.sim.hand.HandSim.fsr_count`, i.e.
-:func:`hri_teleop.core.fsr.force_to_count` of the spring force) must reach the same topic with
-what a real board adds: a sampling period and a little ADC noise.
-
-* ``rate_hz`` (default 100 Hz): how often a count is sent.  The handout's firmware waits
-  300 ms per loop (:data:`HANDOUT_FIRMWARE_RATE_HZ`, about 3.3 Hz); 100 Hz is what the
-  faster firmware of ``firmware/`` sends, and what haptic feedback needs.
-* ``noise_counts`` (default 1.0): standard deviation of Gaussian noise added to the
-  count, rounded, then clipped to 0..1023.  An Uno's ADC wanders by a count or two (its
-  datasheet gives +-2 LSB absolute accuracy).  With no force the divider reads 0 V through
-  the pull-down, and the noise can only push it *up*: counts of 1-3 at rest are what
-  ``rumble_threshold`` in teleop.yaml is there to ignore.
-* ``seed``: the noise is a seeded ``random.Random``, so a run is repeatable.
-
-Samples are due at ``start_s + k / rate_hz``; :meth:`SensorBoard.due` says whether one is
-due, :meth:`SensorBoard.sample` takes it.  Pure: the caller passes times and counts.
+At home the simulated hand's FSR count must reach ``/pub_force`` with what a real board adds: a
+sampling period and a little seeded ADC noise. :class:`SensorBoard` says when a sample is due and
+takes it; pure, the caller passes times and counts. Its rates and noise model: docs/simulation.md.
 """
 
 from __future__ import annotations
@@ -68,7 +54,7 @@ class BoardConfig:
 
 
 class SensorBoard:
-    """Samples a count at a fixed rate and adds ADC noise (see the module doc)."""
+    """Samples a count at a fixed rate and adds ADC noise (the model: docs/simulation.md)."""
 
     def __init__(self, config: Optional[BoardConfig] = None, start_s: float = 0.0) -> None:
         self.config = config if config is not None else BoardConfig()

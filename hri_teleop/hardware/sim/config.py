@@ -1,46 +1,19 @@
 """The simulated lab's settings (``hri_lab/config/sim.yaml``): read, check, turn into a WorldConfig.
 
-Why checked so strictly: students change the object, the board's rate or the start pose
-in this file (or in a scenario's ``world:`` section, or with a private parameter of the
-``lab_sim`` node), and a typo (``rate_hx``), a quoted number (``"100"``) or a value out of
-range must not be silently ignored or end the simulation node with a traceback.  Every
-problem is one line: the file (and line, for YAML syntax errors), the key, what was found
-and the fix -- the same rules as :mod:`hri_teleop.core.config` for teleop.yaml.
-
-The file (every key optional; a missing key takes the default of the dataclass it sets,
-so an empty file is :class:`~hri_teleop.hardware.sim.world.WorldConfig` ``()`` -- no object)::
-
-    object: egg                # a name from hri_teleop.hardware.sim.grasp_objects.OBJECTS, none, or a mapping
-                               # of GraspObject fields (name, width_m, stiffness_n_per_m,
-                               # mass_kg, friction_coefficient, breaking_force_n, note)
-    object_xy_m: null          # (x, y) in the base frame, m; null = right below the start pose
-    table_z_m: 0.0             # height of the table top, m
-    capture_radius_m: 0.01     # horizontal distance within which the object is between the fingers, m
-    arm: {start_position_m, start_orientation_xyzw, workspace_min_m, workspace_max_m, timeout_s}
-    hand: {any HandParams field: initial_width_m, max_speed_m_per_s, max_force_n, ...}
-    attachment: {piston_travel_m, spring_n_per_m}
-    board: {rate_hz, noise_counts, seed}
-
-Not configurable, on purpose: the Panda's Cartesian limits (facts of the robot, docs/lab-facts.md;
-the simulation judges commands against them) and the FSR's wiring (hri_teleop.core.fsr's
-model of the lab's divider).
-
-Layers.  The node reads sim.yaml, then a scenario's optional ``world:`` mapping (same
-keys), then its private parameters; each layer replaces single keys of the one below
-(``arm``, ``hand``, ``attachment`` and ``board`` key by key, ``object`` as a whole).  An
-error names the layer that set the offending key.  Private parameters use the top-level
-names (``~object``, ``~table_z_m``, ``~arm``, ...) and a few flat aliases for the values
-changed most (:data:`PARAM_ALIASES`: ``~board_rate_hz``, ``~noise_counts``, ...).
-
-Pure: reads YAML files, no rospy.
+Students change the object, the board's rate or the start pose there, in a scenario's ``world:``
+or with a private parameter of ``lab_sim``; a typo (``rate_hx``), a quoted number or a value out
+of range is one line naming the file (or layer), the key, what was found and the fix, as
+:mod:`hri_teleop.core.config` does for teleop.yaml. sim.yaml's comments document the keys. Not
+settings, on purpose: the Panda's limits and the FSR's wiring. Pure: YAML files, no rospy.
 """
 
 from __future__ import annotations
 
+import builtins
 import dataclasses
 import difflib
 from pathlib import Path
-from typing import Any, Dict, List, Mapping, Optional, Sequence, Tuple, Union
+from typing import Any, Dict, List, Literal, Mapping, Optional, Sequence, Tuple, TypedDict, Union
 
 from hri_teleop.core.attachment import Attachment, AttachmentError
 from hri_teleop.core.checks import is_finite_number, is_int
@@ -77,7 +50,8 @@ NO_OBJECT = "none"
 
 _ARM_KEYS = ("start_position_m", "start_orientation_xyzw", "workspace_min_m", "workspace_max_m", "timeout_s")
 _HAND_KEYS = tuple(f.name for f in dataclasses.fields(HandParams))
-_ATTACHMENT_KEYS = ("piston_travel_m", "spring_n_per_m")
+_AttachmentKey = Literal["piston_travel_m", "spring_n_per_m"]
+_ATTACHMENT_KEYS: Tuple[_AttachmentKey, ...] = ("piston_travel_m", "spring_n_per_m")
 _BOARD_KEYS = ("rate_hz", "noise_counts", "seed")
 
 #: The sections (mappings) and the keys each one takes.
@@ -123,6 +97,13 @@ _VECTOR_EXAMPLE: Dict[str, str] = {
 
 class SimConfigError(HriTeleopError, ValueError):
     """The simulation settings are unreadable or have a bad key/value (one line with the file and the fix)."""
+
+
+class _AttachmentFields(TypedDict, total=False):
+    """The :class:`Attachment` fields that sim.yaml may set (``_ATTACHMENT_KEYS``)."""
+
+    piston_travel_m: float
+    spring_n_per_m: float
 
 
 # --------------------------------------------------------------------------- reading files
@@ -252,7 +233,7 @@ class _Builder:
 
     def number(self, key: str, value: object) -> float:
         if is_finite_number(value):
-            return float(value)  # type: ignore[arg-type]
+            return float(value)
         meaning = _MEANING.get(key, "a finite number")
         hint = "write a plain number without quotes"
         if isinstance(value, str):
@@ -331,7 +312,7 @@ class _Builder:
         except HandSimError as exc:
             raise self.wrapped("object", exc, ("GraspObject.",)) from None
 
-    def text(self, key: str, value: object, allow_empty: bool = False) -> str:
+    def text(self, key: str, value: builtins.object, allow_empty: bool = False) -> str:  # the method object() shadows it
         if not isinstance(value, str) or not (allow_empty or value.strip()):
             raise self.error(key, f"{key} must be a {'' if allow_empty else 'non-empty '}string, got {value!r}; "
                                   "write it in quotes, e.g. name: \"cup\"")
@@ -363,7 +344,10 @@ class _Builder:
 
     def attachment(self) -> Attachment:
         values = self.section("attachment")
-        kwargs = {key: self.number(f"attachment.{key}", values[key]) for key in _ATTACHMENT_KEYS if key in values}
+        kwargs: _AttachmentFields = {}
+        for key in _ATTACHMENT_KEYS:
+            if key in values:
+                kwargs[key] = self.number(f"attachment.{key}", values[key])
         try:
             return Attachment(**kwargs)
         except AttachmentError as exc:
@@ -412,7 +396,11 @@ class _Builder:
 
 
 def world_config_from_layers(layers: Sequence[Layer]) -> WorldConfig:
-    """Check each layer's keys, merge them (later ones win), build and check the WorldConfig."""
+    """Check each layer's keys, merge them, build and check the WorldConfig.
+
+    A later layer replaces single keys of the ones before (``arm``, ``hand``, ``attachment``
+    and ``board`` key by key, ``object`` as a whole); an error names the layer that set the key.
+    """
     used: List[Layer] = []
     for data, source in layers:
         _check_layer(data, source)

@@ -1,4 +1,4 @@
-"""franka_gripper's goals (move, grasp, homing, stop) as the simulated hand takes them, and their records."""
+"""Franka gripper goals (move, grasp, homing, stop) as the simulated hand takes them, and their records."""
 
 from __future__ import annotations
 
@@ -17,7 +17,7 @@ def _field(value: object, name: str) -> float:
     """A command field as a float (NaN and inf kept: the hand, not the caller, rejects them)."""
     if not is_number(value, numpy=True):
         raise HandSimError(f"{name} must be a number, got {value!r}; pass metres, m/s or newtons as a float")
-    return float(value)  # type: ignore[arg-type]
+    return float(value)
 
 
 @dataclass(frozen=True)

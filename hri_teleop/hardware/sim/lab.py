@@ -1,27 +1,9 @@
 """The whole teleoperation lab in one process, in lock step, much faster than real time.
 
-Why: the ROS launch (``teleoperation.launch sim:=true``) runs in real time -- right for
-a student watching, slow for the grader's reference traces, for property tests that try
-hundreds of random operators, and for benchmarks.  This runner wires the *same* core
-objects the nodes wrap, in the order the messages flow, with no ROS in between:
-
-=======================  ==================================================  =========
-node                     core it runs here                                   rate
-=======================  ==================================================  =========
-sensor board / lab_sim   :class:`~hri_teleop.hardware.sim.world.LabWorld` (arm,       1 kHz
-                         hand, object, FSR, board)
-mapping_node             :func:`hri_teleop.core.mapping.map_force`                per sample
-teleoperation            :class:`~hri_teleop.core.teleop.TeleopController`,       ``rate``
-                         :class:`~hri_teleop.core.gamepad.RumbleRequests`, the
-                         pad watchdog, a :class:`ScriptedPad` on the tick
-                         clock
-gripper_manager          :class:`~hri_teleop.core.gripper.GoalThrottle`, cancel   per target
-                         the older goal, ``move{width, speed}``              + 20 Hz
-=======================  ==================================================  =========
-
-What it leaves out, on purpose: message latency (here every message arrives at once)
-and scheduling jitter.  The ROS run has both (a few ms); the integration tests run the
-real launch to cover them.  Everything is deterministic: same inputs, same record.
+:func:`run_lab` wires the same core objects the nodes wrap (world, mapping, controller, gripper
+throttle), in the order the messages flow, with no ROS in between: for the grader's reference
+traces, property tests with hundreds of random operators, and benchmarks. Deterministic: same
+inputs, same record. Which node each part stands for, and what it leaves out: docs/simulation.md.
 """
 
 from __future__ import annotations
@@ -158,8 +140,8 @@ def run_lab(
             watchdog.feed(now)
             if watchdog.is_stale(now):
                 state = None
-        value, age = (force[0], now - force[1]) if force is not None else (None, math.inf)
-        cmd = controller.step(state, value, age, dt)
+        mapped, age = (force[0], now - force[1]) if force is not None else (None, math.inf)
+        cmd = controller.step(state, mapped, age, dt)
         request = rumble_requests.update(cmd.rumble, now)
         if request is not None:
             pad.rumble(*request)

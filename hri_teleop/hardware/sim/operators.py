@@ -1,12 +1,10 @@
 """Random simulated operators: pad scripts that do what hurried, clumsy people do.
 
-Why: "no command stream ever breaks the Franka's limits" must hold for *any* operator,
-not only for the polite default scenario.  :func:`random_operator` draws a seeded pad
-script with the inputs that stress the twist limiter most -- full stick reversals in one
-tick, mode toggles mid-motion, both gripper buttons, a pad that is unplugged or fails to
-read, quitting while moving -- and :func:`script_to_yaml_data` writes it in the YAML the
-teleoperation node replays (``~pad_script``), so the same operator runs offline
-(:func:`hri_teleop.hardware.sim.lab.run_lab`) and through the real node.
+"No command stream ever breaks the Franka's limits" must hold for any operator. :func:`random_operator`
+draws a seeded script with what stresses the limiter most (full stick reversals in one tick, mode
+toggles mid-motion, both gripper buttons, a lost pad, quitting while moving), and
+:func:`script_to_yaml_data` writes it for the node's ``~pad_script``, so the same operator runs
+offline (:func:`hri_teleop.hardware.sim.lab.run_lab`) and through the real node.
 """
 
 from __future__ import annotations

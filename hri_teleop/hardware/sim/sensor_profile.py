@@ -1,16 +1,9 @@
 """A deterministic simulated piston press, as the sensor board would report it.
 
-Why: at home there is no Arduino, yet ``/pub_force`` must look like the lab's -- a count
-of 0 while the piston is free, then a press and a release.  ``FSR_sensor.py``, the
-notebooks and the tests all use :func:`press_profile_count` so they see the same numbers.
-
-The *force* on the piston follows a smooth raised-cosine press (0 -> peak -> 0, no
-jumps), and the count is that force passed through the FSR 402 divider model of
-:mod:`hri_teleop.core.fsr`.  So the count shows the real sensor's shape: it jumps up quickly
-at a light touch and flattens under a firm press.  The peak force is chosen so that the
-top of each press reads exactly ``max_count`` (the calibration value, e.g. the count with
-the piston level with the housing).  Each period is one press over the first
-``press_fraction`` of the period, then rest at 0.
+Without an Arduino, ``/pub_force`` must still look like the lab's; ``FSR_sensor.py``, the notebooks
+and the tests use :func:`press_profile_count`, so they see the same numbers. The force follows a
+smooth raised-cosine press through the FSR model of :mod:`hri_teleop.core.fsr`, so the count jumps
+at a light touch and flattens under a firm press; the top of each press reads exactly ``max_count``.
 """
 
 from __future__ import annotations

@@ -1,23 +1,11 @@
 """The compiled ``fsr_serial`` firmware on a simulated Uno (simavr), its A0 fed from the FSR model.
 
-Why: the plain-serial sketch, the serial bridge and the calibration must be tested with
-the bytes a real board sends, on machines without a board. ``firmware/sim/uno_sim`` (C,
-over libsimavr; ``make firmware`` builds it) runs the very ELF image that would be flashed
-and exposes the Uno's serial port as a pseudo-terminal behind a symbolic link. This module
-is its Python side:
+The sketch, the serial bridge and the calibration must be tested with the bytes a real board
+sends, without a board: ``firmware/sim/uno_sim`` runs the very ELF image behind a pty
+(firmware/README.md). Here :func:`force_profile` turns forces into A0 voltages through
+:mod:`hri_teleop.core.fsr`, and :class:`SimulatedUno` starts, unplugs, replugs and stops it.
 
-* :func:`force_profile` turns forces over time into the A0 voltages of the lab's divider
-  with :mod:`hri_teleop.core.fsr` (force -> resistance -> voltage), as the harness's profile
-  points; :func:`press_forces` and :func:`staircase_forces` make the forces;
-  :attr:`ProfilePoint.count` is the count the model predicts for a point.
-* :class:`SimulatedUno` starts the harness, unplugs and replugs the USB cable (signals),
-  and stops it.
-* ``python -m hri_teleop.hardware.sim.simavr_board --link /tmp/ttyFSR`` runs a board pressing its
-  piston every few seconds, for trying the bridge by hand::
-
-      rosrun hri_lab serial_bridge.py _port:=/tmp/ttyFSR
-
-Everything but :class:`SimulatedUno`, :func:`build_firmware` and :func:`main` is pure.
+    python -m hri_teleop.hardware.sim.simavr_board --link /tmp/ttyFSR   # presses every few seconds
 """
 
 from __future__ import annotations
@@ -204,7 +192,7 @@ def build_firmware(timeout_s: float = 600.0) -> str:
     return proc.stdout + proc.stderr
 
 
-def _default_start(argv: List[str]) -> subprocess.Popen:
+def _default_start(argv: List[str]) -> subprocess.Popen[bytes]:
     return subprocess.Popen(argv, stdin=subprocess.DEVNULL, stdout=subprocess.DEVNULL, start_new_session=True)
 
 
@@ -223,7 +211,7 @@ class SimulatedUno:
         self.speed = speed
         self.firmware = Path(firmware)
         self.harness = Path(harness)
-        self.process: Optional[subprocess.Popen] = None
+        self.process: Optional[subprocess.Popen[bytes]] = None
 
     def argv(self) -> List[str]:
         argv = [str(self.harness), "--firmware", str(self.firmware), "--link", str(self.link), "--quiet"]
@@ -235,7 +223,7 @@ class SimulatedUno:
             argv += ["--speed", repr(float(self.speed))]
         return argv
 
-    def start(self, start: Callable[[List[str]], subprocess.Popen] = _default_start,
+    def start(self, start: Callable[[List[str]], subprocess.Popen[bytes]] = _default_start,
               timeout_s: float = 10.0) -> "SimulatedUno":
         for path, what in ((self.harness, "the simulated Uno"), (self.firmware, "the firmware")):
             if not path.exists():

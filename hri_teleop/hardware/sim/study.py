@@ -1,15 +1,10 @@
 """Ex. 14's experiment in the lock-step lab: a counterbalanced study of simulated participants.
 
-The trials ``python -m hri_teleop.ros.trial rehearse`` records over ROS in real time, run
-here in :func:`~hri_teleop.hardware.sim.lab.run_lab` (no ROS, about 100 times faster) and analysed
-by the very function that analyses recorded trials
-(:func:`~hri_teleop.core.experiment.analysis.analyse_trials`): the same metrics, the same
-paired comparison. The Ex. 14 notebook compares the two conditions with it, and the
-analysis notebook falls back to it when no recorded trials exist.
-
-Participant ``i`` of a study with ``seed`` behaves as in a rehearsal with that seed
-(:func:`hri_teleop.core.experiment.plan.trial_seed`); ``operator`` replaces the simulated
-participants' scripts by one of the caller's (a student's operator) in both conditions.
+The trials ``python -m hri_teleop.ros.trial rehearse`` records over ROS run here in ``run_lab``
+(about 100 times faster) and are analysed by ``analyse_trials``, as recorded trials are. The Ex. 14
+notebook compares the conditions with it; the analysis notebook falls back to it without recorded
+trials. Participant ``i`` behaves as in a rehearsal with the same seed
+(:func:`hri_teleop.core.experiment.plan.trial_seed`); ``operator`` replaces their scripts.
 """
 
 from __future__ import annotations
@@ -22,10 +17,11 @@ from hri_teleop.core.errors import HriTeleopError
 from hri_teleop.core.experiment.analysis import LoadedTrial, StudyResult, analyse_trials
 from hri_teleop.core.experiment.metrics import TrialMeta
 from hri_teleop.core.experiment.plan import counterbalanced_plan, trial_seed
+from hri_teleop.core.run_record import LabRecord
 from hri_teleop.core.teleop import TeleopParams
 from hri_teleop.hardware.sim.config import world_config_from_dict
 from hri_teleop.hardware.sim.grasp_objects import OBJECTS
-from hri_teleop.hardware.sim.lab import LabRecord, run_lab
+from hri_teleop.hardware.sim.lab import run_lab
 from hri_teleop.hardware.sim.operators import study_scenario
 from hri_teleop.hardware.sim.virtual_pad import ScriptStep
 from hri_teleop.plots.study import save_result_figure

@@ -1,33 +1,9 @@
 """Virtual gamepads: one driven by code (tests, notebooks, a /joy subscriber), one by a script.
 
-Students prepare at home without a pad, the integration tests need a pad that does the
-same thing every run, and the grader needs to know what the node asked the pad to do.
-``VirtualPad`` keeps a logical state that code changes (``set_axis``, ``press``, ...)
-and records every rumble it is given. ``ScriptedPad`` replays a YAML script of timed
-steps::
-
-    - {t: 0.5, axis: left_y, value: 0.8}     # push the left stick up
-    - {t: 1.0, press: south}                 # hold cross / A ...
-    - {t: 2.0, release: south}               # ... and let go
-    - {t: 2.5, press: [north, l1]}           # several buttons at once
-    - {t: 3.0, disconnect: true}             # pad unplugged
-    - {t: 4.0, reconnect: true}
-    - {t: 5.0, fail: true}                   # reading the pad fails (poll raises) ...
-    - {t: 6.0, recover: true}                # ... until it recovers
-
-A simulated operator also taps and reacts to the rumble it feels::
-
-    - {t: 7.0, tap: south, hold: 0.04}       # press cross for 40 ms (two ticks at 50 Hz)
-    - {t: 8.0, tap: south, hold: 0.04, every: 0.5, until: rumble, above: 0.9, max_wait: 20}
-                                             # tap every 0.5 s until the pad rumbles above 0.9
-    - {t: 9.0, release: south, when: rumble} # wait until the pad rumbles, then let go
-
-``t`` is seconds since the script started (the first ``poll``), never decreasing.  While
-a step waits (``until``/``when``), the script's clock stops: later steps keep their
-spacing from the end of the wait.  A wait gives up after ``max_wait`` seconds (default
-30) and the script goes on; ``ScriptedPad.timed_out`` lists such waits.  The file may
-also be a mapping ``{description: ..., world: {...}, steps: [...]}`` (``world`` is for
-the simulation, see hri_teleop.hardware.sim.config).
+Students prepare at home without a pad, the integration tests need a pad that does the same thing
+every run, and the grader needs to know what the node asked the pad to do. :class:`VirtualPad`
+keeps a state that code changes and records every rumble it is given; :class:`ScriptedPad`
+replays a YAML script of timed steps, which may wait for the rumble (docs/simulation.md).
 """
 
 from __future__ import annotations
@@ -433,6 +409,10 @@ class ScriptedPad(VirtualPad):
             applied += 1
         return applied
 
+    def _rumbles_above(self, step: ScriptStep, elapsed: float) -> bool:
+        assert self._start_s is not None  # advance() sets it before it applies a step
+        return self.rumble_level(self._start_s + elapsed) > step.above
+
     def _wait_over(self, step: ScriptStep, elapsed: float) -> bool:
         """Whether a waiting step may go on now (False: keep waiting; taps happen in here)."""
         if self._wait_since is None:
@@ -447,13 +427,13 @@ class ScriptedPad(VirtualPad):
             if self._next_tap_at is None:  # the first tap, whatever the pad does
                 met = False
             else:
-                met = self.rumble_level(self._start_s + elapsed) > step.above  # type: ignore[operator]
+                met = self._rumbles_above(step, elapsed)
             if not met and waited + _TIME_EPS_S < step.max_wait_s:
                 self._tap(step, elapsed)
                 self._next_tap_at = elapsed + step.every_s
                 return False
         else:
-            met = self.rumble_level(self._start_s + elapsed) > step.above  # type: ignore[operator]
+            met = self._rumbles_above(step, elapsed)
             if not met and waited + _TIME_EPS_S < step.max_wait_s:
                 return False
         (self.waited if met else self.timed_out).append((self._next + 1, waited))

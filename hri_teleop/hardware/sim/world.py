@@ -1,25 +1,10 @@
 """The lab's hardware in one simulated world: arm, hand, object, FSR attachment, sensor board.
 
-Why: the arm and the hand are separate devices, but at home they share one physics: the
-object lifts only if the *arm* moves up while the *hand* grips it hard enough, and the
-FSR count the board sends comes from the hand's piston.  :class:`LabWorld` steps
-:class:`~hri_teleop.hardware.sim.arm.SimArm` and :class:`~hri_teleop.hardware.sim.hand.HandSim` together at
-1 kHz, feeds the arm's vertical velocity to the hand, keeps the horizontal geometry
-(which the hand does not model) and samples the board.  Pure: no rospy, no clock; the
-simulation node (``hri_lab/scripts/lab_sim.py``) and the offline runner
-(:mod:`hri_teleop.hardware.sim.lab`) call it with their time.
-
-Geometry (base frame, metres; the end-effector point is the centre between the fingertips):
-
-* The table top is at ``table_z_m``; the object lies on it at ``object_xy_m``, and is
-  grasped at half its width above the table (objects here are about as tall as wide).
-* The object is *in reach* while the end effector is within ``capture_radius_m`` of it
-  horizontally (1 cm: half a Franka fingertip pad); vertically the hand's own grip zone
-  applies.  The default object sits right below the start pose, so "approach" is "go down".
-* An object squeezed between the fingers (grip force > 0) moves horizontally with the hand;
-  vertically it lifts or slips as :class:`~hri_teleop.hardware.sim.hand.HandSim` decides.
-* The default workspace floor is 15 mm above the table: the fingertips stop short of it
-  (the sim clamps at the box, see :mod:`hri_teleop.hardware.sim.arm`), low enough to grasp a 44 mm egg.
+At home the arm and the hand share one physics: the object lifts only if the arm moves up while
+the hand grips it hard enough, and the board's count comes from the hand's piston. So
+:class:`LabWorld` steps them together at 1 kHz and keeps the horizontal geometry. Pure: no rospy,
+no clock; ``lab_sim.py`` and :mod:`hri_teleop.hardware.sim.lab` pass the time. The geometry:
+docs/simulation.md.
 """
 
 from __future__ import annotations
@@ -31,8 +16,9 @@ from typing import List, Optional, Sequence, Tuple
 from hri_teleop.core.attachment import Attachment
 from hri_teleop.core.checks import is_finite_number
 from hri_teleop.core.errors import HriTeleopError
+from hri_teleop.core.limits import ROBOT_PERIOD_S
 from hri_teleop.core.run_record import LIFTED_M
-from hri_teleop.hardware.sim.arm import ROBOT_PERIOD_S, SimArm, SimArmConfig
+from hri_teleop.hardware.sim.arm import SimArm, SimArmConfig
 from hri_teleop.hardware.sim.board import BoardConfig, SensorBoard
 from hri_teleop.hardware.sim.grasp_objects import GraspObject, is_held
 from hri_teleop.hardware.sim.gripper_goals import Command, GoalRecord
@@ -105,7 +91,7 @@ class ObjectStatus:
 
 
 class LabWorld:
-    """Arm + hand + object + board, stepped together at 1 kHz (see the module doc)."""
+    """Arm + hand + object + board, stepped together at 1 kHz (the geometry: docs/simulation.md)."""
 
     def __init__(self, config: Optional[WorldConfig] = None, start_s: float = 0.0) -> None:
         self.config = config if config is not None else WorldConfig()
