@@ -1,37 +1,30 @@
-"""What the course's notebooks import: the facade of the Task 4 notebooks.
+"""What the course's notebooks import, and nothing else: eleven names.
 
-A notebook's setup cell starts the kernel's ROS master (``ensure_ros``); its cells start
-nodes (``run_provided_node``, ``run_student_node``, ``rosrun_student``, ``launch_student``),
-wait for them (``wait_for_publisher``), stop them (``stop_nodes``), show and load the
-student's files (``show_file``, ``import_student_file``) and score them (``score``,
-``grade_teleoperation_parts``, ``grade_teleoperation_node``); ``seconds`` shortens real-time
-cells under tests and grading. The widgets are in :mod:`hri_teleop.course.widgets`, the
-instructor's release tools in :mod:`hri_teleop.course.release` (``python -m hri_teleop.course``).
+``ensure_ros`` joins the kernel to ROS; ``lab`` starts and stops nodes; ``check`` scores the
+student's files; ``sim`` is the lock-step lab; ``widgets`` the explorers and live plots;
+``experiment`` the trial analysis; ``fsr`` the sensor's formulas; ``show_file``,
+``import_student_file``, ``build_workspace`` and ``seconds`` help a cell. The namespaces are
+submodules, imported when a notebook asks for them.
 """
 
 from __future__ import annotations
 
-from hri_teleop.course.cells import (
-    grade_teleoperation_node,
-    grade_teleoperation_parts,
-    import_student_file,
-    score,
-    seconds,
-    show_file,
-)
-from hri_teleop.course.errors import CourseError
-from hri_teleop.course.nodes import (
-    launch_student,
-    rosrun_student,
-    run_provided_node,
-    run_student_node,
-    stop_nodes,
-    wait_for_publisher,
-)
-from hri_teleop.course.notebook_ros import ensure_ros
+import importlib
+from types import ModuleType
 
-__all__ = [
-    "CourseError", "ensure_ros", "score", "seconds", "show_file", "import_student_file",
-    "grade_teleoperation_parts", "grade_teleoperation_node", "run_provided_node", "run_student_node",
-    "rosrun_student", "launch_student", "wait_for_publisher", "stop_nodes",
-]
+from hri_teleop.core import fsr
+from hri_teleop.course.cells import import_student_file, seconds, show_file
+from hri_teleop.course.notebook_ros import ensure_ros
+from hri_teleop.ros.catkin_ws import build_workspace
+
+__all__ = ["ensure_ros", "lab", "check", "sim", "widgets", "experiment", "fsr", "show_file", "import_student_file",
+           "build_workspace", "seconds"]
+
+_NAMESPACES = ("lab", "check", "sim", "widgets", "experiment")
+
+
+def __getattr__(name: str) -> ModuleType:
+    """``course.lab`` and the other namespaces, imported on first use (widgets need ipywidgets)."""
+    if name in _NAMESPACES:
+        return importlib.import_module(f"{__name__}.{name}")
+    raise AttributeError(f"module {__name__!r} has no attribute {name!r}")

@@ -138,7 +138,8 @@ def answer_files(solutions: Optional[PathLike] = None) -> Dict[str, str]:
 # -- what only the answer key has ---------------------------------------------------------------
 
 def read_notebook(path: Path) -> Dict[str, Any]:
-    return json.loads(path.read_text(encoding="utf-8"))
+    notebook: Dict[str, Any] = json.loads(path.read_text(encoding="utf-8"))
+    return notebook
 
 
 def _src(cell: Dict[str, Any]) -> str:

@@ -11,7 +11,7 @@ from __future__ import annotations
 import os
 import time
 from pathlib import Path
-from typing import Any, Dict, Optional, Union
+from typing import Any, Dict, List, Optional, Union
 
 from hri_teleop.core.config import DEFAULT_TWIST_TOPIC, LAB_TELEOP_CONFIG, lab_max_sensor_force
 from hri_teleop.core.modes import HARDWARE_NODES, LAB, mode_from_env, pad_params, simulation_refusal
@@ -38,7 +38,7 @@ def _refusal(what: str) -> Optional[str]:
     return simulation_refusal(current, what, hardware)
 
 
-def _topic_nodes(topic: str, publishers: bool) -> list:
+def _topic_nodes(topic: str, publishers: bool) -> List[List[str]]:
     state = master_call("getSystemState")
     section = state[0] if publishers else state[1]
     return [nodes for name, nodes in section if name == topic][:1] or [[]]

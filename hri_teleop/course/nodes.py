@@ -35,10 +35,15 @@ _STARTED: List[Any] = []
 _SCRATCH: List[Path] = []
 
 
+def _remove_scratch() -> None:
+    for folder in _SCRATCH:
+        shutil.rmtree(folder, ignore_errors=True)
+
+
 def _scratch(prefix: str) -> Path:
     """A temporary folder of this kernel (node logs, workspaces), removed when the kernel stops."""
     if not _SCRATCH:
-        atexit.register(lambda: [shutil.rmtree(p, ignore_errors=True) for p in _SCRATCH])
+        atexit.register(_remove_scratch)
     folder = Path(tempfile.mkdtemp(prefix=prefix))
     _SCRATCH.append(folder)
     return folder

@@ -186,7 +186,8 @@ def validate_release(notebook: PathLike, timeout_s: int = 300) -> Dict[str, Any]
         config.Validator.invert = True
         config.Execute.timeout = timeout_s
         config.Execute.startup_timeout = 120
-        return Validator(config=config).validate(str(notebook))
+        result: Dict[str, Any] = Validator(config=config).validate(str(notebook))
+        return result
 
 
 def run_source(notebook: PathLike, timeout_s: int = 300) -> Dict[str, Any]:

@@ -65,7 +65,7 @@ def test_the_workspace_environment_keeps_the_notebooks_master_and_drops_the_labs
 
 def test_rosrun_starts_the_students_node_from_the_workspace_on_the_notebooks_master(released, ros_master,
                                                                                    monkeypatch):
-    from hri_teleop import course
+    from hri_teleop.course import lab
 
     for key, value in ros_master.env.items():
         monkeypatch.setenv(key, value)
@@ -73,7 +73,7 @@ def test_rosrun_starts_the_students_node_from_the_workspace_on_the_notebooks_mas
     (released / "scripts" / "teleoperation.py").write_text(
         make_answer((SOLUTIONS / "scripts" / "teleoperation.py").read_text()))
     ws = build_workspace(released)
-    node = course.rosrun_student(ws, "teleoperation.py", "teleoperation", pad="virtual", wait_for_robot_s=0.1)
+    node = lab.rosrun(ws, "teleoperation.py", "teleoperation", pad="virtual", wait_for_robot_s=0.1)
     try:
         deadline = time.monotonic() + 30
         while time.monotonic() < deadline and "/teleoperation" not in ros_master.node_names():
@@ -83,7 +83,7 @@ def test_rosrun_starts_the_students_node_from_the_workspace_on_the_notebooks_mas
                               text=True, timeout=30).stdout
         assert "/teleoperation" in info
     finally:
-        course.stop_nodes()
+        lab.stop()
 
 
 def test_a_misspelled_script_in_cmakelists_is_one_line_naming_it(released, ros_env, monkeypatch):

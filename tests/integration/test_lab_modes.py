@@ -7,8 +7,7 @@ import sys
 
 import pytest
 
-from hri_teleop import course
-from hri_teleop.course import lab_nodes
+from hri_teleop.course import lab, lab_nodes
 from hri_teleop.course.errors import CourseError
 from hri_teleop.ros.master_api import running_nodes
 
@@ -25,7 +24,7 @@ def kernel(ros_master, monkeypatch):
     monkeypatch.delenv("HRI_MODE", raising=False)
     monkeypatch.delenv("NBGRADER_EXECUTION", raising=False)
     yield ros_master
-    course.stop_nodes()
+    lab.stop()
 
 
 def _spin_node(master, name):
@@ -38,7 +37,7 @@ def test_at_home_the_board_starts_once_and_a_second_start_of_its_name_is_refused
     board = lab_nodes.start_board(max_value=700, rate_hz=100)
     assert board is not None and board.running
     assert running_nodes(among=["/FSR_sensor"]) == ["/FSR_sensor"]
-    with pytest.raises(CourseError, match=r"^/FSR_sensor already running on this master.*stop_nodes\(\)"):
+    with pytest.raises(CourseError, match=r"^/FSR_sensor already running on this master.*lab\.stop\(\)"):
         lab_nodes.start_board(max_value=700, rate_hz=100)
     assert board.running, "the refused start must leave the running board alone"
 

@@ -5,7 +5,8 @@ from __future__ import annotations
 import pytest
 
 from hri_teleop import course
-from hri_teleop.course import cells, release
+from hri_teleop.course import cells, check, lab, release
+from hri_teleop.course.errors import CourseError
 from hri_teleop.grading.batch.assignments import ASSIGNMENTS
 from hri_teleop.grading.judge.compare import TELEOP
 from hri_teleop.grading.results import CheckResult, Part
@@ -27,7 +28,7 @@ def test_score_prints_the_feedback_and_returns_the_points_of_passed_parts(capsys
     result = CheckResult("mapping-node", "hri_lab/scripts/mapping_node.py",
                          [Part("subscribes /pub_force", 3, True), Part("publishes /force_mapped", 3, False,
                                                                        "nothing arrived on /force_mapped")])
-    assert course.score(result) == 3.0
+    assert check.score(result) == 3.0
     out = capsys.readouterr().out
     assert "nothing arrived on /force_mapped" in out and "3/6" in out
 
@@ -36,11 +37,11 @@ def test_teleoperation_check_splits_into_the_class_parts_and_the_node_parts(tmp_
     from hri_teleop.grading.cases.templates import generate_templates
 
     generate_templates(release.SOLUTIONS, tmp_path / "hri_lab")
-    parts = course.grade_teleoperation_parts(tmp_path / "hri_lab")
+    parts = check.teleoperation_parts_result(tmp_path / "hri_lab")
     names = {p.name for p in parts.parts}
     assert names == {name for key, (name, _) in TELEOP.items() if not key.startswith("node_")}
     assert parts.score < parts.max_score == sum(p for k, (_, p) in TELEOP.items() if not k.startswith("node_"))
-    node = course.grade_teleoperation_node(tmp_path / "hri_lab")
+    node = check.teleoperation_node_result(tmp_path / "hri_lab")
     assert {p.name for p in node.parts} == {name for key, (name, _) in TELEOP.items() if key.startswith("node_")}
     assert node.score == 0 and any("Ex. 8 parts still failing" in n for n in node.notes)
 
@@ -60,14 +61,14 @@ def test_import_student_file_rereads_the_file_each_time(tmp_path):
 
 def test_nodes_need_the_kernels_master_first(monkeypatch):
     monkeypatch.delenv("ROS_MASTER_URI", raising=False)
-    with pytest.raises(course.CourseError, match="ensure_ros"):
-        course.run_provided_node("FSR_sensor.py")
+    with pytest.raises(CourseError, match="ensure_ros"):
+        lab.run_provided("FSR_sensor.py")
 
 
 def test_only_the_labs_own_nodes_are_provided(monkeypatch):
     monkeypatch.setenv("ROS_MASTER_URI", "http://127.0.0.1:1/")
-    with pytest.raises(course.CourseError, match="not one of the lab's nodes"):
-        course.run_provided_node("mapping_node_of_somebody_else.py")
+    with pytest.raises(CourseError, match="not one of the lab's nodes"):
+        lab.run_provided("mapping_node_of_somebody_else.py")
 
 
 def test_exclude_overwriting_names_every_student_file_in_both_assignments():
@@ -84,7 +85,7 @@ def test_link_answer_key_refuses_a_copy_of_the_answer_key_in_source(tmp_path):
     for assignment in ASSIGNMENTS:
         (tmp_path / "source" / assignment).mkdir(parents=True)
     (tmp_path / "source" / "preparation" / "hri_lab").mkdir()
-    with pytest.raises(course.CourseError, match="never hold a copy"):
+    with pytest.raises(CourseError, match="never hold a copy"):
         release.link_answer_key(tmp_path)
     (tmp_path / "source" / "preparation" / "hri_lab").rmdir()
     links = release.link_answer_key(tmp_path)

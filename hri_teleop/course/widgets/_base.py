@@ -140,7 +140,7 @@ class FigureView:
         if self._canvas is not None:
             self._canvas.draw_idle()
         else:
-            self.widget.value = self.png()  # type: ignore[attr-defined]
+            self.widget.value = self.png()
 
 
 class Ticker:
@@ -150,7 +150,7 @@ class Ticker:
     must survive one bad message.
     """
 
-    def __init__(self, fn: Callable[[], None], interval_s: float, name: str = "ticker") -> None:
+    def __init__(self, fn: Callable[[], object], interval_s: float, name: str = "ticker") -> None:
         if not 0.0 < float(interval_s) < 3600.0:
             raise WidgetError(f"{name}: interval_s must be in (0, 3600) s, got {interval_s!r}; e.g. 0.2")
         self._fn = fn

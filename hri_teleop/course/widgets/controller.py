@@ -16,7 +16,7 @@ from __future__ import annotations
 import html
 import time
 from dataclasses import dataclass
-from typing import Any, Mapping, Optional, Tuple
+from typing import Any, Mapping, Optional, Set, Tuple
 
 import ipywidgets as widgets
 
@@ -81,7 +81,7 @@ class ControllerModel:
         self.controller = TeleopController(self.params, self.limits)
         self._debt_s = 0.0
         self._last = ControllerSnapshot(PadState.neutral(), self.controller.mode, self.controller.gripper_width_m,
-                                        0.0, (0.0,) * 6, False, False, 0)  # type: ignore[arg-type]
+                                        0.0, (0.0,) * 6, False, False, 0)
         self.ticks = 0
 
     def advance(self, elapsed_s: float, mapped_force: Optional[float] = None,
@@ -225,7 +225,7 @@ class ControllerView(widgets.VBox):
         self.model = ControllerModel(self.pad, cfg.params, cfg.limits)
         self._rumble = RumbleRequests()
         self._roles = button_roles(cfg.params)
-        self._taps: set = set()
+        self._taps: Set[str] = set()
         self._last_s = time.monotonic()
 
         style = {"description_width": "60px"}

@@ -21,7 +21,7 @@ import threading
 import time
 from collections import deque
 from dataclasses import dataclass
-from typing import Any, Callable, Dict, List, Mapping, Optional, Sequence, Tuple, Union
+from typing import Any, Callable, Deque, Dict, List, Mapping, Optional, Sequence, Tuple, Union
 
 import ipywidgets as widgets
 import numpy as np
@@ -101,9 +101,10 @@ def field_getter(fields: Sequence[str]) -> Callable[[Any], Tuple[float, ...]]:
     """A fast function message -> tuple of floats for the dotted ``fields``."""
     if not fields:
         raise WidgetError("a plotted message needs at least one numeric field; pick a topic with numbers")
+    if len(fields) == 1:  # attrgetter of one field returns the value itself, not a tuple
+        one = operator.attrgetter(fields[0])
+        return lambda msg: (float(one(msg)),)
     get = operator.attrgetter(*fields)
-    if len(fields) == 1:
-        return lambda msg: (float(get(msg)),)
     return lambda msg: tuple(float(v) for v in get(msg))
 
 
@@ -116,7 +117,7 @@ class TopicBuffer:
         self.fields = tuple(fields)
         self.maxlen = int(maxlen)
         self._lock = threading.Lock()
-        self._samples: deque = deque(maxlen=self.maxlen)
+        self._samples: Deque[Tuple[float, Tuple[float, ...]]] = deque(maxlen=self.maxlen)
         self.received = 0  # every message ever appended, also those the ring has forgotten
 
     def append(self, time_s: float, values: Tuple[float, ...]) -> None:

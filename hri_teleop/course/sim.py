@@ -1,0 +1,23 @@
+"""The simulated lab in lock step, for the notebooks of Ex. 11 and 14: no ROS, faster than real time.
+
+``run_lab(pad script, world)`` runs the teleoperation node's rules, the Franka, the hand with
+the FSR attachment and the board on one clock and returns the record that ``summarize`` and
+``timeline`` read; ``simulate_study`` runs a whole counterbalanced study.
+"""
+
+from __future__ import annotations
+
+from hri_teleop.core.attachment import Attachment
+from hri_teleop.core.paths import SCENARIOS
+from hri_teleop.core.run_record import format_summary, summarize
+from hri_teleop.core.teleop import TeleopParams
+from hri_teleop.hardware.sim.grasp_objects import OBJECTS
+from hri_teleop.hardware.sim.lab import run_lab
+from hri_teleop.hardware.sim.study import simulate_study
+from hri_teleop.hardware.sim.virtual_pad import parse_script
+from hri_teleop.hardware.sim.world import LAB_ARM_CONFIG as ARM
+from hri_teleop.hardware.sim.world import WorldConfig
+from hri_teleop.plots.common import lab_timeline as timeline
+
+__all__ = ["run_lab", "parse_script", "WorldConfig", "OBJECTS", "Attachment", "ARM", "SCENARIOS", "TeleopParams",
+           "summarize", "format_summary", "timeline", "simulate_study"]
