@@ -75,7 +75,7 @@ def duplicate_refusal(wanted: Sequence[str], running: Iterable[str]) -> Optional
         return None
     names = ", ".join(taken)
     return (f"{names} already running on this master: a second node of that name would stop it; "
-            f"stop it first (stop_nodes() for this notebook's nodes, or rosnode kill {taken[0]})")
+            f"stop it first (lab.stop() for this notebook's nodes, or rosnode kill {taken[0]})")
 
 
 def _absolute(name: str) -> str:

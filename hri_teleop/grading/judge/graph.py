@@ -117,7 +117,7 @@ def _graph_of_running_master() -> Dict[str, Any]:
     missing = [n for n in LIVE_GRAPH_NODES if n not in running]
     if missing:
         raise GradingError(f"the pipeline is not running here ({', '.join(missing)} missing): run the cell that "
-                           "starts it (start_pipeline()) first, then this check")
+                           "starts it (lab.start_pipeline()) first, then this check")
     return {"kind": "live-graph", "problem": "", "publishers": {t: sorted(n) for t, n in pubs},
             "subscribers": {t: sorted(n) for t, n in subs}, "types": types}
 
