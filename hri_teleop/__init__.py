@@ -1,9 +1,9 @@
-"""hri-teleop: the rules of the HRI teleoperation lab as plain, ROS-free Python.
+"""The HRI teleoperation lab's toolkit: its rules, simulated hardware, ROS shells, grader and course.
 
-The modules directly under this package form the functional core (no rospy, no
-pygame at import time, no I/O besides reading the YAML files they are handed).
-``hri_teleop.ros`` holds the helpers the ROS shells share and is the only place
-that imports rospy.
+Layers are folders, each importing only those below it (tests/unit/test_layers.py):
+``core`` (the lab's rules as plain Python: no rospy, no pygame, no I/O but the YAML files it is
+handed) < ``hardware`` (real and simulated pads, boards, arm and hand), ``plots`` < ``ros`` <
+``grading`` < ``course``.
 """
 
 __version__ = "0.1.0"

@@ -1,0 +1,1 @@
+"""The ROS layer: private masters, node parameters and clocks, bags, catkin workspaces, demos and trials."""

@@ -1,12 +1,9 @@
 """The student's catkin workspace, built from a notebook as the handout has it built in a terminal.
 
-Ex. 9: "make the file executable and make an entry to the CMakeLists file in the package,
-then build the workspace". The workspace is ``catkin_ws/`` beside the assignment's
-``hri_lab`` folder; ``catkin_ws/src/hri_lab`` links back to it, so students keep editing
-their files where the notebooks show them. ``catkin_make`` runs as in a terminal, its log
-goes to ``catkin_ws/build.log`` and a failure is one line with the cause and the fix
-(:func:`hri_teleop.ros.catkin_files.explain_build_failure`). nbgrader never collects the
-workspace (``catkin_ws`` is in the course's ignore list).
+Ex. 9: "make the file executable ... then build the workspace". ``catkin_ws/`` lies beside the
+assignment's ``hri_lab`` and ``catkin_ws/src/hri_lab`` links back to it, so students keep editing
+their files where the notebooks show them. ``catkin_make``'s log goes to ``catkin_ws/build.log``, a
+failure is one line with cause and fix, and nbgrader never collects the workspace.
 """
 
 from __future__ import annotations

@@ -1,29 +1,23 @@
 """The franka_gripper action messages, from franka_ros when installed, else built at run time.
 
-Why: ``gripper_manager.py`` talks to the Franka Hand through franka_gripper's actions
-(``/franka_gripper/move``, ``grasp``, ``homing``, ``stop``). On the lab PC franka_ros is
-installed and its generated classes are used. On a student's laptop or in CI it is not,
-and the gripper simulation still has to speak the *same* interface: a ROS 1 connection is
-refused when the MD5 sums of the two ends differ. So this module builds the classes from
-definitions identical to franka_ros' ``franka_gripper/action/*.action`` and
-``msg/GraspEpsilon.msg``, expanded into the seven messages of each action exactly as
-actionlib's ``genaction.py`` does, and lets genpy generate them
-(``genpy.dynamic.generate_dynamic``). Same text, same MD5 sums; the unit tests pin the sums
-against those of the real franka_gripper package.
-
-Exports, whichever source is used: ``MoveAction``, ``MoveGoal``, ``MoveResult``,
-``MoveFeedback``, ``MoveActionGoal``, ``MoveActionResult``, ``MoveActionFeedback`` and the
-same seven for ``Grasp``, ``Homing`` and ``Stop``, plus ``GraspEpsilon``. ``SOURCE`` says
-which one is in use ("franka_gripper" or "generated").
+The gripper simulation must speak the same actions as the Franka Hand, and ROS 1 refuses a
+connection whose two ends' MD5 sums differ. Without franka_ros (a laptop, CI) genpy generates the
+classes from definitions identical to franka_ros' ``.action`` files and ``GraspEpsilon.msg``,
+expanded as actionlib's ``genaction.py`` does: same text, same MD5 sums (the unit tests pin them).
+Exports the seven classes of each of Move, Grasp, Homing and Stop (``MoveAction`` ..
+``MoveActionFeedback``), ``GraspEpsilon``, and ``SOURCE`` ("franka_gripper" or "generated").
 """
 
 from __future__ import annotations
 
-from typing import Dict, List, Tuple, Type
+from typing import Any, Dict, List, Tuple, Type
 
 from hri_teleop.core.errors import HriTeleopError
 
 PACKAGE = "franka_gripper"
+
+#: A message class: a genpy.Message subclass (genpy ships no type information).
+MessageClass = Type[Any]
 
 # franka_ros/franka_gripper/msg/GraspEpsilon.msg, verbatim.
 GRASP_EPSILON_MSG = "float64 inner # [m]\nfloat64 outer # [m]\n"
@@ -114,7 +108,7 @@ def expand_action(name: str, action_text: str) -> Dict[str, str]:
     }
 
 
-def _own_definition(msg_class: type) -> str:
+def _own_definition(msg_class: MessageClass) -> str:
     """A message's own definition: the first section of its ``_full_text``."""
     return str(msg_class._full_text).split(_SEPARATOR)[0]
 
@@ -131,7 +125,7 @@ def _standard_definitions() -> Dict[str, str]:
     }
 
 
-def _generate(name: str, standard: Dict[str, str]) -> Dict[str, type]:
+def _generate(name: str, standard: Dict[str, str]) -> Dict[str, MessageClass]:
     """Classes for the seven messages of one action (and GraspEpsilon for Grasp)."""
     from genpy.dynamic import generate_dynamic
 
@@ -145,7 +139,7 @@ def _generate(name: str, standard: Dict[str, str]) -> Dict[str, type]:
     for type_name, text in standard.items():
         sections.append(f"MSG: {type_name}\n" + text)
     generated = generate_dynamic(core, _SEPARATOR.join(sections))
-    out: Dict[str, type] = {}
+    out: Dict[str, MessageClass] = {}
     for type_name, cls in generated.items():
         pkg, base = type_name.split("/")
         if pkg == PACKAGE:
@@ -155,7 +149,7 @@ def _generate(name: str, standard: Dict[str, str]) -> Dict[str, type]:
     return out
 
 
-def _load() -> Tuple[str, Dict[str, type]]:
+def _load() -> Tuple[str, Dict[str, MessageClass]]:
     names = [f"{a}{p}" for a in ACTION_DEFINITIONS for p in _PARTS] + ["GraspEpsilon"]
     try:
         import franka_gripper.msg as real  # type: ignore[import-not-found]
@@ -170,7 +164,7 @@ def _load() -> Tuple[str, Dict[str, type]]:
             f"cannot build the franka_gripper messages: {exc}; install ROS 1's std_msgs and "
             "actionlib_msgs (run 'make setup') or franka_ros"
         ) from None
-    classes: Dict[str, type] = {}
+    classes: Dict[str, MessageClass] = {}
     for action in ACTION_DEFINITIONS:
         classes.update(_generate(action, standard))
     return "generated", classes
@@ -178,38 +172,38 @@ def _load() -> Tuple[str, Dict[str, type]]:
 
 SOURCE, _CLASSES = _load()
 
-MoveAction: Type = _CLASSES["MoveAction"]
-MoveActionGoal: Type = _CLASSES["MoveActionGoal"]
-MoveActionResult: Type = _CLASSES["MoveActionResult"]
-MoveActionFeedback: Type = _CLASSES["MoveActionFeedback"]
-MoveGoal: Type = _CLASSES["MoveGoal"]
-MoveResult: Type = _CLASSES["MoveResult"]
-MoveFeedback: Type = _CLASSES["MoveFeedback"]
+MoveAction: MessageClass = _CLASSES["MoveAction"]
+MoveActionGoal: MessageClass = _CLASSES["MoveActionGoal"]
+MoveActionResult: MessageClass = _CLASSES["MoveActionResult"]
+MoveActionFeedback: MessageClass = _CLASSES["MoveActionFeedback"]
+MoveGoal: MessageClass = _CLASSES["MoveGoal"]
+MoveResult: MessageClass = _CLASSES["MoveResult"]
+MoveFeedback: MessageClass = _CLASSES["MoveFeedback"]
 
-GraspAction: Type = _CLASSES["GraspAction"]
-GraspActionGoal: Type = _CLASSES["GraspActionGoal"]
-GraspActionResult: Type = _CLASSES["GraspActionResult"]
-GraspActionFeedback: Type = _CLASSES["GraspActionFeedback"]
-GraspGoal: Type = _CLASSES["GraspGoal"]
-GraspResult: Type = _CLASSES["GraspResult"]
-GraspFeedback: Type = _CLASSES["GraspFeedback"]
-GraspEpsilon: Type = _CLASSES["GraspEpsilon"]
+GraspAction: MessageClass = _CLASSES["GraspAction"]
+GraspActionGoal: MessageClass = _CLASSES["GraspActionGoal"]
+GraspActionResult: MessageClass = _CLASSES["GraspActionResult"]
+GraspActionFeedback: MessageClass = _CLASSES["GraspActionFeedback"]
+GraspGoal: MessageClass = _CLASSES["GraspGoal"]
+GraspResult: MessageClass = _CLASSES["GraspResult"]
+GraspFeedback: MessageClass = _CLASSES["GraspFeedback"]
+GraspEpsilon: MessageClass = _CLASSES["GraspEpsilon"]
 
-HomingAction: Type = _CLASSES["HomingAction"]
-HomingActionGoal: Type = _CLASSES["HomingActionGoal"]
-HomingActionResult: Type = _CLASSES["HomingActionResult"]
-HomingActionFeedback: Type = _CLASSES["HomingActionFeedback"]
-HomingGoal: Type = _CLASSES["HomingGoal"]
-HomingResult: Type = _CLASSES["HomingResult"]
-HomingFeedback: Type = _CLASSES["HomingFeedback"]
+HomingAction: MessageClass = _CLASSES["HomingAction"]
+HomingActionGoal: MessageClass = _CLASSES["HomingActionGoal"]
+HomingActionResult: MessageClass = _CLASSES["HomingActionResult"]
+HomingActionFeedback: MessageClass = _CLASSES["HomingActionFeedback"]
+HomingGoal: MessageClass = _CLASSES["HomingGoal"]
+HomingResult: MessageClass = _CLASSES["HomingResult"]
+HomingFeedback: MessageClass = _CLASSES["HomingFeedback"]
 
-StopAction: Type = _CLASSES["StopAction"]
-StopActionGoal: Type = _CLASSES["StopActionGoal"]
-StopActionResult: Type = _CLASSES["StopActionResult"]
-StopActionFeedback: Type = _CLASSES["StopActionFeedback"]
-StopGoal: Type = _CLASSES["StopGoal"]
-StopResult: Type = _CLASSES["StopResult"]
-StopFeedback: Type = _CLASSES["StopFeedback"]
+StopAction: MessageClass = _CLASSES["StopAction"]
+StopActionGoal: MessageClass = _CLASSES["StopActionGoal"]
+StopActionResult: MessageClass = _CLASSES["StopActionResult"]
+StopActionFeedback: MessageClass = _CLASSES["StopActionFeedback"]
+StopGoal: MessageClass = _CLASSES["StopGoal"]
+StopResult: MessageClass = _CLASSES["StopResult"]
+StopFeedback: MessageClass = _CLASSES["StopFeedback"]
 
 __all__ = ["SOURCE", "FrankaGripperMsgsError", "expand_action", "ACTION_DEFINITIONS",
            "GRASP_EPSILON_MSG"] + sorted(_CLASSES)

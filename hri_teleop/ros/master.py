@@ -1,12 +1,10 @@
 """A private ROS master for tests, demos and notebooks, and the processes that run on it.
 
-Why: every test and demo needs a real ``roscore`` that nobody else talks to, on a free
-port (never 11311, never shared), and must leave nothing behind. Child processes are
-started in their own process group so that stopping one also stops whatever it spawned
-(roslaunch starts nodes, roscore starts rosmaster and rosout).
-
-This module talks to the master over XML-RPC and runs ROS command-line tools; it does not
-import rospy, so a test process can use many masters one after another.
+Every test and demo needs a real ``roscore`` nobody else talks to, on a free port (never 11311),
+and must leave nothing behind: children start in their own process group, so stopping one stops
+what it spawned (roslaunch starts nodes, roscore starts rosmaster and rosout). The master is
+reached over XML-RPC and the ROS command-line tools, never rospy, so a test process can use many
+masters one after another.
 """
 
 from __future__ import annotations
@@ -32,6 +30,9 @@ from hri_teleop.core.paths import REPO
 class MasterError(HriTeleopError, RuntimeError):
     """A ROS master or a process on it could not be started or did not answer."""
 
+
+#: (topic or service, [node, ...]): one entry of the master's getSystemState.
+Registrations = List[Tuple[str, List[str]]]
 
 _LIVE: "Set[ManagedProcess]" = set()
 _HOOKED: List[bool] = []
@@ -407,15 +408,17 @@ class PrivateMaster:
     def is_online(self) -> bool:
         try:
             code, _, _ = self._proxy().getPid("/hri_probe")
-            return code == 1
+            return bool(code == 1)
         except (OSError, xmlrpc.client.Error):
             return False
 
-    def system_state(self) -> Tuple[list, list, list]:
+    def system_state(self) -> Tuple[Registrations, Registrations, Registrations]:
+        """(publishers, subscribers, services), each as (name, [node, ...]) pairs."""
         code, msg, state = self._proxy().getSystemState("/hri_probe")
         if code != 1:
             raise MasterError(f"master at {self.uri} refused getSystemState: {msg}")
-        return state[0], state[1], state[2]
+        pubs, subs, srvs = ([(name, list(nodes)) for name, nodes in part] for part in state)
+        return pubs, subs, srvs
 
     def node_names(self) -> Set[str]:
         pubs, subs, srvs = self.system_state()
@@ -442,7 +445,7 @@ class PrivateMaster:
     def set_param(self, name: str, value: object) -> None:
         self._proxy().setParam("/hri_probe", name, value)
 
-    def wait_for(self, condition, timeout_s: float, what: str, poll_s: float = 0.05) -> None:
+    def wait_for(self, condition: Callable[[], bool], timeout_s: float, what: str, poll_s: float = 0.05) -> None:
         """Poll ``condition()`` until true; MasterError naming ``what`` on timeout."""
         deadline = time.monotonic() + timeout_s
         while time.monotonic() < deadline:

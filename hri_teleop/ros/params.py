@@ -1,18 +1,10 @@
 """What every hri_lab node does with its parameters and with bad input.
 
-Why: the lab's rule for bad input is one clear line naming the cause and the fix, exit
-code 1, and never a traceback. Each node reads a handful of parameters; doing the type
-checks and the exit by hand in four scripts would give four slightly different behaviours.
-Here they are once:
-
-* ``get_param(name, default, kind=...)``: read a parameter, check its type, raise
-  ``ParamError`` (one line: which parameter, what was found, how to set it) when it is
-  missing or of the wrong type;
-* ``fail(message)``: log the line with ``rospy.logfatal`` and exit with status 1;
-* ``run_node(main)``: run a node's main function so that any error raised by hri_teleop
-  (every module has one ``ValueError``/``RuntimeError`` subclass with a one-line message)
-  ends the node through ``fail`` instead of a traceback, and Ctrl-C / rospy shutdown ends
-  it quietly with status 0. Unexpected exceptions (bugs) still show their traceback.
+The lab's rule for bad input is one line naming the cause and the fix, exit status 1, never a
+traceback; written once here, not slightly differently in each node. :func:`get_param` reads and
+type-checks a parameter (:class:`ParamError`), :func:`fail` logs the line as fatal and exits 1, and
+:func:`run_node` runs a node's main so that an ``HriTeleopError`` ends it through ``fail``, Ctrl-C
+or rospy's shutdown ends it quietly with 0, and a bug keeps its traceback.
 """
 
 from __future__ import annotations

@@ -1,16 +1,10 @@
 """``make demo``: the whole teleoperation lab, simulated and headless, on a private roscore.
 
-Starts a roscore on a free port, records the lab's topics with ``rosbag record``, runs
-``roslaunch hri_lab teleoperation.launch sim:=true`` -- the lab's own teleoperation,
-mapping_node and gripper_manager, with lab_sim in place of the Franka, the egg and the
-Arduino, and the default scenario in place of the student at the pad -- until the
-scenario quits (square ends the launch), then stops everything, reads the bag and
-prints what happened: grasped / lifted / crushed, the peak grip force in newtons, the
-peak /force_mapped, how long the pad rumbled and how many Franka limit violations the
-simulated robot saw.  A PNG timeline shows the run.
-
-Run it with a real gamepad instead: ``roslaunch hri_lab teleoperation.launch sim:=true
-pad:=pygame`` (see the README).
+Records the lab's topics while ``roslaunch hri_lab teleoperation.launch sim:=true`` runs the lab's
+own nodes with lab_sim in place of the Franka, the egg and the Arduino and the default scenario in
+place of the student, until the scenario quits. Then it prints what happened (grasped, lifted,
+crushed, peak grip force in N, peak /force_mapped, rumble time, limit violations) and draws a PNG
+timeline. With a real pad: ``roslaunch hri_lab teleoperation.launch sim:=true pad:=pygame``.
 """
 
 from __future__ import annotations

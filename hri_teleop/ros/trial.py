@@ -1,42 +1,11 @@
 """Ex. 14's trials: plan a group's, record one with its metadata, rehearse a session, analyse a folder.
 
-Why one command: a trial must be started, recorded and stopped the same way every time,
-with who/what/which condition stored *with* the recording, or the analysis cannot tell
-trials apart.  ``record`` starts ``rosbag record`` of the topics that matter and
-``roslaunch hri_lab teleoperation.launch feedback:=true|false`` (the condition: off, the
-pad never rumbles), waits until the participant quits (square ends the launch), stops
-what it started, and writes ``<folder>/<P>_t<NN>.bag`` plus the sidecar
-``<P>_t<NN>.yaml`` (:mod:`hri_teleop.core.experiment.sidecar`; the metadata is also inside the
-bag, on ``/trial/metadata``).  It then checks on the master that the teleoperation node
-really ran with the condition's ``feedback`` and stores that, and ``/max_sensor_force``
-(the calibration the analysis converts counts to newtons with), in the sidecar.
+A trial must be started, recorded and stopped the same way every time, with who, what and which
+condition stored with the bag, or the analysis cannot tell trials apart. ``record`` launches
+teleoperation.launch with the condition on a private or the lab's master and writes bag and sidecar;
+``rehearse`` runs a whole session in the simulated lab. Masters and checks: docs/experiment.md.
 
-Which master:
-
-* default: a private roscore on a free port, started and stopped with the trial
-  (home, CI);
-* ``--lab`` (``$ROS_MASTER_URI``) or ``--master-uri URI``: the lab PC's running master, where
-  rqt, live plots or the robot's own launch may already run.  The command launches
-  ``teleoperation.launch`` there itself, so the condition is applied, and refuses, before
-  starting anything, when a node that launch would start already runs on that master
-  (stop your own ``roslaunch hri_lab teleoperation.launch`` first; a ``franka_control``
-  started separately: add ``--launch-arg robot:=false``).  Afterwards it stops only what
-  it started; the master and everything else keep running.  The session's calibration
-  stays: a ``/max_sensor_force`` already on that master (the calibration widget's, or the
-  last trial's) is passed on as ``max_sensor_force:=`` unless ``--launch-arg`` gives one.
-
-``--sim`` replaces the robot, the object and the board by the simulated lab (lab_sim,
-the object from the simulation's set); ``rehearse`` runs a whole counterbalanced
-session that way, with simulated study participants (seeded pad scripts that squeeze
-more without feedback) or with you at a real pad.
-
-    python -m hri_teleop.ros.trial plan --participants P01 P02 P03 P04 --objects egg sponge --out trials/plan.csv
-    python -m hri_teleop.ros.trial record --participant P01 --trial 1 --object egg --condition no_feedback --lab
-    python -m hri_teleop.ros.trial outcome trials/P01_t01.yaml --lifted yes --crushed no   # lab trials
-    python -m hri_teleop.ros.trial tlx trials/P01_t01.yaml --mental 40 --physical 10 --temporal 30 \\
-        --performance 20 --effort 45 --frustration 15
-    python -m hri_teleop.ros.trial rehearse --participants 3 --objects egg --out trials   # at home, ~20 s a trial
-    python -m hri_teleop.ros.trial analyse trials
+    python -m hri_teleop.ros.trial {plan,record,outcome,tlx,rehearse,analyse} --help
 """
 
 from __future__ import annotations
@@ -173,7 +142,7 @@ def record_trial(meta: TrialMeta, folder: Union[str, Path], *, sim: bool = True,
                  launch_args: Optional[Mapping[str, object]] = None, timeout_s: float = DEFAULT_TIMEOUT_S,
                  progress: Progress = lambda _m: None, master: Optional[PrivateMaster] = None,
                  operator: Optional[Mapping[str, Any]] = None) -> Tuple[Path, LabRecord]:
-    """Run and record one trial (see the module doc); refuses to overwrite an earlier one.
+    """Run and record one trial (docs/experiment.md); refuses to overwrite an earlier one.
 
     ``master``: a started :class:`PrivateMaster` or :class:`RunningMaster` to record on
     (left running); None starts a private roscore for this trial only.  ``operator``:
@@ -312,8 +281,8 @@ def _describe_trial(trial: LoadedTrial) -> str:
 def rehearse(participants: Sequence[str], objects: Sequence[str], out: Union[str, Path], *, repetitions: int = 1,
              pad: str = "script", seed: int = 0, quick: bool = False, resume: bool = False,
              master: Optional[PrivateMaster] = None, timeout_s: float = 120.0, progress: Progress = print,
-             ask: Callable[[str], str] = input, analyse: bool = True):
-    """Record a whole counterbalanced session in the simulated lab, then analyse it (see the module doc).
+             ask: Callable[[str], str] = input, analyse: bool = True) -> Optional[StudyResult]:
+    """Record a whole counterbalanced session in the simulated lab, then analyse it.
 
     ``pad`` ``script``: simulated study participants (:func:`hri_teleop.hardware.sim.operators.study_scenario`,
     seed :func:`trial_seed`, ``quick``: short trials); ``pygame``: you at a real pad, asked
