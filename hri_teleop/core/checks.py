@@ -11,10 +11,8 @@ from __future__ import annotations
 
 import math
 import sys
-from typing import TYPE_CHECKING, Tuple, Type
-
-if TYPE_CHECKING:  # typing.TypeGuard is Python 3.10; annotations only, never imported at run time
-    from typing_extensions import TypeGuard
+import typing  # typing.TypeGuard (Python 3.10) only in annotations, which 3.8 never evaluates here
+from typing import Tuple, Type
 
 __all__ = ["ADC_MAX_COUNT", "checked_float", "is_number", "is_finite_number", "is_positive_number", "is_int", "is_count",
            "is_calibration_count"]
@@ -29,7 +27,7 @@ def _numpy_types(*names: str) -> Tuple[type, ...]:
     return tuple(getattr(np, name) for name in names) if np is not None else ()
 
 
-def is_number(value: object, *, numpy: bool = False) -> TypeGuard[float]:
+def is_number(value: object, *, numpy: bool = False) -> typing.TypeGuard[float]:
     """True for an int or a float (NaN and inf included), False for a bool, str or None."""
     if isinstance(value, bool):
         return False
@@ -38,7 +36,7 @@ def is_number(value: object, *, numpy: bool = False) -> TypeGuard[float]:
     return numpy and isinstance(value, _numpy_types("integer", "floating"))
 
 
-def is_finite_number(value: object, *, numpy: bool = False) -> TypeGuard[float]:
+def is_finite_number(value: object, *, numpy: bool = False) -> typing.TypeGuard[float]:
     """``is_number`` and neither NaN nor +-inf."""
     return is_number(value, numpy=numpy) and math.isfinite(value)
 
@@ -56,12 +54,12 @@ def checked_float(value: object, name: str, fix: str, error: Type[Exception], *,
     return number
 
 
-def is_positive_number(value: object, *, numpy: bool = False) -> TypeGuard[float]:
+def is_positive_number(value: object, *, numpy: bool = False) -> typing.TypeGuard[float]:
     """``is_number`` and ``0 < value < inf`` (refuses NaN): a rate, a duration, a gain."""
     return is_number(value, numpy=numpy) and 0 < value < math.inf
 
 
-def is_int(value: object, *, numpy: bool = False) -> TypeGuard[int]:
+def is_int(value: object, *, numpy: bool = False) -> typing.TypeGuard[int]:
     """True for an integer (``numpy=True``: numpy integers too), False for a bool or a float."""
     if isinstance(value, bool):
         return False
@@ -70,11 +68,11 @@ def is_int(value: object, *, numpy: bool = False) -> TypeGuard[int]:
     return numpy and isinstance(value, _numpy_types("integer"))
 
 
-def is_count(value: object, *, numpy: bool = False) -> TypeGuard[int]:
+def is_count(value: object, *, numpy: bool = False) -> typing.TypeGuard[int]:
     """A reading of the board: a whole count 0..1023 (``is_int``, so no bool, no float)."""
     return is_int(value, numpy=numpy) and 0 <= value <= ADC_MAX_COUNT
 
 
-def is_calibration_count(value: object, *, numpy: bool = False) -> TypeGuard[int]:
+def is_calibration_count(value: object, *, numpy: bool = False) -> typing.TypeGuard[int]:
     """A ``/max_sensor_force`` given as a count: a whole count 1..1023 (0 would divide by zero)."""
     return is_count(value, numpy=numpy) and value != 0

@@ -14,6 +14,7 @@ from dataclasses import dataclass
 from typing import Callable, List, Sequence, Tuple
 
 import numpy as np
+import numpy.typing as npt
 
 from hri_teleop.core.errors import HriTeleopError
 
@@ -34,7 +35,7 @@ class Pairing:
     unjudged_outputs: int = 0  # arrived before any input was recorded: their cause is unknown
 
     @property
-    def latencies_s(self) -> np.ndarray:
+    def latencies_s(self) -> npt.NDArray[np.float64]:
         return np.array([t_out - t_in for t_in, _, t_out, _ in self.pairs], dtype=float)
 
 
@@ -110,7 +111,7 @@ def pair_outputs(inputs: Trace, outputs: Trace, expected: Callable[[float], floa
                    unjudged_outputs=unjudged)
 
 
-def percentile_ms(values_s: np.ndarray, q: float) -> float:
+def percentile_ms(values_s: npt.NDArray[np.float64], q: float) -> float:
     """The q-th percentile of durations given in seconds, in milliseconds."""
     if len(values_s) == 0:
         raise TraceError("no durations to summarise")

@@ -25,7 +25,8 @@ def _default_clock() -> Callable[[], float]:
     if os.environ.get(PAD_CLOCK_ENV, "") == "ros":
         import rospy  # the node's process: rospy is there (a lazy import keeps the pads ROS-free)
 
-        return rospy.get_time
+        get_time: Callable[[], float] = rospy.get_time
+        return get_time
     return time.monotonic
 
 

@@ -7,9 +7,11 @@ timeline, and a figure says more than a table about a force that ramps and satur
 from __future__ import annotations
 
 from pathlib import Path
-from typing import TYPE_CHECKING, Sequence, Tuple
+from typing import TYPE_CHECKING, List, Sequence, Tuple
 
 if TYPE_CHECKING:  # only for the annotation: the sim core stays an optional import here
+    from matplotlib.figure import Figure
+
     from hri_teleop.core.run_record import LabRecord
 
 Trace = Sequence[Tuple[float, float]]
@@ -56,10 +58,10 @@ def lab_timeline(record: "LabRecord", path: Path, title: str = "") -> Path:
 
     t0 = record.start_s()
 
-    def xs(series):
+    def xs(series: Trace) -> List[float]:
         return [t - t0 for t, _ in series]
 
-    def ys(series, scale=1.0):
+    def ys(series: Trace, scale: float = 1.0) -> List[float]:
         return [v * scale for _, v in series]
 
     summary = summarize(record)
@@ -134,7 +136,7 @@ def latency_cdf(curves: Sequence[Tuple[str, Sequence[float]]], path: Path, title
     return save_figure(fig, path)
 
 
-def save_figure(fig, path: Path) -> Path:
+def save_figure(fig: Figure, path: Path) -> Path:
     """Write the figure as a PNG (creating its folder) and free it."""
     import matplotlib.pyplot as plt
 

@@ -8,7 +8,7 @@ student hands in is the one the tests checked.
 from __future__ import annotations
 
 from pathlib import Path
-from typing import List, Optional, Sequence, Tuple, Union
+from typing import TYPE_CHECKING, List, Optional, Sequence, Tuple, Union
 
 import numpy as np
 
@@ -22,6 +22,9 @@ from hri_teleop.core.experiment.metrics import (
 from hri_teleop.core.experiment.stats import PairedComparison, StatsError, paired_comparison
 from hri_teleop.core.run_record import LabRecord
 from hri_teleop.plots.common import save_figure
+
+if TYPE_CHECKING:
+    from matplotlib.figure import Figure
 
 __all__ = ["PANEL_TITLES", "COLOURS", "draw_study", "study_figure"]
 
@@ -47,7 +50,7 @@ def study_figure(trials: Sequence[Tuple[TrialMetrics, LabRecord]], max_sensor_fo
 
 
 def draw_study(trials: Sequence[Tuple[TrialMetrics, LabRecord]], max_sensor_force: Union[float, Sequence[float]],
-               comparison: Optional[PairedComparison] = None):
+               comparison: Optional[PairedComparison] = None) -> Figure:
     """The study's figure (a pyplot Figure; :func:`study_figure` saves and closes it).
 
     ``max_sensor_force``: the calibration, one for all trials or one per trial (sessions on

@@ -53,7 +53,7 @@ class NodeClock:
         if not self.sim_time:
             return self.now()
         for _ in range(max(1, int(timeout_s / 0.005))):
-            now = rospy.get_time()
+            now: float = rospy.get_time()
             if now > 0.0 or rospy.is_shutdown():
                 return now
             time.sleep(0.005)  # wall clock on purpose: ROS time does not move yet

@@ -71,7 +71,7 @@ def check_axis_value(name: str, value: object) -> float:
     low = 0.0 if name in TRIGGER_AXES else -1.0
     if not is_number(value, numpy=True):
         raise GamepadError("axis %r got %r: give a number in %g..1" % (name, value, low))
-    result = float(value)  # type: ignore[arg-type]
+    result = float(value)
     if not math.isfinite(result) or not low <= result <= 1.0:
         raise GamepadError("axis %r got %r: give a finite number in %g..1" % (name, value, low))
     return result
@@ -141,7 +141,7 @@ def clean_intensity(intensity: float) -> float:
 
 def clean_duration(duration_s: float) -> float:
     """Rumble duration in seconds, checked: a negative or infinite duration is a caller bug."""
-    value = float(duration_s) if is_number(duration_s, numpy=True) else float("nan")  # type: ignore[arg-type]
+    value = float(duration_s) if is_number(duration_s, numpy=True) else float("nan")
     if not math.isfinite(value) or value < 0.0:
         raise GamepadError("rumble duration %r s is not a finite number >= 0: pass the effect "
                            "length in seconds (0 means until the next rumble call)" % (duration_s,))

@@ -10,7 +10,7 @@ from __future__ import annotations
 
 import math
 from dataclasses import dataclass
-from typing import Dict, List, Optional, Sequence, Tuple
+from typing import Dict, Iterable, List, Optional, Sequence, Tuple
 
 from hri_teleop.core.checks import is_finite_number, is_positive_number
 from hri_teleop.core.errors import HriTeleopError
@@ -19,7 +19,9 @@ from hri_teleop.core.limits import (
     ROBOT_PERIOD_S,
     CartesianLimits,
     LimitsError,
+    Twist,
     TwistLimiter,
+    Vec3,
 )
 
 __all__ = [
@@ -44,9 +46,6 @@ __all__ = [
     "EVENT_RECOVERED",
     "EVENT_IGNORED",
 ]
-
-Vec3 = Tuple[float, float, float]
-Twist = Tuple[float, float, float, float, float, float]
 
 #: ``|v|`` above the velocity limit (franka::Errors field).
 VELOCITY_LIMITS_VIOLATION = "cartesian_motion_generator_velocity_limits_violation"
@@ -113,14 +112,15 @@ class ArmPose:
     orientation_xyzw: Tuple[float, float, float, float]
 
 
-def _vector(name: str, value: object, length: int) -> tuple:
+def _vector(name: str, value: object, length: int) -> Tuple[float, ...]:
     try:
-        items = tuple(value)  # type: ignore[arg-type]
+        items: Tuple[object, ...] = tuple(value) if isinstance(value, Iterable) else ()
     except TypeError:
         items = ()
-    if len(items) != length or not all(is_finite_number(c, numpy=True) for c in items):
+    numbers = tuple(float(c) for c in items if is_finite_number(c, numpy=True))
+    if len(items) != length or len(numbers) != length:
         raise SimArmError(f"{name} must be {length} finite numbers, got {value!r}")
-    return tuple(float(c) for c in items)
+    return numbers
 
 
 @dataclass(frozen=True)
@@ -226,8 +226,8 @@ class SimArm:
         self._lo = config.workspace_min_m
         self._hi = config.workspace_max_m
         self._time_s = float(start_time_s)
-        self._position: List[float] = list(config.start_position_m)
-        self._quat: List[float] = list(config.start_orientation_xyzw)
+        self._position: Vec3 = config.start_position_m
+        self._quat: Tuple[float, float, float, float] = config.start_orientation_xyzw
         self._held: Twist = _ZERO6           # the controller's command (zero-order hold)
         self._held_finite = True
         self._held_time_s: Optional[float] = None  # None: nothing received since start / recovery
@@ -276,7 +276,7 @@ class SimArm:
                             "(franka_control's error_recovery action) before commanding again")
             self._ignored_in_reflex += 1
             return False
-        self._held = values  # type: ignore[assignment]
+        self._held = values
         self._held_finite = all(math.isfinite(c) for c in values)
         self._held_time_s = now_s
         if self._mode == STATE_TIMEOUT:
@@ -345,7 +345,7 @@ class SimArm:
             if stopper is None:
                 c = _ZERO6
             else:
-                c = stopper.step(_ZERO6, dt)  # type: ignore[assignment]
+                c = stopper.step(_ZERO6, dt)
                 if not any(c):
                     self._stopper = None
         elif not self._held_finite:
@@ -397,7 +397,7 @@ class SimArm:
             nx, v0 = self._clamp(t, 0, x, nx, c0)
             ny, v1 = self._clamp(t, 1, y, ny, c1)
             nz, v2 = self._clamp(t, 2, z, nz, c2)
-        self._position = [nx, ny, nz]
+        self._position = (nx, ny, nz)
 
         # integrate the orientation: q <- exp(w dt / 2) (x) q, w in the base frame
         w = sqrt(c3 * c3 + c4 * c4 + c5 * c5)
@@ -412,7 +412,7 @@ class SimArm:
             rz = cw * qz + qw * dz + (dx * qy - dy * qx)
             rw = cw * qw - (dx * qx + dy * qy + dz * qz)
             n = sqrt(rx * rx + ry * ry + rz * rz + rw * rw)
-            self._quat = [rx / n, ry / n, rz / n, rw / n]
+            self._quat = (rx / n, ry / n, rz / n, rw / n)
         self._velocity = (v0, v1, v2, c3, c4, c5)
 
     def _clamp(self, t: float, i: int, old: float, new: float, v: float) -> Tuple[float, float]:
@@ -491,15 +491,15 @@ class SimArm:
     @property
     def pose(self) -> ArmPose:
         """End-effector pose in the base frame (m, unit quaternion xyzw)."""
-        return ArmPose(tuple(self._position), tuple(self._quat))  # type: ignore[arg-type]
+        return ArmPose(self._position, self._quat)
 
     @property
     def position_m(self) -> Vec3:
-        return tuple(self._position)  # type: ignore[return-value]
+        return self._position
 
     @property
     def orientation_xyzw(self) -> Tuple[float, float, float, float]:
-        return tuple(self._quat)  # type: ignore[return-value]
+        return self._quat
 
     @property
     def velocity(self) -> Twist:

@@ -340,7 +340,7 @@ class HandSim:
     def _check_time(self, now_s: float, what: str) -> float:
         if not is_finite_number(now_s, numpy=True):
             raise HandSimError(f"{what}: now_s must be a finite time in seconds, got {now_s!r}")
-        now = float(now_s)  # type: ignore[arg-type]
+        now = float(now_s)
         if now < self._now:
             raise HandSimError(
                 f"{what}: time ran backwards ({now!r} s after {self._now!r} s); pass the simulation time, "
