@@ -1,15 +1,9 @@
 """The autograder of handout Task 4: student files checked against the lab's reference rules.
 
-Entry points (grading/README.md has the whole picture):
-
-* ``hri-grade CHECK PATH [--json] [--seed N]`` and ``hri-grade submission DIR`` (``cli``);
-* ``make grade``: every submission in a folder, several at once (``batch``);
-* notebooks: ``from hri_teleop.grading import check_mapping_node`` -- raises AssertionError
-  with the student's feedback unless every part passes; ``grade_*`` return the result;
-* ``hri-grade traces`` writes the public reference traces (``tracefiles``), ``hri-grade
-  templates`` the student templates from ``solutions/`` (``templates``).
-
-Nothing here is imported by the lab's nodes; rospy is only needed by the parts that run ROS.
+Entry points (grading/README.md): ``hri-grade`` (``cli``), ``make grade`` (``batch``), and the
+notebooks' ``check_*`` (AssertionError with the student's feedback unless every part passes) and
+``grade_*`` (return the result); ``hri-grade traces`` and ``templates`` write the public traces and
+the student templates. No lab node imports it; rospy is needed only by the parts that run ROS.
 """
 
 from __future__ import annotations

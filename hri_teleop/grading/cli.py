@@ -1,14 +1,7 @@
 """``hri-grade``: the autograder from the command line.
 
-    hri-grade CHECK PATH [--json] [--seed N] [--out DIR]
-        CHECK: robot-params, mapping-node, sensor-launch, teleoperation, teleoperation-launch, graph,
-               catkin-package (Ex. 9 and 12 c: executable bits, CMakeLists entries)
-        PATH: the student's file, or their hri_lab package folder
-    hri-grade submission DIR [--json] [--seed N] [--out DIR]    every check on one package
-    hri-grade batch DIR [--out DIR] [--jobs N] [--timeout S]    every submission in DIR (make grade):
-        an nbgrader course's submitted/ -> nbgrader autograde + generate_feedback, and the files
-    hri-grade traces [--out DIR]                                the public reference traces (bags)
-    hri-grade templates [--solutions DIR] [--out DIR]           student templates from solutions/
+    hri-grade CHECK PATH [--json] [--seed N] [--out DIR]     one check on a file or an hri_lab folder
+    hri-grade submission DIR | batch DIR | traces | templates   (hri-grade COMMAND -h for each)
 
 Exit status: 0 every check passed, 1 a check failed, 2 the grader itself could not run
 (the reason on one line on stderr). ``--json`` prints the Gradescope results format.

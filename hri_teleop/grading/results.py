@@ -1,14 +1,9 @@
 """What a check returns: parts with points and messages a student can act on, and its JSON forms.
 
-Why parts: a student needs to know *which* thing is wrong (the topic, the type, the values
-above the maximum...) and what to do, and one mistake must cost the points of what it
-breaks and nothing else. So a check is a list of :class:`Part`, each with its points, a
-pass/fail and, when it fails, one message naming the topic, type, expected value and what
-arrived, plus plots of expected against actual where a trace was compared.
-
-The Gradescope form (``gradescope_json``) is what ``hri-grade --json`` prints and what the
-autograder platforms read: ``{"score": .., "tests": [{name, score, max_score, status,
-output}, ...]}``.
+A student must know which thing is wrong and what to do, and one mistake must cost the points of
+what it breaks and nothing else: so a check is a list of :class:`Part`, each with its points, a
+verdict and, when it fails, a message naming the topic, type, expected value and what arrived,
+with plots where a trace was compared. ``gradescope_json`` is what ``hri-grade --json`` prints.
 """
 
 from __future__ import annotations

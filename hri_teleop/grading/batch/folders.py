@@ -1,22 +1,10 @@
 """``make grade``: every submission in a folder, several at once, each in a process of its own.
 
-Two modes, chosen by the folder (:func:`course_layout`, in ``hri-grade batch``):
-
-* **nbgrader course** (``DIR`` is a course's ``submitted/`` -- its parent holds
-  ``nbgrader_config.py`` or ``source/`` -- or the course folder itself): nbgrader's
-  ``autograde`` and ``generate_feedback``, and beside them ``hri-grade submission`` on each
-  assignment's ``hri_lab`` (:mod:`hri_teleop.grading.batch.nbgrader_batch`).
-* **files only** (any other folder: one subfolder per student): ``hri-grade submission``
-  on each student's package (here).
-
-Each mode is its own module because the course mode needs nbgrader, its gradebook and its
-layout, none of which the files-only mode has; both grade the files with :func:`grade_one`
-and run their jobs with :mod:`hri_teleop.grading.run.jobs` (a process per job, under a reaper,
-a few at once -- why is said there).
-
-Results: ``OUT/<student>/results.json`` (Gradescope format), ``feedback.txt``, plots and
-logs per check (course mode: per assignment in ``OUT/<student>/<assignment>/``, with
-nbgrader's log ``autograde.log``); ``OUT/grades.csv`` and ``OUT/summary.json`` for all.
+:func:`course_layout` picks the mode: an nbgrader course goes to
+:mod:`hri_teleop.grading.batch.nbgrader_batch`, any other folder (one subfolder per student) gets
+``hri-grade submission`` on each student's package here. Both grade the files with
+:func:`grade_one` and run their jobs with :mod:`hri_teleop.grading.run.jobs`; why two modules:
+docs/grading-internals.md. The results in ``OUT/``: notebooks/README.md.
 """
 
 from __future__ import annotations

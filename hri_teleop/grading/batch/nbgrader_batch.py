@@ -1,29 +1,10 @@
 """``make grade`` on an nbgrader course: nbgrader's own autograde and feedback, and hri-grade on the files.
 
-``DIR`` is a course's ``submitted/`` (its parent holds ``nbgrader_config.py`` or
-``source/``) or the course folder itself (:func:`course_layout`). For every
-``submitted/<student>/<assignment>/``: nbgrader's ``autograde`` (``--force``: the notebooks
-run again, manual grades stay), then ``nbgrader generate_feedback`` (the HTML feedback in
-the course's ``feedback/``), and beside it ``hri-grade submission`` on the student's
-``hri_lab`` of each assignment with that assignment's checks
-(:data:`hri_teleop.grading.batch.assignments.ASSIGNMENT_CHECKS`). Each (student, assignment) is a job of its
-own (:mod:`hri_teleop.grading.run.jobs`), so a notebook that crashes its kernel or hangs costs
-that job only; the files-only mode and the entry point are :mod:`hri_teleop.grading.batch.folders`.
-
-nbgrader's gradebook is one SQLite file shared by the concurrent ``autograde`` processes.
-Each of them writes only its own student's rows, in short transactions (a submission's
-rows at the start, each notebook's grades after it ran), and SQLite serialises the
-writers; the processes are given a 60 s busy timeout (``?timeout=60`` on the database URL;
-Python's default is 5 s) so a writer waits for another's commit instead of failing, and a
-run that still fails with "database is locked" is graded again (up to two more times;
-``--force`` makes the retry start clean). Measured on 2 cores: 16 concurrent
-``autograde`` runs, 8 at once, no lock error; a 7 s exclusive lock on the gradebook while
-autogrades start costs no run with the 60 s timeout and fails them with 1 s (then the
-retry grades them).
-
-Results per assignment in ``OUT/<student>/<assignment>/`` (with nbgrader's log
-``autograde.log``); ``OUT/<student>/results.json`` and ``feedback.txt`` combine the files'
-checks of all the student's assignments; ``OUT/grades.csv`` and ``OUT/summary.json`` for all.
+``DIR`` is a course's ``submitted/`` or the course folder (:func:`course_layout`). Each (student,
+assignment) is a job of its own: nbgrader's ``autograde --force`` (manual grades stay), then
+``generate_feedback``, and ``hri-grade submission`` on that assignment's ``hri_lab`` with its
+checks. The concurrent autogrades share one SQLite gradebook: a busy timeout and a retry on "database
+is locked" keep them apart (docs/grading-internals.md). Results: notebooks/README.md.
 """
 
 from __future__ import annotations

@@ -1,15 +1,10 @@
-"""make grade's kernels, each started while the notebook before it still runs.
+"""Kernels for ``make grade``, each started while the notebook before it still runs.
 
-nbgrader autogrades a submission's notebooks one after another, each in a new kernel, and
-waits for every kernel to start (0.7 s here) before its first cell. make grade hands
-nbgrader this kernel provisioner: when it starts a kernel it also starts the next one, a spare,
-with the same command, folder and environment; the next notebook takes the spare. A spare
-has run no code (it is a kernel started earlier, nothing more), and one that does not match
-what the next notebook asks for is stopped and a kernel started as usual.
-
-Only over Unix sockets (make grade's transport): a spare's socket files have a path of their
-own, so it never takes sockets another kernel was given. ``SPARES_ENV`` says how many spares
-this process may start (the notebooks of the submission less one), so none is left idle.
+nbgrader runs a submission's notebooks one after another and waits for each new kernel to start
+(0.7 s here). With this provisioner, starting a kernel also starts a spare with the same command,
+folder and environment for the next notebook (grading/README.md). Only over Unix sockets: a spare's
+socket files have a path of their own, so it never takes sockets another kernel was given;
+``SPARES_ENV`` says how many spares this process may start, so none is left idle.
 """
 
 from __future__ import annotations

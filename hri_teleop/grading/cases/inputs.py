@@ -1,14 +1,9 @@
 """The grader's inputs and their expected outputs, public and hidden (seeded), from the lab's rules.
 
-Why generated here, ROS-free: the public traces under ``grading/traces/`` and the hidden
-inputs drawn at grading time come from the same functions, so a public trace is just the
-hidden generator with fixed choices, and the expected outputs always come from the
-reference implementation (:func:`hri_teleop.core.mapping.map_force`,
-:class:`hri_teleop.core.teleop.TeleopController`) -- never from a second copy of the rules.
-
-Hidden cases differ per submission (``seed_for``) and use other parameter values than
-the public ones (``/max_sensor_force`` other than 700, other gains, rates and dead
-zones), so a file that hard-codes the public trace fails them.
+The public traces and the hidden inputs come from the same ROS-free functions (a public trace is
+the hidden generator with fixed choices), and the expected outputs always from the reference
+implementation (``map_force``, ``TeleopController``), never from a second copy of the rules.
+Hidden cases differ per submission (``seed_for``) and use other parameter values than the public.
 """
 
 from __future__ import annotations

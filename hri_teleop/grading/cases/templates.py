@@ -1,22 +1,9 @@
 """Student templates from the answer key: the marked solution regions of ``solutions/`` removed.
 
-Why generated: student deliverables have one source of truth, the completed
-files in ``solutions/``. A template edited by hand drifts from the answer key (a renamed
-method, a new parameter) and students then fill in code the grader no longer calls.
-Removing the regions mechanically keeps both in step, and a template can be proven to
-hold no solution code.
-
-A region is the lines between a BEGIN and an END marker, written as a comment of the
-file's language (nbgrader's markers, so the notebooks can use the same ones):
-
-* Python and YAML: ``### BEGIN SOLUTION`` ... ``### END SOLUTION``
-* XML (launch files): ``<!-- ### BEGIN SOLUTION -->`` ... ``<!-- ### END SOLUTION -->``
-* CMake (``CMakeLists.txt``): ``### BEGIN SOLUTION`` ... ``### END SOLUTION``
-
-In the template a region becomes a hint at the marker's indentation: ``# YOUR CODE HERE``
-plus ``raise NotImplementedError()`` in Python (so an unfinished method fails loudly, not
-silently), ``# YOUR CODE HERE`` in YAML and CMake, ``<!-- YOUR CODE HERE -->`` in XML. Comments
-written just above a marker stay: they are the exercise's instructions.
+Student deliverables have one source of truth, the completed files in ``solutions/``: a template
+edited by hand drifts from the answer key (a renamed method, a new parameter) and students then
+fill in code the grader no longer calls. Removing the regions mechanically keeps both in step, and
+a template can be proven to hold no solution code. The markers and hints: solutions/README.md.
 """
 
 from __future__ import annotations

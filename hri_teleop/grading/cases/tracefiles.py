@@ -1,25 +1,10 @@
 """The public reference traces as ROS 1 bags under ``grading/traces/`` (``hri-grade traces``).
 
-Why bags: students and instructors look at them with the lab's own tools (``rosbag info``,
-``rosbag play``, ``rqt_bag``, ``rostopic echo -b``), and the inputs reach a node exactly
-as a recording would. Each bag holds the inputs of one graded behaviour, the parameter
-values (``/grading/params``, JSON in a std_msgs/String) and the outputs the reference
-implementation in hri_teleop produces for them, stamped with the input they answer.
-The grader builds the same cases from :mod:`hri_teleop.grading.cases.inputs` (and hidden ones
-with other seeds and parameters); ``read_*`` turn a bag back into a case, and a test
-proves that regenerating gives the same bytes.
-
-Topics (grading/README.md has the table):
-
-* ``mapping_public.bag``: ``/pub_force`` Int16 in, ``/force_mapped`` Float32 expected.
-* ``teleop_parts_public.bag``: ``/grading/pad`` sensor_msgs/Joy per tick (axes and buttons
-  in :data:`hri_teleop.core.gamepad.AXES` / ``BUTTONS`` order: positional, not a layout's raw
-  order) and ``/force_mapped`` in; ``/expected/cartesian_velocity`` (Twist, before the
-  limiter), ``/expected/gripper_width``, ``/expected/rumble`` (Float32),
-  ``/expected/rotation_mode`` (Bool) out.
-* ``teleop_node_public.bag``: ``/grading/pad_script`` (the ScriptedPad YAML) and
-  ``/force_mapped`` in; what TeleopController publishes at each tick with ideal timing
-  (``/cartesian_velocity_controller/cmd_vel``, ``/gripper_width``, ``/teleoperation/rumble``).
+Bags, so that students and instructors look at them with the lab's own tools (``rosbag info``,
+``rqt_bag``, ``rostopic echo -b``) and the inputs reach a node exactly as a recording would. Each
+bag holds one graded behaviour's inputs, its parameters (``/grading/params``, JSON in a String) and
+the reference outputs, stamped with the input they answer (the topics: grading/README.md). The
+cases come from :mod:`hri_teleop.grading.cases.inputs`; ``read_*`` turn a bag back into a case.
 """
 
 from __future__ import annotations

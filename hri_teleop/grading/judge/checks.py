@@ -1,13 +1,9 @@
 """The checks: find the student's file, run it where it cannot hurt, compare, give points.
 
-One function per handout deliverable, each returning a
-:class:`~hri_teleop.grading.results.CheckResult`; ``grade_submission`` runs them all on a
-student's package. The same functions serve ``hri-grade`` (CLI), ``make grade`` (many
-submissions) and the notebooks' autograded cells (``check_*``: raise AssertionError with
-the feedback when a part fails, so nbgrader shows the student what to fix).
-
-Running is delegated (probes and sessions in sandboxes, :mod:`~hri_teleop.grading.run.sandbox`),
-judging is :mod:`~hri_teleop.grading.judge.compare`; this module wires them together.
+One function per handout deliverable, each returning a :class:`~hri_teleop.grading.results.CheckResult`;
+``grade_submission`` runs them all. They serve ``hri-grade``, ``make grade`` and the notebooks'
+autograded cells (``check_*`` raise AssertionError with the feedback). Running is delegated to
+probes and sessions in sandboxes, judging to :mod:`~hri_teleop.grading.judge.compare`.
 """
 
 from __future__ import annotations
@@ -26,7 +22,6 @@ from hri_teleop.grading.judge.harness import (
     TWIST_TOPIC,
     _closing,
     _finish,
-    _full_name,
     _parse_launch,
     _refuse_reference,
     _require_ros,
@@ -38,6 +33,22 @@ from hri_teleop.grading.judge.harness import (
 from hri_teleop.grading.judge.package_check import grade_catkin_package
 from hri_teleop.grading.judge.robot_params import compare_robot_params
 from hri_teleop.grading.results import CheckResult, GradingError, feedback_text, not_judged
+from hri_teleop.grading.run.records import (
+    ClockedObservation,
+    LaunchParseResult,
+    MappingCasePlan,
+    MappingNodePlan,
+    PartsPlanCase,
+    PartsPlanTick,
+    RosparamResult,
+    SensorLaunchObservation,
+    SensorLaunchPlan,
+    TeleopLaunchSimObservation,
+    TeleopLaunchSimPlan,
+    TeleopNodePlan,
+    TeleopPartsPlan,
+    TeleopPartsResult,
+)
 from hri_teleop.grading.run.workspace import (
     REPO,
     find_package_root,
@@ -64,13 +75,13 @@ def grade_robot_params(path: PathLike, *, seed: Optional[int] = None, out_dir: O
     if run is None:
         return missing  # type: ignore[return-value]
     target = run.space.files["robot_params"]
-    data, facts = run.probe("rosparam-load", target, "rosparam-load")
+    data, facts = run.probe("rosparam-load", target, "rosparam-load", RosparamResult)
     if data is None:
         parts = compare_robot_params(None, compare.explain_process(facts, "loading robot_params.yaml"))
-    elif not data.get("ok"):
-        parts = compare_robot_params(None, f"`rosparam load` fails: {data.get('error')}")
+    elif not data.ok:
+        parts = compare_robot_params(None, f"`rosparam load` fails: {data.error}")
     else:
-        parts = compare_robot_params(data["params"])
+        parts = compare_robot_params(data.params)
     return _finish("robot-params", run, parts, None)
 
 
@@ -91,9 +102,9 @@ def grade_mapping_node(path: PathLike, *, seed: Optional[int] = None, out_dir: O
     if refused is not None:
         return refused
     cases = [C.public_mapping_case()] + C.hidden_mapping_cases(seed)
-    plan = {"kind": "mapping-node", "script": str(run.space.files["mapping_node"]),
-            "cases": [{"label": c.label, "max_sensor_force": c.max_sensor_force, "counts": list(c.counts)} for c in cases],
-            "start_timeout_s": 10.0, "response_timeout_s": 1.5}
+    plan = MappingNodePlan(script=str(run.space.files["mapping_node"]),
+                           cases=[MappingCasePlan(c.label, c.max_sensor_force, list(c.counts)) for c in cases],
+                           start_timeout_s=10.0, response_timeout_s=1.5)
     observation = run.session(plan, timeout_s=120.0)
     parts = compare.compare_mapping(observation, cases, run.out_dir)
     return _finish("mapping-node", run, parts, seed)
@@ -108,27 +119,24 @@ def grade_sensor_launch(path: PathLike, *, seed: Optional[int] = None, out_dir: 
     if run is None:
         return missing  # type: ignore[return-value]
     parsed, facts = _parse_launch(run, "sensor_launch")
-    observation: Optional[Dict[str, Any]] = None
-    if parsed.get("ok"):
-        scripts = {n["type"] for n in parsed.get("nodes", [])}
-        param_ok, _ = compare.check_max_param(parsed.get("params", {}))
+    observation: Optional[SensorLaunchObservation] = None
+    if parsed.ok:
+        scripts = {n.type for n in parsed.nodes}
+        param_ok, _ = compare.check_max_param(parsed.params)
         package = run.space.package
         run_mapping = "mapping_node.py" not in scripts and (package / "scripts" / "mapping_node.py").is_file()
-        plan = {"kind": "sensor-launch", "launch_file": str(run.space.files["sensor_launch"]),
-                "set_max_sensor_force": None if param_ok else C.PUBLIC_MAX_SENSOR_FORCE,
-                "run_fsr_sensor": "FSR_sensor.py" not in scripts, "fsr_sensor": str(package / "scripts" / "FSR_sensor.py"),
-                "run_mapping_node": run_mapping,
-                "mapping_node": str(package / "scripts" / "mapping_node.py"),
-                "start_timeout_s": 15.0, "record_s": 3.0,
-                "record_messages": 10, "clock": grading_clock(), "settle_timeout_s": 10.0,
-                "fsr_node": next((_full_name(n) for n in parsed.get("nodes", []) if n["type"] == "FSR_sensor.py"),
-                                 "/FSR_sensor"),
-                "default_fsr_rate_hz": FSR_SENSOR_RATE_HZ,
-                "mapping_node_name": next((_full_name(n) for n in parsed.get("nodes", [])
-                                           if n["type"] == "mapping_node.py"), "/mapping_node"),
-                "expect_nodes": sorted({_full_name(n) for n in parsed.get("nodes", [])}
-                                       | ({"/FSR_sensor"} if "FSR_sensor.py" not in scripts else set())
-                                       | ({"/mapping_node"} if run_mapping else set()))}
+        plan = SensorLaunchPlan(
+            launch_file=str(run.space.files["sensor_launch"]),
+            set_max_sensor_force=None if param_ok else C.PUBLIC_MAX_SENSOR_FORCE,
+            run_fsr_sensor="FSR_sensor.py" not in scripts, fsr_sensor=str(package / "scripts" / "FSR_sensor.py"),
+            run_mapping_node=run_mapping, mapping_node=str(package / "scripts" / "mapping_node.py"),
+            start_timeout_s=15.0, record_s=3.0, record_messages=10, clock=grading_clock(), settle_timeout_s=10.0,
+            fsr_node=next((n.full_name for n in parsed.nodes if n.type == "FSR_sensor.py"), "/FSR_sensor"),
+            default_fsr_rate_hz=FSR_SENSOR_RATE_HZ,
+            mapping_node_name=next((n.full_name for n in parsed.nodes if n.type == "mapping_node.py"), "/mapping_node"),
+            expect_nodes=sorted({n.full_name for n in parsed.nodes}
+                                | ({"/FSR_sensor"} if "FSR_sensor.py" not in scripts else set())
+                                | ({"/mapping_node"} if run_mapping else set())))
         observation = run.session(plan, timeout_s=90.0)
     parts = compare.compare_sensor_launch(parsed, observation, facts)
     notes = _clock_notes(observation, "sensor.launch: ")
@@ -156,20 +164,20 @@ def grade_teleoperation(path: PathLike, *, seed: Optional[int] = None, out_dir: 
         ticks, previous = [], None
         for tick in case.ticks:
             state = tick.state()
-            events = [[e.type, e.button, e.axis, e.value] for e in pad_events(previous, state)]
-            ticks.append({"events": events, "force": tick.force})
+            ticks.append(PartsPlanTick(pad_events(previous, state), tick.force))
             previous = state
-        plan_cases.append({"label": case.label, "gains": case.gains.as_dict(), "ticks": ticks})
+        plan_cases.append(PartsPlanCase(case.label, case.gains, ticks))
     plan_path = run.space.grader_dir / "teleop-parts.plan.json"
-    plan_path.write_text(json.dumps({"cases": plan_cases}), encoding="utf-8")
+    plan_path.write_text(json.dumps(TeleopPartsPlan(plan_cases).to_json()), encoding="utf-8")
     if run.uid is not None:
         os.chown(plan_path, run.uid, run.uid)
-    data, facts = run.probe("teleop-parts", run.space.files["teleoperation"], "teleop-parts", plan_path)
-    parts = compare.compare_teleop_parts(data or {"ok": False, "error": ""}, cases, run.out_dir, facts)
+    data, facts = run.probe("teleop-parts", run.space.files["teleoperation"], "teleop-parts", TeleopPartsResult,
+                            plan_path)
+    parts = compare.compare_teleop_parts(data or TeleopPartsResult(), cases, run.out_dir, facts)
     node_keys = [k for k in compare.TELEOP if k.startswith("node_")]
     if not node:
         parts += [not_judged(*compare.TELEOP[k], "the node was not run (node=False)") for k in node_keys]
-    elif not (data or {}).get("ok"):
+    elif data is None or not data.ok:
         parts += [not_judged(*compare.TELEOP[k], "the file could not be imported (see above)") for k in node_keys]
     else:
         node_case = C.hidden_teleop_node_case(seed)
@@ -177,17 +185,17 @@ def grade_teleoperation(path: PathLike, *, seed: Optional[int] = None, out_dir: 
         script_path.write_text(yaml.safe_dump([dict(step) for step in node_case.script]), encoding="utf-8")
         if run.uid is not None:
             os.chown(script_path, run.uid, run.uid)
-        plan = {"kind": "teleop-node", "script": str(run.space.files["teleoperation"]), "pad_script": str(script_path),
-                "gains": node_case.gains.as_dict(), "force": node_case.force, "start_timeout_s": 10.0,
-                "run_s": node_case.quit_s + 4.0, "quit_grace_s": 5.0, "record": [TWIST_TOPIC, "/gripper_width"],
-                "clock": grading_clock()}
+        plan = TeleopNodePlan(script=str(run.space.files["teleoperation"]), pad_script=str(script_path),
+                              gains=node_case.gains, force=node_case.force, start_timeout_s=10.0,
+                              run_s=node_case.quit_s + 4.0, quit_grace_s=5.0, record=[TWIST_TOPIC, "/gripper_width"],
+                              clock=grading_clock())
         observation = run.session(plan, timeout_s=90.0)
         parts += compare.compare_teleop_node(observation, node_case, TWIST_TOPIC, run.out_dir)
         notes += _clock_notes(observation)
     return _finish("teleoperation", run, parts, seed, notes)
 
 
-def _launch_sim_plan(run: _Run, parsed: Dict[str, Any]) -> Optional[Dict[str, Any]]:
+def _launch_sim_plan(run: _Run, parsed: LaunchParseResult) -> Optional[TeleopLaunchSimPlan]:
     """The ``teleop-launch-sim`` session for a parsed teleoperation.launch; None without a teleoperation node."""
     from hri_teleop.grading.run.standins import BOARD_TOPIC
 
@@ -209,25 +217,25 @@ def _launch_sim_plan(run: _Run, parsed: Dict[str, Any]) -> Optional[Dict[str, An
             os.chown(path, run.uid, run.uid)
     package = run.space.package
     supply: Dict[str, List[str]] = {}
-    if not [n for n in scripts.get("serial_node.py", []) if n["package"] == "rosserial_python"]:
+    if not [n for n in scripts.get("serial_node.py", []) if n.package == "rosserial_python"]:
         supply["serial_node"] = [str(run.space.ws / "rosserial_python" / "scripts" / "serial_node.py"),
                                  "_port:=/dev/ttyACM0"]
     for script in ("mapping_node.py", "gripper_manager.py"):
         if not scripts.get(script) and (package / "scripts" / script).is_file():
             supply[script[:-3]] = [str(package / "scripts" / script)]
-    param_ok, _ = compare.check_max_param(parsed.get("params", {}))
-    return {"kind": "teleop-launch-sim", "launch_file": str(run.space.files["teleoperation_launch"]),
-            "params_launch": str(params), "teleop_node": node, "twist_topic": TWIST_TOPIC, "supply": supply,
-            "set_max_sensor_force": None if param_ok else C.PUBLIC_MAX_SENSOR_FORCE,
-            "lab_sim": [str(REPO / "hri_lab" / "scripts" / "lab_sim.py"), "__name:=lab_sim",
-                        f"_config:={REPO / 'hri_lab' / 'config' / 'sim.yaml'}", f"_scenario:={scenario}",
-                        f"/pub_force:={BOARD_TOPIC}"],
-            "record": [TWIST_TOPIC, "/force_mapped", "/pub_force", "/gripper_width", "/franka_gripper/joint_states",
-                       "/lab_sim/ee_pose", "/lab_sim/object", f"{node}/rumble"],
-            "start_timeout_s": 20.0, "run_s": case.quit_s + 12.0, "clock": grading_clock(), "settle_timeout_s": 10.0,
-            "applied_topic": "/lab_sim/command_time_s", "sensor_chain": [BOARD_TOPIC, "/pub_force", "/force_mapped"],
-            "expect_nodes": sorted({_full_name(n) for n in parsed.get("nodes", [])} | {f"/{name}" for name in supply}),
-            "default_rate_hz": _lab_rate_hz()}
+    param_ok, _ = compare.check_max_param(parsed.params)
+    return TeleopLaunchSimPlan(
+        launch_file=str(run.space.files["teleoperation_launch"]), params_launch=str(params), teleop_node=node,
+        twist_topic=TWIST_TOPIC, supply=supply, set_max_sensor_force=None if param_ok else C.PUBLIC_MAX_SENSOR_FORCE,
+        lab_sim=[str(REPO / "hri_lab" / "scripts" / "lab_sim.py"), "__name:=lab_sim",
+                 f"_config:={REPO / 'hri_lab' / 'config' / 'sim.yaml'}", f"_scenario:={scenario}",
+                 f"/pub_force:={BOARD_TOPIC}"],
+        record=[TWIST_TOPIC, "/force_mapped", "/pub_force", "/gripper_width", "/franka_gripper/joint_states",
+                "/lab_sim/ee_pose", "/lab_sim/object", f"{node}/rumble"],
+        start_timeout_s=20.0, run_s=case.quit_s + 12.0, clock=grading_clock(), settle_timeout_s=10.0,
+        applied_topic="/lab_sim/command_time_s", sensor_chain=[BOARD_TOPIC, "/pub_force", "/force_mapped"],
+        expect_nodes=sorted({n.full_name for n in parsed.nodes} | {f"/{name}" for name in supply}),
+        default_rate_hz=_lab_rate_hz())
 
 
 def _lab_rate_hz() -> float:
@@ -242,11 +250,11 @@ def _lab_rate_hz() -> float:
         return TeleopParams().rate_hz
 
 
-def _clock_notes(observation: Optional[Dict[str, Any]], prefix: str = "") -> List[str]:
+def _clock_notes(observation: Optional[ClockedObservation], prefix: str = "") -> List[str]:
     """A note when the grader meant to own the clock and a node made it fall back to real time."""
-    if not observation or observation.get("problem") or observation.get("session_error"):
+    if observation is None or observation.problem or observation.session_error:
         return []
-    if observation.get("clock") == "real time" and grading_clock() == "grader":
+    if observation.clock == "real time" and grading_clock() == "grader":
         return [prefix + _REAL_TIME_NOTE]
     return []
 
@@ -267,8 +275,8 @@ def grade_teleoperation_launch(path: PathLike, *, seed: Optional[int] = None,
         return missing  # type: ignore[return-value]
     parsed, facts = _parse_launch(run, "teleoperation_launch")
     parts = compare.compare_teleop_launch(parsed, facts)
-    plan = _launch_sim_plan(run, parsed) if parsed.get("ok") else None
-    observation = run.session(plan, timeout_s=120.0) if plan is not None else None
+    plan = _launch_sim_plan(run, parsed) if parsed.ok else None
+    observation: Optional[TeleopLaunchSimObservation] = run.session(plan, timeout_s=120.0) if plan is not None else None
     parts.append(compare.compare_teleop_launch_sim(parsed, observation, C.launch_sim_case(), run.out_dir))
     notes = _clock_notes(observation, "teleoperation.launch: ")
     return _finish("teleoperation-launch", run, parts, None, notes)

@@ -1,17 +1,9 @@
 """Judging what a student's code did: observations in, :class:`~hri_teleop.grading.results.Part` out.
 
-Why ROS-free and separate from running things: the sessions and probes only observe (what
-was subscribed, advertised, published, printed); every rule of what is right lives here
-as plain functions over plain data, next to the reference rules they call
-(:func:`hri_teleop.core.mapping.map_force` through the cases, TeleopController), so a message
-can be unit-tested without a master and a notebook can show the same words.
-
-Each part fails only for what it judges; when it cannot be judged because something it
-depends on failed, it says so (``not judged: ...``). Messages name the topic, the type,
-the value expected and what arrived, and end with the most likely fix.
-
-This module is the one name the checks use; the judges live in ``compare_nodes`` (Ex. 5, 8,
-9), ``compare_launch`` (Ex. 6-7, 12-13, 15) and what they share in ``compare_common``.
+Sessions and probes only observe; every rule of what is right lives here, ROS-free, next to the
+reference rules it calls, so a message can be unit-tested without a master. Each part fails only
+for what it judges (``not judged: ...`` otherwise). The one name the checks use: the judges live in
+``compare_nodes`` (Ex. 5, 8, 9), ``compare_launch`` (Ex. 6-7, 12-13, 15) and ``compare_common``.
 """
 
 from __future__ import annotations

@@ -1,5 +1,6 @@
-"""What every judge shares: the parts tables with their points, message helpers, and what a
-process' output says (exit, crash, a write refused by the sandbox).
+"""What every judge shares: the parts tables with their points, message helpers, process output.
+
+What a process' output says: its exit, a crash, a write refused by the sandbox.
 """
 
 from __future__ import annotations

@@ -1,5 +1,6 @@
-"""Judging the nodes students write: ``mapping_node.py`` (Ex. 5) and ``teleoperation.py``, its
-parts (Ex. 8) and as a node (Ex. 9).
+"""Judging the nodes students write: ``mapping_node.py`` (Ex. 5) and ``teleoperation.py`` (Ex. 8, 9).
+
+``teleoperation.py`` is judged by its parts (Ex. 8) and as a node (Ex. 9).
 """
 
 from __future__ import annotations

@@ -1,5 +1,8 @@
-"""What every check shares: the grader's environment, one run's folders and workspace, reuse of
-results, the sandboxed probe and session runs, and the refusal of the lab's reference code."""
+"""What every check shares: the grader's environment, one run's folders, workspace and runs.
+
+Also the reuse of results, the sandboxed probe and session runs, and the refusal of the lab's
+reference code.
+"""
 
 from __future__ import annotations
 
@@ -13,13 +16,22 @@ import sys
 import tempfile
 import time
 from pathlib import Path
-from typing import Any, Callable, Dict, List, Optional, Sequence, Tuple, Union
+from typing import Any, Callable, Dict, List, Optional, Sequence, Tuple, Type, TypeVar, Union
 
 from hri_teleop.core.config import DEFAULT_TWIST_TOPIC
 from hri_teleop.grading.cases import inputs as C
 from hri_teleop.grading.judge import compare, reuse
 from hri_teleop.grading.judge.reference_guard import reference_uses, refusal
 from hri_teleop.grading.results import CheckResult, GradingError, Part, not_judged
+from hri_teleop.grading.run.records import (
+    LaunchParseResult,
+    Obs,
+    ProbeResult,
+    ProcessFacts,
+    SessionContext,
+    SessionPlan,
+    SessionRequest,
+)
 from hri_teleop.grading.run.sandbox import (
     DEFAULT_LIMITS,
     StudentProcess,
@@ -39,6 +51,7 @@ from hri_teleop.grading.run.workspace import (
 from hri_teleop.ros.master import lab_shell_env
 
 PathLike = Union[str, Path]
+P = TypeVar("P", bound=ProbeResult)
 _PROBE_TIMEOUT_S = 20.0
 TWIST_TOPIC = DEFAULT_TWIST_TOPIC
 
@@ -146,9 +159,9 @@ class _Run:
     def env(self) -> Dict[str, str]:
         return _grader_env(ros_package_path(self.space.ws))
 
-    def probe(self, command: str, target: Path, name: str, plan: Optional[Path] = None
-              ) -> Tuple[Optional[Dict[str, Any]], Dict[str, Any]]:
-        """Run a probe as a student process (no network); (its JSON or None, facts about the process)."""
+    def probe(self, command: str, target: Path, name: str, result_type: Type[P], plan: Optional[Path] = None
+              ) -> Tuple[Optional[P], ProcessFacts]:
+        """Run a probe as a student process (no network); (its result or None, facts about the process)."""
         out = self.space.grader_dir / f"{name}.json"
         env = self.env()
         env.update({"HOME": str(self.space.package), "ROS_HOME": str(self.space.package / ".ros"),
@@ -161,36 +174,34 @@ class _Run:
         code = proc.wait(_PROBE_TIMEOUT_S)
         problem = "" if code is not None else f"was still running after {_PROBE_TIMEOUT_S:.0f} s (an endless loop?)"
         proc.stop()
-        facts = {"exit_code": proc.returncode, "output_tail": proc.output_tail(), "output_bytes": proc.output_size(),
-                 "problem": problem or (describe_exit(proc.returncode) if proc.returncode else "")}
-        data: Optional[Dict[str, Any]] = None
+        facts = ProcessFacts(exit_code=proc.returncode, output_tail=proc.output_tail(), output_bytes=proc.output_size(),
+                             problem=problem or (describe_exit(proc.returncode) if proc.returncode else ""))
+        data: Optional[P] = None
         if out.is_file() and code == 0:
             try:
-                data = json.loads(out.read_text(encoding="utf-8"))
-            except (OSError, ValueError):
+                data = result_type.from_json(json.loads(out.read_text(encoding="utf-8")))
+            except (OSError, ValueError):  # RecordError too: not what the probe writes
                 data = None
         return data, facts
 
-    def session(self, plan: Dict[str, Any], timeout_s: float) -> Dict[str, Any]:
+    def session(self, plan: SessionPlan[Obs], timeout_s: float) -> Obs:
         """Run a session plan (sandboxed: own network namespace) and return its observation."""
-        plan = dict(plan)
-        plan.update({"session_dir": str(self.session_dir), "student_folder": str(self.space.package),
-                     "uid": self.uid, "python": sys.executable, "env": dict(self.env(), TMPDIR=str(self.session_dir)),
-                     "out": str(self.session_dir / f"{plan['kind']}.out.json"),
-                     "limits": {"cpu_s": DEFAULT_LIMITS.cpu_s, "memory_bytes": DEFAULT_LIMITS.memory_bytes,
-                                "file_bytes": DEFAULT_LIMITS.file_bytes, "processes": DEFAULT_LIMITS.processes,
-                                "open_files": DEFAULT_LIMITS.open_files}})
-        return run_session_plan(plan, self.session_dir, timeout_s)
+        context = SessionContext(session_dir=str(self.session_dir), student_folder=str(self.space.package),
+                                 uid=self.uid, python=sys.executable,
+                                 env=dict(self.env(), TMPDIR=str(self.session_dir)),
+                                 out=str(self.session_dir / f"{plan.KIND}.out.json"), limits=DEFAULT_LIMITS)
+        return run_session_plan(context, plan, self.session_dir, timeout_s)
 
 
-def run_session_plan(plan: Dict[str, Any], session_dir: Path, timeout_s: float) -> Dict[str, Any]:
+def run_session_plan(context: SessionContext, plan: SessionPlan[Obs], session_dir: Path, timeout_s: float) -> Obs:
     """Start ``python -m hri_teleop.grading.run.session`` (in bubblewrap where it works), wait, read."""
-    plan_path = session_dir / f"{plan['kind']}.plan.json"
-    plan_path.write_text(json.dumps(plan), encoding="utf-8")
-    out = Path(plan["out"])
+    plan_path = session_dir / f"{plan.KIND}.plan.json"
+    plan_path.write_text(json.dumps(SessionRequest(context, plan).to_json()), encoding="utf-8")
+    out = Path(context.out)
+    observation = plan.observation_type()
     argv = session_argv([sys.executable, "-m", "hri_teleop.grading.run.session", str(plan_path)], session_dir)
-    log = open(session_dir / f"{plan['kind']}.session.log", "wb")
-    proc = subprocess.Popen(argv, env=plan["env"], stdin=subprocess.DEVNULL, stdout=log, stderr=subprocess.STDOUT,
+    log = open(session_dir / f"{plan.KIND}.session.log", "wb")
+    proc = subprocess.Popen(argv, env=context.env, stdin=subprocess.DEVNULL, stdout=log, stderr=subprocess.STDOUT,
                             start_new_session=True, cwd=str(session_dir))
     try:
         proc.wait(timeout=timeout_s)
@@ -206,12 +217,13 @@ def run_session_plan(plan: Dict[str, Any], session_dir: Path, timeout_s: float) 
             except subprocess.TimeoutExpired:
                 continue
         log.close()
-        return {"session_error": f"the grading session did not finish within {timeout_s:.0f} s"}
+        return observation(session_error=f"the grading session did not finish within {timeout_s:.0f} s")
     log.close()
     if not out.is_file():
-        tail = (session_dir / f"{plan['kind']}.session.log").read_text(errors="replace")[-1500:]
-        return {"session_error": f"the grading session ended without a result (status {proc.returncode}): {tail}"}
-    return json.loads(out.read_text(encoding="utf-8"))
+        tail = (session_dir / f"{plan.KIND}.session.log").read_text(errors="replace")[-1500:]
+        return observation(session_error=f"the grading session ended without a result (status {proc.returncode}): "
+                                         f"{tail}")
+    return observation.from_json(json.loads(out.read_text(encoding="utf-8")))
 
 
 def _missing_result(check: str, key: str, table: Dict[str, Tuple[str, float]], root: Path, seed: Optional[int]) -> CheckResult:
@@ -297,9 +309,9 @@ def _refuse_reference(run: _Run, check: str, table: Dict[str, Tuple[str, float]]
     return _finish(check, run, parts, seed)
 
 
-def _parse_launch(run: _Run, key: str) -> Tuple[Dict[str, Any], Dict[str, Any]]:
-    data, facts = run.probe("launch-parse", run.space.files[key], f"parse-{key}")
-    return (data if data is not None else {"ok": False, "error": ""}), facts
+def _parse_launch(run: _Run, key: str) -> Tuple[LaunchParseResult, ProcessFacts]:
+    data, facts = run.probe("launch-parse", run.space.files[key], f"parse-{key}", LaunchParseResult)
+    return (data if data is not None else LaunchParseResult()), facts
 
 
 #: ``HRI_GRADE_CLOCK=real`` runs the nodes in real time, as before the grader owned the clock
@@ -314,8 +326,3 @@ def grading_clock() -> str:
         raise GradingError(f"{CLOCK_ENV} is {value!r}; use grader (the default: the grader owns /clock) or real "
                            "(the nodes run in real time)")
     return "grader" if value == "grader" else "real time"
-
-
-def _full_name(node: Dict[str, Any]) -> str:
-    """A parsed launch node's ROS name, ``/ns/name``."""
-    return f"{node['namespace'].rstrip('/')}/{node['name']}"

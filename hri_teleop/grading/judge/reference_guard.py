@@ -1,12 +1,10 @@
 """A student file that uses the lab's reference rules fails its check: writing the rule is the exercise.
 
-The lab PCs and the grading machine have the whole toolkit installed, and some of its modules
-hold what the exercises ask for: ``hri_teleop.core.mapping`` (Ex. 5's mapping, ``map_force``),
-``hri_teleop.core.teleop`` (Ex. 8's rules, ``TeleopController``), ``hri_teleop.core.paramfile`` (Ex. 4's
-and Ex. 11's parameters) and the grader itself. A file that reaches them -- by an import, an
-attribute of the ``hri_teleop`` package, or a module name in a string for ``importlib`` -- is
-refused with the line that does it and what to write instead. The given code of the templates
-imports other modules (``hri_teleop.core.gamepad``, ``hri_teleop.core.limits``), which stay allowed.
+The lab PCs and the grader have the toolkit installed, with ``hri_teleop.core.mapping`` (Ex. 5),
+``hri_teleop.core.teleop`` (Ex. 8), ``hri_teleop.core.paramfile`` (Ex. 4, 11) and the grader. A file
+that reaches them (an import, an attribute of ``hri_teleop``, a module name in a string for
+``importlib``) is refused with that line and what to write instead. The templates' given code imports
+other modules (``hri_teleop.core.gamepad``, ``hri_teleop.core.limits``), which stay allowed.
 """
 
 from __future__ import annotations

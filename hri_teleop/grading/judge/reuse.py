@@ -1,14 +1,10 @@
 """Check results make grade's files job wrote, for the notebooks' check cells of the same submission.
 
-make grade judges a submission's ``hri_lab`` twice: in the files job (``hri-grade
-submission``) and in the notebooks' check cells (Ex. 4, 5, 6-7, 9, 12-13, 15), which call the
-same checks on the same files. A check judges only its package's files, with hidden inputs
-from the submission's seed, on the grader's clock: the same files give the same parts. So
-the files job stores each result under a digest of the check, the seed and every file of
-the package, and a check cell whose package is byte for byte the same takes that result
-instead of running the nodes again (saying so in a note). The files job only writes and
-never reads what it finds (a notebook kernel runs student code); a notebook only reads.
-Outside make grade neither variable is set and nothing is stored or read.
+A check judges only its package's files, with the submission's seed, on the grader's clock: the
+same files give the same parts. So the files job stores each result under a digest of the check,
+the seed and every file, and a check cell whose package is byte for byte the same takes it. The
+files job only writes, a notebook only reads (its kernel runs student code); outside make grade
+nothing is stored or read (grading/README.md).
 """
 
 from __future__ import annotations

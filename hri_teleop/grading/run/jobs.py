@@ -1,18 +1,9 @@
 """Jobs run as processes that leave nothing behind, a few at a time, stopped as a whole on Ctrl-C.
 
-What ``make grade`` (:mod:`hri_teleop.grading.batch.folders`) grades each submission with. Why a
-process per submission, driven by a few threads: a grade must never be lost because of
-another student -- a crash or hang on one submission ends that process only (it is timed
-out and recorded as not graded, with the reason), and each process gives its student code
-a uid and sandboxes of its own. Every job runs under a *reaper* (``python -m
-hri_teleop.grading.run.jobs reap -- ...``): a child subreaper that, when the job ends or is
-stopped, kills everything the job started -- also the Jupyter kernel and the kernel's
-private roscore, which start sessions of their own and so escape a process-group kill.
-Ctrl-C or SIGTERM drops the jobs not started and stops the running ones the same way.
-
-How many at once (notebooks/README.md has the numbers): ``JOBS`` = cores is 1.9x one after
-another on the preparation; more jobs than cores helped long notebooks (they wait for ROS
-and real time) and hurt short ones, so the default is the cores.
+What ``make grade`` grades each submission with: a crash or hang ends that job's process only,
+and every job runs under a reaper (:func:`reap_main`) that kills everything it started, also the
+Jupyter kernel and its roscore, which escape a process-group kill. Why a process per job and as
+many jobs as cores: docs/grading-internals.md.
 """
 
 from __future__ import annotations

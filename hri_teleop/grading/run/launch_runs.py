@@ -1,10 +1,13 @@
-"""The sessions of whole pipelines: Ex. 12-13's teleoperation launch with the simulated lab and a
-scripted operator, and the lab's reference pipeline whose graph Ex. 15 is judged against."""
+"""Sessions of whole pipelines: Ex. 12-13's launch in the simulated lab, and Ex. 15's reference graph.
+
+Ex. 12-13's teleoperation launch runs with the simulated lab and a scripted operator; the lab's
+reference pipeline gives the graph Ex. 15 is judged against.
+"""
 
 from __future__ import annotations
 
 import time
-from typing import Any, Dict, List, Set
+from typing import Any, Dict, List, Sequence, Set, Tuple
 
 from hri_teleop.grading.run.lockstep import (
     GraderClock,
@@ -16,13 +19,22 @@ from hri_teleop.grading.run.lockstep import (
     wait_for,
     wait_until_settled,
 )
+from hri_teleop.grading.run.records import (
+    LiveGraphObservation,
+    LiveGraphPlan,
+    TeleopLaunchSimObservation,
+    TeleopLaunchSimPlan,
+    Topic,
+)
 from hri_teleop.grading.run.ros_session import (
     _IGNORED_TOPICS,
     Session,
     _graph,
+    _launch_facts,
     _node_io,
     _start_problem,
     _student_nodes,
+    recorded_since,
 )
 
 __all__ = ["run_teleop_launch_sim", "run_live_graph", "CHAIN_SETTLE_S"]
@@ -31,7 +43,7 @@ __all__ = ["run_teleop_launch_sim", "run_live_graph", "CHAIN_SETTLE_S"]
 CHAIN_SETTLE_S = 0.5
 
 
-def run_teleop_launch_sim(session: Session) -> Dict[str, Any]:
+def run_teleop_launch_sim(session: Session, plan: TeleopLaunchSimPlan) -> TeleopLaunchSimObservation:
     """roslaunch the student's teleoperation.launch with the simulated lab and a scripted operator.
 
     lab_sim (the grader's, trusted) plays arm, hand, object and board before the launch
@@ -42,39 +54,38 @@ def run_teleop_launch_sim(session: Session) -> Dict[str, Any]:
     launch file lacks (a parameter, the serial_node, mapping_node, gripper_manager) the
     grader supplies, so this judges only whether what it starts works together.
     """
-    plan = session.plan
     supplied: List[str] = []
-    if plan.get("set_max_sensor_force") is not None:
-        session.master.set_param("/max_sensor_force", plan["set_max_sensor_force"])
+    if plan.set_max_sensor_force is not None:
+        session.master.set_param("/max_sensor_force", plan.set_max_sensor_force)
         supplied.append("/max_sensor_force")
     # Before anything reads /use_sim_time; time starts once every node is up and connected.
-    clock = GraderClock(session, started=False) if plan.get("clock") == "grader" else None
-    lab = session.master.run([plan["python"], *plan["lab_sim"]], "grader_lab_sim")
-    ready = wait_for(lambda: "/lab_sim" in session.master.subscribers(plan["twist_topic"]) or not lab.running,
-                  plan["start_timeout_s"], 0.05)
+    clock = GraderClock(session, started=False) if plan.clock == "grader" else None
+    lab = session.master.run([session.python, *plan.lab_sim], "grader_lab_sim")
+    ready = wait_for(lambda: "/lab_sim" in session.master.subscribers(plan.twist_topic) or not lab.running,
+                  plan.start_timeout_s, 0.05)
     session.phase("lab_sim up")
     if not ready or not lab.running:
         out = lab.output()[-1500:]
         lab.stop()
-        return {"kind": "teleop-launch-sim", "session_error": f"the simulated lab did not start: {out}"}
+        return TeleopLaunchSimObservation(session_error=f"the simulated lab did not start: {out}")
     now = clock.now if clock else time.monotonic
     recorder = Recorder(now)
-    for topic in plan["record"]:
+    for topic in plan.record:
         recorder.add(topic)
-    launch = session.start_student(["roslaunch", "--wait", plan["launch_file"], plan["params_launch"]], "roslaunch",
+    launch = session.start_student(["roslaunch", "--wait", plan.launch_file, plan.params_launch], "roslaunch",
                                    clock.student_env() if clock else None)
-    teleop = plan["teleop_node"]
+    teleop = plan.teleop_node
     started = now()
-    up = wait_for(lambda: teleop in session.master.node_names() or not launch.running, plan["start_timeout_s"], 0.05)
+    up = wait_for(lambda: teleop in session.master.node_names() or not launch.running, plan.start_timeout_s, 0.05)
     session.phase("teleoperation node registered")
-    problem = "" if up and launch.running else _start_problem(launch, plan["start_timeout_s"], f"starting {teleop}")
+    problem = "" if up and launch.running else _start_problem(launch, plan.start_timeout_s, f"starting {teleop}")
     extra: List[Any] = []
     nodes: Set[str] = set()
-    teleop_pub: List[List[str]] = []
+    teleop_pub: List[Topic] = []
     quit_in_time = False
     if not problem:
-        for name, argv in plan.get("supply", {}).items():  # now: the launch file's parameters are set
-            extra.append(session.start_student([plan["python"], *argv], f"grader_{name}"))
+        for name, argv in plan.supply.items():  # now: the launch file's parameters are set
+            extra.append(session.start_student([session.python, *argv], f"grader_{name}"))
             supplied.append(name)
         def still_up() -> bool:
             nonlocal nodes, teleop_pub, quit_in_time
@@ -89,19 +100,19 @@ def run_teleop_launch_sim(session: Session) -> Dict[str, Any]:
         if clock is not None:
             # Time stands still until every node is up and connected: at the simulation's
             # speed a node still importing would otherwise miss seconds of the operator.
-            wait_until_settled(session, set(plan.get("expect_nodes", [])), launch, plan["settle_timeout_s"])
+            wait_until_settled(session, set(plan.expect_nodes), launch, plan.settle_timeout_s)
             session.phase("graph settled")
             # Step once the node's twists reach the recorder and lab_sim: a tick published before
             # a connection is lost (to lab_sim: a velocity out of the blue, which the arm refuses).
-            twist, applied = plan["twist_topic"], plan["applied_topic"]
+            twist, applied = plan.twist_topic, plan.applied_topic
             recorder.add(applied)
             # Both ends counted: the node starts its pad script at the first tick with a listener.
             wait_for(lambda: (recorder.connected(twist) and recorder.connected(applied)
                            and connections(session, "/lab_sim", twist) > 0
                            and connections(session, teleop, twist, "o") >= 2)
-                  or not launch.running, plan["start_timeout_s"], 0.002)
-            rate_hz = node_rate_hz(session, teleop, plan["default_rate_hz"])
-            chain = list(plan.get("sensor_chain", []))  # board -> /pub_force -> /force_mapped
+                  or not launch.running, plan.start_timeout_s, 0.002)
+            rate_hz = node_rate_hz(session, teleop, plan.default_rate_hz)
+            chain = list(plan.sensor_chain)  # board -> /pub_force -> /force_mapped
             for topic in chain:
                 recorder.add(topic)
             chain_ok = [bool(chain)]
@@ -131,7 +142,7 @@ def run_teleop_launch_sim(session: Session) -> Dict[str, Any]:
             wait_for(lambda: (recorder.count(twist) > 0 and applied_now()) or not launch.running,
                   GraderClock.STEP_TIMEOUT_S, 0.0005)
             tick = 0
-            while clock.now() - started < plan["run_s"]:
+            while clock.now() - started < plan.run_s:
                 if tick % 10 == 0:
                     if not still_up():
                         break
@@ -143,7 +154,7 @@ def run_teleop_launch_sim(session: Session) -> Dict[str, Any]:
                     clock.paced = True
             session.phase("steps done")
         else:
-            deadline = time.monotonic() + plan["run_s"]
+            deadline = time.monotonic() + plan.run_s
             while time.monotonic() < deadline and still_up():
                 time.sleep(0.1)
     pubs, subs, types = _graph(session.master)
@@ -152,32 +163,34 @@ def run_teleop_launch_sim(session: Session) -> Dict[str, Any]:
     from hri_teleop.ros.master import stop_side_by_side
 
     stop_side_by_side([launch, *extra, lab])  # their shutdowns overlap (0.7 s one after another)
-    return {
-        "kind": "teleop-launch-sim", "supplied": supplied, "problem": problem, "nodes": sorted(nodes),
-        "quit_in_time": quit_in_time, "run_s": round(now() - started, 3), "teleop_publications": teleop_pub,
-        "clock": "grader" if clock is not None and not clock.paced else "real time",
-        "publishers": {t: sorted(n) for t, n in pubs.items() if t not in _IGNORED_TOPICS},
-        "subscribers": {t: sorted(n) for t, n in subs.items() if t not in _IGNORED_TOPICS},
-        "types": {t: k for t, k in types.items() if t not in _IGNORED_TOPICS},
-        "messages": {t: [[round(ts - started, 4), k, v] for ts, k, v in msgs] for t, msgs in recorder.messages.items()
-                     if t in plan["record"]},
-        "launch": {"exit_code": launch.returncode, "exited_by_itself": exited, "output_tail": launch.output_tail(),
-                   "output_bytes": launch.output_size()},
-        "lab_sim_log": lab.output()[-1500:],
-    }
+    publishers, subscribers = _connections(pubs, subs, _IGNORED_TOPICS)
+    return TeleopLaunchSimObservation(
+        supplied=supplied, problem=problem, nodes=sorted(nodes), quit_in_time=quit_in_time,
+        run_s=round(now() - started, 3), teleop_publications=teleop_pub,
+        clock="grader" if clock is not None and not clock.paced else "real time",
+        publishers=publishers, subscribers=subscribers,
+        types={t: k for t, k in types.items() if t not in _IGNORED_TOPICS},
+        messages=recorded_since(recorder, started, plan.record), launch=_launch_facts(launch, exited),
+        lab_sim_log=lab.output()[-1500:])
 
 
-def run_live_graph(session: Session) -> Dict[str, Any]:
+def _connections(pubs: Dict[str, Set[str]], subs: Dict[str, Set[str]], ignored: Sequence[str] = ()
+                 ) -> Tuple[Dict[str, List[str]], Dict[str, List[str]]]:
+    """(topic -> sorted publishers, topic -> sorted subscribers), the ``ignored`` topics left out."""
+    return ({t: sorted(n) for t, n in pubs.items() if t not in ignored},
+            {t: sorted(n) for t, n in subs.items() if t not in ignored})
+
+
+def run_live_graph(session: Session, plan: LiveGraphPlan) -> LiveGraphObservation:
     """The lab's reference pipeline without hardware: its nodes, topics, types and connections."""
-    plan = session.plan
-    launch = session.master.run(["roslaunch", "--wait", "hri_lab", "teleoperation.launch", *plan["launch_args"]],
+    launch = session.master.run(["roslaunch", "--wait", "hri_lab", "teleoperation.launch", *plan.launch_args],
                                 "reference")
-    want = set(plan["nodes"])
-    ok = wait_for(lambda: want <= set(session.master.node_names()) or not launch.running, plan["start_timeout_s"], 0.1)
+    want = set(plan.nodes)
+    ok = wait_for(lambda: want <= set(session.master.node_names()) or not launch.running, plan.start_timeout_s, 0.1)
     if not ok or not launch.running:
         out = launch.output()[-1500:]
         launch.stop()
-        return {"kind": "live-graph", "problem": f"the reference teleoperation.launch did not start: {out}"}
+        return LiveGraphObservation(problem=f"the reference teleoperation.launch did not start: {out}")
     previous: Any = None
     for _ in range(50):  # until two readings 0.3 s apart agree
         pubs, subs, types = _graph(session.master)
@@ -187,6 +200,5 @@ def run_live_graph(session: Session) -> Dict[str, Any]:
         previous = reading
         time.sleep(0.3)
     launch.stop()
-    return {"kind": "live-graph", "problem": "",
-            "publishers": {t: sorted(n) for t, n in pubs.items()}, "subscribers": {t: sorted(n) for t, n in subs.items()},
-            "types": types}
+    publishers, subscribers = _connections(pubs, subs)
+    return LiveGraphObservation(problem="", publishers=publishers, subscribers=subscribers, types=types)

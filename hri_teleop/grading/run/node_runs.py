@@ -1,11 +1,14 @@
-"""The sessions of single nodes: Ex. 5's mapping node in lockstep, Ex. 9's teleoperation node
-with a scripted virtual pad; and Ex. 6-7's sensor launch recorded on the grader's clock."""
+"""Sessions of single nodes (Ex. 5, 9) and of Ex. 6-7's sensor launch.
+
+Ex. 5's mapping node runs in lockstep, Ex. 9's teleoperation node with a scripted virtual pad, and
+Ex. 6-7's sensor launch is recorded on the grader's clock.
+"""
 
 from __future__ import annotations
 
 import threading
 import time
-from typing import Any, Dict, List
+from typing import Any, List
 
 from hri_teleop.grading.run.lockstep import (
     GraderClock,
@@ -15,44 +18,54 @@ from hri_teleop.grading.run.lockstep import (
     wait_for,
     wait_until_settled,
 )
+from hri_teleop.grading.run.records import (
+    MappingNodeObservation,
+    MappingNodePlan,
+    MappingRun,
+    Message,
+    Response,
+    SensorLaunchObservation,
+    SensorLaunchPlan,
+    TeleopNodeObservation,
+    TeleopNodePlan,
+)
 from hri_teleop.grading.run.ros_session import (
     _IGNORED_TOPICS,
     Session,
     _facts,
     _forget_nodes,
     _graph,
+    _launch_facts,
     _pick,
     _start_problem,
     _student_nodes,
     _wait_for_node,
+    recorded_since,
 )
 
 __all__ = ["run_mapping_node", "run_sensor_launch", "run_teleop_node"]
 
 
-def run_mapping_node(session: Session) -> Dict[str, Any]:
+def run_mapping_node(session: Session, plan: MappingNodePlan) -> MappingNodeObservation:
     import rospy
     from std_msgs.msg import Int16
 
-    plan = session.plan
-    runs = []
-    python = plan["python"]
-    for index, case in enumerate(plan["cases"]):
-        if index > 0 and not any(runs[0]["responses"]):
+    runs: List[MappingRun] = []
+    for index, case in enumerate(plan.cases):
+        if index > 0 and not any(runs[0].responses):
             break  # nothing came back for the public counts: the hidden ones cannot tell more
-        session.master.set_param("/max_sensor_force", case["max_sensor_force"])
-        proc = session.start_student([python, plan["script"]], f"mapping_node-{index}")
-        nodes, sub, pub, ok = _wait_for_node(session, proc, plan["start_timeout_s"], lambda s, p: bool(s))
+        session.master.set_param("/max_sensor_force", case.max_sensor_force)
+        proc = session.start_student([session.python, plan.script], f"mapping_node-{index}")
+        nodes, sub, pub, ok = _wait_for_node(session, proc, plan.start_timeout_s, lambda s, p: bool(s))
         if ok and not pub:  # subscribed; give it a moment to advertise too
             nodes, sub, pub, _ = _wait_for_node(session, proc, 2.0, lambda s, p: bool(p))
-        run: Dict[str, Any] = {"label": case["label"], "max_sensor_force": case["max_sensor_force"],
-                               "counts": case["counts"], "responses": [], "input_topic": "", "output_topic": "",
-                               "output_type": "", "connected": False}
-        problem = "" if ok else _start_problem(proc, plan["start_timeout_s"], "subscribing to a topic")
+        in_topic = in_type = out_topic = out_type = ""
+        connected = False
+        responses: List[List[Response]] = []
+        problem = "" if ok else _start_problem(proc, plan.start_timeout_s, "subscribing to a topic")
         if ok:
             in_topic, in_type = _pick(sub, "/pub_force")
             out_topic, out_type = _pick(pub, "/force_mapped")
-            run.update(input_topic=in_topic, input_type=in_type, output_topic=out_topic, output_type=out_type)
             if in_topic:
                 publisher = rospy.Publisher(in_topic, Int16, queue_size=1000, tcp_nodelay=True)
                 recorder = Recorder()
@@ -61,10 +74,8 @@ def run_mapping_node(session: Session) -> Dict[str, Any]:
                 connected = wait_for(lambda publisher=publisher, recorder=recorder, out_topic=out_topic:
                                      publisher.get_num_connections() > 0
                                      and (not out_topic or recorder.connected(out_topic)), 5.0)
-                run["connected"] = connected
                 if connected:
-                    run["responses"] = _lockstep(publisher, recorder, out_topic, case["counts"], proc,
-                                                 plan["response_timeout_s"])
+                    responses = _lockstep(publisher, recorder, out_topic, case.counts, proc, plan.response_timeout_s)
                 recorder.close()
                 publisher.unregister()
             nodes2, sub2, pub2, _ = _wait_for_node(session, proc, 0.0, lambda s, p: True)
@@ -76,18 +87,20 @@ def run_mapping_node(session: Session) -> Dict[str, Any]:
 
             problem = f"{describe_exit(proc.returncode)} while counts were being published"
         proc.stop()
-        run["node"] = _facts(proc, nodes, sub, pub, problem, exited)
-        runs.append(run)
+        runs.append(MappingRun(label=case.label, max_sensor_force=case.max_sensor_force, counts=case.counts,
+                               responses=responses, input_topic=in_topic, input_type=in_type, output_topic=out_topic,
+                               output_type=out_type, connected=connected,
+                               node=_facts(proc, nodes, sub, pub, problem, exited)))
         _forget_nodes(session.master, _student_nodes(session.master, session.baseline))
-    return {"kind": "mapping-node", "runs": runs}
+    return MappingNodeObservation(runs=runs)
 
 
 def _lockstep(publisher: Any, recorder: Recorder, out_topic: str, counts: List[int], proc: Any,
-              timeout_s: float) -> List[List[Any]]:
+              timeout_s: float) -> List[List[Response]]:
     """Publish one count, collect what comes back before the next one; returns values per count."""
     from std_msgs.msg import Int16
 
-    responses: List[List[Any]] = []
+    responses: List[List[Response]] = []
     misses = 0  # counts that got no answer in time: after three, wait only briefly (a node that
     # never answers, or skips some counts, must not cost a second per count)
     for i, count in enumerate(counts):
@@ -103,32 +116,31 @@ def _lockstep(publisher: Any, recorder: Recorder, out_topic: str, counts: List[i
         else:
             misses += 1
         got = recorder.since(out_topic, before) if out_topic else []
-        responses.append([[kind, value] for _, kind, value in got])
+        responses.append([Response(kind, value) for _, kind, value in got])
         if not proc.running:
             responses.extend([] for _ in counts[i + 1:])
             break
     return responses
 
 
-def _record_sensor_on_clock(session: Session, clock: "GraderClock", recorder: Recorder, launch: Any,
-                            want: int) -> None:
+def _record_sensor_on_clock(session: Session, plan: SensorLaunchPlan, clock: GraderClock, recorder: Recorder,
+                            launch: Any, want: int) -> None:
     """Step the clock one sensor period at a time until ``want`` values came out of /force_mapped.
 
     Each step waits for the tick's count on /pub_force and its mapping on /force_mapped
     (once each has spoken), so every count is paired with its own mapping, idle or busy.
     """
-    plan = session.plan
-    wait_until_settled(session, set(plan.get("expect_nodes", [])), launch, plan["settle_timeout_s"])
+    wait_until_settled(session, set(plan.expect_nodes), launch, plan.settle_timeout_s)
     wait_for(lambda: (recorder.connected("/pub_force") and recorder.connected("/force_mapped")
-                   and connections(session, plan["mapping_node_name"], "/pub_force") > 0
-                   and connections(session, plan["fsr_node"], "/pub_force", "o") >= 2
-                   and connections(session, plan["mapping_node_name"], "/force_mapped", "o") >= 1)
+                   and connections(session, plan.mapping_node_name, "/pub_force") > 0
+                   and connections(session, plan.fsr_node, "/pub_force", "o") >= 2
+                   and connections(session, plan.mapping_node_name, "/force_mapped", "o") >= 1)
           or not launch.running, 5.0, 0.002)
-    rate_hz = node_rate_hz(session, plan["fsr_node"], plan["default_fsr_rate_hz"], "rate_hz")
+    rate_hz = node_rate_hz(session, plan.fsr_node, plan.default_fsr_rate_hz, "rate_hz")
     clock.start()  # the sensor's first count, with everything connected: the same in every run
     wait_for(lambda: (recorder.count("/pub_force") > 0 and recorder.count("/force_mapped") > 0) or not launch.running,
           GraderClock.STEP_TIMEOUT_S, 0.0005)
-    for _ in range(int(plan["record_s"] * rate_hz)):
+    for _ in range(int(plan.record_s * rate_hz)):
         if (want and recorder.count("/force_mapped") >= want) or not launch.running:
             break
         lockstep = [t for t in ("/pub_force", "/force_mapped") if recorder.count(t)] or ["/pub_force"]
@@ -136,40 +148,39 @@ def _record_sensor_on_clock(session: Session, clock: "GraderClock", recorder: Re
             clock.paced = True
 
 
-def run_sensor_launch(session: Session) -> Dict[str, Any]:
+def run_sensor_launch(session: Session, plan: SensorLaunchPlan) -> SensorLaunchObservation:
     """roslaunch the student's sensor.launch; supply what it lacks so the flow can still be judged."""
-    plan = session.plan
     supplied: List[str] = []
     # Before anything reads /use_sim_time; time starts once every node is up and connected.
-    clock = GraderClock(session, started=False) if plan.get("clock") == "grader" else None
-    if plan.get("set_max_sensor_force") is not None:
-        session.master.set_param("/max_sensor_force", plan["set_max_sensor_force"])
+    clock = GraderClock(session, started=False) if plan.clock == "grader" else None
+    if plan.set_max_sensor_force is not None:
+        session.master.set_param("/max_sensor_force", plan.set_max_sensor_force)
         supplied.append("/max_sensor_force")
     extra: List[Any] = []
-    launch = session.start_student(["roslaunch", "--wait", plan["launch_file"]], "roslaunch",
+    launch = session.start_student(["roslaunch", "--wait", plan.launch_file], "roslaunch",
                                    clock.student_env() if clock else None)
-    if plan.get("run_fsr_sensor"):
-        extra.append(session.master.run([plan["python"], plan["fsr_sensor"]], "grader_FSR_sensor"))
+    if plan.run_fsr_sensor:
+        extra.append(session.master.run([session.python, plan.fsr_sensor], "grader_FSR_sensor"))
         supplied.append("FSR_sensor.py")
-    if plan.get("run_mapping_node"):
-        extra.append(session.start_student([plan["python"], plan["mapping_node"]], "grader_mapping_node"))
+    if plan.run_mapping_node:
+        extra.append(session.start_student([session.python, plan.mapping_node], "grader_mapping_node"))
         supplied.append("mapping_node.py")
     recorder = Recorder(clock.now if clock else time.monotonic)
     ok = wait_for(lambda: bool(session.master.publishers("/force_mapped")) or not launch.running,
-               plan["start_timeout_s"], 0.05) and launch.running
-    problem = "" if ok else _start_problem(launch, plan["start_timeout_s"], "anything publishing /force_mapped")
+               plan.start_timeout_s, 0.05) and launch.running
+    problem = "" if ok else _start_problem(launch, plan.start_timeout_s, "anything publishing /force_mapped")
     if ok:
         recorder.add("/force_mapped")
         recorder.add("/pub_force")
         wait_for(lambda: recorder.connected("/force_mapped"), 5.0)
-        want = plan.get("record_messages", 0)
+        want = plan.record_messages
         if clock is not None:
-            _record_sensor_on_clock(session, clock, recorder, launch, want)
+            _record_sensor_on_clock(session, plan, clock, recorder, launch, want)
         else:
-            wait_for(lambda: recorder.count("/force_mapped") > 0 or not launch.running, plan["start_timeout_s"])
+            wait_for(lambda: recorder.count("/force_mapped") > 0 or not launch.running, plan.start_timeout_s)
             # Enough messages to judge, not a fixed time: a busy machine records the same number.
-            wait_for(lambda: (want and recorder.count("/force_mapped") >= want) or not launch.running,
-                  plan["record_s"], 0.01)
+            wait_for(lambda: bool(want and recorder.count("/force_mapped") >= want) or not launch.running,
+                  plan.record_s, 0.01)
     nodes = sorted(_student_nodes(session.master, session.baseline))
     pubs, subs, types = _graph(session.master)
     recorder.close()
@@ -181,39 +192,36 @@ def run_sensor_launch(session: Session) -> Dict[str, Any]:
     from hri_teleop.ros.master import stop_side_by_side
 
     stop_side_by_side([launch, *extra])
-    return {
-        "kind": "sensor-launch", "supplied": supplied, "problem": problem, "nodes": nodes,
-        "clock": "grader" if clock is not None and not clock.paced else "real time",
-        "types": {t: k for t, k in types.items() if t not in _IGNORED_TOPICS},
-        "force_mapped": [[t, k, v] for t, k, v in recorder.messages.get("/force_mapped", [])],
-        "pub_force": [[t, k, v] for t, k, v in recorder.messages.get("/pub_force", [])],
-        "launch": {"exit_code": launch.returncode, "exited_by_itself": exited, "output_tail": launch.output_tail(),
-                   "output_bytes": launch.output_size()},
-    }
+    return SensorLaunchObservation(
+        supplied=supplied, problem=problem, nodes=nodes,
+        clock="grader" if clock is not None and not clock.paced else "real time",
+        types={t: k for t, k in types.items() if t not in _IGNORED_TOPICS},
+        force_mapped=[Message(t, k, v) for t, k, v in recorder.messages.get("/force_mapped", [])],
+        pub_force=[Message(t, k, v) for t, k, v in recorder.messages.get("/pub_force", [])],
+        launch=_launch_facts(launch, exited))
 
 
-def run_teleop_node(session: Session) -> Dict[str, Any]:
+def run_teleop_node(session: Session, plan: TeleopNodePlan) -> TeleopNodeObservation:
     """The student's teleoperation.py with a scripted virtual pad and a steady /force_mapped."""
     import rospy
     from std_msgs.msg import Float32
 
-    plan = session.plan
     force_pub = rospy.Publisher("/force_mapped", Float32, queue_size=10)
     stop_force = threading.Event()
 
     def feed_force() -> None:
         while not stop_force.is_set():
-            force_pub.publish(Float32(data=plan["force"]))
+            force_pub.publish(Float32(data=plan.force))
             stop_force.wait(0.05)
 
     feeder = threading.Thread(target=feed_force, daemon=True)
     feeder.start()
-    params = [f"_{k}:={v}" for k, v in plan["gains"].items()]
-    argv = [plan["python"], plan["script"], "_pad:=virtual", "_layout:=dualshock4",
-            f"_pad_script:={plan['pad_script']}", *params]
-    clock = GraderClock(session) if plan.get("clock") == "grader" else None
+    params = [f"_{k}:={v}" for k, v in plan.gains.as_dict().items()]
+    argv = [session.python, plan.script, "_pad:=virtual", "_layout:=dualshock4",
+            f"_pad_script:={plan.pad_script}", *params]
+    clock = GraderClock(session) if plan.clock == "grader" else None
     recorder = Recorder(clock.now if clock else time.monotonic)
-    record = list(plan.get("record", []))
+    record = list(plan.record)
     # Subscribed before the node starts: the pad script plays from its start. Under the grader's
     # clock the twist (the first topic) comes last, once every other topic is connected at both
     # ends: the node's first tick waits for a listener on its twist (the template's
@@ -221,8 +229,8 @@ def run_teleop_node(session: Session) -> Dict[str, Any]:
     for topic in record[1:] if clock else record:
         recorder.add(topic)
     proc = session.start_student(argv, "teleoperation", clock.student_env() if clock else None)
-    nodes, sub, pub, ok = _wait_for_node(session, proc, plan["start_timeout_s"], lambda s, p: bool(p))
-    problem = "" if ok else _start_problem(proc, plan["start_timeout_s"], "advertising a topic")
+    nodes, sub, pub, ok = _wait_for_node(session, proc, plan.start_timeout_s, lambda s, p: bool(p))
+    problem = "" if ok else _start_problem(proc, plan.start_timeout_s, "advertising a topic")
     if ok and clock is not None and record:
         others = record[1:]
         wait_for(lambda: all(recorder.connected(t) and any(connections(session, n, t, "o") > 0 for n in nodes)
@@ -243,45 +251,43 @@ def run_teleop_node(session: Session) -> Dict[str, Any]:
             recorder.add(topic)
 
     if ok and clock is not None:
-        clock.wait_for_listener(nodes, proc, plan["start_timeout_s"])
+        clock.wait_for_listener(nodes, proc, plan.start_timeout_s)
         # The loop's first tick comes at the start time, before any step: step only after it,
         # so tick k is always at start + k periods (stepping earlier would race the node's start).
-        wait_for(lambda: recorder.count(plan["record"][0]) > 0 or not proc.running, plan["start_timeout_s"], 0.0005)
+        wait_for(lambda: recorder.count(plan.record[0]) > 0 or not proc.running, plan.start_timeout_s, 0.0005)
         # Every topic of tick 0 before the first step (a message that arrived after it would be
         # stamped a tick late); a topic the node never publishes costs one step timeout, once.
-        wait_for(lambda: all(recorder.count(t) > 0 for t in plan["record"]) or not proc.running,
+        wait_for(lambda: all(recorder.count(t) > 0 for t in plan.record) or not proc.running,
               GraderClock.STEP_TIMEOUT_S, 0.0005)
-        lockstep = [t for t in plan["record"] if recorder.count(t) > 0] or plan["record"][:1]
+        lockstep = [t for t in plan.record if recorder.count(t) > 0] or plan.record[:1]
         tick = 0
-        while clock.now() - started < plan["run_s"] and proc.running:
+        while clock.now() - started < plan.run_s and proc.running:
             if tick % 25 == 0:
                 follow_node()
             tick += 1
-            if not clock.step(float(plan["gains"]["rate"]), recorder, lockstep, proc) and proc.running:
+            if not clock.step(float(plan.gains.rate), recorder, lockstep, proc) and proc.running:
                 if clock.answered:  # it followed the clock and fell silent: it is ending (or hangs)
                     session.phase(f"silent from {clock.now() - started:.2f} s")
                     break
                 session.phase(f"paced from {clock.now() - started:.2f} s")
                 clock.paced = True
-        proc.wait(plan["quit_grace_s"])
+        proc.wait(plan.quit_grace_s)
     elif ok:
-        deadline = started + plan["run_s"]
+        deadline = started + plan.run_s
         while time.monotonic() < deadline and proc.running:
             follow_node()
             time.sleep(0.1)
-        proc.wait(plan["quit_grace_s"])
+        proc.wait(plan.quit_grace_s)
     exited = not proc.running
     exit_code = proc.returncode
     proc.stop()
     stop_force.set()
     feeder.join(1.0)
     recorder.close()
-    return {
-        "kind": "teleop-node", "problem": problem, "quit_in_time": exited,
-        "clock": "real time" if clock is None or clock.paced else "grader", "rescued_steps": clock.rescues if clock else 0,
-        "node": _facts(proc, nodes, sub, pub, problem, exited), "exit_code": exit_code,
-        "messages": {t: [[round(ts - started, 4), k, v] for ts, k, v in msgs] for t, msgs in recorder.messages.items()},
-    }
+    return TeleopNodeObservation(
+        problem=problem, quit_in_time=exited, clock="real time" if clock is None or clock.paced else "grader",
+        rescued_steps=clock.rescues if clock else 0, node=_facts(proc, nodes, sub, pub, problem, exited),
+        exit_code=exit_code, messages=recorded_since(recorder, started))
 
 
 #: How long a step waits for the sensor chain to pass on a tick's counts (s); a chain that

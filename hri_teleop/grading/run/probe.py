@@ -1,15 +1,11 @@
-"""What runs *inside* a student sandbox: load, parse or import a student's file, report as JSON.
+"""What runs inside a student sandbox: load, parse or import a student's file, report as JSON.
 
-Why a separate process: a student's YAML can be a billion-laughs bomb, a launch file's
-``$(eval ...)`` is Python, and importing a student's module runs its top level. None of
-that may happen in the grader's own process. The grader runs::
+Student YAML, launch files and modules may run code, so a StudentProcess runs this, never the
+grader's own process; it only observes (docs/grading-internals.md). The grader runs:
 
     python -m hri_teleop.grading.run.probe rosparam-load FILE OUT
     python -m hri_teleop.grading.run.probe launch-parse FILE OUT [name:=value ...]
     python -m hri_teleop.grading.run.probe teleop-parts FILE PLAN OUT
-
-as a :class:`~hri_teleop.grading.run.sandbox.StudentProcess` and reads OUT, a JSON file. This
-module only observes; every judgement is made outside, in :mod:`hri_teleop.grading.judge.compare`.
 """
 
 from __future__ import annotations
@@ -21,6 +17,17 @@ import sys
 import traceback
 from pathlib import Path
 from typing import Any, Dict, List, Optional, Sequence
+
+from hri_teleop.grading.run.records import (
+    LaunchNode,
+    LaunchParseResult,
+    PartsCaseResult,
+    PartsTick,
+    ProbeResult,
+    RosparamResult,
+    TeleopPartsPlan,
+    TeleopPartsResult,
+)
 
 __all__ = ["main"]
 
@@ -38,9 +45,9 @@ def _plain(value: Any) -> Any:
     return {"__repr__": repr(value)[:200], "__type__": type(value).__name__}
 
 
-def _write(out: Path, data: Dict[str, Any]) -> None:
+def _write(out: Path, result: ProbeResult) -> None:
     out.parent.mkdir(parents=True, exist_ok=True)
-    out.write_text(json.dumps(data, sort_keys=True), encoding="utf-8")
+    out.write_text(json.dumps(result.to_json(), sort_keys=True), encoding="utf-8")
 
 
 def _one_line(exc: BaseException) -> str:
@@ -48,26 +55,26 @@ def _one_line(exc: BaseException) -> str:
     return " ".join(text.split())[:600]
 
 
-def rosparam_load(path: Path) -> Dict[str, Any]:
+def rosparam_load(path: Path) -> RosparamResult:
     """``rosparam load FILE`` without a master: rosparam's own loader, merged into '/'."""
     import rosparam
 
     try:
         loaded = rosparam.load_file(str(path), default_namespace="/")
     except Exception as exc:  # noqa: BLE001 - rosparam raises several kinds; all mean "does not load"
-        return {"ok": False, "error": _one_line(exc)}
+        return RosparamResult(error=_one_line(exc))
     merged: Dict[str, Any] = {}
     for values, namespace in loaded:
         if not isinstance(values, dict):
-            return {"ok": False, "error": f"the top level is a {type(values).__name__}, not `key: value` lines"}
+            return RosparamResult(error=f"the top level is a {type(values).__name__}, not `key: value` lines")
         target = merged
         for part in [p for p in str(namespace).split("/") if p]:
             target = target.setdefault(part, {})
         target.update(values)
-    return {"ok": True, "params": _plain(merged)}
+    return RosparamResult(ok=True, params=_plain(merged))
 
 
-def launch_parse(path: Path, args: Sequence[str]) -> Dict[str, Any]:
+def launch_parse(path: Path, args: Sequence[str]) -> LaunchParseResult:
     """roslaunch's own XmlLoader: the nodes, parameters and files a launch file resolves to."""
     import roslaunch.config
     import roslaunch.xmlloader
@@ -77,14 +84,12 @@ def launch_parse(path: Path, args: Sequence[str]) -> Dict[str, Any]:
     try:
         loader.load(str(path), config, argv=["roslaunch", *args], verbose=False)
     except Exception as exc:  # noqa: BLE001 - XmlParseException, ResourceNotFound, SubstitutionException...
-        return {"ok": False, "error": _one_line(exc)}
-    nodes = [{
-        "name": n.name, "namespace": n.namespace, "package": n.package, "type": n.type, "args": n.args,
-        "required": bool(n.required), "remap": [list(r) for r in n.remap_args],
-    } for n in config.nodes]
+        return LaunchParseResult(error=_one_line(exc))
+    nodes = [LaunchNode(name=n.name, namespace=n.namespace, package=n.package, type=n.type, args=n.args,
+                        required=bool(n.required), remap=[list(r) for r in n.remap_args]) for n in config.nodes]
     params = {name: _plain(p.value) for name, p in config.params.items()}
-    return {"ok": True, "nodes": nodes, "params": params, "files": list(config.roslaunch_files),
-            "errors": list(config.config_errors)}
+    return LaunchParseResult(ok=True, nodes=nodes, params=params, files=list(config.roslaunch_files),
+                             errors=list(config.config_errors))
 
 
 # -- the student's parts of teleoperation.py -------------------------------------------------
@@ -127,55 +132,54 @@ def _import_student(path: Path) -> Any:
     return module
 
 
-def teleop_parts(path: Path, plan: Dict[str, Any]) -> Dict[str, Any]:
+def teleop_parts(path: Path, plan: TeleopPartsPlan) -> TeleopPartsResult:
     """Drive the student's Teleoperation object tick by tick through each case's events."""
-    from hri_teleop.core.gamepad.events import PadEvent
-
     try:
         module = _import_student(path)
     except SystemExit as exc:
-        return {"ok": False, "error": f"the file called sys.exit({exc.code!r}) while being imported; "
-                                      "keep the start of the node under `if __name__ == \"__main__\":`"}
+        return TeleopPartsResult(error=f"the file called sys.exit({exc.code!r}) while being imported; "
+                                       "keep the start of the node under `if __name__ == \"__main__\":`")
     except BaseException as exc:  # noqa: BLE001 - anything the student's top level raises
         tb = traceback.extract_tb(exc.__traceback__)
         line = next((f" (line {f.lineno})" for f in reversed(tb) if f.filename == str(path)), "")
-        return {"ok": False, "error": f"importing the file failed{line}: {_one_line(exc)}"}
+        return TeleopPartsResult(error=f"importing the file failed{line}: {_one_line(exc)}")
     cls = getattr(module, "Teleoperation", None)
     if cls is None:
-        return {"ok": False, "error": "the file has no class Teleoperation; keep the template's class name"}
-    cases: List[Dict[str, Any]] = []
-    for case in plan["cases"]:
-        result: Dict[str, Any] = {"label": case["label"], "ticks": [], "errors": {}, "error_ticks": {}}
+        return TeleopPartsResult(error="the file has no class Teleoperation; keep the template's class name")
+    cases: List[PartsCaseResult] = []
+    for case in plan.cases:
         try:
-            obj = cls(**case["gains"])
+            obj = cls(**case.gains.as_dict())
         except BaseException as exc:  # noqa: BLE001
-            result["construct_error"] = _one_line(exc)
-            cases.append(result)
+            cases.append(PartsCaseResult(case.label, construct_error=_one_line(exc)))
             continue
-        for index, tick in enumerate(case["ticks"]):
-            for kind, button, axis, value in tick["events"]:
-                event = PadEvent(kind, button=button, axis=axis, value=value)
+        result = PartsCaseResult(case.label)
+        for index, tick in enumerate(case.ticks):
+            for event in tick.events:
                 try:
                     obj.handle_event(event)
                 except BaseException as exc:  # noqa: BLE001 - toggle_mode raises from here
-                    where = "toggle_mode" if (kind == "JOYBUTTONDOWN" and button == "north") else "handle_event"
-                    if where not in result["errors"]:
-                        result["errors"][where] = _one_line(exc)
-                        result["error_ticks"][where] = index
+                    toggle = event.type == "JOYBUTTONDOWN" and event.button == "north"
+                    _first_error(result, "toggle_mode" if toggle else "handle_event", exc, index)
             try:
-                obj.force = tick["force"]
+                obj.force = tick.force
             except BaseException:  # noqa: BLE001 - a property without setter
                 pass
             for method in _METHODS:
                 try:
                     getattr(obj, method)()
                 except BaseException as exc:  # noqa: BLE001
-                    if method not in result["errors"]:
-                        result["errors"][method] = _one_line(exc)
-                        result["error_ticks"][method] = index
-            result["ticks"].append({name: _read(obj, name) for name in _READS})
+                    _first_error(result, method, exc, index)
+            result.ticks.append(PartsTick(**{name: _read(obj, name) for name in _READS}))
         cases.append(result)
-    return {"ok": True, "cases": cases}
+    return TeleopPartsResult(ok=True, cases=cases)
+
+
+def _first_error(result: PartsCaseResult, where: str, exc: BaseException, tick: int) -> None:
+    """Keep the first error of ``where`` (a method, or handle_event) and the tick it came at."""
+    if where not in result.errors:
+        result.errors[where] = _one_line(exc)
+        result.error_ticks[where] = tick
 
 
 def main(argv: Optional[Sequence[str]] = None) -> int:
@@ -189,7 +193,7 @@ def main(argv: Optional[Sequence[str]] = None) -> int:
     elif command == "launch-parse":
         _write(Path(args[2]), launch_parse(target, args[3:]))
     elif command == "teleop-parts":
-        plan = json.loads(Path(args[2]).read_text(encoding="utf-8"))
+        plan = TeleopPartsPlan.from_json(json.loads(Path(args[2]).read_text(encoding="utf-8")))
         out = Path(args[3])
         _write(out, teleop_parts(target, plan))
     else:

@@ -1,5 +1,7 @@
-"""One grading session's ROS side: its private master, the student's processes on it, and what
-their nodes subscribe and publish (read from the master, not from their code)."""
+"""One grading session's ROS side: its private master, the student's processes and their graph.
+
+What the student's nodes subscribe and publish is read from the master, not from their code.
+"""
 
 from __future__ import annotations
 
@@ -10,8 +12,10 @@ from typing import Any, Callable, Dict, List, Optional, Set, Tuple
 
 from hri_teleop.grading.run.lockstep import (
     GRADER_NODE,
+    Recorder,
     wait_for,
 )
+from hri_teleop.grading.run.records import Message, NodeFacts, ProcessFacts, SessionContext, Topic
 
 __all__ = ["Session"]
 
@@ -53,39 +57,36 @@ def _forget_nodes(master: Any, nodes: Set[str]) -> None:
                     proxy.unregisterService(node, service, service_uri)
 
 
-def _node_io(master: Any, nodes: Set[str]) -> Tuple[List[List[str]], List[List[str]]]:
-    """[[topic, type], ...] the nodes subscribe and publish (rosout left out)."""
+def _node_io(master: Any, nodes: Set[str]) -> Tuple[List[Topic], List[Topic]]:
+    """(topic, type) the nodes subscribe and publish (rosout left out)."""
     pubs, subs, types = _graph(master)
-    sub = sorted([t, types.get(t, "")] for t, n in subs.items() if n & nodes and t not in _IGNORED_TOPICS)
-    pub = sorted([t, types.get(t, "")] for t, n in pubs.items() if n & nodes and t not in _IGNORED_TOPICS)
+    sub = sorted(Topic(t, types.get(t, "")) for t, n in subs.items() if n & nodes and t not in _IGNORED_TOPICS)
+    pub = sorted(Topic(t, types.get(t, "")) for t, n in pubs.items() if n & nodes and t not in _IGNORED_TOPICS)
     return sub, pub
 
 
-def _facts(proc: Any, nodes: Set[str], sub: List[List[str]], pub: List[List[str]], problem: str,
-           exited_by_itself: bool) -> Dict[str, Any]:
-    return {
-        "started": bool(nodes), "nodes": sorted(nodes), "subscriptions": sub, "publications": pub,
-        "exited_by_itself": exited_by_itself, "exit_code": proc.returncode, "output_tail": proc.output_tail(),
-        "output_bytes": proc.output_size(), "problem": problem,
-    }
+def _facts(proc: Any, nodes: Set[str], sub: List[Topic], pub: List[Topic], problem: str,
+           exited_by_itself: bool) -> NodeFacts:
+    return NodeFacts(started=bool(nodes), nodes=sorted(nodes), subscriptions=sub, publications=pub,
+                     exited_by_itself=exited_by_itself, exit_code=proc.returncode, output_tail=proc.output_tail(),
+                     output_bytes=proc.output_size(), problem=problem)
 
 
 # -- the session ---------------------------------------------------------------------------
 
 class Session:
-    def __init__(self, plan: Dict[str, Any]) -> None:
-        from hri_teleop.grading.run.sandbox import Limits
+    def __init__(self, context: SessionContext) -> None:
         from hri_teleop.ros.master import PrivateMaster
 
-        self.plan = plan
         self._t0 = time.monotonic()
         #: Wall seconds from the session's start to each named phase: where a slow check spends its time.
         self.phases: Dict[str, float] = {}
-        self.dir = Path(plan["session_dir"])
-        self.folder = Path(plan["student_folder"]) if plan.get("student_folder") else None
-        self.limits = Limits(**plan.get("limits", {}))
-        self.uid = plan.get("uid")
-        self.env = dict(plan["env"])
+        self.dir = Path(context.session_dir)
+        self.folder = Path(context.student_folder) if context.student_folder else None
+        self.limits = context.limits
+        self.uid = context.uid
+        self.python = context.python
+        self.env = dict(context.env)
         self.master = PrivateMaster(base_env=self.env, work_dir=self.dir / "ros")
         self.master.start()
         for key in ("ROS_MASTER_URI", "ROS_HOSTNAME", "ROS_LOG_DIR", "ROS_HOME"):
@@ -138,22 +139,37 @@ def _start_problem(proc: Any, timeout_s: float, what: str) -> str:
             f"or waiting for something that never comes?){crowd}")
 
 
-def _wait_for_node(session: Session, proc: Any, timeout_s: float, want: Callable[[List, List], bool]
-                   ) -> Tuple[Set[str], List, List, bool]:
+def _wait_for_node(session: Session, proc: Any, timeout_s: float, want: Callable[[List[Topic], List[Topic]], bool]
+                   ) -> Tuple[Set[str], List[Topic], List[Topic], bool]:
     """Wait until the student's node(s) satisfy ``want(subs, pubs)``, it dies, or the time is up."""
-    state: Dict[str, Any] = {"nodes": set(), "sub": [], "pub": []}
+    nodes: Set[str] = set()
+    sub: List[Topic] = []
+    pub: List[Topic] = []
 
     def ready() -> bool:
-        state["nodes"] = _student_nodes(session.master, session.baseline)
-        if state["nodes"]:
-            state["sub"], state["pub"] = _node_io(session.master, state["nodes"])
-        return (bool(state["nodes"]) and want(state["sub"], state["pub"])) or not proc.running
+        nonlocal nodes, sub, pub
+        nodes = _student_nodes(session.master, session.baseline)
+        if nodes:
+            sub, pub = _node_io(session.master, nodes)
+        return (bool(nodes) and want(sub, pub)) or not proc.running
 
     ok = wait_for(ready, timeout_s, 0.05) and proc.running
-    return state["nodes"], state["sub"], state["pub"], ok
+    return nodes, sub, pub, ok
 
 
-def _pick(topics: List[List[str]], wanted: str) -> Tuple[str, str]:
+def _launch_facts(launch: Any, exited: bool) -> ProcessFacts:
+    """roslaunch's end and last output (its ``problem`` is the observation's)."""
+    return ProcessFacts(exit_code=launch.returncode, exited_by_itself=exited, output_tail=launch.output_tail(),
+                        output_bytes=launch.output_size())
+
+
+def recorded_since(recorder: Recorder, started: float, topics: Optional[List[str]] = None) -> Dict[str, List[Message]]:
+    """The recorder's messages per topic (those of ``topics`` only, if given), stamped in seconds since ``started``."""
+    return {t: [Message(round(ts - started, 4), k, v) for ts, k, v in msgs] for t, msgs in recorder.messages.items()
+            if topics is None or t in topics}
+
+
+def _pick(topics: List[Topic], wanted: str) -> Tuple[str, str]:
     """(topic, type): ``wanted`` if present, else the only other one, else ('', '')."""
     for topic, kind in topics:
         if topic == wanted:

@@ -1,28 +1,10 @@
 """Running untrusted student code: limits, process groups, and bubblewrap where it works.
 
-Why: the grader runs what students wrote, and a grade must survive whatever that is --
-an endless loop, a fork bomb, 100 MB of prints, ``sys.exit`` at import, a write to the
-instructor's files -- without hanging the grader or costing another student a grade.
-
-Two layers (grading/README.md, "Sandbox", has the decisions):
-
-* **Session** (trusted: the grader's own ROS master, feeders and recorders). With
-  bubblewrap it runs in a new network namespace (``--unshare-net``: only its own
-  loopback, so the private master is reachable and nothing else is -- no internet, no
-  other student's master), a new PID namespace (everything dies with it) and a read-only
-  view of the machine except the session folder.
-* **Student process** (untrusted: a node, roslaunch of a student's launch file, the
-  probe that imports a student's module). Inside the session it gets its own process
-  group, rlimits (CPU seconds, address space, file size = output cap, open files,
-  processes), a wall-clock timeout enforced by the session, and with bubblewrap a
-  read-only view of everything but its own folder, its own PID namespace and no
-  capabilities. When the grader runs as root, student processes also run as an
-  unprivileged uid of their own (``RLIMIT_NPROC`` does not bind root, and a uid per
-  sandbox keeps one student's fork bomb from starving another's processes).
-
-Without a working bubblewrap the session runs directly on the host and student processes
-keep only the rlimits, process group and (as root) own uid; :func:`sandbox_mode` says so
-once. ``HRI_GRADE_SANDBOX=none`` forces that mode (tests), ``=bwrap`` demands bubblewrap.
+A grade must survive whatever a student wrote (an endless loop, a fork bomb, 100 MB of prints,
+``sys.exit`` at import, a write to the instructor's files) without hanging the grader or costing
+another student a grade. Two layers: the session (the grader's master, feeders and recorders) and
+each student process inside it; what each gets, with and without bubblewrap, is in
+grading/README.md ("Sandbox"). :func:`sandbox_mode` says which mode is in use.
 """
 
 from __future__ import annotations

@@ -1,15 +1,10 @@
 """Stand-ins for the lab's hardware packages in the grading workspace.
 
-Why: a student's teleoperation.launch starts ``rosserial_python/serial_node.py`` (the
-Arduino) and includes franka_control (the robot). Neither package exists on a grading
-machine (Debian has no rosserial, and there is no robot), so the workspace provides
-packages of those names. When the grader launches the file in simulation, lab_sim plays
-the arm, the hand, the object and the sensor board; the board's counts come out on
-:data:`BOARD_TOPIC`, and the stand-in serial_node forwards them to ``/pub_force`` as the
-real one forwards what the Arduino sends. So the force reaches the pipeline only if the
-student's launch file starts a serial_node, as in the lab.
-
-    rosrun rosserial_python serial_node.py _port:=/dev/ttyACM0   # in the grading workspace
+A student's teleoperation.launch starts ``rosserial_python/serial_node.py`` (the Arduino) and
+includes franka_control (the robot); neither exists on a grading machine. In simulation lab_sim
+plays the hardware and sends the board's counts on :data:`BOARD_TOPIC`; the stand-in serial_node
+forwards them to ``/pub_force``, so the force reaches the pipeline only if the student's launch
+file starts a serial_node, as in the lab.
 """
 
 from __future__ import annotations

@@ -1,14 +1,10 @@
 """Where a student's files are, and the catkin-free package the grader runs them in.
 
-Why: submissions arrive in many shapes (the hri_lab package folder, nbgrader's
-``submitted/<student>/<assignment>/``, or the files side by side), and a launch file says
-``pkg="hri_lab"``, so the grader needs a package called hri_lab with the student's files
-at the handout's places, the files the lab provides (FSR_sensor.py, gripper_manager.py,
-package.xml) from the instructor -- never the student's copy of them -- and stand-ins for
-the hardware packages: a franka_control whose launch file only marks that it was included
-(the grader starts the simulated robot itself) and a rosserial_python whose serial_node
-forwards the simulated sensor board (:mod:`hri_teleop.grading.run.standins`). The student's
-original folder is never written to: code runs on a copy.
+Submissions come as an hri_lab folder, nbgrader's ``submitted/<student>/<assignment>/`` or loose
+files, and launch files say ``pkg="hri_lab"``. So the grader builds an hri_lab package with the
+student's files at the handout's places, the lab-provided files from the instructor (never the
+student's copy) and stand-ins for the hardware packages (:mod:`hri_teleop.grading.run.standins`).
+Code runs on a copy: the student's folder is never written to.
 """
 
 from __future__ import annotations
