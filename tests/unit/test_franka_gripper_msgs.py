@@ -20,7 +20,7 @@ import pytest
 pytest.importorskip("genpy", reason="needs ROS 1's genpy (run 'make setup')")
 pytest.importorskip("actionlib_msgs", reason="needs ROS 1's actionlib_msgs (run 'make setup')")
 
-from hri_teleop.ros import franka_gripper_msgs as fgm  # noqa: E402
+from hri_teleop.ros import franka_gripper_msgs as fgm
 
 RESULT = "45872d25d65c97743cc71afc6d4e884d"          # bool success / string error
 EMPTY = "d41d8cd98f00b204e9800998ecf8427e"           # md5 of the empty string

@@ -12,11 +12,11 @@ from typing import Dict, List, Sequence
 import pytest
 
 pytest.importorskip("roslaunch", reason="needs ROS 1's roslaunch (run 'make setup')")
-import roslaunch.config  # noqa: E402
-import roslaunch.core  # noqa: E402
-import roslaunch.substitution_args  # noqa: E402
-import roslaunch.xmlloader  # noqa: E402
-import yaml  # noqa: E402
+import roslaunch.config
+import roslaunch.core
+import roslaunch.substitution_args
+import roslaunch.xmlloader
+import yaml
 
 REPO = Path(__file__).resolve().parents[2]
 LAUNCH = REPO / "hri_lab" / "launch"

@@ -11,7 +11,7 @@ import pytest
 
 pytest.importorskip("rospy", reason="needs ROS 1's rospy (run 'make setup')")
 
-from hri_teleop.ros.params import ParamError, check_kind  # noqa: E402
+from hri_teleop.ros.params import ParamError, check_kind
 
 REPO = Path(__file__).resolve().parents[2]
 
