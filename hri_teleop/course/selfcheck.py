@@ -1,10 +1,9 @@
 """``make check`` in the student bundle: run every notebook headless and print its autograded points.
 
-Why: a student wants to know, before handing in, what the autograder will make of the
-notebooks and files as they are. Each notebook runs top to bottom in its own kernel
-(``hri-teleop``) in its assignment folder, exactly as nbgrader's autograde runs it; the
-points of each autograded cell follow nbgrader's rule (an error or stderr: 0; a number as
-the cell's result: that many points; else full points). The notebooks are not written back.
+Before handing in, a student sees what the autograder will make of the notebooks and files: each
+notebook runs top to bottom in its own ``hri-teleop`` kernel in its assignment folder, as nbgrader's
+autograde runs it, and each autograded cell scores by nbgrader's rule (an error or stderr: 0; a
+number as the result: that many points; else full points). The notebooks are not written back.
 
     python -m hri_teleop.course.selfcheck FOLDER [--only ex05,ex12] [--timeout 600]
 """

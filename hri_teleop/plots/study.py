@@ -1,8 +1,8 @@
-"""The experiment's figures: force over time per condition, peak force by condition and
-object, success and crush rates, and the paired comparison in words.
+"""The experiment's figures: force over time, peak force, success and crush rates, the paired test.
 
-Why one function: the analysis notebook and the tests draw the same page, so a figure a
-student hands in is the one the tests checked.
+Force over time per condition, peak force by condition and object, and the paired comparison in
+words. The analysis notebook and the tests draw the same page, so a figure a student hands in is
+the one the tests checked.
 """
 
 from __future__ import annotations

@@ -1,26 +1,11 @@
 """Widgets for the lab's notebooks (ipywidgets 8 + matplotlib; ipympl for interactive figures).
 
-One per need of the handout; each is an ``ipywidgets.VBox`` you display by leaving it as
-a cell's last expression. The rules and numbers come from the core (``hri_teleop.core.fsr``,
-``mapping``, ``gamepad``, ``teleop``, ``paramfile``); what is here is the view and small
-pure helpers, tested without a browser.
-
-====================  ==========================================================  =========
-widget                what it shows                                               needs ROS
-====================  ==========================================================  =========
-FsrExplorer           force -> resistance -> voltage -> count -> mapped (Ex. 1, 5)  no
-DeadzoneExplorer      normalize_analog_input, curve and stick (Fig. 8)            no
-ControllerView        pad (real or virtual) -> mode, gripper, twist, rumble (Ex. 8) no
-LivePlot              /pub_force, /force_mapped, /gripper_width, twist, live      yes
-CalibrationWidget     max /pub_force -> /max_sensor_force and your launch file    yes
-GraphView             nodes, topics and message types of the live system (Ex. 15) a master
-TlxWidget             raw NASA-TLX after a trial -> the trial's sidecar (Ex. 14)  no
-RehearsalOffer        a folder's trials, or a simulated session rehearsed into it  to rehearse
-====================  ==========================================================  =========
-
-Importing this package needs neither rospy nor pygame: the ROS widgets start ROS through
-:func:`hri_teleop.course.notebook_ros.ensure_ros` when they are created, and say in one line what
-is missing when it cannot be had.
+One per need of the handout, each an ``ipywidgets.VBox`` shown as a cell's last expression:
+FsrExplorer (Ex. 1, 5), DeadzoneExplorer (Fig. 8), ControllerView (Ex. 8), LivePlot,
+CalibrationWidget (Ex. 11), GraphView (Ex. 15), TlxWidget and RehearsalOffer (Ex. 14). The rules
+come from the core; here are views and small pure helpers, tested without a browser. Importing
+needs neither rospy nor pygame: LivePlot, CalibrationWidget and GraphView start ROS when created
+(:func:`~hri_teleop.course.notebook_ros.ensure_ros`), or say in one line what is missing.
 """
 
 from __future__ import annotations

@@ -1,17 +1,8 @@
 """What every widget shares: a figure shown as a widget, a kernel-friendly timer, the lab's config.
 
-Why here and not in each widget:
-
-* :class:`FigureView` shows a matplotlib :class:`~matplotlib.figure.Figure` as an
-  ipywidget. With ipympl (the lab's JupyterLab) it is ipympl's interactive canvas
-  (zoom, pan; the browser fetches a new image after ``redraw``); without ipympl -- or
-  with ``mode="image"`` -- a PNG in an ``ipywidgets.Image``, which renders anywhere.
-  Figures are built with ``Figure()``, never pyplot, so nothing is displayed twice and no
-  global figure list grows while a plot updates for hours.
-* :class:`Ticker` calls a function periodically *in the kernel's own thread*: as an
-  asyncio task on the kernel's running event loop, so it runs between cells and never
-  concurrently with the student's code or with matplotlib. Outside a kernel (a script, a
-  test) it falls back to a daemon thread.
+Written once so that every widget draws and updates the same way: :class:`FigureView` (ipympl's
+canvas, or a PNG where ipympl is missing) and :class:`Ticker` (periodic calls in the kernel's own
+thread, never concurrently with the student's code).
 """
 
 from __future__ import annotations
@@ -106,7 +97,13 @@ def _ipympl_canvas(figure: Figure) -> Any:
 
 
 class FigureView:
-    """A matplotlib Figure as a widget (``.widget``); call :meth:`redraw` after changing artists."""
+    """A matplotlib Figure as a widget (``.widget``); call :meth:`redraw` after changing artists.
+
+    With ipympl (the lab's JupyterLab) ipympl's interactive canvas (zoom, pan); without it, or
+    with ``mode="image"``, a PNG in an ``ipywidgets.Image``, which renders anywhere. Build
+    figures with ``Figure()``, never pyplot: nothing is shown twice and no global figure list
+    grows while a plot updates for hours.
+    """
 
     def __init__(self, figure: Figure, mode: str = "auto") -> None:
         if mode not in FIGURE_MODES:
@@ -146,8 +143,10 @@ class FigureView:
 class Ticker:
     """Call ``fn()`` every ``interval_s`` until :meth:`stop`; in the kernel's thread when there is one.
 
-    An exception in ``fn`` is printed once (one line) and the ticker keeps going: a live plot
-    must survive one bad message.
+    In a kernel it is an asyncio task on the kernel's running loop, so it runs between cells and
+    never concurrently with the student's code or matplotlib; elsewhere (a script, a test) a
+    daemon thread. An exception in ``fn`` is printed once (one line) and the ticker keeps going:
+    a live plot must survive one bad message.
     """
 
     def __init__(self, fn: Callable[[], object], interval_s: float, name: str = "ticker") -> None:

@@ -1,15 +1,10 @@
 """Calibration (handout Ex. 11): the largest /pub_force while the piston is pressed, kept for good.
 
-Why a widget: Ex. 11 asks students to read the count with the piston pressed level with
-the housing and carry it to ``/max_sensor_force``. By hand that is ``rostopic echo``,
-squinting at a scrolling number, ``rosparam set`` and editing the launch file -- three
-places to make a typo. Here: record (for a duration or until stopped), see the maximum,
-apply it: ``/max_sensor_force`` is set on the parameter server and written into the
-student's launch or YAML file by :func:`hri_teleop.core.paramfile.write_max_sensor_force`, which
-changes only that value.
-
-The rule for the value itself (the largest count, refused when nothing or only zeros
-arrived) is :func:`hri_teleop.hardware.real.calibrate.calibration_max`, shared with the serial calibration.
+By hand, Ex. 11 is ``rostopic echo``, a scrolling number, ``rosparam set`` and an edited launch
+file: three places for a typo. Here: record, see the maximum, apply it: ``/max_sensor_force`` is
+set on the parameter server and written into the student's launch or YAML file
+(:func:`hri_teleop.core.paramfile.write_max_sensor_force`). The value's rule is
+:func:`hri_teleop.hardware.real.calibrate.calibration_max`, shared with the serial calibration.
 """
 
 from __future__ import annotations

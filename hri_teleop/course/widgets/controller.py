@@ -1,14 +1,10 @@
 """Controller view (handout Ex. 8): the pad's sticks and buttons, and what the lab's rules make of them.
 
-Why: Ex. 8 is about turning pad input into a twist, a gripper width and a mode; seeing
-both sides at once -- the sticks as dots, the buttons, and the resulting mode, width,
-twist and rumble -- is how students check their understanding before they write
-``teleoperation.py``. The rules are not re-implemented here: :class:`ControllerModel` steps
-a :class:`~hri_teleop.core.teleop.TeleopController` at the configured rate, exactly as the node does.
-
-The pad is a real one (pygame) when one is plugged in, else the virtual pad, which the
-student drives from the widget's sliders and buttons. Without a display (CI, ssh) pygame
-uses SDL's dummy video driver and simply finds no pad.
+Seeing the sticks and buttons beside the resulting mode, width, twist and rumble is how students
+check their understanding before they write ``teleoperation.py``. :class:`ControllerModel` steps a
+:class:`~hri_teleop.core.teleop.TeleopController` at the configured rate, as the node does. The pad
+is a real one when plugged in, else the virtual pad driven from the widget's sliders and buttons;
+without a display pygame uses SDL's dummy video driver and simply finds no pad.
 """
 
 from __future__ import annotations

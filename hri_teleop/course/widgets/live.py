@@ -1,17 +1,10 @@
 """Live plots of the lab's topics: /pub_force, /force_mapped, /gripper_width and the twist.
 
-Why the split into buffers and a plot: rospy calls a subscriber's callback in a thread of
-its own per connection, at up to 100 Hz per topic in the lab. If that thread waited for
-matplotlib (tens of milliseconds per frame) messages would pile up and be dropped. So:
-
-* the callback only converts the message to a tuple of floats and appends it, under a
-  lock, to a :class:`TopicBuffer` -- a ``deque`` with ``maxlen``, so memory stays bounded
-  however long the lab runs;
-* the plot takes a snapshot of each buffer on a :class:`~hri_teleop.course.widgets._base.Ticker`
-  in the kernel's own thread, a few times per second, and draws it.
-
-Which numbers a message holds is read from its class (:func:`numeric_fields`): ``data``
-for ``std_msgs/Int16`` and ``Float32``, ``linear.x`` ... ``angular.z`` for a ``Twist``.
+rospy calls each subscriber's callback in a thread of its own, at up to 100 Hz per topic; one
+that waited for matplotlib (tens of ms a frame) would make messages pile up and be dropped. So a
+callback only converts the message to floats (:func:`numeric_fields`) and appends them under a
+lock to a bounded :class:`TopicBuffer`, and the plot snapshots the buffers a few times a second
+on a :class:`~hri_teleop.course.widgets._base.Ticker` in the kernel's own thread.
 """
 
 from __future__ import annotations

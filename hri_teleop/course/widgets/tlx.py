@@ -1,15 +1,10 @@
 """The workload questionnaire (raw NASA-TLX) after a trial, stored with the trial.
 
-Why a widget: right after a trial the participant rates six workload scales; on paper the
-sheet then has to be matched to the recording and typed in, two places for a mix-up.
-Here the experimenter picks the trial (the newest one without answers is preselected),
-the participant moves six sliders (0..100 in steps of 5, the paper form's ticks) and
-*save* writes them under ``tlx`` into that trial's sidecar, keeping everything else in
-it (:func:`hri_teleop.core.experiment.tlx.store_tlx`, an atomic write).  The analysis then
-carries the raw TLX score in its table and compares it between conditions.
-
-The rules (scales, steps, the score) are :mod:`hri_teleop.core.experiment.tlx`'s; this is the
-form.  No ROS needed.  Programmatic use: :meth:`TlxWidget.set_ratings`, :meth:`~TlxWidget.save`.
+On paper the sheet must be matched to the recording and typed in, two places for a mix-up. Here
+the experimenter picks the trial (the newest without answers is preselected), the participant moves
+six sliders, and *save* writes them into that trial's sidecar
+(:func:`hri_teleop.core.experiment.tlx.store_tlx`). The rules are the core's; this is the form, no
+ROS needed. Programmatic use: :meth:`TlxWidget.set_ratings`, :meth:`~TlxWidget.save`.
 """
 
 from __future__ import annotations
