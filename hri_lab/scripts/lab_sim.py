@@ -1,79 +1,11 @@
 #!/usr/bin/env python3
-"""The lab's hardware, simulated (issue 3): Franka arm and hand, an object, the FSR board.
+"""The lab's hardware, simulated: Franka arm and hand, an object, the FSR board.
 
-One node, one job: it owns a hri_teleop.hardware.sim.world.LabWorld (the physics: a 1 kHz Franka
-arm that judges every command like the robot, the Franka Hand with franka_gripper's goal
-semantics, the object, the handout's piston attachment and the sensor board) and runs it
-in real time, speaking exactly the real hardware's interfaces. teleoperation.py,
-gripper_manager.py and mapping_node.py cannot tell it from the lab.
-
-Time: the simulation time is time.monotonic() since start. The main loop wakes every
-``~loop_period_s`` and runs every 1 ms cycle due; each incoming command first runs the
-world up to its arrival, so a command is held from the millisecond it arrived even when
-the loop is late (two commands never merge into one step the robot would refuse).
-With ``/use_sim_time`` set (the autograder owns the clock) the simulation time is ROS
-time since start instead: the loop runs whenever /clock moves, and nothing is skipped.
-
-Parameters (private):
-  ~config           str    ""     sim.yaml to read ("" = hri_lab/config/sim.yaml): object, start
-                                  pose, workspace, command timeout, hand, attachment, board
-  ~scenario         str    ""     a scenario YAML (absolute path: roslaunch starts nodes in
-                                  ~/.ros) whose optional ``world:`` mapping overrides ~config;
-                                  its steps are the virtual pad's, not read here
-  ~twist_topic      str    /cartesian_velocity_controller/cmd_vel  velocity command topic
-  ~gripper_ns       str    /franka_gripper  namespace of the actions and joint_states
-  ~board            bool   true   publish the sensor board's samples on /pub_force; false when
-                                  a real board (or another simulation) publishes there
-  ~frame_id         str    panda_link0  frame of ~ee_pose and ~ee_twist (the robot's base)
-  ~gripper_rate_hz  float  30.0   joint_states rate, Hz (franka_gripper's publish_rate)
-  ~state_rate_hz    float  100.0  ~ee_pose, ~ee_twist and ~grip_force rate, Hz
-  ~status_rate_hz   float  10.0   ~arm_status rate, Hz (also published at once on a change)
-  ~object_rate_hz   float  20.0   ~object rate, Hz
-  ~stall_s          float  0.1    a loop that woke this much later than due means the process
-                                  was starved: simulated time skips the gap (see now())
-  ~loop_period_s    float  0.002  how often the main loop wakes, s (the physics runs at 1 kHz
-                                  whatever this is; it bounds the latency of goal results
-                                  and board samples)
-  sim.yaml keys, overriding ~config and ~scenario for one run (hri_teleop.hardware.sim.config):
-  ~object           str|dict      block | heavy_block | sponge | egg | none | {GraspObject fields}
-  ~object_xy_m, ~table_z_m, ~capture_radius_m, ~arm, ~hand, ~attachment  as in sim.yaml
-  ~board_rate_hz    float  100.0  board.rate_hz, samples/s (3.333 = the handout's 300 ms sketch)
-  ~noise_counts     float  1.0    board.noise_counts, ADC noise standard deviation, counts
-  ~board_seed       int    0      board.seed
-  ~arm_timeout_s    float  0.3    arm.timeout_s, s without a command before the arm stops
-  ~initial_width_m  float  0.08   hand.initial_width_m, m
-  A wrong key, type or value in any of them ends the node with one line naming the file
-  (or the parameters), the key and the fix (exit status 1).
-Subscribes:
-  <twist_topic>     geometry_msgs/Twist  base-frame velocity command (m/s, rad/s), held until
-                                         the next one and judged every 1 ms against the
-                                         Panda's limits
-Action servers (actionlib, franka_gripper's definitions and MD5 sums):
-  <gripper_ns>/move, grasp, homing, stop   goals become MoveCommand, GraspCommand, ...;
-                    results carry success and error exactly as the simulated hand decided
-                    (SUCCEEDED, ABORTED "libfranka gripper: Command aborted!"/"... failed!");
-                    a goal preempted by a newer one or cancelled ends PREEMPTED
-Publishes:
-  <gripper_ns>/joint_states sensor_msgs/JointState  panda_finger_joint1/2 at width/2 each
-  /pub_force        std_msgs/Int16       one raw ADC count per board sample (~board true)
-  ~ee_pose          geometry_msgs/PoseStamped   end-effector pose in ~frame_id
-  ~ee_twist         geometry_msgs/TwistStamped  the arm's actual velocity (zero in a reflex)
-  ~grip_force       std_msgs/Float32     force between the fingers and the object, N
-  ~arm_status       diagnostic_msgs/DiagnosticStatus  OK idle/moving, WARN timeout, ERROR
-                    reflex (message: the libfranka error names); values: state, violations,
-                    one count per libfranka error, ignored_commands, reflex_errors, position_m
-  ~violations       std_msgs/UInt32      latched: limit violations so far (0 in a good run)
-  ~command_time_s   std_msgs/Float64     the ROS time (rospy.get_time(), s) each velocity
-                    command was applied at, one message per command (the autograder steps
-                    its clock only once the command of the tick has been applied at its time)
-  ~object           diagnostic_msgs/DiagnosticStatus  the object: name, height_m,
-                    between_fingers, in_contact, held, grasped, lifted, crushed, grip_force_n,
-                    peak_grip_force_n, ever_grasped, ever_lifted (ERROR once crushed)
-Services:
-  ~recover          std_srvs/Trigger     clears a reflex (franka_control's error_recovery)
-Logs: every arm event once (logerr for a reflex, with the libfranka error names; logwarn for
-a command timeout, a workspace wall, commands ignored in a reflex), each gripper goal that
-fails, and the object being crushed, lifted, put down or dropped.
+One node, one job: it runs a :class:`hri_teleop.hardware.sim.world.LabWorld` (a 1 kHz arm that
+judges every command like the robot, the hand with franka_gripper's goals, the object, the piston
+attachment and the sensor board) in real time, behind exactly the real hardware's interfaces, so
+teleoperation.py, gripper_manager.py and mapping_node.py cannot tell it from the lab. Its clock
+(wall or /clock), parameters, topics, actions and services: docs/ros-nodes.md.
 """
 
 from __future__ import annotations
@@ -172,7 +104,7 @@ class _Goal:
 
 
 class LabSimNode:
-    """The shell around LabWorld: ROS in, world stepped in real time, ROS out (see the module doc)."""
+    """The shell around LabWorld: ROS in, world stepped in real time, ROS out (docs/ros-nodes.md)."""
 
     def __init__(self) -> None:
         name = rospy.get_name()

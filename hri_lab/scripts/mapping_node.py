@@ -1,25 +1,11 @@
 #!/usr/bin/env python3
 """Mapping node (handout Ex. 5): raw count on /pub_force -> mapped force 0..1 on /force_mapped.
 
-The range is 0../max_sensor_force (the count with the piston pressed level with the
-housing, Ex. 11), read from the parameter server and checked by
-hri_teleop.core.mapping.validate_max_sensor_force: a missing, zero, negative, too large or
-non-numeric value at start ends the node with one line naming the parameter and the fix
-(exit status 1).
-
-The handout reads the parameter once at start. This node also re-reads it every
-``~reread_period_s`` seconds so that a calibration set with ``rosparam set
-/max_sensor_force 690`` during the lab (Ex. 11) applies without a restart; a bad value set
-while running is reported once (logerr) and the last good value stays in use.
-
-Parameters:
-  /max_sensor_force   int     (required)  ADC count at full piston travel, 0 < v <= 1023
-  ~reread_period_s    float   1.0         how often /max_sensor_force is re-read; 0 = only at start
-Subscribes:
-  pub_force      std_msgs/Int16     (resolves to /pub_force)
-Publishes:
-  force_mapped   std_msgs/Float32   (resolves to /force_mapped), one message per count,
-                                    published from the subscriber callback (no added delay)
+The range is 0../max_sensor_force (the count with the piston pressed level with the housing,
+Ex. 11), checked at start: a bad value ends the node with one line naming the fix. Unlike the
+handout, the node re-reads the parameter every ``~reread_period_s`` (1.0 s), so a calibration set
+during the lab applies without a restart; a bad value set while running is reported once and the
+last good one stays. One /force_mapped per count, published from the callback (docs/ros-nodes.md).
 """
 
 from __future__ import annotations

@@ -1,30 +1,11 @@
 #!/usr/bin/env python3
 """Serial bridge (teleoperation.launch board:=serial): the fsr_serial board -> /pub_force.
 
-The plain-serial sketch (``firmware/fsr_serial``) sends one checked text line per sample at
-100 Hz instead of rosserial's frames. This node reads them with pyserial and publishes each
-valid count as std_msgs/Int16 on /pub_force, the same topic and type as the rosserial
-sketch, so mapping_node and teleoperation cannot tell the two boards apart. The protocol
-and its checks are in hri_teleop.core.serial_protocol; this script only moves bytes.
-
-* Corrupt lines (bad checksum, garbled, too long) are counted and skipped; lost lines are
-  counted from the sequence numbers. Both are reported at most every ``~log_every_s``.
-* When the port goes away (USB unplugged, board reset by a brown-out) the node keeps
-  running and reopens the same port every ``~reconnect_s`` until it is back.
-* A port that is missing (or not permitted, or busy) at start ends the node with one line
-  naming the cause and the fix, e.g. "no serial port /dev/ttyACM0: plug the board in or
-  pass port:=...".
-
-Parameters (private):
-  ~port            str    /dev/ttyACM0  serial port of the board
-  ~baud            int    115200        the sketch's baud rate (fsr_serial.ino: BAUD)
-  ~reconnect_s     float  0.5           wait between attempts to reopen a port that went away
-  ~read_timeout_s  float  0.05          longest a read blocks; bounds the reaction to shutdown
-  ~log_every_s     float  5.0           corrupt/lost-line warnings at most this often
-  ~silence_s       float  3.0           warn when an open port gives no valid line this long
-                                        (an Uno restarts when the port opens: ~1.6 s of boot)
-Publishes:
-  pub_force   std_msgs/Int16 (resolves to /pub_force), one message per valid line
+The plain-serial sketch (``firmware/fsr_serial``) sends one checked text line per sample at 100 Hz
+instead of rosserial's frames. This node reads them with pyserial and publishes each valid count as
+std_msgs/Int16 on /pub_force, like the rosserial sketch, so mapping_node and teleoperation cannot
+tell the boards apart. The protocol is hri_teleop.core.serial_protocol's; this script only moves
+bytes, skips corrupt lines and reopens a port that went away (docs/ros-nodes.md).
 """
 
 from __future__ import annotations

@@ -1,64 +1,11 @@
 #!/usr/bin/env python3
 """Teleoperation node (handout Ex. 8-10, 12-14): gamepad -> Cartesian twist, gripper width, rumble.
 
-Every rule (dead zone, gains, mode toggle, gripper steps, quit, velocity/acceleration/jerk
-limits, stale-force rumble cut-off) lives in hri_teleop.core.teleop.TeleopController. This
-script reads the parameters, opens the pad, and once per tick (``~rate``, 50 Hz) polls the
-pad, steps the controller and publishes what it returns.
-
-Parameters (private). The settings come from the YAML file ``~config``
-(hri_lab/config/teleop.yaml by default), and any private parameter with the same key
-overrides the file (the launch arguments pad, layout and twist_topic do that, and so does
-e.g. ``rosrun hri_lab teleoperation.py _k_trans:=0.05``). File and overrides are checked by
-hri_teleop.core.config.teleop_config_from_dict, which names a wrong key, type or YAML line and
-the fix. Keys (see teleop.yaml for units and defaults):
-  ~config        str   path of the teleop YAML ("" = hri_lab/config/teleop.yaml)
-  ~rate, ~k_trans, ~k_rot, ~k_gripper, ~deadzone, ~width_min, ~width_max, ~initial_width,
-  ~input_timeout, ~force_timeout, ~rumble_threshold, ~limits, ~axes, ~buttons
-  ~layout        str   controller mapping (dualshock4, dualsense, xbox, or a YAML path)
-  ~pad           str   "pygame" (a real pad) or "virtual" (no hardware)
-  ~twist_topic   str   where the twist goes. Default (teleop.yaml):
-                       /cartesian_velocity_controller/cmd_vel, the command topic of the
-                       Cartesian velocity controller started by
-                       franka_control_cartesian_velocity.launch (Task 2). If your
-                       controller listens elsewhere, set twist_topic:=... on the launch.
-  ~pad_script    str   ""  with pad "virtual": a ScriptedPad YAML to replay (use an absolute
-                           path: roslaunch starts nodes in ~/.ros). The script's time counts
-                           this node's ticks (1/rate each), so a replay is the same on a
-                           busy machine; hri_lab/scenarios/ has the simulated operators.
-                           It starts once the twist topic has a subscriber other than
-                           rosbag (the robot or lab_sim), so that no stick moves before
-                           the robot listens.
-  ~script_wait_s float 10.0 with no subscriber, the script starts anyway after this (s)
-  ~pad_index     int   0   which physical pad, with pad "pygame"
-  ~stop_timeout_s float 3.0 longest ramp to zero at shutdown before giving up (s)
-  ~rumble_log    str   ""  a file that gets one line per rumble request the pad received:
-                           "time_s intensity duration_s", time from CLOCK_MONOTONIC taken
-                           when the pad's call returned (comparable with any process on the
-                           machine: `make bench` measures force-to-rumble latency with it)
-Publishes:
-  <twist_topic>   geometry_msgs/Twist  every tick, limited (never steps, not even to zero)
-  gripper_width   std_msgs/Float32     every tick, target opening in m (-> gripper_manager)
-  joy             sensor_msgs/Joy      every tick, the pad's raw axes/buttons in the layout's order
-  ~rumble         std_msgs/Float32     every tick, the rumble intensity 0..1 sent to the pad
-Subscribes:
-  force_mapped    std_msgs/Float32     latest value and its arrival time; the pad's rumble
-                                       follows it at once (between ticks too: the loop sleeps
-                                       waiting for it) and drops to 0 when it is older than
-                                       force_timeout
-  ~virtual_joy    sensor_msgs/Joy      only with pad "virtual" and no pad_script: drives the
-                                       virtual pad (raw axes/buttons in the layout's order, as
-                                       on /joy); no message for input_timeout -> ramp to zero
-
-Stopping: square (quit) ramps the twist to zero inside the limits, then the node exits 0
-(with required="true" in teleoperation.launch that ends the whole launch). Ctrl-C, SIGTERM
-or `rosnode kill` do the same ramp first (the node keeps publishing until the twist is
-zero, at most ~stop_timeout_s), so the robot is never left with a velocity step. A pad
-that is unplugged or cannot be read, and a ~virtual_joy stream silent for input_timeout,
-also ramp to zero, but the node keeps running and resumes when input is back.
-
-Time: the wall clock in the lab. With /use_sim_time set (the autograder owns the time)
-the ticks, the force's age and the ramp follow /clock, one tick per period of ROS time.
+Every rule lives in hri_teleop.core.teleop.TeleopController; this script reads the settings
+(``~config``, hri_lab/config/teleop.yaml, overridden by private parameters), opens the pad and once
+per tick (``~rate``, 50 Hz) polls it, steps the controller and publishes the twist, /gripper_width,
+/joy and ``~rumble``. Quit, Ctrl-C, SIGTERM and a lost pad all ramp the twist to zero first.
+Parameters, topics, stopping and time: docs/ros-nodes.md.
 """
 
 from __future__ import annotations
@@ -107,7 +54,7 @@ def _twist_msg(twist: Tuple[float, ...]) -> Twist:
 
 
 class TeleoperationNode:
-    """The shell around TeleopController: pad in, topics out (see the module doc)."""
+    """The shell around TeleopController: pad in, topics out (docs/ros-nodes.md)."""
 
     def __init__(self) -> None:
         name = rospy.get_name()

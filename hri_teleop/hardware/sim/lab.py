@@ -14,6 +14,7 @@ from dataclasses import dataclass, field
 from pathlib import Path
 from typing import Callable, Optional, Sequence, Tuple, Union
 
+from hri_teleop.core.config import lab_max_sensor_force
 from hri_teleop.core.errors import HriTeleopError
 from hri_teleop.core.gamepad import GamepadError, RumbleRequests
 from hri_teleop.core.gripper import GoalThrottle
@@ -37,7 +38,7 @@ class LabRunError(HriTeleopError, ValueError):
 
 @dataclass(frozen=True)
 class ManagerParams:
-    """gripper_manager.py's parameters, with its defaults (see that node's docstring)."""
+    """gripper_manager.py's parameters, with its defaults (docs/ros-nodes.md)."""
 
     speed_m_per_s: float = 0.1
     min_step_m: float = 0.002
@@ -92,8 +93,6 @@ def run_lab(
     """
     wall0 = time.perf_counter()
     if max_sensor_force is None:  # the lab's calibration (hri_lab/config/calibration.yaml)
-        from hri_teleop.core.config import lab_max_sensor_force  # noqa: PLC0415 - config imports this package's peers
-
         max_sensor_force = float(lab_max_sensor_force())
     params = params if params is not None else TeleopParams()
     if not (max_duration_s > 0 and math.isfinite(max_duration_s)):
