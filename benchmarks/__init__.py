@@ -1,8 +1,7 @@
-"""Benchmarks of the lab's claims (``make bench``): feedback latency, command timing,
-simulation speed, grading throughput and notebook/setup times.
+"""Benchmarks of the lab's claims (``make bench``), each figure beside a reference from the same run.
 
-Every benchmark measures its figure and, in the same run, the reference it is judged
-against, so the ratio holds on a noisy shared machine. Each one gives rows of
-:class:`benchmarks.report.BenchRow`; ``python -m benchmarks`` prints them as
-one table and writes ``results.json`` and ``results.md``.
+Feedback latency, command timing, simulation speed, grading throughput and notebook/setup times;
+measuring the reference in the same run keeps the ratio true on a noisy shared machine. Each
+benchmark gives rows of :class:`benchmarks.report.BenchRow`; ``python -m benchmarks`` prints them as
+one table and writes ``results.json`` and ``results.md``. What each row measures: docs/benchmarks.md.
 """

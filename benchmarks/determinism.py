@@ -1,12 +1,9 @@
-"""Benchmark 6 (issue 15): the same part scores, run after run, idle and with both cores busy.
+"""Benchmark 6: the same part scores, run after run, idle and with both cores busy.
 
-The answer key and three wrong packages (a mapping without the clip to 1.0, a teleoperation
-node without its dead zone, a sensor.launch without /max_sensor_force) are each graded
-with ``hri-grade submission --json`` ``runs`` times: half on an idle machine, half while
-one spinning process per core keeps it busy. A package passes when every run gave the
-same points for every part. *Reference*: the number of runs; the figure counts the
-packages whose part scores never changed (smoke: 1 idle and 1 loaded run of the answer
-key's teleoperation check).
+The answer key and three wrong packages are each graded ``runs`` times, half on an idle machine,
+half with one spinning process per core; the figure counts the packages whose part scores never
+changed (the packages and the reference: docs/benchmarks.md). Smoke: one idle and one loaded run
+of the answer key's teleoperation check.
 """
 
 from __future__ import annotations

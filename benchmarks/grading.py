@@ -1,43 +1,10 @@
-"""Benchmark 4 (issue 8): grading throughput.
+"""Benchmark 4: grading throughput, from real runs of the grader's own command lines.
 
-Four rows, every figure from real runs of the grader's own command lines:
-
-* **hri-grade submission**: wall time of ``hri-grade submission solutions/hri_lab`` (the
-  answer key, so every check runs to its end), the median of 3 runs (smoke: 1 run of
-  ``--checks robot-params``). *Reference*: the checks' own time in the same run, the sum of
-  the ``duration_s`` the grader writes for every check into ``checks.json``. Why: what a
-  submission has to cost is its checks (each starts a private ROS master, the student's
-  nodes, real-time scenarios) and the grader clocks each from its start to its verdict, so
-  that sum is the floor the program could reach, measured in the very same run; the ratio
-  is what the entry point adds (interpreter start, imports, the sandbox probe, the report
-  files). A roscore start+stop times the number of sessions would be a floor as well, but
-  the grader does not report how many sessions a check starts, and a count written here
-  would go stale silently.
-* **hri-grade submission, real time**: the same, as grading ran before the grader owned the
-  clock (``HRI_GRADE_CLOCK=real``: the nodes in real time, the lab's graph computed in every
-  run). *Reference*: the row above, from the same ``make bench``: before and after side by side.
-* **make grade, 1 worker** and **make grade, N workers**: ``hri-grade batch submitted --jobs
-  1`` (what ``make grade JOBS=1`` runs) and ``--jobs N`` (N = ``--jobs``, else the CPU
-  count) on an nbgrader course with 20 submissions of the whole ``preparation`` assignment
-  (smoke: 2 submissions of its cheapest notebook, Ex. 1, and ``--checks
-  robot-params``). ``HRI_BENCH_SUBMISSIONS=K`` grades K submissions instead of 20.
-  *Reference*: nbgrader's own ``python -m nbgrader autograde preparation --student S`` for
-  every student, one after another, in the environment the grader gives it -- what an
-  instructor would run without ``make grade``. ``make grade`` does more than that (the
-  files' checks on each ``hri_lab`` and ``nbgrader generate_feedback``), so the 1-worker
-  row also gives the autograde jobs' own seconds (``autograde_jobs_s``, from its
-  summary.json).
-
-Submissions alternate between the answer key (the source notebooks and the answer key's
-``hri_lab``) and the untouched release, so both the passing and the failing paths are
-graded. Every run works on a fresh copy of the same course (gradebook, submissions), so
-each grades everything. A run whose outputs are not real -- a missing ``grades.csv`` row,
-a student not graded, an answer key short of its full autograded points -- raises
-:class:`BenchError`: a benchmark that graded nothing must not report a time.
-
-Everything is started in a session of its own under a time limit; a limit or Ctrl-C stops
-the process and everything below it (nbgrader's kernels and their roscores start sessions
-of their own, so the whole tree is killed, not only the process group).
+Four rows: ``hri-grade submission`` on the answer key (against the checks' own time in the same
+run), the same in real time (``HRI_GRADE_CLOCK=real``, the "before" row), and ``make grade`` with 1
+and N workers on an nbgrader course of 20 submissions (against nbgrader's own autograde one after
+another). A run that graded nothing real raises :class:`BenchError`, never a time. Why these
+references, and how runs are isolated and stopped: docs/benchmarks.md.
 """
 
 from __future__ import annotations

@@ -1,14 +1,9 @@
 """Benchmark 1: from a force on /pub_force to the rumble the pad receives.
 
-The chain measured is the lab's: the probe publishes a count (as the Arduino does),
-mapping_node maps it onto /force_mapped, the teleoperation node turns it into a rumble
-request to the (virtual) pad, which is time-stamped in the node's ``~rumble_log``. The
-reference, in the same run and on the same messages: the probe's own subscription to
-/pub_force, one rospy publish -> callback hop, the floor of any ROS stage.
-
-Three rows: the software pipeline (steps published at once), and end to end with a
-board that samples every 10 ms (firmware/) or every 300 ms (the handout's sketch), where
-a step waits for the next sample before anyone knows of it.
+The probe publishes counts as the Arduino does; mapping_node and the teleoperation node turn them
+into rumble requests to the virtual pad, time-stamped in its ``~rumble_log``. Three rows: the nodes
+alone (against one rospy hop of the same messages, the floor of any ROS stage), and end to end with
+a board sampling every 10 ms or 300 ms, where a step waits for the next sample (docs/benchmarks.md).
 """
 
 from __future__ import annotations

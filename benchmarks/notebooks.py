@@ -1,33 +1,10 @@
 """Benchmark 5: every notebook of the course headless, and ``make setup`` when nothing is missing.
 
-Both are waits a person sits through: the instructor before every release (and ``make test``
-runs the notebooks), everybody before every ``make demo`` / ``make test`` (``make setup``
-runs first). Each figure is judged against the floor of the same kind of work, measured in
-the same run:
-
-* **notebooks headless**: every source notebook (``notebooks/source/*/*.ipynb``, the answer
-  key -- "every notebook"; the student versions are not run, they are *meant* to fail)
-  executed one at a time, as ``make test`` runs them (:func:`hri_teleop.course.release.run_source`:
-  nbclient, the ``hri-teleop`` kernel, real-time cells short with ``HRI_NOTEBOOK_FAST``), each
-  graded as nbgrader grades it -- a notebook with an error, a cell writing to stderr or an
-  autograded cell short of full marks is a :class:`BenchError`, never a time. One at a time,
-  so the per-notebook times are clean (two kernels on two cores would time each other).
-  Reference: the floor of executing a notebook at all -- the same function running a
-  one-cell notebook (``1 + 1``) on the same kernel (kernel start, one cell, shutdown; the
-  median of 3 runs among the notebooks) -- times the number of notebooks. The ratio says
-  how much of the wait is the notebooks' own work.
-* **make setup, nothing missing**: ``make setup`` N times in a row with everything
-  installed, median wall time. Reference: ``.venv/bin/python -c 'import rospy, actionlib,
-  rosbag, genpy'``, the import check setup itself ends with -- a no-op setup can not be
-  cheaper than proving that rospy is importable from ``.venv``, and a plain interpreter start
-  (~0.04 s) would make every ratio look bad for work setup must do. Runs alternate with the
-  reference's, so both see the same load. One more run under ``bash -x`` (not timed with the
-  others) attributes the time to the lines of ``tools/setup.sh``: the figure names the
-  slowest line, which is where a fix pays.
-
-Everything started here is stopped: the kernels by nbclient, their roscores and nodes by the
-kernels' own exit. To prove it, every process started runs with a marker in its
-environment; a process that still carries it at the end is stopped and reported.
+Both are waits a person sits through. Notebooks run one at a time as ``make test`` runs them, each
+graded as nbgrader would (a failing notebook is a :class:`BenchError`, never a time), against a
+one-cell notebook on the same kernel; ``make setup`` against the import check it ends with, plus a
+``bash -x`` run that names its slowest line. Every process started carries a marker and is stopped
+at the end. The rules: docs/benchmarks.md.
 """
 
 from __future__ import annotations

@@ -1,17 +1,11 @@
 """The ROS side of the timing benchmarks, run as its own node: ``python -m benchmarks.probe``.
 
-A separate process because rospy allows one node per process, and because the probe must
-be an outsider to the nodes it measures, as the Arduino and the robot are.
+A separate process, because rospy allows one node per process and the probe must be an outsider to
+the nodes it measures, as the Arduino and the robot are. ``latency`` publishes force steps on
+/pub_force (at once, or through a simulated board every P ms) and writes their monotonic times;
+``timing`` records the arrival of every twist. Phases and options: docs/benchmarks.md.
 
-    latency --out FILE --steps N [--board-periods-ms 0,10,300] [--seed S]
-        Publishes force steps on /pub_force (count 0 <-> ON_COUNT) and writes, per phase,
-        the monotonic time of each step. Board period 0: each step is published at once,
-        and the probe's own subscription to /pub_force and to /force_mapped time one and
-        two hops of the same messages. Board period P ms: a board thread publishes the
-        current count every P ms, as the firmware does, while the true force steps at
-        random moments in between: the sampling wait is then part of the latency.
-    timing --out FILE --topic T --seconds S
-        Records the arrival time of every message on the twist topic for S seconds.
+    python -m benchmarks.probe {latency,timing} --help
 """
 
 from __future__ import annotations
