@@ -45,7 +45,7 @@ def _check(value: object, name: str, fix: str, *, lowest: str = "") -> float:
 
 @dataclass(frozen=True)
 class HandParams:
-    """The Franka Hand's numbers (defaults: the real hand, see the module doc).
+    """The Franka Hand's numbers (defaults: the real hand, with their sources in docs/simulation.md).
 
     ``homing_speed_m_per_s`` and ``homing_force_n`` are not published by Franka; they
     are chosen so that homing takes about 3 s and does not crush an object in the way.
