@@ -17,6 +17,9 @@ from pathlib import Path
 from typing import Callable, Dict, List, Sequence, Tuple
 
 from benchmarks.report import BenchError, BenchOptions, BenchRow
+from hri_teleop.core.paths import SOLUTIONS
+from hri_teleop.grading.cases.templates import make_answer
+from hri_teleop.grading.judge.harness import CLOCK_ENV
 
 __all__ = ["BusyCores", "WRONG_PACKAGES", "FULL_RUNS", "package_variants", "part_scores", "run"]
 
@@ -37,9 +40,6 @@ WRONG_PACKAGES: Dict[str, Tuple[str, str, str]] = {
 
 def package_variants(target: Path) -> Dict[str, Path]:
     """The answer key's hri_lab (markers dropped) and the wrong packages, under ``target``."""
-    from hri_teleop.core.paths import SOLUTIONS
-    from hri_teleop.grading.cases.templates import make_answer
-
     key = target / "answer-key" / "hri_lab"
     for path in sorted(p for p in SOLUTIONS.rglob("*") if p.is_file() and p.name != "README.md"):
         out = key / path.relative_to(SOLUTIONS)
@@ -94,8 +94,6 @@ class BusyCores:
 
 
 def run(options: BenchOptions, progress: Progress) -> List[BenchRow]:
-    from hri_teleop.grading.judge.harness import CLOCK_ENV
-
     work = Path(options.out_dir) / "determinism"
     shutil.rmtree(work, ignore_errors=True)
     packages = package_variants(work / "packages")

@@ -13,6 +13,7 @@ import math
 import os
 import re
 import shutil
+import signal
 import statistics
 import subprocess
 import time
@@ -23,6 +24,7 @@ from typing import Callable, Dict, Iterator, List, Mapping, Optional, Sequence, 
 
 from benchmarks.report import BenchError, BenchOptions, BenchRow
 from hri_teleop.core.paths import REPO
+from hri_teleop.ros.kernel import KERNEL_NAME
 
 __all__ = [
     "NOTEBOOKS_ROW", "SETUP_ROW", "SMOKE_NOTEBOOKS", "SETUP_FLOOR_CODE", "run",
@@ -166,8 +168,6 @@ def _marked_processes(marker: str) -> Dict[int, str]:
 
 def _stop_leftovers(marker: str, grace_s: float = LEFTOVER_GRACE_S) -> List[str]:
     """Wait for what this run started to end; stop what is left (SIGTERM, then SIGKILL, by pid) and name it."""
-    import signal
-
     deadline = time.monotonic() + grace_s
     left = _marked_processes(marker)
     while left and time.monotonic() < deadline:
@@ -189,16 +189,14 @@ def _stop_leftovers(marker: str, grace_s: float = LEFTOVER_GRACE_S) -> List[str]
 
 def _source_course(work_dir: Path) -> Path:
     """The course's source half in ``work_dir/course`` (the student versions are not run here)."""
-    from hri_teleop.course.release import prepare_course_copy
+    from hri_teleop.course.release import prepare_course_copy  # noqa: PLC0415 - loads nbgrader (2 s): only the notebooks row
 
     return prepare_course_copy(work_dir, release=False)
 
 
 def _floor_notebook(path: Path) -> Path:
     """A one-cell notebook on the course's kernel (the kernel name the source notebooks use)."""
-    import nbformat
-
-    from hri_teleop.ros.kernel import KERNEL_NAME
+    import nbformat  # noqa: PLC0415 - heavy (0.7 s): only the notebooks row
 
     nb = nbformat.v4.new_notebook()
     nb.cells = [nbformat.v4.new_code_cell(FLOOR_CELL)]
@@ -210,7 +208,7 @@ def _floor_notebook(path: Path) -> Path:
 
 def _execute(path: Path) -> Tuple[float, Dict[str, object]]:
     """Wall time of one :func:`hri_teleop.course.release.run_source` call (read, kernel up, cells, kernel down, grading)."""
-    from hri_teleop.course.release import run_source
+    from hri_teleop.course.release import run_source  # noqa: PLC0415 - loads nbgrader (2 s): only the notebooks row
 
     started = time.monotonic()
     result = run_source(path)
@@ -218,7 +216,7 @@ def _execute(path: Path) -> Tuple[float, Dict[str, object]]:
 
 
 def _notebooks_row(options: BenchOptions, progress: Progress) -> BenchRow:
-    from hri_teleop.course.release import source_notebooks
+    from hri_teleop.course.release import source_notebooks  # noqa: PLC0415 - loads nbgrader (2 s): only the notebooks row
 
     work = options.out_dir / "notebooks"
     course = _source_course(work)
@@ -231,8 +229,8 @@ def _notebooks_row(options: BenchOptions, progress: Progress) -> BenchRow:
                          f"is notebooks/source/ complete?")
     floor_path = _floor_notebook(work / "floor" / "floor.ipynb")
     floor_runs = FLOOR_RUNS_SMOKE if options.smoke else FLOOR_RUNS
-    import nbclient  # noqa: F401 - imported before the first timed call, not inside it
-    import nbgrader.utils  # noqa: F401
+    import nbclient  # noqa: F401, PLC0415 - heavy: imported before the first timed call, not inside it
+    import nbgrader.utils  # noqa: F401, PLC0415 - the same
 
     floors_before = floor_positions(len(notebooks), floor_runs)
     with _environment(HRI_NOTEBOOK_FAST="1"):

@@ -18,6 +18,10 @@ import threading
 import time
 from typing import Any, Dict, List
 
+import rospy
+from geometry_msgs.msg import Twist
+from std_msgs.msg import Float32, Int16
+
 #: The count a force step goes to: 500/700 = 0.71 mapped force, well above the rumble threshold.
 ON_COUNT = 500
 #: Between phases the force rests at 0 this long (s), so that one phase's rumble has ended.
@@ -25,8 +29,6 @@ REST_S = 0.4
 
 
 def _wait(condition, timeout_s: float, what: str) -> None:
-    import rospy
-
     deadline = time.monotonic() + timeout_s
     while not condition():
         if time.monotonic() > deadline or rospy.is_shutdown():
@@ -42,9 +44,6 @@ def _step_gaps_s(period_s: float, rng: random.Random) -> float:
 
 
 def latency(args: argparse.Namespace) -> Dict[str, Any]:
-    import rospy
-    from std_msgs.msg import Float32, Int16
-
     rng = random.Random(args.seed)
     lock = threading.Lock()
     own_arrivals: List[float] = []
@@ -120,9 +119,6 @@ def latency(args: argparse.Namespace) -> Dict[str, Any]:
 
 
 def timing(args: argparse.Namespace) -> Dict[str, Any]:
-    import rospy
-    from geometry_msgs.msg import Twist
-
     arrivals: List[float] = []
     sub = rospy.Subscriber(args.topic, Twist, lambda _m: arrivals.append(time.monotonic()), queue_size=100)
     _wait(lambda: sub.get_num_connections() >= 1 and len(arrivals) > 5, 30.0, f"messages on {args.topic}")
@@ -147,7 +143,6 @@ def main(argv: List[str] = None) -> int:
     args = parser.parse_args(argv)
     if args.mode == "latency" and args.steps % 2:
         args.steps += 1  # every phase ends with the force off
-    import rospy
 
     rospy.init_node("bench_probe", anonymous=True)
     result = latency(args) if args.mode == "latency" else timing(args)

@@ -8,6 +8,7 @@ from __future__ import annotations
 
 import json
 import math
+import os
 import platform
 from dataclasses import asdict, dataclass, field
 from pathlib import Path
@@ -82,7 +83,6 @@ def machine_summary() -> str:
                 break
     except OSError:
         pass
-    import os
     cores = os.cpu_count() or 0
     os_name = platform.platform(terse=True)
     try:

@@ -19,6 +19,7 @@ from hri_teleop.core.checks import is_finite_number
 from hri_teleop.core.errors import HriTeleopError
 from hri_teleop.core.gamepad import DEFAULT_LAYOUT, PAD_KINDS
 from hri_teleop.core.limits import DEFAULT_LIMITS, AxisLimits, CartesianLimits, LimitsError, TwistLimiter
+from hri_teleop.core.mapping import ADC_MAX_COUNT
 from hri_teleop.core.paths import LAB_CONFIG
 from hri_teleop.core.teleop import AxisAssignment, TeleopError, TeleopParams
 from hri_teleop.core.yamlfile import read_yaml
@@ -258,8 +259,6 @@ def load_teleop_config(path: Union[str, Path], overrides: Optional[Mapping[str, 
 
 def lab_max_sensor_force(path: Union[str, Path] = LAB_CALIBRATION) -> int:
     """The lab's /max_sensor_force: ``max_sensor_force`` of the calibration file, a whole count 1..1023."""
-    from hri_teleop.core.mapping import ADC_MAX_COUNT  # noqa: PLC0415 - mapping imports nothing of this module
-
     data = read_yaml(path, ConfigError, what="calibration file",
                      missing_fix="restore hri_lab/config/calibration.yaml (max_sensor_force: 700)")
     value = data.get("max_sensor_force") if isinstance(data, dict) else None

@@ -23,7 +23,7 @@ PAD_CLOCK_ENV = "HRI_PAD_CLOCK"
 
 def _default_clock() -> Callable[[], float]:
     if os.environ.get(PAD_CLOCK_ENV, "") == "ros":
-        import rospy  # the node's process: rospy is there (a lazy import keeps the pads ROS-free)
+        import rospy  # noqa: PLC0415 - only a node's process asks for ROS time; the pads run without ROS
 
         get_time: Callable[[], float] = rospy.get_time
         return get_time

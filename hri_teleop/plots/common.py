@@ -7,22 +7,21 @@ timeline, and a figure says more than a table about a force that ramps and satur
 from __future__ import annotations
 
 from pathlib import Path
-from typing import TYPE_CHECKING, List, Sequence, Tuple
+from typing import List, Sequence, Tuple
 
-if TYPE_CHECKING:  # only for the annotation: the sim core stays an optional import here
-    from matplotlib.figure import Figure
+import matplotlib
+import matplotlib.pyplot as plt
+import numpy as np
+from matplotlib.figure import Figure
 
-    from hri_teleop.core.run_record import LabRecord
+from hri_teleop.core.run_record import LabRecord, summarize
 
 Trace = Sequence[Tuple[float, float]]
 
 
 def sensor_timeline(counts: Trace, mapped: Trace, max_sensor_force: float, path: Path) -> Path:
     """/pub_force (counts, left axis) and /force_mapped (0..1, right axis) over time."""
-    import matplotlib
-
     matplotlib.use("Agg")
-    import matplotlib.pyplot as plt
 
     t0 = min(counts[0][0] if counts else float("inf"), mapped[0][0] if mapped else float("inf"))
     fig, ax = plt.subplots(figsize=(9, 3.5), dpi=100)
@@ -42,19 +41,14 @@ def sensor_timeline(counts: Trace, mapped: Trace, max_sensor_force: float, path:
     return save_figure(fig, path)
 
 
-def lab_timeline(record: "LabRecord", path: Path, title: str = "") -> Path:
+def lab_timeline(record: LabRecord, path: Path, title: str = "") -> Path:
     """The teleoperation run on one time axis: force, mapped force, rumble, gripper width, velocity.
 
     Five stacked panels (shared time axis, zero = the first sample) so that cause and
     effect line up: the fingers close (width), the piston is pressed (force), the count is
     mapped (/force_mapped), the pad rumbles, the arm lifts (velocity, object height).
     """
-    import matplotlib
-
     matplotlib.use("Agg")
-    import matplotlib.pyplot as plt
-
-    from hri_teleop.core.run_record import summarize
 
     t0 = record.start_s()
 
@@ -115,11 +109,7 @@ def latency_cdf(curves: Sequence[Tuple[str, Sequence[float]]], path: Path, title
     Why a CDF: p50/p99 hide the shape; a polling loop shows as a straight ramp one period
     wide, a sampling board as a ramp one sample period wide, a hop floor as a near-vertical step.
     """
-    import matplotlib
-
     matplotlib.use("Agg")
-    import matplotlib.pyplot as plt
-    import numpy as np
 
     fig, ax = plt.subplots(figsize=(7, 4))
     for label, values in curves:
@@ -138,8 +128,6 @@ def latency_cdf(curves: Sequence[Tuple[str, Sequence[float]]], path: Path, title
 
 def save_figure(fig: Figure, path: Path) -> Path:
     """Write the figure as a PNG (creating its folder) and free it."""
-    import matplotlib.pyplot as plt
-
     fig.tight_layout()
     path = Path(path)
     path.parent.mkdir(parents=True, exist_ok=True)

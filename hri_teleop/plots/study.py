@@ -8,9 +8,12 @@ the one the tests checked.
 from __future__ import annotations
 
 from pathlib import Path
-from typing import TYPE_CHECKING, List, Optional, Sequence, Tuple, Union
+from typing import List, Optional, Sequence, Tuple, Union
 
+import matplotlib
+import matplotlib.pyplot as plt
 import numpy as np
+from matplotlib.figure import Figure
 
 from hri_teleop.core.experiment.analysis import StudyResult
 from hri_teleop.core.experiment.metrics import (
@@ -22,9 +25,6 @@ from hri_teleop.core.experiment.metrics import (
 from hri_teleop.core.experiment.stats import PairedComparison, StatsError, paired_comparison
 from hri_teleop.core.run_record import LabRecord
 from hri_teleop.plots.common import save_figure
-
-if TYPE_CHECKING:
-    from matplotlib.figure import Figure
 
 __all__ = ["PANEL_TITLES", "COLOURS", "draw_study", "study_figure"]
 
@@ -57,10 +57,7 @@ def draw_study(trials: Sequence[Tuple[TrialMetrics, LabRecord]], max_sensor_forc
     different days are calibrated anew).  ``comparison``: the paired comparison of peak
     force (no feedback minus feedback) to print; None computes it from the trials.
     """
-    import matplotlib
-
     matplotlib.use("Agg")
-    import matplotlib.pyplot as plt
 
     metrics = [m for m, _ in trials]
     calibrations = _per_trial(max_sensor_force, len(trials))

@@ -18,7 +18,7 @@ class BagError(HriTeleopError, RuntimeError):
 
 def read_topics(bag_path: Path, topics: Sequence[str]) -> Dict[str, List[Tuple[float, Any]]]:
     """Messages per topic as (receive time in s, message), in recorded order."""
-    import rosbag  # imported here: the rest of hri_teleop must not need ROS
+    import rosbag  # noqa: PLC0415 - ros.trial imports this module without ROS (course.widgets, study analysis)
 
     out: Dict[str, List[Tuple[float, Any]]] = {t: [] for t in topics}
     path = Path(bag_path)
@@ -35,8 +35,8 @@ def read_topics(bag_path: Path, topics: Sequence[str]) -> Dict[str, List[Tuple[f
 
 def write_bag(bag_path: Path, messages: Iterable[Tuple[str, Any, float]], overwrite: bool = False) -> Path:
     """Write (topic, message, time in s) triples to a new bag; refuses to overwrite by default."""
-    import rosbag
-    import rospy
+    import rosbag  # noqa: PLC0415 - ros.trial imports this module without ROS (course.widgets, study analysis)
+    import rospy  # noqa: PLC0415 - as rosbag
 
     path = Path(bag_path)
     if path.exists() and not overwrite:

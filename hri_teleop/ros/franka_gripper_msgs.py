@@ -115,8 +115,8 @@ def _own_definition(msg_class: MessageClass) -> str:
 
 def _standard_definitions() -> Dict[str, str]:
     """Header, GoalID and GoalStatus exactly as the installed std/actionlib msgs define them."""
-    from actionlib_msgs.msg import GoalID, GoalStatus
-    from std_msgs.msg import Header
+    from actionlib_msgs.msg import GoalID, GoalStatus  # noqa: PLC0415 - no ROS: _load's one-line error
+    from std_msgs.msg import Header  # noqa: PLC0415 - no ROS: _load's one-line error
 
     return {
         "std_msgs/Header": _own_definition(Header),
@@ -127,7 +127,7 @@ def _standard_definitions() -> Dict[str, str]:
 
 def _generate(name: str, standard: Dict[str, str]) -> Dict[str, MessageClass]:
     """Classes for the seven messages of one action (and GraspEpsilon for Grasp)."""
-    from genpy.dynamic import generate_dynamic
+    from genpy.dynamic import generate_dynamic  # noqa: PLC0415 - no ROS: _load's one-line error
 
     texts = expand_action(name, ACTION_DEFINITIONS[name])
     core = f"{PACKAGE}/{name}Action"
@@ -152,7 +152,7 @@ def _generate(name: str, standard: Dict[str, str]) -> Dict[str, MessageClass]:
 def _load() -> Tuple[str, Dict[str, MessageClass]]:
     names = [f"{a}{p}" for a in ACTION_DEFINITIONS for p in _PARTS] + ["GraspEpsilon"]
     try:
-        import franka_gripper.msg as real  # type: ignore[import-not-found]
+        import franka_gripper.msg as real  # type: ignore[import-not-found]  # noqa: PLC0415 - optional: franka_ros
     except ImportError:
         real = None
     if real is not None and all(hasattr(real, n) for n in names):

@@ -13,6 +13,9 @@ import sys
 from pathlib import Path
 from typing import Any, Callable, Dict, Iterable, NoReturn, Optional, Tuple, Union
 
+import rospkg
+import rospy
+
 from hri_teleop.core.checks import is_finite_number, is_int
 from hri_teleop.core.errors import HriTeleopError
 
@@ -68,8 +71,6 @@ def get_param(name: str, default: Any = _MISSING, *, kind: Optional[Kind] = None
     Missing and no default -> ``ParamError`` naming the parameter and ``fix`` (or a
     generic ``rosparam set`` hint). A default is returned as is (not type-checked).
     """
-    import rospy
-
     if not rospy.has_param(name):
         if default is _MISSING:
             resolved = rospy.resolve_name(name)
@@ -84,8 +85,6 @@ def get_param(name: str, default: Any = _MISSING, *, kind: Optional[Kind] = None
 
 def private_params(exclude: Iterable[str] = ()) -> Dict[str, Any]:
     """All of this node's private parameters as a dict, minus the keys in ``exclude``."""
-    import rospy
-
     values = rospy.get_param("~", {})
     if not isinstance(values, dict):
         return {}
@@ -104,14 +103,9 @@ def fail(message: str, exit_code: int = EXIT_BAD_INPUT) -> NoReturn:
 
 def _log_fatal(message: str) -> None:
     line = " ".join(str(message).split("\n"))
-    try:
-        import rospy
-
-        if rospy.core.is_initialized():
-            rospy.logfatal(line)
-            return
-    except ImportError:  # pragma: no cover - rospy is there whenever a node runs
-        pass
+    if rospy.core.is_initialized():
+        rospy.logfatal(line)
+        return
     print(f"[FATAL] {line}", file=sys.stderr, flush=True)
 
 
@@ -125,8 +119,6 @@ def fail_from_callback(message: str, exit_code: int = EXIT_BAD_INPUT) -> None:
     remembered code once rospy has shut down.
     """
     global _exit_code
-    import rospy
-
     if _exit_code is None:
         _exit_code = exit_code
         _log_fatal(message)
@@ -140,8 +132,6 @@ def _is_project_error(exc: BaseException) -> bool:
 
 def run_node(main: Callable[[], Optional[int]]) -> None:
     """Run ``main`` and exit: 0 on normal end, 1 (one fatal line) on bad input."""
-    import rospy
-
     code: int = 0
     try:
         result = main()
@@ -150,7 +140,7 @@ def run_node(main: Callable[[], Optional[int]]) -> None:
         code = int(exc.code if isinstance(exc.code, int) else EXIT_BAD_INPUT)
     except (KeyboardInterrupt, rospy.ROSInterruptException):
         code = 0
-    except Exception as exc:  # noqa: BLE001 - filtered below, bugs are re-raised
+    except Exception as exc:
         if not _is_project_error(exc):
             raise
         _log_fatal(str(exc))
@@ -171,8 +161,6 @@ def package_file(relative: str, script_file: str, package: str = "hri_lab") -> s
     """
     candidates = []
     try:
-        import rospkg
-
         candidates.append(Path(rospkg.RosPack().get_path(package)) / relative)
     except Exception:  # noqa: BLE001 - rospkg.ResourceNotFound, or no ROS_PACKAGE_PATH
         pass

@@ -42,6 +42,8 @@ from hri_teleop.core.experiment.sidecar import (
 )
 from hri_teleop.core.experiment.tlx import SUBSCALES, TlxRatings, optional_tlx, store_tlx
 from hri_teleop.core.run_record import LabRecord
+from hri_teleop.hardware.sim.grasp_objects import OBJECTS
+from hri_teleop.hardware.sim.operators import study_scenario
 from hri_teleop.plots.study import save_result_figure
 from hri_teleop.ros.bags import BagError
 from hri_teleop.ros.master import MasterError, PrivateMaster, RunningMaster, run_reporting
@@ -119,9 +121,9 @@ def _param(master: PrivateMaster, name: str) -> Any:
 
 def _add_metadata(bag_path: Path, meta: TrialMeta) -> None:
     """Append the metadata to the bag itself, so a bag that travels alone still says what it is."""
-    import rosbag
-    import rospy
-    from std_msgs.msg import String
+    import rosbag  # noqa: PLC0415 - course.widgets and the study analysis import this module without ROS
+    import rospy  # noqa: PLC0415 - as rosbag
+    from std_msgs.msg import String  # noqa: PLC0415 - as rosbag
 
     with rosbag.Bag(str(bag_path), "a") as bag:
         start = bag.get_start_time() if bag.get_message_count() else 0.0
@@ -291,9 +293,6 @@ def rehearse(participants: Sequence[str], objects: Sequence[str], out: Union[str
     Returns the :class:`~hri_teleop.core.experiment.analysis.StudyResult` (None with
     ``analyse`` False).
     """
-    from hri_teleop.hardware.sim.grasp_objects import OBJECTS
-    from hri_teleop.hardware.sim.operators import study_scenario
-
     if pad not in PADS:
         raise MetricsError(f"pad {pad!r} is unknown; use one of {', '.join(PADS)}")
     out = Path(out)

@@ -14,6 +14,7 @@ from pathlib import Path
 from typing import Any, Dict, Mapping, NamedTuple, Optional, Tuple, Union
 
 from hri_teleop.core.experiment.metrics import MetricsError
+from hri_teleop.core.experiment.sidecar import update_sidecar
 
 __all__ = ["TlxError", "Subscale", "SUBSCALES", "SUBSCALE_KEYS", "STEP", "TlxRatings", "tlx_from_dict", "optional_tlx",
            "store_tlx"]
@@ -107,8 +108,6 @@ def tlx_from_dict(data: Any, source: str = "") -> TlxRatings:
 
 def store_tlx(sidecar: Union[str, Path], ratings: TlxRatings) -> Dict[str, Any]:
     """Write ``ratings`` under ``tlx`` into the trial's sidecar (other keys kept; atomic); returns the new content."""
-    from hri_teleop.core.experiment.sidecar import update_sidecar  # noqa: PLC0415 - sidecar imports this module
-
     return update_sidecar(sidecar, {"tlx": ratings.to_dict()})
 
 

@@ -14,6 +14,8 @@ import sys
 import time
 from typing import Iterable, List, Optional
 
+import serial
+
 from hri_teleop.core.checks import is_count
 from hri_teleop.core.errors import HriTeleopError
 from hri_teleop.core.serial_protocol import BAUD, MAX_COUNT, BoardStream, Sample, open_error_message
@@ -50,8 +52,6 @@ def read_counts(port: str, seconds: float, baud: int = BAUD) -> List[int]:
     Corrupt lines are skipped (the protocol's checksum); opening the port restarts an Uno,
     whose first line then comes after about 1.6 s of boot.
     """
-    import serial  # pyserial: only this shell needs it
-
     try:
         ser = serial.Serial(port, baud, timeout=0.05)
     except (serial.SerialException, OSError) as exc:

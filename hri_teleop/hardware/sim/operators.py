@@ -12,7 +12,9 @@ from __future__ import annotations
 import random
 from typing import Any, Dict, List
 
+from hri_teleop.hardware.sim.grasp_objects import OBJECTS
 from hri_teleop.hardware.sim.virtual_pad import ScriptStep
+from hri_teleop.hardware.sim.world import LAB_ARM_CONFIG
 
 __all__ = ["random_operator", "script_to_yaml_data", "study_operator", "study_scenario", "squeeze_taps"]
 
@@ -163,9 +165,6 @@ def study_scenario(condition: str, seed: int, object_name: str = "egg", *, quick
     the fast close goes 4 taps further (and 4 taps fewer follow), the lift is 3 cm and the
     hold 0.4 s: a trial of about 7 s instead of 16 s, with the same grasp.
     """
-    from hri_teleop.hardware.sim.grasp_objects import OBJECTS  # noqa: PLC0415 - keeps this module light
-    from hri_teleop.hardware.sim.world import LAB_ARM_CONFIG  # noqa: PLC0415
-
     if object_name not in OBJECTS:
         raise ValueError(f"object {object_name!r} is not in the simulation's set; "
                          f"use one of {', '.join(sorted(OBJECTS))}")

@@ -23,7 +23,7 @@ from hri_teleop.hardware.sim.config import world_config_from_dict
 from hri_teleop.hardware.sim.grasp_objects import OBJECTS
 from hri_teleop.hardware.sim.lab import run_lab
 from hri_teleop.hardware.sim.operators import study_scenario
-from hri_teleop.hardware.sim.virtual_pad import ScriptStep
+from hri_teleop.hardware.sim.virtual_pad import ScriptStep, parse_script
 from hri_teleop.plots.study import save_result_figure
 
 __all__ = ["StudyError", "participant_codes", "simulate_trial", "simulate_study"]
@@ -42,8 +42,6 @@ def participant_codes(count: int) -> List[str]:
 def simulate_trial(meta: TrialMeta, seed: int, *, quick: bool = True,
                    operator: Optional[Sequence[ScriptStep]] = None) -> LabRecord:
     """One trial in the lock-step lab: the condition switches the rumble, the object is the plan's."""
-    from hri_teleop.hardware.sim.virtual_pad import parse_script  # noqa: PLC0415
-
     if meta.object_name not in OBJECTS:
         raise StudyError(f"object {meta.object_name!r} is not in the simulation's set; use one of "
                          f"{', '.join(sorted(OBJECTS))}")
