@@ -47,7 +47,7 @@ def test_the_grader_clock_gives_the_same_messages_run_after_run(tmp_path):
     original = compare.compare_teleop_node
 
     def spy(observation, *args, **kwargs):
-        seen.append({t: [(ts, v) for ts, _k, v in msgs] for t, msgs in observation["messages"].items()})
+        seen.append({t: [(ts, v) for ts, _k, v in msgs] for t, msgs in observation.messages.items()})
         return original(observation, *args, **kwargs)
 
     package = _package(tmp_path, answer_text("scripts/teleoperation.py"))

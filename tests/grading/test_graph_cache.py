@@ -31,8 +31,8 @@ def test_the_live_graph_is_computed_once_and_read_back_by_the_next_run(fresh_cac
 
     graph = checks.live_graph()
     cached = checks.graph_cache_file()
-    assert cached.parent.parent == fresh_cache and json.loads(cached.read_text()) == graph
-    assert "/teleoperation" in graph["publishers"]["/cartesian_velocity_controller/cmd_vel"]
+    assert cached.parent.parent == fresh_cache and json.loads(cached.read_text()) == graph.to_json()
+    assert "/teleoperation" in graph.publishers["/cartesian_velocity_controller/cmd_vel"]
     monkeypatch.setattr(checks, "_LIVE_GRAPH", {})
 
     def no_session(*_args, **_kwargs):
@@ -54,11 +54,12 @@ def test_the_cache_key_follows_the_reference_files_not_their_folder(tmp_path):
 
 def test_a_cut_short_cache_file_is_computed_again(fresh_cache, monkeypatch):
     from hri_teleop.grading.judge import graph as checks
+    from hri_teleop.grading.run.records import LiveGraphObservation
 
     path = checks.graph_cache_file()
     path.parent.mkdir(parents=True)
     path.write_text('{"kind": "live-gr')
-    fake = {"kind": "live-graph", "problem": "", "publishers": {}, "subscribers": {}, "types": {}}
-    monkeypatch.setattr(checks, "run_session_plan", lambda *_a, **_k: dict(fake))
+    fake = LiveGraphObservation(problem="", publishers={}, subscribers={}, types={})
+    monkeypatch.setattr(checks, "run_session_plan", lambda *_a, **_k: fake)
     assert checks.live_graph() == fake
-    assert json.loads(path.read_text()) == fake
+    assert json.loads(path.read_text()) == fake.to_json()

@@ -45,14 +45,14 @@ def test_the_launch_check_gives_the_same_twists_and_arm_path_idle_and_loaded(tmp
     runs = [_observe(package, loaded) for loaded in (False, True)]
     for result, observation in runs:
         assert result.score == result.max_score, result.failed_parts
-        assert observation["clock"] == "grader", observation.get("lab_sim_log")
+        assert observation.clock == "grader", observation.lab_sim_log
         assert not any("real time" in n for n in result.notes)
     (_, idle), (_, loaded) = runs
-    twists = [[(t, v) for t, _k, v in o["messages"][TWIST]] for o in (idle, loaded)]
+    twists = [[(t, v) for t, _k, v in o.messages[TWIST]] for o in (idle, loaded)]
     _same_series(*twists, at_least=200)
     # The arm's path depends on when lab_sim applied each command; the poses' publication
     # times do not matter. Where it went and where it stopped are the same.
-    z = [[v[2] for _t, _k, v in o["messages"]["/lab_sim/ee_pose"]] for o in (idle, loaded)]
+    z = [[v[2] for _t, _k, v in o.messages["/lab_sim/ee_pose"]] for o in (idle, loaded)]
     assert max(z[0]) - z[0][0] > 0.02  # the pad lifted the arm
     assert max(z[0]) == pytest.approx(max(z[1]), abs=1e-9)
     assert z[0][-1] == pytest.approx(z[1][-1], abs=1e-9)
@@ -79,8 +79,8 @@ def test_the_sensor_launch_pairs_the_same_counts_and_mappings_idle_and_loaded(tm
             results.append(grade_sensor_launch(package))
     for result, observation in zip(results, seen):
         assert result.score == result.max_score, result.failed_parts
-        assert observation["clock"] == "grader"
-    series = [[(t, v) for t, _k, v in o["force_mapped"]] for o in seen]
-    counts = [[(t, v) for t, _k, v in o["pub_force"]] for o in seen]
+        assert observation.clock == "grader"
+    series = [[(t, v) for t, _k, v in o.force_mapped] for o in seen]
+    counts = [[(t, v) for t, _k, v in o.pub_force] for o in seen]
     _same_series(*series, at_least=9)
     _same_series(*counts, at_least=9)

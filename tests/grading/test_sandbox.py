@@ -56,13 +56,14 @@ def test_a_fork_bomb_hits_the_process_limit_and_leaves_nothing_behind(tmp_path):
 
 def test_output_beyond_the_cap_ends_the_process_with_a_clear_reason(tmp_path):
     from hri_teleop.grading.judge.compare import process_hints
+    from hri_teleop.grading.run.records import ProcessFacts
 
     cap = DEFAULT_LIMITS.file_bytes
     code, proc = _run(tmp_path, "import sys\nwhile True:\n    sys.stdout.write('x' * 65536)\n")
     # Python ignores SIGXFSZ: the write fails with EFBIG and the program ends with an error
     assert code not in (None, 0)
     assert cap - 65536 <= proc.output_size() <= cap
-    facts = {"exit_code": code, "output_bytes": proc.output_size(), "output_tail": proc.output_tail()}
+    facts = ProcessFacts(exit_code=code, output_bytes=proc.output_size(), output_tail=proc.output_tail())
     assert any("output limit" in hint for hint in process_hints(facts))
     assert "output limit" in describe_exit(-signal.SIGXFSZ)
 

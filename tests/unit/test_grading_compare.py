@@ -6,13 +6,36 @@ No ROS here: the observations are built by hand the way the sessions and probes 
 from __future__ import annotations
 
 import copy
+import dataclasses
 from pathlib import Path
 
 import pytest
 
-from hri_teleop.grading.cases.inputs import public_mapping_case, public_teleop_parts_case, reference_parts
+from hri_teleop.grading.cases.inputs import (
+    launch_sim_case,
+    public_mapping_case,
+    public_teleop_parts_case,
+    reference_parts,
+)
 from hri_teleop.grading.judge import compare
 from hri_teleop.grading.judge.robot_params import TABLE_1, compare_robot_params
+from hri_teleop.grading.run.records import (
+    LaunchNode,
+    LaunchParseResult,
+    LiveGraphObservation,
+    MappingNodeObservation,
+    MappingRun,
+    Message,
+    NodeFacts,
+    PartsCaseResult,
+    PartsTick,
+    ProcessFacts,
+    Response,
+    SensorLaunchObservation,
+    TeleopLaunchSimObservation,
+    TeleopPartsResult,
+    Topic,
+)
 from hri_teleop.grading.run.workspace import FRANKA_MARKER_PARAM
 
 
@@ -68,12 +91,13 @@ def test_a_file_that_sets_no_parameter_earns_no_point_and_one_key_earns_the_load
 # -- mapping_node.py ---------------------------------------------------------------------------
 
 def _run(case, outputs, topic="/force_mapped", kind="std_msgs/Float32", subs=(("/pub_force", "std_msgs/Int16"),)):
-    return {"label": case.label, "max_sensor_force": case.max_sensor_force, "counts": list(case.counts),
-            "input_topic": subs[0][0] if subs else "", "input_type": subs[0][1] if subs else "",
-            "output_topic": topic, "output_type": kind, "connected": True,
-            "responses": [[[kind, v]] if v is not None else [] for v in outputs],
-            "node": {"started": True, "subscriptions": [list(s) for s in subs], "publications": [[topic, kind]],
-                     "exited_by_itself": False, "exit_code": None, "output_tail": "", "output_bytes": 0, "problem": ""}}
+    return MappingRun(label=case.label, max_sensor_force=case.max_sensor_force, counts=list(case.counts),
+                      input_topic=subs[0][0] if subs else "", input_type=subs[0][1] if subs else "",
+                      output_topic=topic, output_type=kind, connected=True,
+                      responses=[[Response(kind, v)] if v is not None else [] for v in outputs],
+                      node=NodeFacts(started=True, subscriptions=[Topic(*s) for s in subs],
+                                     publications=[Topic(topic, kind)], exited_by_itself=False, exit_code=None,
+                                     output_tail="", output_bytes=0, problem=""))
 
 
 def _cases():
@@ -84,14 +108,14 @@ def _cases():
 
 def test_the_reference_mapping_gets_full_marks():
     cases = _cases()
-    parts = compare.compare_mapping({"runs": [_run(c, c.expected) for c in cases]}, cases)
+    parts = compare.compare_mapping(MappingNodeObservation(runs=[_run(c, c.expected) for c in cases]), cases)
     assert all(p.passed for p in parts) and sum(p.points for p in parts) == 20
 
 
 def test_a_range_of_700_fails_only_the_hidden_part_and_says_so():
     cases = _cases()
     runs = [_run(c, [min(1.0, x / 700.0) for x in c.counts]) for c in cases]
-    failed = _failed(compare.compare_mapping({"runs": runs}, cases))
+    failed = _failed(compare.compare_mapping(MappingNodeObservation(runs=runs), cases))
     assert list(failed) == [compare.MAPPING["hidden"][0]]
     assert "0..700" in failed[compare.MAPPING["hidden"][0]] and "rospy.get_param" in failed[compare.MAPPING["hidden"][0]]
 
@@ -99,9 +123,10 @@ def test_a_range_of_700_fails_only_the_hidden_part_and_says_so():
 def test_missing_and_doubled_messages_are_counted_with_an_example():
     cases = _cases()
     public = _run(cases[0], cases[0].expected)
-    public["responses"][1] = []
-    public["responses"][2] = public["responses"][2] * 2
-    failed = _failed(compare.compare_mapping({"runs": [public] + [_run(c, c.expected) for c in cases[1:]]}, cases))
+    public.responses[1] = []
+    public.responses[2] = public.responses[2] * 2
+    failed = _failed(compare.compare_mapping(MappingNodeObservation(runs=[public] + [_run(c, c.expected)
+                                                                                     for c in cases[1:]]), cases))
     message = failed[compare.MAPPING["values"][0]]
     assert "got no message back" in message and "more than one message" in message
 
@@ -109,16 +134,17 @@ def test_missing_and_doubled_messages_are_counted_with_an_example():
 def test_a_node_that_never_subscribes_fails_first_and_the_rest_is_not_judged():
     cases = _cases()
     run = _run(cases[0], [], subs=())
-    run["node"].update(exited_by_itself=True, exit_code=1, output_tail="Traceback...\nKeyError: '/max_force'",
-                       problem="exited with status 1 before subscribing to a topic")
-    parts = compare.compare_mapping({"runs": [run]}, cases)
+    run = dataclasses.replace(run, node=dataclasses.replace(
+        run.node, exited_by_itself=True, exit_code=1, output_tail="Traceback...\nKeyError: '/max_force'",
+        problem="exited with status 1 before subscribing to a topic"))
+    parts = compare.compare_mapping(MappingNodeObservation(runs=[run]), cases)
     assert "KeyError" in parts[0].message and "exited with status 1" in parts[0].message
     assert all(p.message.startswith("not judged") for p in parts[1:])
 
 
 def test_the_output_limit_and_writes_outside_are_explained():
-    facts = {"output_bytes": 5 * 1024 * 1024, "exit_code": -25,
-             "output_tail": "OSError: [Errno 30] Read-only file system: '/etc/passwd'"}
+    facts = ProcessFacts(output_bytes=5 * 1024 * 1024, exit_code=-25,
+                         output_tail="OSError: [Errno 30] Read-only file system: '/etc/passwd'")
     hints = " ".join(compare.process_hints(facts))
     assert "output limit" in hints and "/etc/passwd" in hints and "outside its own folder" in hints
 
@@ -126,22 +152,26 @@ def test_the_output_limit_and_writes_outside_are_explained():
 # -- teleoperation.py: the student's parts ------------------------------------------------------
 
 def _ticks_from_reference(case):
-    return [{"gripper_width": e.gripper_width, "rotation_mode": e.rotation_mode,
-             "cartesian_velocity": list(e.cartesian_velocity), "rumble": e.rumble} for e in reference_parts(case)]
+    return [PartsTick(gripper_width=e.gripper_width, rotation_mode=e.rotation_mode,
+                      cartesian_velocity=list(e.cartesian_velocity), rumble=e.rumble) for e in reference_parts(case)]
+
+
+def _parts_result(*cases):
+    return TeleopPartsResult(ok=True, cases=list(cases))
 
 
 def test_reference_parts_pass_and_a_gripper_step_without_rate_is_recognised():
     case = public_teleop_parts_case()
     ticks = _ticks_from_reference(case)
-    ok = compare.compare_teleop_parts({"ok": True, "cases": [{"label": case.label, "ticks": ticks}]}, [case])
+    ok = compare.compare_teleop_parts(_parts_result(PartsCaseResult(case.label, ticks)), [case])
     assert all(p.passed for p in ok)
-    bad = copy.deepcopy(ticks)
+    bad = []
     width = 0.08
-    for tick, t in zip(bad, case.ticks):
+    for tick, t in zip(ticks, case.ticks):
         width += (case.gains.k_gripper if "east" in t.buttons else 0) - (case.gains.k_gripper if "south" in t.buttons else 0)
         width = min(0.08, max(0.0, width))
-        tick["gripper_width"] = width
-    failed = _failed(compare.compare_teleop_parts({"ok": True, "cases": [{"label": case.label, "ticks": bad}]}, [case]))
+        bad.append(dataclasses.replace(tick, gripper_width=width))
+    failed = _failed(compare.compare_teleop_parts(_parts_result(PartsCaseResult(case.label, bad)), [case]))
     assert list(failed) == [compare.TELEOP["gripper"][0]]
     assert "k_gripper / rate" in failed[compare.TELEOP["gripper"][0]]
 
@@ -149,24 +179,24 @@ def test_reference_parts_pass_and_a_gripper_step_without_rate_is_recognised():
 def test_a_template_part_left_unfilled_names_the_method():
     case = public_teleop_parts_case()
     ticks = _ticks_from_reference(case)
-    result = {"label": case.label, "ticks": ticks, "errors": {"update_rumble": "NotImplementedError: "},
-              "error_ticks": {"update_rumble": 0}}
-    failed = _failed(compare.compare_teleop_parts({"ok": True, "cases": [result]}, [case]))
+    result = PartsCaseResult(case.label, ticks, errors={"update_rumble": "NotImplementedError: "},
+                             error_ticks={"update_rumble": 0})
+    failed = _failed(compare.compare_teleop_parts(_parts_result(result), [case]))
     assert list(failed) == [compare.TELEOP["rumble"][0]]
     assert "update_rumble() raised NotImplementedError" in failed[compare.TELEOP["rumble"][0]]
 
 
 def test_an_import_failure_fails_the_import_part_and_nothing_is_judged_after_it():
-    parts = compare.compare_teleop_parts({"ok": False, "error": "the file called sys.exit(2) while being imported"},
-                                         [public_teleop_parts_case()])
+    parts = compare.compare_teleop_parts(TeleopPartsResult(ok=False, error="the file called sys.exit(2) while being "
+                                                                           "imported"), [public_teleop_parts_case()])
     assert "sys.exit" in parts[0].message and all("not judged" in p.message for p in parts[1:])
 
 
 # -- launch files -------------------------------------------------------------------------------
 
 def _launch(nodes, params):
-    return {"ok": True, "nodes": [{"name": n, "namespace": "/", "package": pkg, "type": t} for n, pkg, t in nodes],
-            "params": params, "files": []}
+    return LaunchParseResult(ok=True, nodes=[LaunchNode(name=n, namespace="/", package=pkg, type=t) for n, pkg, t in nodes],
+                             params=params, files=[])
 
 
 TELEOP_NODES = [("serial_node", "rosserial_python", "serial_node.py"), ("mapping_node", "hri_lab", "mapping_node.py"),
@@ -210,19 +240,24 @@ def _sim_observation(**changes):
         "/lab_sim/object": [[5.9, "diagnostic_msgs/DiagnosticStatus", {"name": "sponge", "crushed": "false",
                                                                         "ever_lifted": "true"}]],
     }
-    observation = {"kind": "teleop-launch-sim", "supplied": [], "problem": "", "quit_in_time": True,
+    observation = {"supplied": [], "problem": "", "quit_in_time": True,
                    "messages": messages, "teleop_publications": [[twist, "geometry_msgs/Twist"]]}
     for key, value in changes.items():
         if key.startswith("/"):
             messages[key] = value
         else:
             observation[key] = value
-    return observation
+    return TeleopLaunchSimObservation(**dict(
+        observation, messages={t: _messages(rows) for t, rows in messages.items()},
+        teleop_publications=[Topic(*x) for x in observation["teleop_publications"]],
+        launch=ProcessFacts(**observation.get("launch", {}))))
+
+
+def _messages(rows):
+    return [Message(*row) for row in rows]
 
 
 def _sim_part(observation, plot_dir=None):
-    from hri_teleop.grading.cases.inputs import launch_sim_case
-
     return compare.compare_teleop_launch_sim(_launch(TELEOP_NODES, TELEOP_PARAMS), observation, launch_sim_case(),
                                              plot_dir)
 
@@ -256,16 +291,16 @@ def test_a_launch_that_does_not_start_or_could_not_be_run_is_named():
     failed = _sim_part(_sim_observation(problem="exited with status 1 before starting /teleoperation",
                                         launch={"exit_code": 1, "output_tail": "RLException: unused args [x]"}))
     assert not failed.passed and "RLException" in failed.message
-    skipped = _sim_part({"session_error": "the grading session did not finish within 120 s"})
+    skipped = _sim_part(TeleopLaunchSimObservation(session_error="the grading session did not finish within 120 s"))
     assert not skipped.passed and skipped.message.startswith("not judged: the grader could not run the simulation")
-    nothing = compare.compare_teleop_launch_sim(_launch(TELEOP_NODES[:2], TELEOP_PARAMS), None, None)
+    nothing = compare.compare_teleop_launch_sim(_launch(TELEOP_NODES[:2], TELEOP_PARAMS), None, launch_sim_case())
     assert nothing.message.startswith("not judged") and "no teleoperation.py" in nothing.message
 
 
 def test_sensor_launch_accepts_the_handouts_ros_intro_package_and_reports_ex_7():
     parsed = _launch([("FSR_sensor", "ros_intro", "FSR_sensor.py"), ("mapping_node", "ros_intro", "mapping_node.py")],
                      {"/max_sensor_force": 700, "/robot_name": "FER"})
-    observation = {"force_mapped": [[0.0, "std_msgs/Float32", 0.5]] * 5, "supplied": []}
+    observation = SensorLaunchObservation(force_mapped=_messages([[0.0, "std_msgs/Float32", 0.5]] * 5), supplied=[])
     parts = compare.compare_sensor_launch(parsed, observation)
     assert all(p.passed for p in parts)
     assert "Ex. 7 done" in parts[3].note
@@ -274,15 +309,17 @@ def test_sensor_launch_accepts_the_handouts_ros_intro_package_and_reports_ex_7()
 def test_sensor_launch_values_outside_0_1_fail_the_flow():
     parsed = _launch([("FSR_sensor", "hri_lab", "FSR_sensor.py"), ("mapping_node", "hri_lab", "mapping_node.py")],
                      {"/max_sensor_force": 700})
-    observation = {"force_mapped": [[0.0, "std_msgs/Float32", v] for v in (0.2, 1.46, 0.9)], "supplied": []}
+    observation = SensorLaunchObservation(force_mapped=_messages([[0.0, "std_msgs/Float32", v] for v in (0.2, 1.46, 0.9)]),
+                                          supplied=[])
     failed = _failed(compare.compare_sensor_launch(parsed, observation))
     assert list(failed) == [compare.SENSOR_LAUNCH["flow"][0]] and "outside [0, 1]" in failed[compare.SENSOR_LAUNCH["flow"][0]]
 
 
 def test_an_empty_launch_file_parses_but_earns_no_point():
     empty = _launch([], {})
-    sensor = compare.compare_sensor_launch(empty, {"force_mapped": [[0.0, "std_msgs/Float32", 0.5]] * 5,
-                                                   "supplied": ["/max_sensor_force", "FSR_sensor.py", "mapping_node.py"]})
+    sensor = compare.compare_sensor_launch(empty, SensorLaunchObservation(
+        force_mapped=_messages([[0.0, "std_msgs/Float32", 0.5]] * 5),
+        supplied=["/max_sensor_force", "FSR_sensor.py", "mapping_node.py"]))
     assert [p.score for p in sensor] == [0] * len(sensor)
     assert "starts no node" in sensor[0].message
     teleop = compare.compare_teleop_launch(empty)
@@ -297,7 +334,7 @@ def test_an_empty_launch_file_parses_but_earns_no_point():
 ])
 def test_the_flow_is_the_launch_files_only_when_it_started_a_node_of_the_pipeline(supplied, flow_passes):
     parsed = _launch([("FSR_sensor", "hri_lab", "FSR_sensor.py")], {"/max_sensor_force": 700})
-    observation = {"force_mapped": [[0.0, "std_msgs/Float32", 0.5]] * 5, "supplied": supplied}
+    observation = SensorLaunchObservation(force_mapped=_messages([[0.0, "std_msgs/Float32", 0.5]] * 5), supplied=supplied)
     flow = compare.compare_sensor_launch(parsed, observation)[-1]
     assert flow.passed is flow_passes
     if not flow_passes:
@@ -313,16 +350,16 @@ def test_launch_hints_name_the_element_and_exercise_not_the_answer_line():
 
 # -- Ex. 15 -----------------------------------------------------------------------------------------
 
-LIVE = {
-    "publishers": {"/pub_force": ["/FSR_sensor"], "/force_mapped": ["/mapping_node"], "/gripper_width": ["/teleoperation"],
-                   "/cartesian_velocity_controller/cmd_vel": ["/teleoperation"], "/joy": ["/teleoperation"],
-                   "/rosout": ["/FSR_sensor", "/mapping_node", "/teleoperation", "/gripper_manager"]},
-    "subscribers": {"/pub_force": ["/mapping_node"], "/force_mapped": ["/teleoperation"],
-                    "/gripper_width": ["/gripper_manager"], "/rosout": ["/rosout"]},
-    "types": {"/pub_force": "std_msgs/Int16", "/force_mapped": "std_msgs/Float32", "/gripper_width": "std_msgs/Float32",
-              "/cartesian_velocity_controller/cmd_vel": "geometry_msgs/Twist", "/joy": "sensor_msgs/Joy",
-              "/rosout": "rosgraph_msgs/Log"},
-}
+LIVE = LiveGraphObservation(
+    publishers={"/pub_force": ["/FSR_sensor"], "/force_mapped": ["/mapping_node"], "/gripper_width": ["/teleoperation"],
+                "/cartesian_velocity_controller/cmd_vel": ["/teleoperation"], "/joy": ["/teleoperation"],
+                "/rosout": ["/FSR_sensor", "/mapping_node", "/teleoperation", "/gripper_manager"]},
+    subscribers={"/pub_force": ["/mapping_node"], "/force_mapped": ["/teleoperation"],
+                 "/gripper_width": ["/gripper_manager"], "/rosout": ["/rosout"]},
+    types={"/pub_force": "std_msgs/Int16", "/force_mapped": "std_msgs/Float32", "/gripper_width": "std_msgs/Float32",
+           "/cartesian_velocity_controller/cmd_vel": "geometry_msgs/Twist", "/joy": "sensor_msgs/Joy",
+           "/rosout": "rosgraph_msgs/Log"},
+)
 ANSWER = {
     "nodes": ["/serial_node", "/mapping_node", "/teleoperation", "/gripper_manager"],
     "topics": {

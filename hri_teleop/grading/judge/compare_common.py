@@ -10,6 +10,7 @@ import re
 from typing import Any, Dict, List, Optional, Sequence, Tuple
 
 from hri_teleop.grading.results import Part, not_judged
+from hri_teleop.grading.run.records import ProcessFacts
 from hri_teleop.grading.run.sandbox import OUTPUT_CAP_BYTES, describe_exit
 
 #: Values on /force_mapped must be within this of the reference (Float32 carries ~7 digits).
@@ -104,11 +105,11 @@ def _as_float(value: Any) -> Optional[float]:
 _WRITE_ERROR = re.compile(r"(Read-only file system|Permission denied)\S*:?\s*'?([^'\n]*)")
 
 
-def process_hints(facts: Dict[str, Any]) -> List[str]:
+def process_hints(facts: ProcessFacts) -> List[str]:
     """Student-readable reasons found in a process' exit and output (limits, writes outside...)."""
-    tail = str(facts.get("output_tail", ""))
+    tail = facts.output_tail
     hints: List[str] = []
-    if int(facts.get("output_bytes", 0)) >= OUTPUT_CAP_BYTES - 1024:
+    if facts.output_bytes >= OUTPUT_CAP_BYTES - 1024:
         hints.append(f"it printed more than the output limit of {OUTPUT_CAP_BYTES // (1024 * 1024)} MB and was "
                      "stopped: remove prints inside loops")
     match = _WRITE_ERROR.search(tail)
@@ -130,14 +131,14 @@ def _last_lines(text: str, n: int = 6) -> str:
     return "\n".join("    " + line[:300] for line in lines[-n:])
 
 
-def explain_process(facts: Dict[str, Any], what: str) -> str:
+def explain_process(facts: ProcessFacts, what: str) -> str:
     """'<what> <problem>. <hints>. Its last output: ...'"""
-    problem = facts.get("problem") or describe_exit(facts.get("exit_code"))
+    problem = facts.problem or describe_exit(facts.exit_code)
     message = f"{what} {problem}"
     hints = process_hints(facts)
     if hints:
         message += "; " + "; ".join(hints)
-    tail = _last_lines(facts.get("output_tail", ""))
+    tail = _last_lines(facts.output_tail)
     if tail:
         message += "\n  its last output:\n" + tail
     return message

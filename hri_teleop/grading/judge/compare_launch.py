@@ -3,13 +3,15 @@
 
 from __future__ import annotations
 
+import dataclasses
 import re
 from pathlib import Path
-from typing import Any, Dict, Iterable, List, Optional, Sequence, Set, Tuple
+from typing import Any, Dict, Iterable, List, Mapping, Optional, Sequence, Set, Tuple
 
 from hri_teleop.core.config import DEFAULT_TWIST_TOPIC
 from hri_teleop.core.gripper import width_from_joint_positions_m
 from hri_teleop.core.mapping import ADC_MAX_COUNT
+from hri_teleop.grading.cases.inputs import LaunchSimCase
 from hri_teleop.grading.judge.compare_common import (
     _PACKAGES,
     GRAPH,
@@ -22,6 +24,15 @@ from hri_teleop.grading.judge.compare_common import (
     explain_process,
 )
 from hri_teleop.grading.results import Part
+from hri_teleop.grading.run.records import (
+    LaunchNode,
+    LaunchObservation,
+    LaunchParseResult,
+    LiveGraphObservation,
+    ProcessFacts,
+    SensorLaunchObservation,
+    TeleopLaunchSimObservation,
+)
 
 # -- launch files ---------------------------------------------------------------------------
 
@@ -30,29 +41,29 @@ _FRANKA_CONTROL_HINT = (" (the grader provides franka_control: write "
                         "$(find franka_control)/launch/franka_control_cartesian_velocity.launch)")
 
 
-def _parse_parts(table: Dict[str, Tuple[str, float]], parsed: Dict[str, Any], parse_facts: Optional[Dict[str, Any]],
+def _parse_parts(table: Dict[str, Tuple[str, float]], parsed: LaunchParseResult, parse_facts: Optional[ProcessFacts],
                  later: Sequence[str], exercise: str, franka_hint: str = "") -> Tuple[List[Part], bool]:
     """A launch file's "parse" part; when roslaunch cannot load it, also the ``later`` parts it leaves
     unjudged, and True: nothing more to judge."""
-    if not parsed.get("ok"):
-        reason = parsed.get("error") or explain_process(parse_facts or {}, "parsing")
+    if not parsed.ok:
+        reason = parsed.error or explain_process(parse_facts or ProcessFacts(), "parsing")
         if franka_hint and "franka_control" in reason:
             reason += franka_hint
         return ([_part(table, "parse", False, f"roslaunch cannot load it: {reason}")]
                 + [_nj(table, k, "the file does not parse") for k in later]), True
-    empty = not parsed.get("nodes") and not parsed.get("params")
+    empty = not parsed.nodes and not parsed.params
     return [_part(table, "parse", not empty, "it parses but starts no node and sets no parameter: write the launch "
                   f"file (handout {exercise})" if empty else "")], False
 
 
-def nodes_by_script(parsed: Dict[str, Any]) -> Dict[str, List[Dict[str, Any]]]:
-    out: Dict[str, List[Dict[str, Any]]] = {}
-    for node in parsed.get("nodes", []):
-        out.setdefault(node["type"], []).append(node)
+def nodes_by_script(parsed: LaunchParseResult) -> Dict[str, List[LaunchNode]]:
+    out: Dict[str, List[LaunchNode]] = {}
+    for node in parsed.nodes:
+        out.setdefault(node.type, []).append(node)
     return out
 
 
-def check_max_param(params: Dict[str, Any]) -> Tuple[bool, str]:
+def check_max_param(params: Mapping[str, object]) -> Tuple[bool, str]:
     value = params.get("/max_sensor_force")
     if "/max_sensor_force" not in params:
         private = [k for k in params if k.endswith("/max_sensor_force")]
@@ -69,8 +80,8 @@ def check_max_param(params: Dict[str, Any]) -> Tuple[bool, str]:
     return True, ""
 
 
-def compare_sensor_launch(parsed: Dict[str, Any], observation: Optional[Dict[str, Any]],
-                          parse_facts: Optional[Dict[str, Any]] = None) -> List[Part]:
+def compare_sensor_launch(parsed: LaunchParseResult, observation: Optional[SensorLaunchObservation],
+                          parse_facts: Optional[ProcessFacts] = None) -> List[Part]:
     """sensor.launch: what roslaunch's loader makes of it, then what flowed when it ran."""
     from hri_teleop.grading.judge.robot_params import TABLE_1
 
@@ -84,33 +95,29 @@ def compare_sensor_launch(parsed: Dict[str, Any], observation: Optional[Dict[str
         found = scripts.get(script, [])
         if not found:
             missing.append(f"no node runs {script} of hri_lab: start it with a <node> element (handout Ex. 6)")
-        elif not any(n["package"] in _PACKAGES for n in found):
-            missing.append(f"{script} is started from package {found[0]['package']!r}; it is in hri_lab")
+        elif not any(n.package in _PACKAGES for n in found):
+            missing.append(f"{script} is started from package {found[0].package!r}; it is in hri_lab")
     parts.append(_part(T, "nodes", not missing, "\n".join(missing)))
-    ok, message = check_max_param(parsed.get("params", {}))
+    ok, message = check_max_param(parsed.params)
     parts.append(_part(T, "param", ok, message))
-    keys = [k for k in TABLE_1 if f"/{k}" in parsed.get("params", {}) or any(p.startswith(f"/{k}/") for p in parsed.get("params", {}))]
+    keys = [k for k in TABLE_1 if f"/{k}" in parsed.params or any(p.startswith(f"/{k}/") for p in parsed.params)]
     parts.append(_part(T, "yaml", True, note=("Ex. 7 done: robot_params.yaml is loaded" if keys else
                                               "Ex. 7 (voluntary) not done: robot_params.yaml is not loaded")))
-    if observation is None or observation.get("session_error"):
-        reason = (observation or {}).get("session_error", "it was not launched")
+    if observation is None or observation.session_error:
+        reason = observation.session_error if observation is not None else "it was not launched"
         parts.append(_nj(T, "flow", f"the grader could not launch it ({reason})"))
         return parts
-    values = [m for m in observation.get("force_mapped", [])]
+    values = observation.force_mapped
     kinds = {k for _, k, _ in values}
     numbers = [_as_float(v) for _, _, v in values]
     problems = []
-    note = ""
-    if observation.get("supplied"):
-        note = ("to judge the flow the grader supplied what the launch file lacks: "
-                + ", ".join(observation["supplied"]))
-    if {"FSR_sensor.py", "mapping_node.py"} <= set(observation.get("supplied", [])):
+    note = _supplied_note(observation, "the flow")
+    if {"FSR_sensor.py", "mapping_node.py"} <= set(observation.supplied):
         parts.append(_part(T, "flow", False, "the launch file starts neither node: the grader started both, so "
                            "nothing that flowed came from your launch file", note=note))
         return parts
     if not values:
-        launch = dict(observation.get("launch", {}))
-        launch["problem"] = observation.get("problem", "")
+        launch = dataclasses.replace(observation.launch, problem=observation.problem)
         problems.append("nothing arrived on /force_mapped while the launch file ran: "
                         + explain_process(launch, "roslaunch"))
     else:
@@ -127,7 +134,7 @@ def compare_sensor_launch(parsed: Dict[str, Any], observation: Optional[Dict[str
     return parts
 
 
-def compare_teleop_launch(parsed: Dict[str, Any], parse_facts: Optional[Dict[str, Any]] = None) -> List[Part]:
+def compare_teleop_launch(parsed: LaunchParseResult, parse_facts: Optional[ProcessFacts] = None) -> List[Part]:
     """teleoperation.launch as roslaunch's loader sees it (with a stand-in franka_control)."""
     from hri_teleop.grading.run.workspace import FRANKA_MARKER_PARAM
 
@@ -142,17 +149,16 @@ def compare_teleop_launch(parsed: Dict[str, Any], parse_facts: Optional[Dict[str
         found = scripts.get(script, [])
         if not found:
             problems.append(f"no node runs {script} of hri_lab: start it with a <node> element (handout Ex. 12 e)")
-        elif not any(n["package"] == "hri_lab" for n in found):
-            problems.append(f"{script} is started from package {found[0]['package']!r}; in the lab it is in hri_lab")
+        elif not any(n.package == "hri_lab" for n in found):
+            problems.append(f"{script} is started from package {found[0].package!r}; in the lab it is in hri_lab")
     parts.append(_part(T, "nodes", not problems, "\n".join(problems)))
-    params = parsed.get("params", {})
-    serial = [n for n in scripts.get("serial_node.py", []) if n["package"] == "rosserial_python"]
+    params = parsed.params
+    serial = [n for n in scripts.get("serial_node.py", []) if n.package == "rosserial_python"]
     if not serial:
         parts.append(_part(T, "serial", False, "no node runs rosserial_python's serial_node.py: the Arduino's "
                                                "node of Ex. 12 f)"))
     else:
-        node = serial[0]
-        key = f"{node['namespace'].rstrip('/')}/{node['name']}/port"
+        key = f"{serial[0].full_name}/port"
         port = params.get(key)
         if port is None:
             parts.append(_part(T, "serial", False, f"serial_node has no private parameter port ({key}): give it the "
@@ -177,15 +183,15 @@ SIM_MAX_CLOSED_WIDTH_M = 0.06  # the hand opens 0.08 m; cross closes it past 0.0
 SIM_MIN_FORCE = 0.3            # the egg squeezed until strong rumble: /force_mapped well above 0
 
 
-def _series(observation: Dict[str, Any], topic: str) -> List[Tuple[float, Any]]:
-    return [(float(t), v) for t, _kind, v in observation.get("messages", {}).get(topic, [])]
+def _series(observation: TeleopLaunchSimObservation, topic: str) -> List[Tuple[float, Any]]:
+    return [(float(t), v) for t, _kind, v in observation.messages.get(topic, [])]
 
 
 def _width_m(positions: Any) -> Optional[float]:
     return width_from_joint_positions_m(positions) if isinstance(positions, list) else None
 
 
-def _sim_plot(plot_dir: Optional[Path], observation: Dict[str, Any], teleop: str) -> List[str]:
+def _sim_plot(plot_dir: Optional[Path], observation: TeleopLaunchSimObservation, teleop: str) -> List[str]:
     if plot_dir is None:
         return []
     from hri_teleop.grading.judge.plots import timeline
@@ -203,37 +209,41 @@ def _sim_plot(plot_dir: Optional[Path], observation: Dict[str, Any], teleop: str
                      "teleoperation.launch in simulation: what the grader saw", panels)]
 
 
-def teleop_node_name(parsed: Dict[str, Any]) -> Optional[str]:
+def teleop_node_name(parsed: LaunchParseResult) -> Optional[str]:
     """The full name (``/ns/name``) of the launch file's teleoperation.py node of hri_lab, if it has one."""
     for node in nodes_by_script(parsed).get("teleoperation.py", []):
-        if node["package"] == "hri_lab":
-            return f"{node['namespace'].rstrip('/')}/{node['name']}"
+        if node.package == "hri_lab":
+            return node.full_name
     return None
 
 
-def compare_teleop_launch_sim(parsed: Dict[str, Any], observation: Optional[Dict[str, Any]], case: Any,
-                              plot_dir: Optional[Path] = None) -> Part:
+def _supplied_note(observation: LaunchObservation, what: str) -> str:
+    """What the grader started or set in place of the launch file, to judge ``what`` ('' if nothing)."""
+    if not observation.supplied:
+        return ""
+    return f"to judge {what} the grader supplied what the launch file lacks: " + ", ".join(observation.supplied)
+
+
+def compare_teleop_launch_sim(parsed: LaunchParseResult, observation: Optional[TeleopLaunchSimObservation],
+                              case: LaunchSimCase, plot_dir: Optional[Path] = None) -> Part:
     """The launch file run with the simulated lab and the grader's operator (``case``): did it all connect?"""
     T = TELEOP_LAUNCH
-    if not parsed.get("ok"):
+    if not parsed.ok:
         return _nj(T, "sim", "the file does not parse")
     if observation is None:
         return _nj(T, "sim", "it starts no teleoperation.py of hri_lab, so there is no operator to run")
-    if observation.get("session_error"):
-        return _nj(T, "sim", f"the grader could not run the simulation ({observation['session_error']})")
-    note = ""
-    if observation.get("supplied"):
-        note = "to judge the rest the grader supplied what the launch file lacks: " + ", ".join(observation["supplied"])
+    if observation.session_error:
+        return _nj(T, "sim", f"the grader could not run the simulation ({observation.session_error})")
+    note = _supplied_note(observation, "the rest")
     teleop = teleop_node_name(parsed) or "/teleoperation"
-    if observation.get("problem"):
-        launch = dict(observation.get("launch", {}))
-        launch["problem"] = observation["problem"]
+    if observation.problem:
+        launch = dataclasses.replace(observation.launch, problem=observation.problem)
         return _part(T, "sim", False, explain_process(launch, "roslaunch"), note=note)
     twist_topic = DEFAULT_TWIST_TOPIC
     problems: List[str] = []
     twists = [v for _, v in _series(observation, twist_topic)]
     if not twists:
-        others = sorted(t for t, k in observation.get("teleop_publications", []) if k == "geometry_msgs/Twist")
+        others = sorted(t for t, k in observation.teleop_publications if k == "geometry_msgs/Twist")
         problems.append(f"nothing arrived on {twist_topic}, where the robot listens"
                         + (f"; {teleop} publishes its twist on {', '.join(others)}: a <remap> in the launch file?"
                            if others else f": did {teleop} start and stay up?"))
@@ -273,7 +283,7 @@ def compare_teleop_launch_sim(parsed: Dict[str, Any], observation: Optional[Dict
         last = status[-1]
         facts.append(f"the {last.get('name', 'object')} was " + ("crushed" if last.get("crushed") == "true" else
                                        "lifted" if last.get("ever_lifted") == "true" else "not lifted"))
-    if not observation.get("quit_in_time"):
+    if not observation.quit_in_time:
         facts.append(f"{teleop} was still running after square was pressed")
     note = "; ".join(x for x in [note] + facts if x)
     plots = _sim_plot(plot_dir, observation, teleop) if problems else []
@@ -306,7 +316,7 @@ def _canon(nodes: Iterable[str]) -> Set[str]:
     return {"/serial_node" if n in _SENSOR_ALIASES else n for n in nodes}
 
 
-def compare_graph(answer: Any, live: Dict[str, Any], answer_error: str = "") -> List[Part]:
+def compare_graph(answer: Any, live: LiveGraphObservation, answer_error: str = "") -> List[Part]:
     """The student's graph.yaml against the live graph of the lab's pipeline (hri_lab, no hardware)."""
     T = GRAPH
     if answer_error or not isinstance(answer, dict) or not isinstance(answer.get("nodes"), list) \
@@ -315,9 +325,7 @@ def compare_graph(answer: Any, live: Dict[str, Any], answer_error: str = "") -> 
                                "topic name to type, publishers and subscribers); see the template")
         return [_part(T, "format", False, why)] + [_nj(T, k, "graph.yaml could not be read") for k in ("nodes", "types", "links")]
     parts = [_part(T, "format", True)]
-    pubs: Dict[str, List[str]] = live["publishers"]
-    subs: Dict[str, List[str]] = live["subscribers"]
-    types: Dict[str, str] = live["types"]
+    pubs, subs, types = live.publishers, live.subscribers, live.types
     live_nodes = {n for ns in list(pubs.values()) + list(subs.values()) for n in ns}
     pipeline_nodes = _canon(n for t in PIPELINE_TOPICS for n in pubs.get(t, []) + subs.get(t, []))
     listed = _canon(_names(answer["nodes"]))

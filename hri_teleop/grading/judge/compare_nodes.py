@@ -8,7 +8,7 @@ from __future__ import annotations
 import math
 import re
 from pathlib import Path
-from typing import Any, Dict, List, Optional, Sequence, Tuple
+from typing import Any, Callable, List, Optional, Sequence, Tuple
 
 from hri_teleop.core.config import DEFAULT_TWIST_TOPIC
 from hri_teleop.core.mapping import ADC_MAX_COUNT
@@ -33,7 +33,19 @@ from hri_teleop.grading.judge.compare_common import (
     explain_process,
     process_hints,
 )
+from hri_teleop.grading.judge.plots import mapping_plot, series_plot
 from hri_teleop.grading.results import Part
+from hri_teleop.grading.run.records import (
+    MappingNodeObservation,
+    MappingRun,
+    NodeFacts,
+    PartsCaseResult,
+    PartsTick,
+    ProcessFacts,
+    Response,
+    TeleopNodeObservation,
+    TeleopPartsResult,
+)
 from hri_teleop.grading.run.sandbox import describe_exit
 
 # -- mapping_node.py (Ex. 5) -----------------------------------------------------------------
@@ -71,7 +83,7 @@ def _diagnose_mapping(bad: List[Tuple[int, float, float, Any]], out_type: str) -
     return "compute count / max_sensor_force and clip it to 0..1"
 
 
-def _judge_mapping(items: List[Tuple[int, int, float, List[List[Any]]]], out_type: str
+def _judge_mapping(items: List[Tuple[int, int, float, List[Response]]], out_type: str
                    ) -> Tuple[bool, str, List[int]]:
     """items: (count, max, expected, responses) -> (ok, message, indices of wrong items)."""
     missing = [i for i, (_, _, _, r) in enumerate(items) if not r]
@@ -104,60 +116,46 @@ def _judge_mapping(items: List[Tuple[int, int, float, List[List[Any]]]], out_typ
     return False, "\n".join(lines), sorted(set(wrong + missing + extra))
 
 
-def _mapping_plot(plot_dir: Optional[Path], run: Dict[str, Any], case: MappingCase, marks: List[int]) -> List[str]:
-    if plot_dir is None:
-        return []
-    from hri_teleop.grading.judge.plots import expected_vs_actual
-
-    actual = [r[0][1] if r else None for r in run["responses"]] + [None] * (len(case.counts) - len(run["responses"]))
-    actual = [a if _as_float(a) is not None else None for a in actual]
-    path = expected_vs_actual(Path(plot_dir) / f"mapping-{case.label}.png",
-                              f"/force_mapped for the {case.label} counts, /max_sensor_force = {case.max_sensor_force}",
-                              list(range(len(case.counts))), list(case.expected), actual, "count number", "/force_mapped",
-                              inputs=list(case.counts), input_label="/pub_force (count)", marks=marks)
-    return [path]
-
-
-def compare_mapping(observation: Dict[str, Any], cases: Sequence[MappingCase],
+def compare_mapping(observation: MappingNodeObservation, cases: Sequence[MappingCase],
                     plot_dir: Optional[Path] = None) -> List[Part]:
     """The mapping-node parts from a mapping-node session (runs in the order of ``cases``, public first)."""
     T = MAPPING
-    runs = observation.get("runs", [])
-    if observation.get("session_error") or not runs:
-        reason = observation.get("session_error", "the grader's ROS session produced nothing")
+    runs = observation.runs
+    if observation.session_error or not runs:
+        reason = observation.session_error or "the grader's ROS session produced nothing"
         return [_nj(T, k, f"the grader could not run the node ({reason})") for k in T]
     public, public_case = runs[0], cases[0]
-    facts = public["node"]
-    if not public.get("input_topic"):
+    facts = public.node
+    if not public.input_topic:
         message = explain_process(facts, "mapping_node.py")
-        if facts.get("started") and facts.get("subscriptions") == [] and not facts.get("problem"):
+        if facts.started and facts.subscriptions == [] and not facts.problem:
             message = "mapping_node.py subscribes to no topic: create rospy.Subscriber('/pub_force', Int16, callback)"
         parts = [_part(T, "sub", False, message)]
         return parts + [_nj(T, k, "the node did not subscribe to /pub_force") for k in T if k != "sub"]
 
     parts: List[Part] = []
-    in_topic, in_type = public["input_topic"], public.get("input_type", "")
+    in_topic, in_type = public.input_topic, public.input_type
     if in_topic == "/pub_force" and in_type == "std_msgs/Int16":
         parts.append(_part(T, "sub", True))
     elif in_topic != "/pub_force":
-        others = ", ".join(t for t, _ in facts.get("subscriptions", []))
+        others = ", ".join(t for t, _ in facts.subscriptions)
         parts.append(_part(T, "sub", False, f"the node subscribes {others}, not /pub_force: the sensor publishes on "
                                             "/pub_force (the grader sent the counts to your topic to judge the rest)"))
     else:
         parts.append(_part(T, "sub", False, f"the node subscribes /pub_force as {in_type}; the sensor publishes "
                                             "std_msgs/Int16: use Int16 from std_msgs.msg"))
 
-    out_topic, out_type = public.get("output_topic", ""), public.get("output_type", "")
-    answered = [r for run in runs for r in run.get("responses", []) if r]
+    out_topic, out_type = public.output_topic, public.output_type
+    answered = [r for run in runs for r in run.responses if r]
     if not out_topic:
-        advertised = ", ".join(t for t, _ in facts.get("publications", [])) or "nothing"
+        advertised = ", ".join(t for t, _ in facts.publications) or "nothing"
         message = (f"the node advertises {advertised}, no /force_mapped: create "
                    "rospy.Publisher('/force_mapped', Float32, queue_size=10)")
-        if facts.get("exited_by_itself"):
+        if facts.exited_by_itself:
             message = explain_process(facts, "mapping_node.py")
         parts.append(_part(T, "pub", False, message))
         return parts + [_nj(T, k, "nothing was published") for k in ("type", "values", "clip", "hidden")]
-    if not public.get("connected"):
+    if not public.connected:
         parts.append(_part(T, "pub", False, f"the grader could not connect to {in_topic} ({in_type}) and "
                                             f"{out_topic}: " + explain_process(facts, "mapping_node.py")))
         return parts + [_nj(T, k, "no connection to the node") for k in ("type", "values", "clip", "hidden")]
@@ -170,11 +168,11 @@ def compare_mapping(observation: Dict[str, Any], cases: Sequence[MappingCase],
     if not answered:
         message = (f"the node advertises {out_topic} but published nothing for the {len(public_case.counts)} counts "
                    "sent on /pub_force: publish the mapped value in the subscriber's callback")
-        tail = str(facts.get("output_tail", ""))
+        tail = facts.output_tail
         if out_type != "std_msgs/Float32" and ("SerializationError" in tail or "struct.error" in tail):
             message = (f"the node advertises {out_topic} as {out_type}, and rospy could not send the mapped float "
                        f"in it (SerializationError in its output): publish std_msgs/Float32")
-        if facts.get("exited_by_itself"):
+        if facts.exited_by_itself:
             message = explain_process(facts, "mapping_node.py")
         parts += [_part(T, "pub", False, message), type_part]
         return parts + [_nj(T, k, "nothing was published") for k in ("values", "clip", "hidden")]
@@ -185,9 +183,11 @@ def compare_mapping(observation: Dict[str, Any], cases: Sequence[MappingCase],
         parts.append(_part(T, "pub", True))
     parts.append(type_part)
 
-    def items(run: Dict[str, Any], case: MappingCase, which) -> Tuple[List[Any], List[int]]:
-        responses = run.get("responses", [])
-        chosen, index = [], []
+    def items(run: MappingRun, case: MappingCase, which: Callable[[int, int], bool]
+              ) -> Tuple[List[Tuple[int, int, float, List[Response]]], List[int]]:
+        responses = run.responses
+        chosen: List[Tuple[int, int, float, List[Response]]] = []
+        index: List[int] = []
         for i, (count, expected) in enumerate(zip(case.counts, case.expected)):
             if which(count, case.max_sensor_force):
                 r = responses[i] if i < len(responses) else []
@@ -198,24 +198,26 @@ def compare_mapping(observation: Dict[str, Any], cases: Sequence[MappingCase],
     for key, which in (("values", lambda c, m: c <= m), ("clip", lambda c, m: c > m)):
         chosen, index = items(public, public_case, which)
         ok, message, wrong = _judge_mapping(chosen, out_type)
-        if not ok and public["node"].get("exited_by_itself"):
-            message += "\n" + explain_process(public["node"], "mapping_node.py")
-        plots = [] if ok else _mapping_plot(plot_dir, public, public_case, [index[i] for i in wrong])
+        if not ok and public.node.exited_by_itself:
+            message += "\n" + explain_process(public.node, "mapping_node.py")
+        plots = [] if ok else mapping_plot(plot_dir, public, public_case, [index[i] for i in wrong])
         parts.append(_part(T, key, ok, message, plots))
 
-    hidden_ok, hidden_lines, hidden_plots = True, [], []
+    hidden_ok = True
+    hidden_lines: List[str] = []
+    hidden_plots: List[str] = []
     for run, case in zip(runs[1:], cases[1:]):
-        if not run.get("input_topic") or not run.get("connected"):
+        if not run.input_topic or not run.connected:
             hidden_ok = False
             hidden_lines.append(f"with /max_sensor_force = {case.max_sensor_force}: "
-                                + explain_process(run["node"], "mapping_node.py"))
+                                + explain_process(run.node, "mapping_node.py"))
             continue
         chosen, index = items(run, case, lambda c, m: True)
-        ok, message, wrong = _judge_mapping(chosen, run.get("output_type", out_type))
+        ok, message, wrong = _judge_mapping(chosen, run.output_type)
         if not ok:
             hidden_ok = False
             hidden_lines.append(f"{case.label} (/max_sensor_force = {case.max_sensor_force}): {message}")
-            hidden_plots += _mapping_plot(plot_dir, run, case, wrong)
+            hidden_plots += mapping_plot(plot_dir, run, case, wrong)
     if len(runs) < len(cases):
         hidden_ok = False
         hidden_lines.append("the hidden runs did not happen (see the parts above)")
@@ -241,32 +243,21 @@ def _case_where(case: TeleopPartsCase, index: int) -> str:
             f"k_gripper {g.k_gripper:g}, deadzone {g.deadzone:g}), tick {index}")
 
 
-def _method_error(result: Dict[str, Any], method: str) -> Optional[str]:
-    errors = result.get("errors", {})
-    if method in errors:
-        return f"{method}() raised {errors[method]} (first at tick {result.get('error_ticks', {}).get(method)})"
+def _method_error(result: PartsCaseResult, method: str) -> Optional[str]:
+    if method in result.errors:
+        return f"{method}() raised {result.errors[method]} (first at tick {result.error_ticks.get(method)})"
     return None
 
 
-def _series_plot(plot_dir: Optional[Path], name: str, title: str, expected: List[float], actual: List[Any],
-                 ylabel: str, marks: List[int]) -> List[str]:
-    if plot_dir is None:
-        return []
-    from hri_teleop.grading.judge.plots import expected_vs_actual
-
-    return [expected_vs_actual(Path(plot_dir) / name, title, list(range(len(expected))), expected,
-                               [_as_float(a) for a in actual], "tick", ylabel, marks=marks)]
-
-
-def _judge_gripper(case: TeleopPartsCase, exp: List[ExpectedTick], got: List[Dict[str, Any]]) -> Tuple[bool, str, List[int]]:
+def _judge_gripper(case: TeleopPartsCase, exp: List[ExpectedTick], got: List[PartsTick]) -> Tuple[bool, str, List[int]]:
     step = case.gains.k_gripper / case.gains.rate
     bad = [i for i, (e, g) in enumerate(zip(exp, got))
-           if _as_float(g["gripper_width"]) is None or abs(_as_float(g["gripper_width"]) - e.gripper_width) > 1e-9]
+           if _as_float(g.gripper_width) is None or abs(_as_float(g.gripper_width) - e.gripper_width) > 1e-9]
     if not bad:
         return True, "", []
     i = bad[0]
-    value = _as_float(got[i]["gripper_width"])
-    previous = _as_float(got[i - 1]["gripper_width"]) if i > 0 else 0.08
+    value = _as_float(got[i].gripper_width)
+    previous = _as_float(got[i - 1].gripper_width) if i > 0 else 0.08
     held = case.ticks[i].buttons
     if value is None:
         hint = "self.gripper_width must stay a number in metres"
@@ -281,7 +272,7 @@ def _judge_gripper(case: TeleopPartsCase, exp: List[ExpectedTick], got: List[Dic
     else:
         hint = f"while a button is held the width changes by k_gripper / rate = {step:.6g} m per tick"
     message = (f"{_case_where(case, i)} ({_pad_context(case, i)}): gripper_width expected {exp[i].gripper_width:.6g} m, "
-               f"got {_fmt(got[i]['gripper_width'])}; {len(bad)} of {len(exp)} ticks differ\nhint: {hint}")
+               f"got {_fmt(got[i].gripper_width)}; {len(bad)} of {len(exp)} ticks differ\nhint: {hint}")
     return False, message, bad
 
 
@@ -297,11 +288,11 @@ def _no_deadzone(gains_params: TeleopParams, mode_rotation: bool) -> TeleopContr
     return controller
 
 
-def _judge_twist(case: TeleopPartsCase, exp: List[ExpectedTick], got: List[Dict[str, Any]]) -> Tuple[bool, str, List[int]]:
+def _judge_twist(case: TeleopPartsCase, exp: List[ExpectedTick], got: List[PartsTick]) -> Tuple[bool, str, List[int]]:
     bad = []
     for i, (e, g) in enumerate(zip(exp, got)):
-        velocity = g["cartesian_velocity"]
-        rotation = g["rotation_mode"] is True
+        velocity = g.cartesian_velocity
+        rotation = g.rotation_mode is True
         want = e.velocity_if_rotation if rotation else e.velocity_if_translation
         values = [_as_float(v) for v in velocity] if isinstance(velocity, list) else []
         if len(values) != 6 or any(v is None or abs(v - w) > _TWIST_TOLERANCE for v, w in zip(values, want)):
@@ -309,8 +300,8 @@ def _judge_twist(case: TeleopPartsCase, exp: List[ExpectedTick], got: List[Dict[
     if not bad:
         return True, "", []
     i = bad[0]
-    velocity = got[i]["cartesian_velocity"]
-    rotation = got[i]["rotation_mode"] is True
+    velocity = got[i].cartesian_velocity
+    rotation = got[i].rotation_mode is True
     want = exp[i].velocity_if_rotation if rotation else exp[i].velocity_if_translation
     values = [_as_float(v) for v in velocity] if isinstance(velocity, list) else []
     mode = "rotation" if rotation else "translation"
@@ -345,17 +336,17 @@ def _judge_twist(case: TeleopPartsCase, exp: List[ExpectedTick], got: List[Dict[
     return False, message, bad
 
 
-def _judge_toggle(case: TeleopPartsCase, exp: List[ExpectedTick], got: List[Dict[str, Any]]) -> Tuple[bool, str, List[int]]:
-    bad = [i for i, (e, g) in enumerate(zip(exp, got)) if g["rotation_mode"] is not e.rotation_mode]
+def _judge_toggle(case: TeleopPartsCase, exp: List[ExpectedTick], got: List[PartsTick]) -> Tuple[bool, str, List[int]]:
+    bad = [i for i, (e, g) in enumerate(zip(exp, got)) if g.rotation_mode is not e.rotation_mode]
     if not bad:
         return True, "", []
     i = bad[0]
-    value = got[i]["rotation_mode"]
+    value = got[i].rotation_mode
     presses = sum(1 for k in range(i + 1) if "north" in case.ticks[k].buttons and
                   (k == 0 or "north" not in case.ticks[k - 1].buttons))
     if not isinstance(value, bool):
         hint = "self.rotation_mode must stay True or False"
-    elif all(g["rotation_mode"] is False for g in got):
+    elif all(g.rotation_mode is False for g in got):
         hint = "toggle_mode() must switch self.rotation_mode: self.rotation_mode = not self.rotation_mode"
     else:
         hint = "switch once per press of triangle: toggle_mode() is called once for each JOYBUTTONDOWN"
@@ -364,13 +355,13 @@ def _judge_toggle(case: TeleopPartsCase, exp: List[ExpectedTick], got: List[Dict
     return False, message, bad
 
 
-def _judge_rumble(case: TeleopPartsCase, exp: List[ExpectedTick], got: List[Dict[str, Any]]) -> Tuple[bool, str, List[int]]:
+def _judge_rumble(case: TeleopPartsCase, exp: List[ExpectedTick], got: List[PartsTick]) -> Tuple[bool, str, List[int]]:
     bad = [i for i, (e, g) in enumerate(zip(exp, got))
-           if _as_float(g["rumble"]) is None or abs(_as_float(g["rumble"]) - e.rumble) > 1e-9]
+           if _as_float(g.rumble) is None or abs(_as_float(g.rumble) - e.rumble) > 1e-9]
     if not bad:
         return True, "", []
     i = bad[0]
-    value = _as_float(got[i]["rumble"])
+    value = _as_float(got[i].rumble)
     force = case.ticks[i].force
     if value is None:
         hint = "self.rumble must be a number 0..1"
@@ -381,20 +372,20 @@ def _judge_rumble(case: TeleopPartsCase, exp: List[ExpectedTick], got: List[Dict
     else:
         hint = "the rumble is the mapped force self.force, limited to 0..1"
     message = (f"{_case_where(case, i)}: with self.force = {force:g} rumble expected {exp[i].rumble:g}, got "
-               f"{_fmt(got[i]['rumble'])}; {len(bad)} of {len(exp)} ticks differ\nhint: {hint}")
+               f"{_fmt(got[i].rumble)}; {len(bad)} of {len(exp)} ticks differ\nhint: {hint}")
     return False, message, bad
 
 
-def compare_teleop_parts(observation: Dict[str, Any], cases: Sequence[TeleopPartsCase],
-                         plot_dir: Optional[Path] = None, probe_facts: Optional[Dict[str, Any]] = None) -> List[Part]:
+def compare_teleop_parts(observation: TeleopPartsResult, cases: Sequence[TeleopPartsCase],
+                         plot_dir: Optional[Path] = None, probe_facts: Optional[ProcessFacts] = None) -> List[Part]:
     """The parts of Ex. 8 (gripper, twist, toggle, rumble) from the teleop-parts probe."""
     T = TELEOP
     keys = ("gripper", "twist", "toggle", "rumble")
-    if not observation.get("ok"):
-        reason = observation.get("error") or explain_process(probe_facts or {}, "teleoperation.py")
+    if not observation.ok:
+        reason = observation.error or explain_process(probe_facts or ProcessFacts(), "teleoperation.py")
         return [_part(T, "import", False, reason)] + [_nj(T, k, "the file could not be imported") for k in keys]
-    results = observation["cases"]
-    errors = [r.get("construct_error") for r in results if r.get("construct_error")]
+    results = observation.cases
+    errors = [r.construct_error for r in results if r.construct_error]
     if errors:
         return ([_part(T, "import", False, f"Teleoperation(rate=..., k_trans=..., k_rot=..., k_gripper=..., "
                                            f"deadzone=...) raised {errors[0]}: keep the template's constructor")]
@@ -415,7 +406,7 @@ def compare_teleop_parts(observation: Dict[str, Any], cases: Sequence[TeleopPart
                 hint = "; fill in the part marked YOUR CODE HERE" if "NotImplementedError" in error else ""
                 failures.append(f"{case.label} trace: {error}{hint}")
                 continue
-            ticks = result["ticks"]
+            ticks = result.ticks
             if len(ticks) != len(exp):
                 failures.append(f"{case.label} trace: only {len(ticks)} of {len(exp)} ticks ran")
                 continue
@@ -424,25 +415,26 @@ def compare_teleop_parts(observation: Dict[str, Any], cases: Sequence[TeleopPart
                 failures.append(message)
                 if key == "twist":
                     component = _first_wrong_component(exp, ticks, bad[0])
-                    e_series = [(e.velocity_if_rotation if t["rotation_mode"] is True else e.velocity_if_translation)[component]
+                    e_series = [(e.velocity_if_rotation if t.rotation_mode is True else e.velocity_if_translation)[component]
                                 for e, t in zip(exp, ticks)]
-                    a_series = [t["cartesian_velocity"][component] if isinstance(t["cartesian_velocity"], list)
-                                and len(t["cartesian_velocity"]) == 6 else None for t in ticks]
+                    a_series = [t.cartesian_velocity[component] if isinstance(t.cartesian_velocity, list)
+                                and len(t.cartesian_velocity) == 6 else None for t in ticks]
                     label = "v_x v_y v_z w_x w_y w_z".split()[component]
-                    plots += _series_plot(plot_dir, f"teleop-{key}-{_slug(case.label)}.png",
+                    plots += series_plot(plot_dir, f"teleop-{key}-{_slug(case.label)}.png",
                                           f"cartesian_velocity {label}, {case.label} trace", e_series, a_series, label, bad[:50])
                 else:
                     e_series = [float(getattr(e, attribute)) for e in exp]
-                    a_series = [t[attribute] if not isinstance(t[attribute], bool) else float(t[attribute]) for t in ticks]
-                    plots += _series_plot(plot_dir, f"teleop-{key}-{_slug(case.label)}.png",
+                    values = [getattr(t, attribute) for t in ticks]
+                    a_series = [v if not isinstance(v, bool) else float(v) for v in values]
+                    plots += series_plot(plot_dir, f"teleop-{key}-{_slug(case.label)}.png",
                                           f"{attribute}, {case.label} trace", e_series, a_series, ylabel, bad[:50])
         parts.append(_part(T, key, not failures, "\n".join(failures), plots))
     return parts
 
 
-def _first_wrong_component(exp: List[ExpectedTick], ticks: List[Dict[str, Any]], index: int) -> int:
-    velocity = ticks[index]["cartesian_velocity"]
-    want = exp[index].velocity_if_rotation if ticks[index]["rotation_mode"] is True else exp[index].velocity_if_translation
+def _first_wrong_component(exp: List[ExpectedTick], ticks: List[PartsTick], index: int) -> int:
+    velocity = ticks[index].cartesian_velocity
+    want = exp[index].velocity_if_rotation if ticks[index].rotation_mode is True else exp[index].velocity_if_translation
     if isinstance(velocity, list) and len(velocity) == 6:
         for k in range(6):
             v = _as_float(velocity[k])
@@ -457,8 +449,9 @@ def _slug(text: str) -> str:
 
 # -- teleoperation.py as a node (Ex. 9) ---------------------------------------------------------
 
-def _topic_of_type(facts: Dict[str, Any], kind: str, preferred: str, which: str = "publications") -> Tuple[str, str]:
-    entries = facts.get(which, [])
+def _topic_of_type(facts: NodeFacts, kind: str, preferred: str) -> Tuple[str, str]:
+    """(topic, type) the node publishes: ``preferred`` if it does, else its first topic of type ``kind``."""
+    entries = facts.publications
     for topic, t in entries:
         if topic == preferred:
             return topic, t
@@ -466,20 +459,20 @@ def _topic_of_type(facts: Dict[str, Any], kind: str, preferred: str, which: str 
     return (same[0], kind) if same else ("", "")
 
 
-def compare_teleop_node(observation: Dict[str, Any], case: TeleopNodeCase,
+def compare_teleop_node(observation: TeleopNodeObservation, case: TeleopNodeCase,
                         twist_topic: str = DEFAULT_TWIST_TOPIC,
                         plot_dir: Optional[Path] = None) -> List[Part]:
     """The node parts: topics, types, and what came out while a scripted pad drove it."""
     T = TELEOP
     keys = ("node_start", "node_twist_topic", "node_width_topic", "node_twist", "node_width", "node_rumble", "node_quit")
-    if observation.get("session_error"):
-        return [_nj(T, k, f"the grader could not run the node ({observation['session_error']})") for k in keys]
-    facts = observation["node"]
-    if not facts.get("started") or (observation.get("problem") and not facts.get("publications")):
+    if observation.session_error:
+        return [_nj(T, k, f"the grader could not run the node ({observation.session_error})") for k in keys]
+    facts = observation.node
+    if not facts.started or (observation.problem and not facts.publications):
         return ([_part(T, "node_start", False, explain_process(facts, "teleoperation.py"))]
                 + [_nj(T, k, "the node did not start") for k in keys[1:]])
     parts: List[Part] = []
-    subs = facts.get("subscriptions", [])
+    subs = facts.subscriptions
     force_sub = [t for topic, t in subs if topic == "/force_mapped"]
     if force_sub == ["std_msgs/Float32"]:
         parts.append(_part(T, "node_start", True))
@@ -490,8 +483,8 @@ def compare_teleop_node(observation: Dict[str, Any], case: TeleopNodeCase,
         listed = ", ".join(topic for topic, _ in subs) or "no topic"
         parts.append(_part(T, "node_start", False, f"the node subscribes {listed}, not /force_mapped: "
                                                    "rospy.Subscriber('/force_mapped', Float32, self.on_force)"))
-    messages = observation.get("messages", {})
-    pubs = facts.get("publications", [])
+    messages = observation.messages
+    pubs = facts.publications
 
     twist_at, twist_type = _topic_of_type(facts, "geometry_msgs/Twist", twist_topic)
     if twist_at == twist_topic and twist_type == "geometry_msgs/Twist":
@@ -572,13 +565,13 @@ def compare_teleop_node(observation: Dict[str, Any], case: TeleopNodeCase,
             f"in {hits} of {len(rumbles)} ticks (values {min(rumbles):.3g} .. {max(rumbles):.3g}): keep the value "
             "in on_force() and compute the rumble from self.force")))
 
-    code = observation.get("exit_code")
+    code = observation.exit_code
     last = twists[-1][2] if twists else None
-    if observation.get("quit_in_time") and code == 0 and last is not None and all(v == 0.0 for v in last):
+    if observation.quit_in_time and code == 0 and last is not None and all(v == 0.0 for v in last):
         parts.append(_part(T, "node_quit", True))
     else:
         why = []
-        if not observation.get("quit_in_time"):
+        if not observation.quit_in_time:
             why.append("the node was still running after square was pressed")
         elif code != 0:
             why.append(f"it {describe_exit(code)} after square")

@@ -24,6 +24,8 @@ from hri_teleop.grading.judge.harness import (
     run_session_plan,
 )
 from hri_teleop.grading.results import CheckResult, GradingError
+from hri_teleop.grading.run.records import LiveGraphObservation, LiveGraphPlan, SessionContext
+from hri_teleop.grading.run.sandbox import DEFAULT_LIMITS
 from hri_teleop.grading.run.workspace import (
     REFERENCE_PACKAGE,
     REPO,
@@ -35,7 +37,7 @@ __all__ = ["LIVE_GRAPH_NODES", "graph_cache_file", "live_graph", "grade_graph"]
 PathLike = Union[str, Path]
 
 
-_LIVE_GRAPH: Dict[str, Dict[str, Any]] = {}
+_LIVE_GRAPH: Dict[str, LiveGraphObservation] = {}
 LIVE_GRAPH_NODES = ("/FSR_sensor", "/mapping_node", "/gripper_manager", "/teleoperation")
 
 
@@ -54,7 +56,7 @@ def graph_cache_file(reference: Path = REPO / "hri_lab") -> Path:
     return base / "hri-teleop" / f"live-graph-{digest.hexdigest()[:16]}.json"
 
 
-def live_graph(cache_file: Optional[PathLike] = None) -> Dict[str, Any]:
+def live_graph(cache_file: Optional[PathLike] = None) -> LiveGraphObservation:
     """The graph of the lab's pipeline (hri_lab teleoperation.launch without hardware), once per process.
 
     ``cache_file``: read it if it exists, else write it (``make grade`` computes it once for
@@ -67,39 +69,38 @@ def live_graph(cache_file: Optional[PathLike] = None) -> Dict[str, Any]:
         cache_file = graph_cache_file(REFERENCE_PACKAGE)
     if cache_file and Path(cache_file).is_file():
         try:
-            _LIVE_GRAPH["graph"] = json.loads(Path(cache_file).read_text(encoding="utf-8"))
+            _LIVE_GRAPH["graph"] = LiveGraphObservation.from_json(json.loads(Path(cache_file).read_text(encoding="utf-8")))
             return _LIVE_GRAPH["graph"]
         except (OSError, ValueError):
-            pass  # unreadable or cut short: compute it again
+            pass  # unreadable, cut short or of another version (RecordError): compute it again
     if not (REFERENCE_PACKAGE / "launch" / "teleoperation.launch").is_file():
         return _graph_of_running_master()  # the student bundle: the pipeline its notebook started
     _require_ros()
     session_dir = Path(tempfile.mkdtemp(prefix="hri-grade-graph-"))
     try:
-        env = _grader_env()
-        plan = {"kind": "live-graph", "session_dir": str(session_dir), "student_folder": "", "uid": None,
-                "python": sys.executable, "env": dict(env, TMPDIR=str(session_dir)),
-                "out": str(session_dir / "live-graph.out.json"),
-                "launch_args": ["robot:=false", "arduino:=false", "pad:=virtual"], "nodes": list(LIVE_GRAPH_NODES),
-                "start_timeout_s": 30.0}
-        graph = run_session_plan(plan, session_dir, 90.0)
+        context = SessionContext(session_dir=str(session_dir), student_folder="", uid=None, python=sys.executable,
+                                 env=dict(_grader_env(), TMPDIR=str(session_dir)),
+                                 out=str(session_dir / "live-graph.out.json"), limits=DEFAULT_LIMITS)
+        plan = LiveGraphPlan(launch_args=["robot:=false", "arduino:=false", "pad:=virtual"],
+                             nodes=list(LIVE_GRAPH_NODES), start_timeout_s=30.0)
+        graph = run_session_plan(context, plan, session_dir, 90.0)
     finally:
         shutil.rmtree(session_dir, ignore_errors=True)
-    if graph.get("session_error") or graph.get("problem"):
-        raise GradingError(f"could not read the lab's live graph: {graph.get('session_error') or graph.get('problem')}")
+    if graph.session_error or graph.problem:
+        raise GradingError(f"could not read the lab's live graph: {graph.session_error or graph.problem}")
     _LIVE_GRAPH["graph"] = graph
     if cache_file:
         try:
             Path(cache_file).parent.mkdir(parents=True, exist_ok=True)
             partial = Path(cache_file).with_suffix(f".{os.getpid()}.tmp")
-            partial.write_text(json.dumps(graph, sort_keys=True), encoding="utf-8")
+            partial.write_text(json.dumps(graph.to_json(), sort_keys=True), encoding="utf-8")
             partial.replace(cache_file)  # whole or not at all: graders running side by side read it
         except OSError:
             pass  # a read-only home: the graph is computed again next time
     return graph
 
 
-def _graph_of_running_master() -> Dict[str, Any]:
+def _graph_of_running_master() -> LiveGraphObservation:
     """The graph on this process's master (ROS_MASTER_URI), once two readings 0.3 s apart agree."""
     try:
         previous: Any = None
@@ -118,8 +119,8 @@ def _graph_of_running_master() -> Dict[str, Any]:
     if missing:
         raise GradingError(f"the pipeline is not running here ({', '.join(missing)} missing): run the cell that "
                            "starts it (lab.start_pipeline()) first, then this check")
-    return {"kind": "live-graph", "problem": "", "publishers": {t: sorted(n) for t, n in pubs},
-            "subscribers": {t: sorted(n) for t, n in subs}, "types": types}
+    return LiveGraphObservation(problem="", publishers={t: sorted(n) for t, n in pubs},
+                                subscribers={t: sorted(n) for t, n in subs}, types=types)
 
 
 @_reusable("graph")
@@ -142,6 +143,6 @@ def grade_graph(path: PathLike, *, seed: Optional[int] = None, out_dir: Optional
     except yaml.YAMLError as exc:
         mark = getattr(exc, "problem_mark", None)
         error = f"graph.yaml line {mark.line + 1 if mark else '?'}: {getattr(exc, 'problem', exc)}; fix the YAML syntax"
-    parts = compare.compare_graph(answer, live_graph(graph_cache) if not error and isinstance(answer, dict) else {},
-                                  error)
+    parts = compare.compare_graph(answer, live_graph(graph_cache) if not error and isinstance(answer, dict)
+                                  else LiveGraphObservation(), error)
     return CheckResult("graph", str(found), parts, None, time.monotonic() - started)

@@ -9,11 +9,13 @@ from __future__ import annotations
 
 import math
 from pathlib import Path
-from typing import Optional, Sequence, Tuple
+from typing import Any, List, Optional, Sequence, Tuple
 
-from hri_teleop.plots.common import save_figure
+from hri_teleop.grading.cases.inputs import MappingCase
+from hri_teleop.grading.judge.compare_common import _as_float
+from hri_teleop.grading.run.records import MappingRun
 
-__all__ = ["expected_vs_actual", "timeline"]
+__all__ = ["expected_vs_actual", "mapping_plot", "series_plot", "timeline"]
 
 
 def _finite(values: Sequence[Optional[float]]) -> list:
@@ -36,10 +38,12 @@ def expected_vs_actual(path: Path, title: str, x: Sequence[float], expected: Seq
     ``inputs`` go on a second axis (e.g. the counts sent); ``marks`` are indices of wrong
     values, circled in red; ``levels`` are values that must be reached (dashed lines).
     """
-    import matplotlib
+    import matplotlib  # noqa: PLC0415 - matplotlib (0.2 s) is imported only when a failed part draws a plot
 
     matplotlib.use("Agg")
-    import matplotlib.pyplot as plt
+    import matplotlib.pyplot as plt  # noqa: PLC0415 - after use("Agg")
+
+    from hri_teleop.plots.common import save_figure  # noqa: PLC0415 - it imports pyplot
 
     fig, ax = plt.subplots(figsize=(9, 3.6), dpi=90)
     ax.plot(list(x), _finite(expected), color="tab:green", lw=1.6, label="expected", drawstyle="steps-post")
@@ -61,6 +65,28 @@ def expected_vs_actual(path: Path, title: str, x: Sequence[float], expected: Seq
     return str(save_figure(fig, path))
 
 
+def mapping_plot(plot_dir: Optional[Path], run: MappingRun, case: MappingCase, marks: List[int]) -> List[str]:
+    """The values mapping_node.py sent back for one case's counts against the expected ones ([] without a folder)."""
+    if plot_dir is None:
+        return []
+    actual = [r[0].value if r else None for r in run.responses] + [None] * (len(case.counts) - len(run.responses))
+    actual = [a if _as_float(a) is not None else None for a in actual]
+    path = expected_vs_actual(Path(plot_dir) / f"mapping-{case.label}.png",
+                              f"/force_mapped for the {case.label} counts, /max_sensor_force = {case.max_sensor_force}",
+                              list(range(len(case.counts))), list(case.expected), actual, "count number", "/force_mapped",
+                              inputs=list(case.counts), input_label="/pub_force (count)", marks=marks)
+    return [path]
+
+
+def series_plot(plot_dir: Optional[Path], name: str, title: str, expected: List[float], actual: List[Any],
+                ylabel: str, marks: List[int]) -> List[str]:
+    """One attribute tick by tick, expected against the student's ([] without a folder)."""
+    if plot_dir is None:
+        return []
+    return [expected_vs_actual(Path(plot_dir) / name, title, list(range(len(expected))), expected,
+                               [_as_float(a) for a in actual], "tick", ylabel, marks=marks)]
+
+
 Series = Sequence[Tuple[float, Optional[float]]]
 
 
@@ -70,10 +96,12 @@ def timeline(path: Path, title: str, panels: Sequence[Tuple[str, Sequence[Tuple[
     For a run where several things had to happen in order (a launch file in simulation):
     the panel that stays flat shows which link of the chain did not work.
     """
-    import matplotlib
+    import matplotlib  # noqa: PLC0415 - matplotlib (0.2 s) is imported only when a failed part draws a plot
 
     matplotlib.use("Agg")
-    import matplotlib.pyplot as plt
+    import matplotlib.pyplot as plt  # noqa: PLC0415 - after use("Agg")
+
+    from hri_teleop.plots.common import save_figure  # noqa: PLC0415 - it imports pyplot
 
     fig, axes = plt.subplots(len(panels), 1, figsize=(9, 1.9 * len(panels)), dpi=90, sharex=True, squeeze=False)
     for ax, (label, lines) in zip(axes[:, 0], panels):
