@@ -35,13 +35,13 @@ BUNDLE_FILES = REPO / "notebooks" / "bundle"
 
 #: what of this project the student's toolkit holds (relative to the project root)
 TOOLKIT_FILES = ("pyproject.toml", "hri_teleop", "hri_lab", "grading/traces", "tools/setup.sh", "tools/env.sh",
-                 "tools/kernel.sh")
+                 "tools/kernel.sh", "docs")
 #: the lab's completed deliverables (and the CMakeLists whose lines are Ex. 9's answer): instructors only
 LAB_DELIVERABLES = ("hri_lab/scripts/mapping_node.py", "hri_lab/scripts/teleoperation.py",
                     "hri_lab/launch/sensor.launch", "hri_lab/launch/teleoperation.launch",
                     "hri_lab/config/robot_params.yaml", "hri_lab/CMakeLists.txt")
-#: parts of hri_teleop that only instructors and developers run
-INSTRUCTOR_ONLY = ("benchmarks",)
+#: what only instructors and developers read or run (the nodes' docs go to students, the rubric does not)
+INSTRUCTOR_ONLY = ("benchmarks", "docs/instructors.md", "docs/grading-internals.md", "docs/benchmarks.md")
 #: Region lines shorter than this (``else:``, ``}``) are too common to prove a leak.
 _MIN_LEAK_CHARS = 8
 _IGNORE = shutil.ignore_patterns("__pycache__", "*.pyc", "*.egg-info", ".ipynb_checkpoints", "catkin_ws")

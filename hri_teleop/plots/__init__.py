@@ -1,1 +1,1 @@
-"""Figures shared by the demos, the notebooks and the study analysis (matplotlib, imported lazily)."""
+"""Figures shared by the demos, the notebooks and the study analysis, drawn with matplotlib without a screen."""

@@ -5,6 +5,7 @@ from __future__ import annotations
 
 import json
 import os
+import re
 import shutil
 import subprocess
 import tarfile
@@ -76,6 +77,15 @@ def test_the_bundle_has_its_three_commands_and_the_provided_nodes(unpacked):
         assert (scripts / provided).is_file(), provided
     for assignment in ASSIGNMENTS:
         assert (unpacked / assignment / STUDENT_PACKAGE / "package.xml").is_file()
+
+
+def test_the_pages_the_provided_nodes_point_to_are_in_the_bundle_and_the_rubric_is_not(unpacked):
+    toolkit = unpacked / "toolkit"
+    pointed = {m for path in (toolkit / "hri_lab").rglob("*") if path.is_file() and path.suffix in (".py", ".md")
+               for m in re.findall(r"docs/[\w-]+\.md", path.read_text(encoding="utf-8"))}
+    assert "docs/ros-nodes.md" in pointed
+    assert [page for page in sorted(pointed) if not (toolkit / page).is_file()] == []
+    assert not (toolkit / "docs" / "instructors.md").exists()
 
 
 def test_the_bundle_holds_no_solution_line_and_no_completed_deliverable(unpacked, course):

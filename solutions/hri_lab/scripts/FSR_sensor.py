@@ -1,19 +1,11 @@
 #!/usr/bin/env python3
 """Simulated FSR sensor board (handout Ex. 1-2): publishes raw ADC counts on /pub_force.
 
-It stands in for the Arduino of the lab (``arduino_code_force_node.ino`` over
-rosserial): same topic, same type (std_msgs/Int16, 0..1023). The values are repeated,
-smooth presses of the piston shaped through the FSR 402 model
-(hri_teleop.hardware.sim.sensor_profile.press_profile_count).
-
-Parameters (private):
-  ~rate_hz    float  10.0    publish rate in Hz (the Arduino sketch sends about 3 Hz,
-                             delay(300); the lab's teleoperation wants more)
-  ~max_value  int    1023    count at the top of a press (1023 = full ADC range; set it to
-                             your /max_sensor_force to see /force_mapped reach exactly 1)
-  ~period_s   float  4.0     duration of one press-and-release cycle in seconds
-Publishes:
-  pub_force   std_msgs/Int16 (resolves to /pub_force in the root namespace)
+It stands in for the lab's Arduino (``arduino_code_force_node.ino`` over rosserial): same topic,
+same type (std_msgs/Int16, 0..1023), repeated smooth presses shaped through the FSR 402 model
+(hri_teleop.hardware.sim.sensor_profile). Parameters: ``~rate_hz`` (10.0; the sketch sends about
+3 Hz), ``~max_value`` (1023, the count at the top of a press: your /max_sensor_force makes
+/force_mapped reach exactly 1), ``~period_s`` (4.0 s per press and release).
 """
 
 from __future__ import annotations

@@ -1,28 +1,11 @@
 #!/usr/bin/env python3
 """Gripper manager (handout Ex. 12): target width on /gripper_width -> franka_gripper move goals.
 
-teleoperation.py publishes the target opening every tick (50 Hz); while cross or circle is
-held the target creeps by k_gripper / rate per tick. Sending each of those as a goal would
-flood the Franka Hand, so hri_teleop.core.gripper.GoalThrottle decides which targets become
-goals: a new goal only when the target moved by ``~min_step_m``, or when a smaller change
-has settled for ``~settle_s`` (so the final width is reached), and never more often than
-``~max_goal_rate_hz``. A new goal replaces the one before: if the previous goal is still
-pending or active it is cancelled first.
-
-Without a robot (no action server on ``~action_ns``) the node keeps running: it warns once,
-keeps checking four times a second, and sends the latest target as soon as the server
-appears (targets that came and went meanwhile are not replayed: only the latest counts).
-
-Parameters (private):
-  ~action_ns          str    /franka_gripper/move  franka_gripper MoveAction server
-  ~speed              float  0.1     closing/opening speed of a move goal, m/s
-  ~min_step_m         float  0.002   smallest target change that is sent at once, m
-  ~max_goal_rate_hz   float  5.0     at most this many goals per second
-  ~settle_s           float  0.2     a smaller change is sent once the target stayed this long
-  ~width_min_m        float  0.0     targets are clamped to the Franka Hand's range ...
-  ~width_max_m        float  0.08    ... [width_min_m, width_max_m] (with a warning)
-Subscribes:
-  gripper_width       std_msgs/Float32   (resolves to /gripper_width), metres
+teleoperation.py publishes the target opening every tick (50 Hz); sending each as a goal would
+flood the Franka Hand, so hri_teleop.core.gripper.GoalThrottle decides which targets become goals
+(``~min_step_m``, ``~settle_s``, ``~max_goal_rate_hz``) and a new goal cancels an unfinished one.
+Without an action server on ``~action_ns`` it warns once and sends the latest target when one
+appears. Parameters: hri_lab/README.md, in full docs/ros-nodes.md.
 """
 
 from __future__ import annotations
@@ -48,7 +31,7 @@ _STATUS_NAMES = {v: k for k, v in vars(GoalStatus).items() if k.isupper() and is
 
 
 class GripperManager:
-    """Forwards width targets to the gripper's move action, throttled (see module doc)."""
+    """Forwards width targets to the gripper's move action, throttled by GoalThrottle."""
 
     def __init__(self) -> None:
         name = rospy.get_name()
