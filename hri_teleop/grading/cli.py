@@ -18,6 +18,14 @@ from pathlib import Path
 from typing import List, Optional, Sequence
 
 from hri_teleop.core.paths import REPO as _REPO
+from hri_teleop.grading.batch.folders import BatchError, course_layout, grade_all
+from hri_teleop.grading.batch.nbgrader_batch import grade_course
+from hri_teleop.grading.cases.templates import TemplateError, generate_templates
+from hri_teleop.grading.cases.tracefiles import TRACE_DIR, write_traces
+from hri_teleop.grading.judge.checks import CHECKS, grade, grade_submission
+from hri_teleop.grading.results import GradingError, feedback_text, gradescope_json
+from hri_teleop.grading.run.sandbox import SandboxError, sandbox_mode
+from hri_teleop.grading.run.workspace import WorkspaceError
 
 __all__ = ["main", "EXIT_PASSED", "EXIT_FAILED", "EXIT_GRADER_ERROR"]
 
@@ -25,8 +33,6 @@ EXIT_PASSED, EXIT_FAILED, EXIT_GRADER_ERROR = 0, 1, 2
 
 
 def _parser() -> argparse.ArgumentParser:
-    from hri_teleop.grading.judge.checks import CHECKS
-
     parser = argparse.ArgumentParser(prog="hri-grade", description="Autograder of the HRI lab's Task 4 (teleoperation).",
                                      formatter_class=argparse.RawDescriptionHelpFormatter, epilog=__doc__)
     sub = parser.add_subparsers(dest="command", metavar="COMMAND")
@@ -61,8 +67,6 @@ def _parser() -> argparse.ArgumentParser:
 
 
 def _report(results: Sequence, as_json: bool, out_dir: Path) -> int:
-    from hri_teleop.grading.results import feedback_text, gradescope_json
-
     payload = gradescope_json(results)
     (out_dir / "results.json").write_text(json.dumps(payload, indent=2), encoding="utf-8")
     (out_dir / "feedback.txt").write_text(feedback_text(results) + "\n", encoding="utf-8")
@@ -80,29 +84,17 @@ def main(argv: Optional[List[str]] = None) -> int:
     if not args.command:
         _parser().print_help()
         return EXIT_GRADER_ERROR
-    from hri_teleop.grading.batch.folders import BatchError
-    from hri_teleop.grading.cases.templates import TemplateError
-    from hri_teleop.grading.results import GradingError
-    from hri_teleop.grading.run.sandbox import SandboxError
-    from hri_teleop.grading.run.workspace import WorkspaceError
 
     try:
         if args.command == "traces":
-            from hri_teleop.grading.cases.tracefiles import TRACE_DIR, write_traces
-
             for path in write_traces(Path(args.out) if args.out else TRACE_DIR):
                 print(path)
             return EXIT_PASSED
         if args.command == "templates":
-            from hri_teleop.grading.cases.templates import generate_templates
-
             for item in generate_templates(args.solutions, args.out):
                 print(f"{item.target}  ({item.regions} region(s) removed)")
             return EXIT_PASSED
         if args.command == "batch":
-            from hri_teleop.grading.batch.folders import course_layout, grade_all
-            from hri_teleop.grading.judge.checks import CHECKS
-
             checks = [c.strip() for c in args.checks.split(",") if c.strip()] or None
             unknown = [c for c in checks or () if c not in CHECKS]
             if unknown:
@@ -112,14 +104,9 @@ def main(argv: Optional[List[str]] = None) -> int:
             folder = Path(args.path)
             layout = course_layout(folder) if folder.is_dir() else None
             if layout is not None:  # an nbgrader course: nbgrader's autograde beside the files' checks
-                from hri_teleop.grading.batch.nbgrader_batch import grade_course
-
                 return grade_course(layout[0], layout[1], Path(args.out), jobs=args.jobs, checks=checks,
                                     timeout_s=args.timeout)
             return grade_all(folder, Path(args.out), jobs=args.jobs, checks=checks, timeout_s=args.timeout)
-        from hri_teleop.grading.judge.checks import CHECKS, grade, grade_submission
-        from hri_teleop.grading.run.sandbox import sandbox_mode
-
         if args.json:  # stdout is the results' JSON: the sandbox note, if any, goes beside it
             sandbox_mode(stream=sys.stderr)
         if not Path(args.path).expanduser().exists():
@@ -145,7 +132,7 @@ def main(argv: Optional[List[str]] = None) -> int:
     except KeyboardInterrupt:
         print("hri-grade: interrupted", file=sys.stderr)
         return EXIT_GRADER_ERROR
-    except Exception as exc:  # noqa: BLE001 - a grader bug: one line; HRI_GRADE_DEBUG=1 shows the traceback
+    except Exception as exc:  # a grader bug: one line; HRI_GRADE_DEBUG=1 shows the traceback
         if os.environ.get("HRI_GRADE_DEBUG"):
             raise
         print(f"hri-grade: internal error ({type(exc).__name__}: {exc}); rerun with HRI_GRADE_DEBUG=1 for the "

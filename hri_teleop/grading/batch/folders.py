@@ -20,6 +20,7 @@ from typing import Dict, List, Optional, Sequence, Tuple
 
 from hri_teleop.core.errors import HriTeleopError
 from hri_teleop.grading.judge import reuse
+from hri_teleop.grading.judge.graph import live_graph
 from hri_teleop.grading.run.jobs import (
     Progress,
     Run,
@@ -29,6 +30,7 @@ from hri_teleop.grading.run.jobs import (
     run_all,
     run_job,
 )
+from hri_teleop.grading.run.sandbox import sandbox_mode
 
 __all__ = ["BatchError", "Outcome", "submissions_in", "grade_one", "live_graph_cache", "course_layout", "grade_all"]
 
@@ -108,8 +110,6 @@ def live_graph_cache(out: Path, checks: Optional[Sequence[str]]) -> Optional[Pat
 
     None when ``checks`` leaves ``graph`` out.
     """
-    from hri_teleop.grading.judge.graph import live_graph
-
     if checks and "graph" not in checks:
         return None
     cache = out / "live_graph.json"
@@ -144,7 +144,6 @@ def grade_all(folder: Path, out: Path, jobs: Optional[int] = None, checks: Optio
     :func:`hri_teleop.grading.batch.nbgrader_batch.grade_course` instead (``hri-grade batch`` decides).
     """
     folder = Path(folder)
-    from hri_teleop.grading.run.sandbox import sandbox_mode
 
     subs = submissions_in(folder)
     out.mkdir(parents=True, exist_ok=True)

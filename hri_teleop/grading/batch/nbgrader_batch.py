@@ -22,6 +22,10 @@ from dataclasses import asdict, dataclass
 from pathlib import Path
 from typing import Any, Callable, Dict, List, Mapping, Optional, Sequence, Tuple
 
+from jupyter_core.paths import jupyter_config_path
+from traitlets.config import Config
+from traitlets.config.loader import ConfigFileNotFound, PyFileConfigLoader
+
 from hri_teleop.grading.batch.assignments import ASSIGNMENT_CHECKS, ASSIGNMENTS, nbgrader_env
 from hri_teleop.grading.batch.folders import (
     PER_SUBMISSION_TIMEOUT_S,
@@ -33,8 +37,10 @@ from hri_teleop.grading.batch.folders import (
 )
 from hri_teleop.grading.batch.spare_kernels import PROVISIONER, PROVISIONER_ENV, SPARES_ENV
 from hri_teleop.grading.judge import reuse
+from hri_teleop.grading.results import CheckResult, feedback_text, gradescope_json
 from hri_teleop.grading.run.jobs import Progress, job_count, print_line, run_all, run_job
-from hri_teleop.ros.kernel import ipc_kernel_argv
+from hri_teleop.grading.run.sandbox import sandbox_mode
+from hri_teleop.ros.kernel import install_kernelspec, ipc_kernel_argv
 
 __all__ = ["BatchError", "JobOutcome", "course_layout", "course_submissions", "grade_course", "nbgrader_job_env"]
 
@@ -100,10 +106,6 @@ def course_submissions(course: Path, submitted: Path) -> Tuple[List[Tuple[str, s
 
 def _nbgrader_config(course: Path) -> Any:
     """nbgrader's configuration as its apps load it: Jupyter's config folders, then the course's file."""
-    from jupyter_core.paths import jupyter_config_path
-    from traitlets.config import Config
-    from traitlets.config.loader import ConfigFileNotFound, PyFileConfigLoader
-
     config = Config()
     for folder in [*reversed(jupyter_config_path()), str(course)]:
         try:
@@ -137,9 +139,9 @@ class _Course:
 
 def _open_course(course: Path, submitted: Path, assignments: Sequence[str]) -> _Course:
     try:
-        import nbgrader  # noqa: F401
-        from nbgrader.api import Gradebook, MissingEntry
-        from nbgrader.coursedir import CourseDirectory
+        import nbgrader  # noqa: F401, PLC0415 - optional (not on Python 3.8): courses only
+        from nbgrader.api import Gradebook, MissingEntry  # noqa: PLC0415 - optional (not on Python 3.8): courses only
+        from nbgrader.coursedir import CourseDirectory  # noqa: PLC0415 - optional (not on Python 3.8): courses only
     except ImportError:
         raise BatchError(f"nbgrader is not installed for {sys.executable}, and {course} is an nbgrader course: "
                          "run `make setup` (nbgrader needs Python >= 3.9)") from None
@@ -214,7 +216,7 @@ def nbgrader_job_env(base: Optional[Mapping[str, str]] = None) -> Dict[str, str]
 
 def _submission_score(course: _Course, lock: threading.Lock, student: str,
                       assignment: str) -> Tuple[float, float, bool]:
-    from nbgrader.api import Gradebook
+    from nbgrader.api import Gradebook  # noqa: PLC0415 - optional (not on Python 3.8): courses only
 
     with lock:
         gb = Gradebook(course.db_url, course.course_id)
@@ -228,7 +230,7 @@ def _submission_score(course: _Course, lock: threading.Lock, student: str,
 
 def _forget_outputs(course: _Course, student: str, assignment: str) -> None:
     """A submission that was not graded has no autograded notebooks and no feedback (none stale either)."""
-    from nbgrader.utils import rmtree
+    from nbgrader.utils import rmtree  # noqa: PLC0415 - optional (not on Python 3.8): courses only
 
     for kind in ("autograded", "feedback"):
         folder = course.root / kind / student / assignment
@@ -326,8 +328,6 @@ def _generate_feedback(course: _Course, assignment: str, out: Path) -> Tuple[boo
 
 def _combine_files_results(student_out: Path, assignments: Sequence[str]) -> None:
     """``OUT/<student>/results.json`` and ``feedback.txt``: the checks of all the student's assignments together."""
-    from hri_teleop.grading.results import CheckResult, feedback_text, gradescope_json
-
     results, parts = [], []
     for assignment in assignments:
         checks = student_out / assignment / "checks.json"
@@ -353,9 +353,6 @@ def grade_course(course: Path, submitted: Path, out: Path, jobs: Optional[int] =
     them); ``timeout_s`` limits each (student, assignment) job. 0 when everything was
     graded, 2 when anything could not be (the reason is in grades.csv).
     """
-    from hri_teleop.grading.run.sandbox import sandbox_mode
-    from hri_teleop.ros.kernel import install_kernelspec
-
     course, submitted, out = Path(course).resolve(), Path(submitted).resolve(), Path(out).resolve()
     pairs, empty = course_submissions(course, submitted)
     assignments = _assignment_order(sorted({a for _s, a in pairs}))

@@ -17,7 +17,9 @@ import yaml
 
 from hri_teleop.core.config import DEFAULT_TWIST_TOPIC
 from hri_teleop.core.errors import HriTeleopError
+from hri_teleop.core.gamepad import AXES, BUTTONS
 from hri_teleop.core.paths import TRACES
+from hri_teleop.core.teleop import TeleopController
 from hri_teleop.grading.cases.inputs import (
     MappingCase,
     PadTick,
@@ -29,6 +31,8 @@ from hri_teleop.grading.cases.inputs import (
     public_teleop_parts_case,
     reference_parts,
 )
+from hri_teleop.hardware.sim.virtual_pad import ScriptedPad, parse_script
+from hri_teleop.ros.bags import read_topics, write_bag
 
 __all__ = ["TraceFileError", "TRACE_DIR", "TRACE_FILES", "write_traces", "read_mapping_trace", "read_parts_trace"]
 
@@ -42,13 +46,13 @@ class TraceFileError(HriTeleopError, RuntimeError):
 
 
 def _string(data: Dict[str, Any]) -> Any:
-    from std_msgs.msg import String
+    from std_msgs.msg import String  # noqa: PLC0415 - ROS only to write traces
 
     return String(data=json.dumps(data, sort_keys=True))
 
 
 def _mapping_messages(case: MappingCase) -> List[Tuple[str, Any, float]]:
-    from std_msgs.msg import Float32, Int16
+    from std_msgs.msg import Float32, Int16  # noqa: PLC0415 - ROS only to write traces
 
     out: List[Tuple[str, Any, float]] = [("/grading/params", _string({"max_sensor_force": case.max_sensor_force,
                                                                       "label": case.label}), _T0)]
@@ -60,7 +64,7 @@ def _mapping_messages(case: MappingCase) -> List[Tuple[str, Any, float]]:
 
 
 def _twist(values: Any) -> Any:
-    from geometry_msgs.msg import Twist
+    from geometry_msgs.msg import Twist  # noqa: PLC0415 - ROS only to write traces
 
     msg = Twist()
     msg.linear.x, msg.linear.y, msg.linear.z = values[0], values[1], values[2]
@@ -69,11 +73,9 @@ def _twist(values: Any) -> Any:
 
 
 def _parts_messages(case: TeleopPartsCase) -> List[Tuple[str, Any, float]]:
-    import rospy
-    from sensor_msgs.msg import Joy
-    from std_msgs.msg import Bool, Float32
-
-    from hri_teleop.core.gamepad import AXES, BUTTONS
+    import rospy  # noqa: PLC0415 - ROS only to write traces
+    from sensor_msgs.msg import Joy  # noqa: PLC0415 - ROS only to write traces
+    from std_msgs.msg import Bool, Float32  # noqa: PLC0415 - ROS only to write traces
 
     dt = 1.0 / case.gains.rate
     out: List[Tuple[str, Any, float]] = [("/grading/params", _string({**case.gains.as_dict(), "label": case.label}), _T0)]
@@ -91,10 +93,7 @@ def _parts_messages(case: TeleopPartsCase) -> List[Tuple[str, Any, float]]:
 
 
 def _node_messages(case: TeleopNodeCase) -> List[Tuple[str, Any, float]]:
-    from std_msgs.msg import Float32, String
-
-    from hri_teleop.core.teleop import TeleopController
-    from hri_teleop.hardware.sim.virtual_pad import ScriptedPad, parse_script
+    from std_msgs.msg import Float32, String  # noqa: PLC0415 - ROS only to write traces
 
     params = {**case.gains.as_dict(), "force": case.force, "close_s": case.close_s, "final_width": case.final_width,
               "quit_s": case.quit_s, "label": case.label,
@@ -122,8 +121,6 @@ def _node_messages(case: TeleopNodeCase) -> List[Tuple[str, Any, float]]:
 
 def write_traces(out_dir: Union[str, Path] = TRACE_DIR) -> List[Path]:
     """(Re)write the public trace bags; the same bytes on every run and machine (same ROS messages)."""
-    from hri_teleop.ros.bags import write_bag
-
     out = Path(out_dir)
     out.mkdir(parents=True, exist_ok=True)
     written = []
@@ -143,8 +140,6 @@ def _params(bag: Dict[str, List[Tuple[float, Any]]], path: Path) -> Dict[str, An
 
 def read_mapping_trace(path: Union[str, Path] = TRACE_DIR / "mapping_public.bag") -> Tuple[MappingCase, List[float]]:
     """(the case, the expected values as stored) from a mapping trace bag."""
-    from hri_teleop.ros.bags import read_topics
-
     path = Path(path)
     bag = read_topics(path, ["/grading/params", "/pub_force", "/force_mapped"])
     params = _params(bag, path)
@@ -154,9 +149,6 @@ def read_mapping_trace(path: Union[str, Path] = TRACE_DIR / "mapping_public.bag"
 
 def read_parts_trace(path: Union[str, Path] = TRACE_DIR / "teleop_parts_public.bag") -> TeleopPartsCase:
     """The teleoperation parts case stored in a trace bag."""
-    from hri_teleop.core.gamepad import AXES, BUTTONS
-    from hri_teleop.ros.bags import read_topics
-
     path = Path(path)
     bag = read_topics(path, ["/grading/params", "/grading/pad", "/force_mapped"])
     params = _params(bag, path)

@@ -15,6 +15,9 @@ from typing import Any, Callable, Dict, List, Optional, Sequence, Union
 
 import yaml
 
+from hri_teleop.core.config import ConfigError, load_teleop_config
+from hri_teleop.core.gamepad.events import pad_events
+from hri_teleop.core.teleop import TeleopParams
 from hri_teleop.grading.cases import inputs as C
 from hri_teleop.grading.judge import compare
 from hri_teleop.grading.judge.graph import grade_graph, live_graph
@@ -49,6 +52,7 @@ from hri_teleop.grading.run.records import (
     TeleopPartsPlan,
     TeleopPartsResult,
 )
+from hri_teleop.grading.run.standins import BOARD_TOPIC
 from hri_teleop.grading.run.workspace import (
     REPO,
     find_package_root,
@@ -148,8 +152,6 @@ def grade_sensor_launch(path: PathLike, *, seed: Optional[int] = None, out_dir: 
 def grade_teleoperation(path: PathLike, *, seed: Optional[int] = None, out_dir: Optional[PathLike] = None,
                         node: bool = True) -> CheckResult:
     """Ex. 8-9: the student's parts against pad-event traces, then the node with the virtual pad."""
-    from hri_teleop.core.gamepad.events import pad_events
-
     _require_ros()
     run, missing, seed = _start("teleoperation", path, out_dir, seed)
     if run is None:
@@ -197,8 +199,6 @@ def grade_teleoperation(path: PathLike, *, seed: Optional[int] = None, out_dir: 
 
 def _launch_sim_plan(run: _Run, parsed: LaunchParseResult) -> Optional[TeleopLaunchSimPlan]:
     """The ``teleop-launch-sim`` session for a parsed teleoperation.launch; None without a teleoperation node."""
-    from hri_teleop.grading.run.standins import BOARD_TOPIC
-
     node = compare.teleop_node_name(parsed)
     if node is None:
         return None
@@ -240,9 +240,6 @@ def _launch_sim_plan(run: _Run, parsed: LaunchParseResult) -> Optional[TeleopLau
 
 def _lab_rate_hz() -> float:
     """The teleoperation node's loop rate when the launch file sets none: the lab's teleop.yaml."""
-    from hri_teleop.core.config import ConfigError, load_teleop_config
-    from hri_teleop.core.teleop import TeleopParams
-
     path = REPO / "hri_lab" / "config" / "teleop.yaml"
     try:
         return load_teleop_config(path).params.rate_hz if path.is_file() else TeleopParams().rate_hz

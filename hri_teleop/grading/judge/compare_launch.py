@@ -23,6 +23,8 @@ from hri_teleop.grading.judge.compare_common import (
     _part,
     explain_process,
 )
+from hri_teleop.grading.judge.plots import timeline
+from hri_teleop.grading.judge.robot_params import TABLE_1
 from hri_teleop.grading.results import Part
 from hri_teleop.grading.run.records import (
     LaunchNode,
@@ -33,6 +35,7 @@ from hri_teleop.grading.run.records import (
     SensorLaunchObservation,
     TeleopLaunchSimObservation,
 )
+from hri_teleop.grading.run.workspace import FRANKA_MARKER_PARAM
 
 # -- launch files ---------------------------------------------------------------------------
 
@@ -83,8 +86,6 @@ def check_max_param(params: Mapping[str, object]) -> Tuple[bool, str]:
 def compare_sensor_launch(parsed: LaunchParseResult, observation: Optional[SensorLaunchObservation],
                           parse_facts: Optional[ProcessFacts] = None) -> List[Part]:
     """sensor.launch: what roslaunch's loader makes of it, then what flowed when it ran."""
-    from hri_teleop.grading.judge.robot_params import TABLE_1
-
     T = SENSOR_LAUNCH
     parts, final = _parse_parts(T, parsed, parse_facts, ("nodes", "param", "yaml", "flow"), "Ex. 6")
     if final:
@@ -136,8 +137,6 @@ def compare_sensor_launch(parsed: LaunchParseResult, observation: Optional[Senso
 
 def compare_teleop_launch(parsed: LaunchParseResult, parse_facts: Optional[ProcessFacts] = None) -> List[Part]:
     """teleoperation.launch as roslaunch's loader sees it (with a stand-in franka_control)."""
-    from hri_teleop.grading.run.workspace import FRANKA_MARKER_PARAM
-
     T = TELEOP_LAUNCH
     parts, final = _parse_parts(T, parsed, parse_facts, ("nodes", "serial", "param", "include"), "Ex. 12-13",
                                 _FRANKA_CONTROL_HINT)
@@ -194,7 +193,6 @@ def _width_m(positions: Any) -> Optional[float]:
 def _sim_plot(plot_dir: Optional[Path], observation: TeleopLaunchSimObservation, teleop: str) -> List[str]:
     if plot_dir is None:
         return []
-    from hri_teleop.grading.judge.plots import timeline
 
     twist = [(t, v[2]) for t, v in _series(observation, DEFAULT_TWIST_TOPIC) if isinstance(v, list)]
     z = [(t, v[2]) for t, v in _series(observation, "/lab_sim/ee_pose") if isinstance(v, list)]

@@ -11,6 +11,7 @@ from pathlib import Path
 from typing import Any, Callable, List, Optional, Sequence, Tuple
 
 from hri_teleop.core.config import DEFAULT_TWIST_TOPIC
+from hri_teleop.core.gamepad import PadState
 from hri_teleop.core.mapping import ADC_MAX_COUNT
 from hri_teleop.core.teleop import TeleopController, TeleopParams
 from hri_teleop.grading.cases.inputs import (
@@ -33,7 +34,7 @@ from hri_teleop.grading.judge.compare_common import (
     explain_process,
     process_hints,
 )
-from hri_teleop.grading.judge.plots import mapping_plot, series_plot
+from hri_teleop.grading.judge.plots import expected_vs_actual, mapping_plot, series_plot
 from hri_teleop.grading.results import Part
 from hri_teleop.grading.run.records import (
     MappingNodeObservation,
@@ -281,8 +282,6 @@ def _no_deadzone(gains_params: TeleopParams, mode_rotation: bool) -> TeleopContr
                              "deadzone": 0.0, "rumble_threshold": 0.0})
     controller = TeleopController(params)
     if mode_rotation:
-        from hri_teleop.core.gamepad import PadState
-
         controller.step(PadState({}, {"north": True}), None, 0.0, 1.0 / params.rate_hz)
         controller.step(PadState({}, {}), None, 0.0, 1.0 / params.rate_hz)
     return controller
@@ -524,8 +523,6 @@ def compare_teleop_node(observation: TeleopNodeObservation, case: TeleopNodeCase
                                 f"(range seen {min(seen):.4g} .. {max(seen):.4g})")
         plots = []
         if failures and plot_dir is not None:
-            from hri_teleop.grading.judge.plots import expected_vs_actual
-
             names = "v_x v_y v_z w_x w_y w_z".split()
             for plateau in case.plateaus:
                 comp = plateau.component

@@ -22,6 +22,7 @@ from hri_teleop.core.config import DEFAULT_TWIST_TOPIC
 from hri_teleop.grading.cases import inputs as C
 from hri_teleop.grading.judge import compare, reuse
 from hri_teleop.grading.judge.reference_guard import reference_uses, refusal
+from hri_teleop.grading.judge.robot_params import part_table
 from hri_teleop.grading.results import CheckResult, GradingError, Part, not_judged
 from hri_teleop.grading.run.records import (
     LaunchParseResult,
@@ -45,6 +46,7 @@ from hri_teleop.grading.run.workspace import (
     REPO,
     Workspace,
     find_package_root,
+    locate,
     prepare_workspace,
     ros_package_path,
 )
@@ -244,7 +246,6 @@ def _resolve(path: PathLike, key: str) -> Tuple[Path, Optional[Path], Optional[P
     root = find_package_root(path)
     if path.is_file():
         return root, path, path
-    from hri_teleop.grading.run.workspace import locate
 
     return root, None, locate(root, key)
 
@@ -272,8 +273,6 @@ _KEY = {"robot-params": "robot_params", "mapping-node": "mapping_node", "sensor-
 
 def _table_for(check: str) -> Dict[str, Tuple[str, float]]:
     if check == "robot-params":
-        from hri_teleop.grading.judge.robot_params import part_table
-
         return part_table()
     return {"mapping-node": compare.MAPPING, "sensor-launch": compare.SENSOR_LAUNCH, "teleoperation": compare.TELEOP,
             "teleoperation-launch": compare.TELEOP_LAUNCH, "graph": compare.GRAPH}[check]

@@ -38,7 +38,7 @@ def expected_vs_actual(path: Path, title: str, x: Sequence[float], expected: Seq
     ``inputs`` go on a second axis (e.g. the counts sent); ``marks`` are indices of wrong
     values, circled in red; ``levels`` are values that must be reached (dashed lines).
     """
-    import matplotlib  # noqa: PLC0415 - matplotlib (0.2 s) is imported only when a failed part draws a plot
+    import matplotlib  # noqa: PLC0415 - matplotlib (0.2 s) only when a plot is drawn
 
     matplotlib.use("Agg")
     import matplotlib.pyplot as plt  # noqa: PLC0415 - after use("Agg")
@@ -96,7 +96,7 @@ def timeline(path: Path, title: str, panels: Sequence[Tuple[str, Sequence[Tuple[
     For a run where several things had to happen in order (a launch file in simulation):
     the panel that stays flat shows which link of the chain did not work.
     """
-    import matplotlib  # noqa: PLC0415 - matplotlib (0.2 s) is imported only when a failed part draws a plot
+    import matplotlib  # noqa: PLC0415 - matplotlib (0.2 s) only when a plot is drawn
 
     matplotlib.use("Agg")
     import matplotlib.pyplot as plt  # noqa: PLC0415 - after use("Agg")

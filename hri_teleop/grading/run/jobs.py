@@ -8,6 +8,7 @@ many jobs as cores: docs/grading-internals.md.
 
 from __future__ import annotations
 
+import ctypes
 import os
 import signal
 import subprocess
@@ -50,8 +51,6 @@ class Run:
 
 def _prctl(option: int, value: int) -> bool:
     try:
-        import ctypes
-
         libc = ctypes.CDLL(None, use_errno=True)
         return libc.prctl(option, value, 0, 0, 0) == 0
     except (OSError, AttributeError):

@@ -36,6 +36,7 @@ from hri_teleop.grading.run.ros_session import (
     _student_nodes,
     recorded_since,
 )
+from hri_teleop.ros.master import stop_side_by_side
 
 __all__ = ["run_teleop_launch_sim", "run_live_graph", "CHAIN_SETTLE_S"]
 
@@ -160,7 +161,6 @@ def run_teleop_launch_sim(session: Session, plan: TeleopLaunchSimPlan) -> Teleop
     pubs, subs, types = _graph(session.master)
     recorder.close()
     exited = not launch.running
-    from hri_teleop.ros.master import stop_side_by_side
 
     stop_side_by_side([launch, *extra, lab])  # their shutdowns overlap (0.7 s one after another)
     publishers, subscribers = _connections(pubs, subs, _IGNORED_TOPICS)

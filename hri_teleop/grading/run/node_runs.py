@@ -42,13 +42,15 @@ from hri_teleop.grading.run.ros_session import (
     _wait_for_node,
     recorded_since,
 )
+from hri_teleop.grading.run.sandbox import describe_exit
+from hri_teleop.ros.master import stop_side_by_side
 
 __all__ = ["run_mapping_node", "run_sensor_launch", "run_teleop_node"]
 
 
 def run_mapping_node(session: Session, plan: MappingNodePlan) -> MappingNodeObservation:
-    import rospy
-    from std_msgs.msg import Int16
+    import rospy  # noqa: PLC0415 - ROS in the session, once its master's environment is set
+    from std_msgs.msg import Int16  # noqa: PLC0415 - ROS in the session, once its master's environment is set
 
     runs: List[MappingRun] = []
     for index, case in enumerate(plan.cases):
@@ -83,8 +85,6 @@ def run_mapping_node(session: Session, plan: MappingNodePlan) -> MappingNodeObse
                 nodes, sub, pub = nodes2, sub2, pub2
         exited = not proc.running
         if exited and not problem:
-            from hri_teleop.grading.run.sandbox import describe_exit
-
             problem = f"{describe_exit(proc.returncode)} while counts were being published"
         proc.stop()
         runs.append(MappingRun(label=case.label, max_sensor_force=case.max_sensor_force, counts=case.counts,
@@ -98,7 +98,7 @@ def run_mapping_node(session: Session, plan: MappingNodePlan) -> MappingNodeObse
 def _lockstep(publisher: Any, recorder: Recorder, out_topic: str, counts: List[int], proc: Any,
               timeout_s: float) -> List[List[Response]]:
     """Publish one count, collect what comes back before the next one; returns values per count."""
-    from std_msgs.msg import Int16
+    from std_msgs.msg import Int16  # noqa: PLC0415 - ROS in the session, once its master's environment is set
 
     responses: List[List[Response]] = []
     misses = 0  # counts that got no answer in time: after three, wait only briefly (a node that
@@ -186,10 +186,7 @@ def run_sensor_launch(session: Session, plan: SensorLaunchPlan) -> SensorLaunchO
     recorder.close()
     exited = not launch.running
     if ok and exited:
-        from hri_teleop.grading.run.sandbox import describe_exit
-
         problem = f"roslaunch {describe_exit(launch.returncode)} while /force_mapped was recorded"
-    from hri_teleop.ros.master import stop_side_by_side
 
     stop_side_by_side([launch, *extra])
     return SensorLaunchObservation(
@@ -203,8 +200,8 @@ def run_sensor_launch(session: Session, plan: SensorLaunchPlan) -> SensorLaunchO
 
 def run_teleop_node(session: Session, plan: TeleopNodePlan) -> TeleopNodeObservation:
     """The student's teleoperation.py with a scripted virtual pad and a steady /force_mapped."""
-    import rospy
-    from std_msgs.msg import Float32
+    import rospy  # noqa: PLC0415 - ROS in the session, once its master's environment is set
+    from std_msgs.msg import Float32  # noqa: PLC0415 - ROS in the session, once its master's environment is set
 
     force_pub = rospy.Publisher("/force_mapped", Float32, queue_size=10)
     stop_force = threading.Event()

@@ -57,7 +57,7 @@ def _one_line(exc: BaseException) -> str:
 
 def rosparam_load(path: Path) -> RosparamResult:
     """``rosparam load FILE`` without a master: rosparam's own loader, merged into '/'."""
-    import rosparam
+    import rosparam  # noqa: PLC0415 - the probe imports only what its command needs
 
     try:
         loaded = rosparam.load_file(str(path), default_namespace="/")
@@ -76,8 +76,8 @@ def rosparam_load(path: Path) -> RosparamResult:
 
 def launch_parse(path: Path, args: Sequence[str]) -> LaunchParseResult:
     """roslaunch's own XmlLoader: the nodes, parameters and files a launch file resolves to."""
-    import roslaunch.config
-    import roslaunch.xmlloader
+    import roslaunch.config  # noqa: PLC0415 - the probe imports only what its command needs
+    import roslaunch.xmlloader  # noqa: PLC0415 - the probe imports only what its command needs
 
     config = roslaunch.config.ROSLaunchConfig()
     loader = roslaunch.xmlloader.XmlLoader(resolve_anon=False)

@@ -16,6 +16,8 @@ from hri_teleop.grading.run.lockstep import (
     wait_for,
 )
 from hri_teleop.grading.run.records import Message, NodeFacts, ProcessFacts, SessionContext, Topic
+from hri_teleop.grading.run.sandbox import StudentProcess, describe_exit
+from hri_teleop.ros.master import PrivateMaster, stop_side_by_side
 
 __all__ = ["Session"]
 
@@ -76,8 +78,6 @@ def _facts(proc: Any, nodes: Set[str], sub: List[Topic], pub: List[Topic], probl
 
 class Session:
     def __init__(self, context: SessionContext) -> None:
-        from hri_teleop.ros.master import PrivateMaster
-
         self._t0 = time.monotonic()
         #: Wall seconds from the session's start to each named phase: where a slow check spends its time.
         self.phases: Dict[str, float] = {}
@@ -91,7 +91,7 @@ class Session:
         self.master.start()
         for key in ("ROS_MASTER_URI", "ROS_HOSTNAME", "ROS_LOG_DIR", "ROS_HOME"):
             os.environ[key] = self.master.env[key]
-        import rospy
+        import rospy  # noqa: PLC0415 - ROS in the session, once its master's environment is set
 
         rospy.init_node(GRADER_NODE.strip("/"), disable_signals=True, disable_rosout=True)
         self.baseline = set(self.master.node_names())
@@ -111,8 +111,6 @@ class Session:
         return env
 
     def start_student(self, argv: List[str], name: str, extra_env: Optional[Dict[str, str]] = None) -> Any:
-        from hri_teleop.grading.run.sandbox import StudentProcess
-
         assert self.folder is not None
         proc = StudentProcess(argv, self.folder, dict(self.student_env(), **(extra_env or {})),
                               self.dir / "logs" / f"{name}.log", self.limits, uid=self.uid, nested=True)
@@ -121,15 +119,11 @@ class Session:
 
     def stop(self) -> None:
         """Every student process at once (each gets its SIGINT grace), then the grader's helpers and the master."""
-        from hri_teleop.ros.master import stop_side_by_side
-
         stop_side_by_side(self.started)
         self.master.stop(quick=True)
 
 
 def _start_problem(proc: Any, timeout_s: float, what: str) -> str:
-    from hri_teleop.grading.run.sandbox import describe_exit
-
     if not proc.running:
         return f"{describe_exit(proc.returncode)} before {what}"
     count = proc.process_count()

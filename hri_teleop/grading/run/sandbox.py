@@ -184,7 +184,7 @@ def _own_process_count(uid: int) -> int:
 
 
 def _preexec(limits: Limits, uid: Optional[int], nproc: int):
-    import resource  # Unix only: imported here so that the rest of the grader imports anywhere
+    import resource  # noqa: PLC0415 - Unix only: imported here so that the rest of the grader imports anywhere
 
     def apply() -> None:
         os.setsid()

@@ -17,6 +17,7 @@ from typing import Dict, List, Optional, Sequence, Union
 
 from hri_teleop.core.errors import HriTeleopError
 from hri_teleop.core.paths import LAB_PACKAGE, REPO
+from hri_teleop.grading.run.standins import SERIAL_NODE_SCRIPT
 from hri_teleop.ros.master import finds_hri_lab
 
 __all__ = ["WorkspaceError", "DELIVERABLES", "REPO", "REFERENCE_PACKAGE", "PROVIDED", "find_package_root",
@@ -119,8 +120,6 @@ def _manifest(name: str, description: str) -> str:
 
 
 def _fake_rosserial_python(ws: Path) -> None:
-    from hri_teleop.grading.run.standins import SERIAL_NODE_SCRIPT
-
     pkg = ws / "rosserial_python"
     (pkg / "scripts").mkdir(parents=True, exist_ok=True)
     (pkg / "package.xml").write_text(_manifest("rosserial_python", "grader stand-in: serial_node.py forwards the "
