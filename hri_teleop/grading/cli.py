@@ -23,7 +23,7 @@ from hri_teleop.grading.batch.nbgrader_batch import grade_course
 from hri_teleop.grading.cases.templates import TemplateError, generate_templates
 from hri_teleop.grading.cases.tracefiles import TRACE_DIR, write_traces
 from hri_teleop.grading.judge.checks import CHECKS, grade, grade_submission
-from hri_teleop.grading.results import GradingError, feedback_text, gradescope_json
+from hri_teleop.grading.results import CheckResult, GradingError, feedback_text, gradescope_json
 from hri_teleop.grading.run.sandbox import SandboxError, sandbox_mode
 from hri_teleop.grading.run.workspace import WorkspaceError
 
@@ -66,7 +66,7 @@ def _parser() -> argparse.ArgumentParser:
     return parser
 
 
-def _report(results: Sequence, as_json: bool, out_dir: Path) -> int:
+def _report(results: Sequence[CheckResult], as_json: bool, out_dir: Path) -> int:
     payload = gradescope_json(results)
     (out_dir / "results.json").write_text(json.dumps(payload, indent=2), encoding="utf-8")
     (out_dir / "feedback.txt").write_text(feedback_text(results) + "\n", encoding="utf-8")

@@ -10,6 +10,7 @@ docs/grading-internals.md. The results in ``OUT/``: notebooks/README.md.
 from __future__ import annotations
 
 import csv
+import functools
 import json
 import os
 import sys
@@ -165,7 +166,7 @@ def grade_all(folder: Path, out: Path, jobs: Optional[int] = None, checks: Optio
                  else f"NOT GRADED: {outcome.message}")
         progress(f"{line}  ({outcome.seconds:.1f} s)")
 
-    run_all([(sub.name, lambda sub=sub: grade_one(sub, out / sub.name, graph_cache, checks, limit))
+    run_all([(sub.name, functools.partial(grade_one, sub, out / sub.name, graph_cache, checks, limit))
              for sub in subs], jobs, done)
     ordered = [outcomes[s.name] for s in subs]
     with open(out / "grades.csv", "w", newline="", encoding="utf-8") as fh:

@@ -10,6 +10,7 @@ is locked" keep them apart (docs/grading-internals.md). Results: notebooks/READM
 from __future__ import annotations
 
 import csv
+import functools
 import json
 import os
 import re
@@ -379,12 +380,12 @@ def grade_course(course: Path, submitted: Path, out: Path, jobs: Optional[int] =
     for student, assignment in sorted(pairs, key=lambda p: (order[p[1]], p[0])):
         if files_checks[assignment]:
             tasks.append((f"{student}\0{assignment}\0files",
-                          lambda s=student, a=assignment: _grade_files(nb, s, a, out / s / a, files_checks[a],
-                                                                       graph_cache, files_limit, results_dir)))
+                          functools.partial(_grade_files, nb, student, assignment, out / student / assignment,
+                                            files_checks[assignment], graph_cache, files_limit, results_dir)))
     for student, assignment in sorted(pairs, key=lambda p: (order[p[1]], p[0])):
         tasks.append((f"{student}\0{assignment}\0notebooks",
-                      lambda s=student, a=assignment: _autograde(nb, s, a, out / s / a, notebook_limit, db_lock,
-                                                                 progress, results_dir)))
+                      functools.partial(_autograde, nb, student, assignment, out / student / assignment, notebook_limit,
+                                        db_lock, progress, results_dir)))
     progress(f"autograding {len(pairs)} submission(s) of {len(students)} student(s) in {course} with nbgrader "
              f"({', '.join(assignments)}), and their {_FILES} files; {jobs} at once")
     started = time.monotonic()
@@ -464,9 +465,9 @@ def grade_course(course: Path, submitted: Path, out: Path, jobs: Optional[int] =
         writer.writeheader()
         writer.writerows(rows)
     (out / "summary.json").write_text(json.dumps(summary, indent=2), encoding="utf-8")
-    failed = [r for r in rows if r["status"] != "graded"]
+    not_graded = [r for r in rows if r["status"] != "graded"]
     manual = [r for r in rows if r["needs_manual_grade"]]
-    progress(f"graded {len(rows) - len(failed)}/{len(rows)} student(s) in {time.monotonic() - started:.0f} s; "
+    progress(f"graded {len(rows) - len(not_graded)}/{len(rows)} student(s) in {time.monotonic() - started:.0f} s; "
              f"gradebook {nb.db_url.split('?')[0]}, results in {out} (grades.csv, <student>/feedback.txt)"
              + (f"; {len(manual)} with answers to grade by hand (nbgrader formgrader)" if manual else ""))
-    return 2 if failed else 0
+    return 2 if not_graded else 0

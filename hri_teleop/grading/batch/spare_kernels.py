@@ -18,9 +18,9 @@ import uuid
 from dataclasses import dataclass
 from typing import Any, Dict, List, Optional
 
-from jupyter_client.connect import write_connection_file
+from jupyter_client.connect import KernelConnectionInfo, write_connection_file
 from jupyter_client.launcher import launch_kernel
-from jupyter_client.provisioning import LocalProvisioner
+from jupyter_client.provisioning.local_provisioner import LocalProvisioner
 
 __all__ = ["PROVISIONER", "PROVISIONER_ENV", "SPARES_ENV", "SpareProvisioner", "spares_left", "stop_spare"]
 
@@ -36,7 +36,7 @@ SPARES_ENV = "HRI_SPARE_KERNELS"
 class _Spare:
     process: "subprocess.Popen[bytes]"
     connection_file: str
-    info: Dict[str, Any]
+    info: KernelConnectionInfo
     template: List[Optional[str]]  # the command, its connection file left out
     popen_kwargs: Dict[str, Any]
 
@@ -151,23 +151,27 @@ def _start(km: Any, template: List[Optional[str]], popen_kwargs: Dict[str, Any])
         number = _started
     ip = f"{km.ip}-spare{os.getpid()}-{number}"
     folder = os.path.dirname(km.connection_file) or "."
+    key = str(uuid.uuid4()).encode()
     fname, info = write_connection_file(
         fname=os.path.join(folder, f"kernel-spare-{uuid.uuid4()}.json"), ip=ip, transport="ipc",
-        key=str(uuid.uuid4()).encode(), signature_scheme=km.session.signature_scheme, kernel_name=km.kernel_name)
-    info = dict(info, key=info["key"].encode())  # as the kernel manager keeps it
+        key=key, signature_scheme=km.session.signature_scheme, kernel_name=km.kernel_name)
+    # bytes, as the kernel manager keeps it (its session.key); jupyter_client's TypedDict says str
+    info["key"] = key  # type: ignore[typeddict-item]
     cmd = [fname if arg is None else arg for arg in template]
     process = launch_kernel(cmd, **_copy(popen_kwargs))  # it adds to the environment it is given
     with _lock:
         _spare = _Spare(process, fname, info, template, popen_kwargs)
 
 
-class SpareProvisioner(LocalProvisioner):  # type: ignore[misc]
+class SpareProvisioner(LocalProvisioner):
     """Jupyter's local provisioner, which takes a spare kernel when one fits and then starts the next."""
 
     _spare_file: Optional[str] = None
 
-    async def launch_kernel(self, cmd: List[str], **kwargs: Any) -> Any:
+    async def launch_kernel(self, cmd: List[str], **kwargs: Any) -> KernelConnectionInfo:
         km = self.parent
+        if km is None:  # no kernel manager to start a spare for
+            return await super().launch_kernel(cmd, **kwargs)
         template = _template(cmd, km.connection_file)
         popen_kwargs = _copy(self._scrub_kwargs(kwargs))
         spare = _take(template, popen_kwargs)
@@ -191,7 +195,7 @@ class SpareProvisioner(LocalProvisioner):  # type: ignore[misc]
         """The kernel was asked to shut down: let it end (stop its nodes, its roscore) while the next
         notebook starts; a thread waits for it and escalates as Jupyter would."""
         await super().shutdown_requested(restart)
-        if restart or self.process is None or not _budget():
+        if restart or self.process is None or self.parent is None or not _budget():
             return  # Jupyter's own way outside make grade
         thread = threading.Thread(target=_see_out, name=f"kernel-{self.pid}-ending", daemon=True,
                                   args=(self.process, self.pgid, float(self.parent.shutdown_wait_time)))

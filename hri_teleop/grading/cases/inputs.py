@@ -12,7 +12,7 @@ import hashlib
 import random
 from dataclasses import dataclass, field
 from pathlib import Path
-from typing import Dict, FrozenSet, List, Optional, Sequence, Tuple, Union
+from typing import Dict, FrozenSet, List, Optional, Sequence, Set, Tuple, Union
 
 from hri_teleop.core.config import lab_max_sensor_force
 from hri_teleop.core.errors import HriTeleopError
@@ -178,7 +178,7 @@ class _Builder:
 
     def __init__(self) -> None:
         self.axes: Dict[str, float] = {a: 0.0 for a in AXES}
-        self.buttons: set = set()
+        self.buttons: Set[str] = set()
         self.force = 0.0
         self.ticks: List[PadTick] = []
 
@@ -400,5 +400,5 @@ def launch_sim_case() -> LaunchSimCase:
         {"t": lift_to, "axis": "right_y", "value": 0.0},
         {"t": quit_s, "tap": "west", "hold": 0.1},
     )
-    world = {"object": "sponge", "arm": {"start_position_m": [0.3069, 0.0, 0.03]}}
+    world: Dict[str, object] = {"object": "sponge", "arm": {"start_position_m": [0.3069, 0.0, 0.03]}}
     return LaunchSimCase(world, script, lift_from, lift_to, quit_s)

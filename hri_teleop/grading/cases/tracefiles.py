@@ -11,7 +11,7 @@ from __future__ import annotations
 
 import json
 from pathlib import Path
-from typing import Any, Dict, List, Tuple, Union
+from typing import Any, Dict, List, Mapping, Tuple, Union
 
 import yaml
 
@@ -45,7 +45,7 @@ class TraceFileError(HriTeleopError, RuntimeError):
     """A trace bag is missing or does not hold what the grader wrote (one line with the fix)."""
 
 
-def _string(data: Dict[str, Any]) -> Any:
+def _string(data: Mapping[str, object]) -> Any:
     from std_msgs.msg import String  # noqa: PLC0415 - ROS only to write traces
 
     return String(data=json.dumps(data, sort_keys=True))
@@ -135,7 +135,10 @@ def write_traces(out_dir: Union[str, Path] = TRACE_DIR) -> List[Path]:
 def _params(bag: Dict[str, List[Tuple[float, Any]]], path: Path) -> Dict[str, Any]:
     if not bag.get("/grading/params"):
         raise TraceFileError(f"{path}: no /grading/params message; regenerate it with `hri-grade traces`")
-    return json.loads(bag["/grading/params"][0][1].data)
+    params = json.loads(bag["/grading/params"][0][1].data)
+    if not isinstance(params, dict):
+        raise TraceFileError(f"{path}: /grading/params is not a JSON object; regenerate it with `hri-grade traces`")
+    return params
 
 
 def read_mapping_trace(path: Union[str, Path] = TRACE_DIR / "mapping_public.bag") -> Tuple[MappingCase, List[float]]:

@@ -75,10 +75,10 @@ PathLike = Union[str, Path]
 @_closing
 def grade_robot_params(path: PathLike, *, seed: Optional[int] = None, out_dir: Optional[PathLike] = None) -> CheckResult:
     """Ex. 4: Table 1's keys, YAML types and values; loaded with rosparam's own loader."""
-    run, missing, seed = _start("robot-params", path, out_dir, seed)
-    if run is None:
-        return missing  # type: ignore[return-value]
-    target = run.space.files["robot_params"]
+    run, seed = _start("robot-params", path, out_dir, seed)
+    if isinstance(run, CheckResult):  # the file is missing
+        return run
+    target = run.space.file("robot_params")
     data, facts = run.probe("rosparam-load", target, "rosparam-load", RosparamResult)
     if data is None:
         parts = compare_robot_params(None, compare.explain_process(facts, "loading robot_params.yaml"))
@@ -99,14 +99,14 @@ def grade_mapping_node(path: PathLike, *, seed: Optional[int] = None, out_dir: O
     node, when the grader's agreement with it is tested); students' files never are.
     """
     _require_ros()
-    run, missing, seed = _start("mapping-node", path, out_dir, seed)
-    if run is None:
-        return missing  # type: ignore[return-value]
+    run, seed = _start("mapping-node", path, out_dir, seed)
+    if isinstance(run, CheckResult):  # the file is missing
+        return run
     refused = None if reference_allowed else _refuse_reference(run, "mapping-node", compare.MAPPING, seed)
     if refused is not None:
         return refused
     cases = [C.public_mapping_case()] + C.hidden_mapping_cases(seed)
-    plan = MappingNodePlan(script=str(run.space.files["mapping_node"]),
+    plan = MappingNodePlan(script=str(run.space.file("mapping_node")),
                            cases=[MappingCasePlan(c.label, c.max_sensor_force, list(c.counts)) for c in cases],
                            start_timeout_s=10.0, response_timeout_s=1.5)
     observation = run.session(plan, timeout_s=120.0)
@@ -119,9 +119,9 @@ def grade_mapping_node(path: PathLike, *, seed: Optional[int] = None, out_dir: O
 def grade_sensor_launch(path: PathLike, *, seed: Optional[int] = None, out_dir: Optional[PathLike] = None) -> CheckResult:
     """Ex. 6-7: parsed with roslaunch's loader, then launched: /force_mapped flows and stays in [0, 1]."""
     _require_ros()
-    run, missing, seed = _start("sensor-launch", path, out_dir, seed)
-    if run is None:
-        return missing  # type: ignore[return-value]
+    run, seed = _start("sensor-launch", path, out_dir, seed)
+    if isinstance(run, CheckResult):  # the file is missing
+        return run
     parsed, facts = _parse_launch(run, "sensor_launch")
     observation: Optional[SensorLaunchObservation] = None
     if parsed.ok:
@@ -130,7 +130,7 @@ def grade_sensor_launch(path: PathLike, *, seed: Optional[int] = None, out_dir: 
         package = run.space.package
         run_mapping = "mapping_node.py" not in scripts and (package / "scripts" / "mapping_node.py").is_file()
         plan = SensorLaunchPlan(
-            launch_file=str(run.space.files["sensor_launch"]),
+            launch_file=str(run.space.file("sensor_launch")),
             set_max_sensor_force=None if param_ok else C.PUBLIC_MAX_SENSOR_FORCE,
             run_fsr_sensor="FSR_sensor.py" not in scripts, fsr_sensor=str(package / "scripts" / "FSR_sensor.py"),
             run_mapping_node=run_mapping, mapping_node=str(package / "scripts" / "mapping_node.py"),
@@ -153,9 +153,9 @@ def grade_teleoperation(path: PathLike, *, seed: Optional[int] = None, out_dir: 
                         node: bool = True) -> CheckResult:
     """Ex. 8-9: the student's parts against pad-event traces, then the node with the virtual pad."""
     _require_ros()
-    run, missing, seed = _start("teleoperation", path, out_dir, seed)
-    if run is None:
-        return missing  # type: ignore[return-value]
+    run, seed = _start("teleoperation", path, out_dir, seed)
+    if isinstance(run, CheckResult):  # the file is missing
+        return run
     refused = _refuse_reference(run, "teleoperation", compare.TELEOP, seed)
     if refused is not None:
         return refused
@@ -173,7 +173,7 @@ def grade_teleoperation(path: PathLike, *, seed: Optional[int] = None, out_dir: 
     plan_path.write_text(json.dumps(TeleopPartsPlan(plan_cases).to_json()), encoding="utf-8")
     if run.uid is not None:
         os.chown(plan_path, run.uid, run.uid)
-    data, facts = run.probe("teleop-parts", run.space.files["teleoperation"], "teleop-parts", TeleopPartsResult,
+    data, facts = run.probe("teleop-parts", run.space.file("teleoperation"), "teleop-parts", TeleopPartsResult,
                             plan_path)
     parts = compare.compare_teleop_parts(data or TeleopPartsResult(), cases, run.out_dir, facts)
     node_keys = [k for k in compare.TELEOP if k.startswith("node_")]
@@ -187,7 +187,7 @@ def grade_teleoperation(path: PathLike, *, seed: Optional[int] = None, out_dir: 
         script_path.write_text(yaml.safe_dump([dict(step) for step in node_case.script]), encoding="utf-8")
         if run.uid is not None:
             os.chown(script_path, run.uid, run.uid)
-        plan = TeleopNodePlan(script=str(run.space.files["teleoperation"]), pad_script=str(script_path),
+        plan = TeleopNodePlan(script=str(run.space.file("teleoperation")), pad_script=str(script_path),
                               gains=node_case.gains, force=node_case.force, start_timeout_s=10.0,
                               run_s=node_case.quit_s + 4.0, quit_grace_s=5.0, record=[TWIST_TOPIC, "/gripper_width"],
                               clock=grading_clock())
@@ -225,7 +225,7 @@ def _launch_sim_plan(run: _Run, parsed: LaunchParseResult) -> Optional[TeleopLau
             supply[script[:-3]] = [str(package / "scripts" / script)]
     param_ok, _ = compare.check_max_param(parsed.params)
     return TeleopLaunchSimPlan(
-        launch_file=str(run.space.files["teleoperation_launch"]), params_launch=str(params), teleop_node=node,
+        launch_file=str(run.space.file("teleoperation_launch")), params_launch=str(params), teleop_node=node,
         twist_topic=TWIST_TOPIC, supply=supply, set_max_sensor_force=None if param_ok else C.PUBLIC_MAX_SENSOR_FORCE,
         lab_sim=[str(REPO / "hri_lab" / "scripts" / "lab_sim.py"), "__name:=lab_sim",
                  f"_config:={REPO / 'hri_lab' / 'config' / 'sim.yaml'}", f"_scenario:={scenario}",
@@ -267,9 +267,9 @@ def grade_teleoperation_launch(path: PathLike, *, seed: Optional[int] = None,
     """Ex. 12-13: node set, serial_node with its port, /max_sensor_force, the controller include;
     then launched in simulation (the simulated lab in place of robot and board)."""
     _require_ros()
-    run, missing, seed = _start("teleoperation-launch", path, out_dir, seed)
-    if run is None:
-        return missing  # type: ignore[return-value]
+    run, seed = _start("teleoperation-launch", path, out_dir, seed)
+    if isinstance(run, CheckResult):  # the file is missing
+        return run
     parsed, facts = _parse_launch(run, "teleoperation_launch")
     parts = compare.compare_teleop_launch(parsed, facts)
     plan = _launch_sim_plan(run, parsed) if parsed.ok else None

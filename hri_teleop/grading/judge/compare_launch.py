@@ -266,11 +266,11 @@ def compare_teleop_launch_sim(parsed: LaunchParseResult, observation: Optional[T
         problems.append("the board's counts arrived on /pub_force but nothing on /force_mapped: is mapping_node.py "
                         "started?")
     else:
-        outside = [v for v in force if v is None or not 0.0 <= v <= 1.0]
-        if outside:
-            problems.append(f"{len(outside)} of {len(force)} values on /force_mapped were outside [0, 1]")
-        elif max(force) < SIM_MIN_FORCE:  # type: ignore[type-var]
-            problems.append(f"/force_mapped stayed below {SIM_MIN_FORCE} (max {max(force):.3f}) while the hand "
+        numbers = [v for v in force if v is not None and 0.0 <= v <= 1.0]
+        if len(numbers) < len(force):
+            problems.append(f"{len(force) - len(numbers)} of {len(force)} values on /force_mapped were outside [0, 1]")
+        elif max(numbers) < SIM_MIN_FORCE:
+            problems.append(f"/force_mapped stayed below {SIM_MIN_FORCE} (max {max(numbers):.3f}) while the hand "
                             "squeezed the sponge: is /max_sensor_force the calibrated count?")
     facts = []
     rumble = [r for r in (_as_float(v) for _, v in _series(observation, f"{teleop}/rumble")) if r is not None]

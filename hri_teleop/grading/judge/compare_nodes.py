@@ -131,8 +131,8 @@ def compare_mapping(observation: MappingNodeObservation, cases: Sequence[Mapping
         message = explain_process(facts, "mapping_node.py")
         if facts.started and facts.subscriptions == [] and not facts.problem:
             message = "mapping_node.py subscribes to no topic: create rospy.Subscriber('/pub_force', Int16, callback)"
-        parts = [_part(T, "sub", False, message)]
-        return parts + [_nj(T, k, "the node did not subscribe to /pub_force") for k in T if k != "sub"]
+        return [_part(T, "sub", False, message)] + [_nj(T, k, "the node did not subscribe to /pub_force")
+                                                    for k in T if k != "sub"]
 
     parts: List[Part] = []
     in_topic, in_type = public.input_topic, public.input_type
@@ -250,10 +250,15 @@ def _method_error(result: PartsCaseResult, method: str) -> Optional[str]:
     return None
 
 
+def _differs(value: Any, want: float, tolerance: float) -> bool:
+    """The student's value is no number, or further than ``tolerance`` from ``want``."""
+    number = _as_float(value)
+    return number is None or abs(number - want) > tolerance
+
+
 def _judge_gripper(case: TeleopPartsCase, exp: List[ExpectedTick], got: List[PartsTick]) -> Tuple[bool, str, List[int]]:
     step = case.gains.k_gripper / case.gains.rate
-    bad = [i for i, (e, g) in enumerate(zip(exp, got))
-           if _as_float(g.gripper_width) is None or abs(_as_float(g.gripper_width) - e.gripper_width) > 1e-9]
+    bad = [i for i, (e, g) in enumerate(zip(exp, got)) if _differs(g.gripper_width, e.gripper_width, 1e-9)]
     if not bad:
         return True, "", []
     i = bad[0]
@@ -293,8 +298,8 @@ def _judge_twist(case: TeleopPartsCase, exp: List[ExpectedTick], got: List[Parts
         velocity = g.cartesian_velocity
         rotation = g.rotation_mode is True
         want = e.velocity_if_rotation if rotation else e.velocity_if_translation
-        values = [_as_float(v) for v in velocity] if isinstance(velocity, list) else []
-        if len(values) != 6 or any(v is None or abs(v - w) > _TWIST_TOLERANCE for v, w in zip(values, want)):
+        if not isinstance(velocity, list) or len(velocity) != 6 \
+                or any(_differs(v, w, _TWIST_TOLERANCE) for v, w in zip(velocity, want)):
             bad.append(i)
     if not bad:
         return True, "", []
@@ -303,27 +308,28 @@ def _judge_twist(case: TeleopPartsCase, exp: List[ExpectedTick], got: List[Parts
     rotation = got[i].rotation_mode is True
     want = exp[i].velocity_if_rotation if rotation else exp[i].velocity_if_translation
     values = [_as_float(v) for v in velocity] if isinstance(velocity, list) else []
+    numbers = [v for v in values if v is not None]
     mode = "rotation" if rotation else "translation"
-    if len(values) != 6 or any(v is None for v in values):
+    if len(values) != 6 or len(numbers) != 6:
         hint = "self.cartesian_velocity must be a list of 6 numbers [v_x, v_y, v_z, w_x, w_y, w_z]"
     else:
         raw = _no_deadzone(case.gains.params(), rotation).target_twist(case.ticks[i].state())
         active = range(3, 6) if rotation else range(0, 3)
         other = range(0, 3) if rotation else range(3, 6)
-        if all(abs(v - r) <= _TWIST_TOLERANCE for v, r in zip(values, raw)) and raw != tuple(want):
+        if all(abs(v - r) <= _TWIST_TOLERANCE for v, r in zip(numbers, raw)) and raw != tuple(want):
             hint = "pass every stick through self.normalize_analog_input() before the gain (the dead zone, Figure 8)"
-        elif any(abs(values[k]) > _TWIST_TOLERANCE for k in other):
+        elif any(abs(numbers[k]) > _TWIST_TOLERANCE for k in other):
             hint = f"in {mode} mode only the {mode} half of the velocity may be non-zero"
-        elif all(abs(values[k] + want[k]) <= _TWIST_TOLERANCE for k in active) and any(want[k] for k in active):
+        elif all(abs(numbers[k] + want[k]) <= _TWIST_TOLERANCE for k in active) and any(want[k] for k in active):
             hint = "the signs are reversed: check the controller assignment in the file's docstring"
-        elif any(abs(values[k] + want[k]) <= _TWIST_TOLERANCE and want[k] != 0 for k in active):
+        elif any(abs(numbers[k] + want[k]) <= _TWIST_TOLERANCE and want[k] != 0 for k in active):
             wrong = [("v_x v_y v_z w_x w_y w_z".split())[k] for k in active
-                     if want[k] != 0 and abs(values[k] + want[k]) <= _TWIST_TOLERANCE]
+                     if want[k] != 0 and abs(numbers[k] + want[k]) <= _TWIST_TOLERANCE]
             hint = f"{', '.join(wrong)} has the wrong sign: check the controller assignment in the file's docstring"
         else:
             gain = case.gains.k_rot if rotation else case.gains.k_trans
             other_gain = case.gains.k_trans if rotation else case.gains.k_rot
-            ratios = [values[k] / want[k] for k in active if want[k] != 0]
+            ratios = [numbers[k] / want[k] for k in active if want[k] != 0]
             if ratios and all(abs(r - other_gain / gain) <= 1e-6 for r in ratios):
                 hint = f"use k_rot in rotation mode and k_trans in translation mode (this is {mode} mode)"
             else:
@@ -355,8 +361,7 @@ def _judge_toggle(case: TeleopPartsCase, exp: List[ExpectedTick], got: List[Part
 
 
 def _judge_rumble(case: TeleopPartsCase, exp: List[ExpectedTick], got: List[PartsTick]) -> Tuple[bool, str, List[int]]:
-    bad = [i for i, (e, g) in enumerate(zip(exp, got))
-           if _as_float(g.rumble) is None or abs(_as_float(g.rumble) - e.rumble) > 1e-9]
+    bad = [i for i, (e, g) in enumerate(zip(exp, got)) if _differs(g.rumble, e.rumble, 1e-9)]
     if not bad:
         return True, "", []
     i = bad[0]

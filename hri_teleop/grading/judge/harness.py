@@ -279,16 +279,17 @@ def _table_for(check: str) -> Dict[str, Tuple[str, float]]:
 
 
 def _start(check: str, path: PathLike, out_dir: Optional[PathLike], seed: Optional[int]
-           ) -> Tuple[Optional[_Run], Optional[CheckResult], int]:
+           ) -> Tuple[Union[_Run, CheckResult], int]:
+    """(the check's run, or its result when the file is missing: every part failed; the seed)."""
     key = _KEY[check]
     root, given, found = _resolve(path, key)
     seed = C.seed_for(root) if seed is None else int(seed)
     if found is None:
         hidden = check in ("mapping-node", "teleoperation")
-        return None, _missing_result(check, key, _table_for(check), root, seed if hidden else None), seed
+        return _missing_result(check, key, _table_for(check), root, seed if hidden else None), seed
     sandbox_mode()  # says once when bubblewrap is missing
     return _Run(check, root if given is None else given, out_dir, key, given or found,
-                reference=_REFERENCE_FOR.get(check, ())), None, seed
+                reference=_REFERENCE_FOR.get(check, ())), seed
 
 
 def _refuse_reference(run: _Run, check: str, table: Dict[str, Tuple[str, float]], seed: Optional[int]
@@ -309,7 +310,7 @@ def _refuse_reference(run: _Run, check: str, table: Dict[str, Tuple[str, float]]
 
 
 def _parse_launch(run: _Run, key: str) -> Tuple[LaunchParseResult, ProcessFacts]:
-    data, facts = run.probe("launch-parse", run.space.files[key], f"parse-{key}", LaunchParseResult)
+    data, facts = run.probe("launch-parse", run.space.file(key), f"parse-{key}", LaunchParseResult)
     return (data if data is not None else LaunchParseResult()), facts
 
 

@@ -18,12 +18,13 @@ from hri_teleop.grading.run.records import MappingRun
 __all__ = ["expected_vs_actual", "mapping_plot", "series_plot", "timeline"]
 
 
-def _finite(values: Sequence[Optional[float]]) -> list:
+def _finite(values: Sequence[object]) -> List[float]:
+    """Each value as a float; nan for what is none (None, text, a list...) or not finite."""
     out = []
     for v in values:
         try:
-            f = float(v)  # type: ignore[arg-type]
-        except (TypeError, ValueError):
+            f = float(v) if isinstance(v, (int, float, str)) else math.nan
+        except ValueError:
             f = math.nan
         out.append(f if math.isfinite(f) else math.nan)
     return out

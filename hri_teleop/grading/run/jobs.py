@@ -18,7 +18,7 @@ import time
 from concurrent.futures import FIRST_COMPLETED, Future, ThreadPoolExecutor, wait
 from dataclasses import dataclass
 from pathlib import Path
-from typing import Any, Callable, Dict, List, Optional, Sequence, Tuple
+from typing import Any, Callable, Dict, List, Optional, Sequence, Tuple, TypeVar
 
 from hri_teleop.ros.master import descendants
 
@@ -34,8 +34,9 @@ def print_line(line: str) -> None:
     print(line, flush=True)
 
 
+T = TypeVar("T")
 _PR_SET_PDEATHSIG, _PR_SET_CHILD_SUBREAPER = 1, 36
-_RUNNING: Dict[int, subprocess.Popen] = {}
+_RUNNING: Dict[int, "subprocess.Popen[bytes]"] = {}
 _RUNNING_LOCK = threading.Lock()
 
 
@@ -52,7 +53,7 @@ class Run:
 def _prctl(option: int, value: int) -> bool:
     try:
         libc = ctypes.CDLL(None, use_errno=True)
-        return libc.prctl(option, value, 0, 0, 0) == 0
+        return bool(libc.prctl(option, value, 0, 0, 0) == 0)
     except (OSError, AttributeError):
         return False
 
@@ -119,7 +120,7 @@ def reaped(argv: Sequence[str]) -> List[str]:
     return [sys.executable, "-m", "hri_teleop.grading.run.jobs", "reap", "--", *argv]
 
 
-def _stop(proc: subprocess.Popen) -> None:
+def _stop(proc: "subprocess.Popen[bytes]") -> None:
     """Stop a reaper and its job: SIGTERM (it kills its descendants), then SIGKILL whatever is left."""
     try:
         proc.send_signal(signal.SIGTERM)
@@ -168,7 +169,7 @@ def run_job(argv: Sequence[str], log: Path, timeout_s: float, *, cwd: Optional[P
     return Run(None if timed_out else proc.returncode, stdout or b"", time.monotonic() - started, timed_out)
 
 
-def _stream(proc: subprocess.Popen, timeout_s: float, on_line: Callable[[str], None]) -> Tuple[bytes, bool]:
+def _stream(proc: "subprocess.Popen[bytes]", timeout_s: float, on_line: Callable[[str], None]) -> Tuple[bytes, bool]:
     """Read ``proc``'s stdout line by line until it ends; a timer stops it at ``timeout_s``."""
     expired: List[bool] = []
 
@@ -214,8 +215,8 @@ def job_count(jobs: Optional[int]) -> int:
         return max(1, os.cpu_count() or 1)
 
 
-def run_all(tasks: Sequence[Tuple[str, Callable[[], Any]]], jobs: int,
-              on_done: Callable[[str, Any, Optional[BaseException]], None]) -> None:
+def run_all(tasks: Sequence[Tuple[str, Callable[[], T]]], jobs: int,
+            on_done: Callable[[str, Optional[T], Optional[BaseException]], None]) -> None:
     """Run ``tasks`` (key, callable) ``jobs`` at a time; ``on_done`` in this thread as each ends.
 
     Ctrl-C or SIGTERM: the jobs not started are dropped, the running ones stopped (with
@@ -230,7 +231,7 @@ def run_all(tasks: Sequence[Tuple[str, Callable[[], Any]]], jobs: int,
         previous = {signal.SIGTERM: signal.signal(signal.SIGTERM, on_term),
                     signal.SIGINT: signal.getsignal(signal.SIGINT)}
     pool = ThreadPoolExecutor(max_workers=jobs)
-    futures: Dict[Future, str] = {}
+    futures: Dict[Future[T], str] = {}
     try:
         futures = {pool.submit(call): key for key, call in tasks}
         pending = set(futures)

@@ -9,12 +9,13 @@ Runs inside the grading session (:mod:`hri_teleop.grading.run.session`).
 
 from __future__ import annotations
 
+import math
 import threading
 import time
 from typing import Any, Callable, Dict, List, Protocol, Sequence, Set, Tuple
 
 from hri_teleop.hardware.gamepad import PAD_CLOCK_ENV
-from hri_teleop.ros.master import MasterError, busy_threads, process_trees
+from hri_teleop.ros.master import MasterError, PrivateMaster, busy_threads, process_trees
 
 __all__ = ["GRADER_NODE", "wait_for", "Recorder", "GraderClock", "Quiescence", "wait_until_settled", "last_value",
            "connections", "node_rate_hz"]
@@ -23,7 +24,7 @@ __all__ = ["GRADER_NODE", "wait_for", "Recorder", "GraderClock", "Quiescence", "
 class Session(Protocol):
     """What the waits need of a grading session (hri_teleop.grading.run.session.Session): its master."""
 
-    master: Any
+    master: PrivateMaster
 
 
 #: The grader's own node in a session (its recorders and publishers; the caller id of its bus-info reads).
@@ -131,7 +132,7 @@ class GraderClock:
     def __init__(self, session: Session, start_s: float = 1.0, started: bool = True) -> None:
         """``started`` False: ROS time stays 0 (nodes that wait for the clock wait) until :meth:`start`."""
         import rospy  # noqa: PLC0415 - ROS only in a session (the waits import without it)
-        from rosgraph_msgs.msg import Clock  # noqa: PLC0415 - ROS only in a session (the waits import without it)
+        from rosgraph_msgs.msg import Clock  # type: ignore[import-untyped]  # noqa: PLC0415 - as rospy above
 
         self._rospy, self._Clock = rospy, Clock
         self._master = session.master
@@ -278,7 +279,8 @@ def connections(session: Session, node: str, topic: str, direction: str = "i") -
 def node_rate_hz(session: Session, node: str, default_hz: float, param: str = "rate") -> float:
     """The loop rate a node was given (its private ``param``), else the lab's default."""
     try:
-        value = float(session.master.get_param(f"{node}/{param}"))  # type: ignore[arg-type]
-    except (MasterError, TypeError, ValueError):
+        raw = session.master.get_param(f"{node}/{param}")
+        value = float(raw) if isinstance(raw, (int, float, str)) else math.nan  # nan: not a rate
+    except (MasterError, ValueError):
         return default_hz
     return value if 0.0 < value <= 1000.0 else default_hz

@@ -6,6 +6,7 @@ Ex. 6-7's sensor launch is recorded on the grader's clock.
 
 from __future__ import annotations
 
+import functools
 import threading
 import time
 from typing import Any, List
@@ -73,9 +74,7 @@ def run_mapping_node(session: Session, plan: MappingNodePlan) -> MappingNodeObse
                 recorder = Recorder()
                 if out_topic:
                     recorder.add(out_topic)
-                connected = wait_for(lambda publisher=publisher, recorder=recorder, out_topic=out_topic:
-                                     publisher.get_num_connections() > 0
-                                     and (not out_topic or recorder.connected(out_topic)), 5.0)
+                connected = wait_for(functools.partial(_both_ends, publisher, recorder, out_topic), 5.0)
                 if connected:
                     responses = _lockstep(publisher, recorder, out_topic, case.counts, proc, plan.response_timeout_s)
                 recorder.close()
@@ -93,6 +92,11 @@ def run_mapping_node(session: Session, plan: MappingNodePlan) -> MappingNodeObse
                                node=_facts(proc, nodes, sub, pub, problem, exited)))
         _forget_nodes(session.master, _student_nodes(session.master, session.baseline))
     return MappingNodeObservation(runs=runs)
+
+
+def _both_ends(publisher: Any, recorder: Recorder, out_topic: str) -> bool:
+    """The node takes the grader's counts and (if it has an output) the recorder hears it."""
+    return bool(publisher.get_num_connections() > 0 and (not out_topic or recorder.connected(out_topic)))
 
 
 def _lockstep(publisher: Any, recorder: Recorder, out_topic: str, counts: List[int], proc: Any,

@@ -31,7 +31,7 @@ from hri_teleop.grading.cases.inputs import TeleopGains
 from hri_teleop.grading.run.sandbox import Limits
 
 __all__ = [
-    "RecordError", "Record", "Message", "Response", "Topic", "ProcessFacts", "NodeFacts",
+    "RecordError", "Record", "Obs", "Message", "Response", "Topic", "ProcessFacts", "NodeFacts",
     "Observation", "ClockedObservation", "LaunchObservation", "MappingRun", "MappingNodeObservation",
     "SensorLaunchObservation", "TeleopNodeObservation", "TeleopLaunchSimObservation", "LiveGraphObservation",
     "SessionContext", "SessionPlan", "MappingCasePlan", "MappingNodePlan", "LaunchPlan", "SensorLaunchPlan",

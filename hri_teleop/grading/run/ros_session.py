@@ -26,18 +26,18 @@ _IGNORED_TOPICS = ("/rosout", "/rosout_agg")
 
 # -- what a student's node did ------------------------------------------------------------
 
-def _graph(master: Any) -> Tuple[Dict[str, Set[str]], Dict[str, Set[str]], Dict[str, str]]:
+def _graph(master: PrivateMaster) -> Tuple[Dict[str, Set[str]], Dict[str, Set[str]], Dict[str, str]]:
     """(topic -> publisher nodes, topic -> subscriber nodes, topic -> type) from the master."""
     pubs, subs, _ = master.system_state()
     types = master.topic_types()
     return ({t: set(n) for t, n in pubs}, {t: set(n) for t, n in subs}, types)
 
 
-def _student_nodes(master: Any, baseline: Set[str]) -> Set[str]:
+def _student_nodes(master: PrivateMaster, baseline: Set[str]) -> Set[str]:
     return {n for n in master.node_names() if n not in baseline and n != GRADER_NODE and n != "/rosout"}
 
 
-def _forget_nodes(master: Any, nodes: Set[str]) -> None:
+def _forget_nodes(master: PrivateMaster, nodes: Set[str]) -> None:
     """Remove a stopped student node's registrations: a killed node never unregisters itself,
     and the next run may reuse its name."""
     proxy = master._proxy()
@@ -59,7 +59,7 @@ def _forget_nodes(master: Any, nodes: Set[str]) -> None:
                     proxy.unregisterService(node, service, service_uri)
 
 
-def _node_io(master: Any, nodes: Set[str]) -> Tuple[List[Topic], List[Topic]]:
+def _node_io(master: PrivateMaster, nodes: Set[str]) -> Tuple[List[Topic], List[Topic]]:
     """(topic, type) the nodes subscribe and publish (rosout left out)."""
     pubs, subs, types = _graph(master)
     sub = sorted(Topic(t, types.get(t, "")) for t, n in subs.items() if n & nodes and t not in _IGNORED_TOPICS)

@@ -18,7 +18,7 @@ import tempfile
 import time
 from dataclasses import dataclass
 from pathlib import Path
-from typing import Dict, List, Mapping, Optional, Sequence, TextIO
+from typing import Callable, Dict, List, Mapping, Optional, Sequence, TextIO
 
 from hri_teleop.core.errors import HriTeleopError
 
@@ -183,7 +183,7 @@ def _own_process_count(uid: int) -> int:
     return count
 
 
-def _preexec(limits: Limits, uid: Optional[int], nproc: int):
+def _preexec(limits: Limits, uid: Optional[int], nproc: int) -> Callable[[], None]:
     import resource  # noqa: PLC0415 - Unix only: imported here so that the rest of the grader imports anywhere
 
     def apply() -> None:
@@ -208,7 +208,7 @@ def describe_exit(code: Optional[int]) -> str:
     if code >= 0:
         return f"exited with status {code}"
     sig = -code
-    reasons = {
+    reasons: Dict[int, str] = {
         signal.SIGXFSZ: "was stopped because it wrote more than the output limit (%d MB): remove prints in "
                         "loops" % (OUTPUT_CAP_BYTES // (1024 * 1024)),  # (Python ignores SIGXFSZ: it gets EFBIG)
         signal.SIGXCPU: "was stopped because it used more CPU time than allowed: look for an endless loop",
@@ -328,7 +328,7 @@ class StudentProcess:
                 time.sleep(0.05)  # killed processes leave /proc once their parents reap them
 
 
-def _as_uid(uid: int):
+def _as_uid(uid: int) -> Callable[[], None]:
     def apply() -> None:
         os.setgroups([])
         os.setgid(uid)

@@ -112,6 +112,13 @@ class Workspace:
         """Inside the student's folder: probe plans and outputs (the student process writes them)."""
         return self.package / ".grader"
 
+    def file(self, key: str) -> Path:
+        """The copy of deliverable ``key`` (a check's own is always there)."""
+        path = self.files.get(key)
+        if path is None:
+            raise WorkspaceError(f"{DELIVERABLES[key]} is not in the grading workspace {self.package}")
+        return path
+
 
 def _manifest(name: str, description: str) -> str:
     return ('<?xml version="1.0"?>\n<package format="2"><name>' + name + '</name><version>0.0.0</version>'
