@@ -336,7 +336,8 @@ def test_each_assignments_files_get_the_checks_its_notebooks_call():
     for assignment in ASSIGNMENTS:
         called = set()
         for path in (COURSE_DIR / "source" / assignment).glob("*.ipynb"):
-            for name in re.findall(r"\bgrade_(\w+)\(", path.read_text()):  # Ex. 8/9 split teleoperation in two
+            # grade_<check>(...) or the facade's check.<check>(...); Ex. 8/9 split teleoperation in two
+            for name in re.findall(r"\b(?:grade_|check\.)(\w+)\(", path.read_text()):
                 called.add(re.sub(r"^teleoperation_(parts|node)$", "teleoperation", name).replace("_", "-"))
         assert called <= set(CHECKS), called
         assert set(ASSIGNMENT_CHECKS[assignment]) == called, assignment
