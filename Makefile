@@ -34,9 +34,12 @@ test: setup
 bench: setup
 	@$(ENV) $(PY) -m benchmarks $(subst $(comma), ,$(BENCH)) --out out/bench $(if $(JOBS),--jobs $(JOBS))
 
+# catkin_lint on the lab package, ruff on the whole checkout (notebooks too), mypy --strict on the
+# package (pyproject.toml's [tool.ruff] and [tool.mypy]); `make test` runs all three too.
 lint: setup
 	@$(ENV) catkin_lint --offline -W2 --strict hri_lab
-	@$(ENV) ruff check hri_teleop tests
+	@$(ENV) ruff check .
+	@$(ENV) $(PY) -m mypy
 
 clean:
 	rm -rf .venv build out .pytest_cache .hypothesis

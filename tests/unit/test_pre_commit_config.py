@@ -1,5 +1,5 @@
 """The pre-commit hooks run what they say: the notebook hook strips a notebook's outputs, and the
-ruff hook is the `make lint` command; both from the project's .venv (local hooks, no download)."""
+ruff and mypy hooks are `make lint`'s commands; all from the project's .venv (local hooks, no download)."""
 
 from __future__ import annotations
 
@@ -42,7 +42,9 @@ def test_the_notebook_hook_strips_outputs_and_execution_counts(tmp_path):
     assert "an answer" not in dirty.read_text()
 
 
-def test_the_ruff_hook_is_make_lints_command():
-    hook = _hooks()["ruff"]
-    assert hook["entry"] == ".venv/bin/ruff check"
-    assert "ruff check hri_teleop tests" in (REPO / "Makefile").read_text()
+def test_the_ruff_and_mypy_hooks_are_make_lints_commands():
+    makefile = (REPO / "Makefile").read_text()
+    assert _hooks()["ruff"]["entry"] == ".venv/bin/ruff check"
+    assert "ruff check ." in makefile
+    assert _hooks()["mypy"]["entry"] == ".venv/bin/python -m mypy" and _hooks()["mypy"]["pass_filenames"] is False
+    assert "$(PY) -m mypy" in makefile
