@@ -13,6 +13,9 @@ REPO = Path(__file__).resolve().parents[1]
 os.environ.setdefault("SDL_VIDEODRIVER", "dummy")
 os.environ.setdefault("SDL_AUDIODRIVER", "dummy")
 os.environ.setdefault("PYGAME_HIDE_SUPPORT_PROMPT", "1")
+# The simulated arm solves a 7 x 7 system every millisecond; older OpenBLAS builds (numpy 1.24,
+# Python 3.8) run it on a second thread that spins, burning a core the other nodes need.
+os.environ.setdefault("OPENBLAS_NUM_THREADS", "1")
 
 
 def _ros_env() -> dict:

@@ -10,6 +10,12 @@ teleoperation.py, gripper_manager.py and mapping_node.py cannot tell it from the
 
 from __future__ import annotations
 
+import os
+
+# Before numpy loads: the arm solves a 7 x 7 system every millisecond, which older OpenBLAS builds
+# (numpy 1.24, the lab PCs' Python 3.8) hand to a second thread that spins on the other core.
+os.environ.setdefault("OPENBLAS_NUM_THREADS", "1")
+
 import functools
 import threading
 import time
@@ -25,6 +31,7 @@ from std_msgs.msg import Float32, Float64, Header, Int16, UInt32
 from std_srvs.srv import Trigger, TriggerResponse
 
 from hri_teleop.core.config import DEFAULT_TWIST_TOPIC
+from hri_teleop.core.joints import JOINT_ERRORS
 from hri_teleop.hardware.sim.arm import (
     ACCELERATION_DISCONTINUITY,
     EVENT_RECOVERED,
@@ -61,7 +68,8 @@ NODE_KEYS = ("config", "scenario", "twist_topic", "gripper_ns", "board", "frame_
              "state_rate_hz", "status_rate_hz", "object_rate_hz", "loop_period_s", "stall_s")
 FINGER_JOINTS = ["panda_finger_joint1", "panda_finger_joint2"]
 #: Every name the arm reports a violation under, in the order ~arm_status lists them.
-ARM_ERRORS = (VELOCITY_LIMITS_VIOLATION, VELOCITY_DISCONTINUITY, ACCELERATION_DISCONTINUITY, NON_FINITE_COMMAND)
+ARM_ERRORS = (VELOCITY_LIMITS_VIOLATION, VELOCITY_DISCONTINUITY, ACCELERATION_DISCONTINUITY, NON_FINITE_COMMAND,
+              *(error for _what, error in JOINT_ERRORS))
 #: action name -> (action spec, result class)
 ACTIONS: Dict[str, Tuple[type, type]] = {
     "move": (fg.MoveAction, fg.MoveResult),

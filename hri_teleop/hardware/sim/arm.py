@@ -1,195 +1,67 @@
 """A simulated Franka Panda under a Cartesian velocity controller: moves and judges like the robot.
 
-It takes the lab controller's twist, runs the robot's 1 kHz cycle on it (hold, judge with
-:func:`hri_teleop.core.limits.limit_violations`' arithmetic, reflex or integrate), refuses a
-command with libfranka's error names, ramps to zero on a command timeout and clamps at the
-workspace box. Pure and deterministic; the model and its sources: docs/simulation.md.
+It takes the lab controller's twist, runs the robot's 1 kHz cycle on it (judge the twist with
+:func:`hri_teleop.core.limits.limit_violations`' arithmetic, move the seven joints with the robot's
+inverse kinematics and judge them too, reflex or integrate), refuses a command with libfranka's
+error names, ramps to zero on a command timeout and clamps at the workspace box. Deterministic;
+the model and its sources: docs/simulation.md.
 """
 
 from __future__ import annotations
 
 import math
-from dataclasses import dataclass
-from typing import Dict, Iterable, List, Optional, Sequence, Tuple
+from typing import Dict, List, Optional, Sequence, Tuple
 
-from hri_teleop.core.checks import is_finite_number, is_positive_number
-from hri_teleop.core.errors import HriTeleopError
-from hri_teleop.core.limits import (
-    PANDA_LIMITS,
-    ROBOT_PERIOD_S,
-    CartesianLimits,
-    LimitsError,
-    Twist,
-    TwistLimiter,
-    Vec3,
+import numpy as np
+
+from hri_teleop.core.checks import is_finite_number
+from hri_teleop.core.joints import JointVector
+from hri_teleop.core.limits import ROBOT_PERIOD_S, CartesianLimits, Twist, TwistLimiter, Vec3
+from hri_teleop.hardware.sim.arm_config import (
+    ACCELERATION_DISCONTINUITY,
+    AXES,
+    EVENT_IGNORED,
+    EVENT_RECOVERED,
+    EVENT_REFLEX,
+    EVENT_TIMEOUT,
+    EVENT_WORKSPACE,
+    LIBFRANKA_ERROR_FOR,
+    NON_FINITE_COMMAND,
+    STATE_IDLE,
+    STATE_MOVING,
+    STATE_REFLEX,
+    STATE_TIMEOUT,
+    VELOCITY_DISCONTINUITY,
+    VELOCITY_LIMITS_VIOLATION,
+    ArmEvent,
+    ArmPose,
+    LimitViolation,
+    SimArmConfig,
+    SimArmError,
 )
+from hri_teleop.hardware.sim.joint_motion import JointMotion, start_joints
+from hri_teleop.hardware.sim.kinematics import KinematicsError
 
 __all__ = [
-    "SimArmError",
-    "SimArmConfig",
-    "SimArm",
-    "LimitViolation",
-    "ArmEvent",
-    "ArmPose",
-    "VELOCITY_LIMITS_VIOLATION",
-    "VELOCITY_DISCONTINUITY",
-    "ACCELERATION_DISCONTINUITY",
-    "NON_FINITE_COMMAND",
-    "LIBFRANKA_ERROR_FOR",
-    "STATE_IDLE",
-    "STATE_MOVING",
-    "STATE_TIMEOUT",
-    "STATE_REFLEX",
-    "EVENT_REFLEX",
-    "EVENT_TIMEOUT",
-    "EVENT_WORKSPACE",
-    "EVENT_RECOVERED",
-    "EVENT_IGNORED",
+    "SimArmError", "SimArmConfig", "SimArm", "LimitViolation", "ArmEvent", "ArmPose", "VELOCITY_LIMITS_VIOLATION",
+    "VELOCITY_DISCONTINUITY", "ACCELERATION_DISCONTINUITY", "NON_FINITE_COMMAND", "LIBFRANKA_ERROR_FOR",
+    "STATE_IDLE", "STATE_MOVING", "STATE_TIMEOUT", "STATE_REFLEX", "EVENT_REFLEX", "EVENT_TIMEOUT", "EVENT_WORKSPACE",
+    "EVENT_RECOVERED", "EVENT_IGNORED",
 ]
-
-#: ``|v|`` above the velocity limit (franka::Errors field).
-VELOCITY_LIMITS_VIOLATION = "cartesian_motion_generator_velocity_limits_violation"
-#: ``|dv/dt|`` above the acceleration limit: "commanded velocity ... is discontinuous".
-VELOCITY_DISCONTINUITY = "cartesian_motion_generator_velocity_discontinuity"
-#: ``|da/dt|`` above the jerk limit: "commanded acceleration ... is discontinuous".
-ACCELERATION_DISCONTINUITY = "cartesian_motion_generator_acceleration_discontinuity"
-#: Not a franka::Errors flag: libfranka's std::invalid_argument "Commanding value is infinite or NaN.".
-NON_FINITE_COMMAND = "commanding_value_is_infinite_or_nan"
-
-#: Which libfranka error a violated limit raises, keyed by the limit's name in AxisLimits.
-LIBFRANKA_ERROR_FOR: Dict[str, str] = {
-    "velocity": VELOCITY_LIMITS_VIOLATION,
-    "acceleration": VELOCITY_DISCONTINUITY,
-    "jerk": ACCELERATION_DISCONTINUITY,
-}
-
-STATE_IDLE = "idle"
-STATE_MOVING = "moving"
-STATE_TIMEOUT = "timeout"
-STATE_REFLEX = "reflex"
-
-EVENT_REFLEX = "reflex"
-EVENT_TIMEOUT = "command timeout"
-EVENT_WORKSPACE = "workspace limit"
-EVENT_RECOVERED = "recovered"
-EVENT_IGNORED = "command ignored"
 
 _ZERO6: Twist = (0.0, 0.0, 0.0, 0.0, 0.0, 0.0)
 _RUN = "run"  # internal mode: following commands; the state read-out says idle or moving
-_AXES = "xyz"
 _GROUPS = ("translation", "rotation")
 
 
-class SimArmError(HriTeleopError, ValueError):
-    """A configuration value, a command or a time the simulated arm cannot take; the message names the fix."""
-
-
-@dataclass(frozen=True)
-class LimitViolation:
-    """One broken limit in one 1 ms cycle; ``value`` and ``limit`` in m/s^k (translation) or rad/s^k (rotation)."""
-
-    time_s: float
-    error: str
-    group: str
-    value: float
-    limit: float
-
-
-@dataclass(frozen=True)
-class ArmEvent:
-    """Something the arm reports once when it happens (kind is one of the ``EVENT_*`` strings)."""
-
-    time_s: float
-    kind: str
-    message: str
-
-
-@dataclass(frozen=True)
-class ArmPose:
-    """End-effector pose in the base frame: position in m, orientation as a unit quaternion (x, y, z, w)."""
-
-    position_m: Vec3
-    orientation_xyzw: Tuple[float, float, float, float]
-
-
-def _vector(name: str, value: object, length: int) -> Tuple[float, ...]:
-    try:
-        items: Tuple[object, ...] = tuple(value) if isinstance(value, Iterable) else ()
-    except TypeError:
-        items = ()
-    numbers = tuple(float(c) for c in items if is_finite_number(c, numpy=True))
-    if len(items) != length or len(numbers) != length:
-        raise SimArmError(f"{name} must be {length} finite numbers, got {value!r}")
-    return numbers
-
-
-@dataclass(frozen=True)
-class SimArmConfig:
-    """What the simulated arm judges against and where it starts; every number has a reason.
-
-    * ``limits``: the robot's Cartesian limits (docs/lab-facts.md), judged every 1 ms.
-    * ``timeout_s`` 0.1 s: the teleoperation node publishes at 50 Hz, so this is five
-      missed messages -- long enough for a busy laptop, short enough that a dead node
-      stops the arm within a tenth of a second.
-    * ``workspace_min_m`` / ``workspace_max_m``: a box in the base frame in front of the
-      Panda, inside its reach (about 0.855 m) and above the table, with room for a
-      gripper at the ready pose.
-    * ``start_position_m`` / ``start_orientation_xyzw``: the Panda's "ready" pose
-      (joints 0, -pi/4, 0, -3pi/4, 0, pi/2, pi/4), the end effector pointing down:
-      a rotation of pi about x, quaternion (1, 0, 0, 0).
-    * ``stop_limits``: the ramp to zero after a timeout; ``None`` means ``limits``.
-    * ``rel_tol``: relative tolerance of the judge, as ``limit_violations``'s.
-    """
-
-    limits: CartesianLimits = PANDA_LIMITS
-    timeout_s: float = 0.1
-    workspace_min_m: Vec3 = (0.2, -0.5, 0.05)
-    workspace_max_m: Vec3 = (0.8, 0.5, 0.8)
-    start_position_m: Vec3 = (0.3069, 0.0, 0.4867)
-    start_orientation_xyzw: Tuple[float, float, float, float] = (1.0, 0.0, 0.0, 0.0)
-    stop_limits: Optional[CartesianLimits] = None
-    rel_tol: float = 1e-9
-
-    def __post_init__(self) -> None:
-        if not isinstance(self.limits, CartesianLimits):
-            raise SimArmError(f"limits must be a CartesianLimits, got {type(self.limits).__name__}; "
-                              "use hri_teleop.core.limits.PANDA_LIMITS")
-        if self.stop_limits is not None and not isinstance(self.stop_limits, CartesianLimits):
-            raise SimArmError(f"stop_limits must be a CartesianLimits or None, got {type(self.stop_limits).__name__}")
-        if not is_positive_number(self.timeout_s):
-            raise SimArmError(f"timeout_s must be a positive number of seconds, got {self.timeout_s!r}; e.g. 0.1")
-        if not (is_finite_number(self.rel_tol) and 0.0 <= self.rel_tol < 1e-3):
-            raise SimArmError(f"rel_tol must be in [0, 1e-3), got {self.rel_tol!r}; the default 1e-9 absorbs rounding")
-        lo = _vector("workspace_min_m", self.workspace_min_m, 3)
-        hi = _vector("workspace_max_m", self.workspace_max_m, 3)
-        start = _vector("start_position_m", self.start_position_m, 3)
-        quat = _vector("start_orientation_xyzw", self.start_orientation_xyzw, 4)
-        for i, axis in enumerate(_AXES):
-            if not lo[i] < hi[i]:
-                raise SimArmError(f"workspace {axis}: min {lo[i]:g} m must be below max {hi[i]:g} m; "
-                                  "swap or widen them")
-            if not lo[i] <= start[i] <= hi[i]:
-                raise SimArmError(f"start_position_m {axis} = {start[i]:g} m is outside the workspace "
-                                  f"[{lo[i]:g}, {hi[i]:g}] m; move the start pose or widen the box")
-        norm = math.sqrt(sum(c * c for c in quat))
-        if abs(norm - 1.0) > 1e-6:
-            raise SimArmError(f"start_orientation_xyzw must be a unit quaternion (x, y, z, w), got norm {norm:.9g}; "
-                              "e.g. (1, 0, 0, 0) for the end effector pointing down")
-        object.__setattr__(self, "workspace_min_m", lo)
-        object.__setattr__(self, "workspace_max_m", hi)
-        object.__setattr__(self, "start_position_m", start)
-        object.__setattr__(self, "start_orientation_xyzw", tuple(c / norm for c in quat))
-        object.__setattr__(self, "timeout_s", float(self.timeout_s))
-        object.__setattr__(self, "rel_tol", float(self.rel_tol))
-        try:  # the stop ramp must itself pass the judge
-            TwistLimiter(self.effective_stop_limits, hard_limits=self.limits)
-        except LimitsError as exc:
-            raise SimArmError(f"stop_limits: {exc}") from None
-
-    @property
-    def effective_stop_limits(self) -> CartesianLimits:
-        """The limits of the ramp to zero after a timeout."""
-        return self.limits if self.stop_limits is None else self.stop_limits
+def _rotation_matrix(q: Sequence[float]) -> np.ndarray:
+    """The rotation of a unit quaternion (x, y, z, w)."""
+    x, y, z, w = q
+    return np.array([
+        [1 - 2 * (y * y + z * z), 2 * (x * y - z * w), 2 * (x * z + y * w)],
+        [2 * (x * y + z * w), 1 - 2 * (x * x + z * z), 2 * (y * z - x * w)],
+        [2 * (x * z - y * w), 2 * (y * z + x * w), 1 - 2 * (x * x + y * y)],
+    ])
 
 
 def _stop_ramp(limits: CartesianLimits, hard: CartesianLimits, velocity: Sequence[float],
@@ -245,6 +117,19 @@ class SimArm:
         self._ignored_in_reflex = 0
         self._timeout_s = config.timeout_s
         self._wall = [False] * 6  # (x min, x max, y min, ...) in contact in the last cycle
+        self._interpolate = config.controller == "interpolate"
+        self._ramp_from: Twist = _ZERO6       # the controller's output when the held command arrived
+        self._ramp_start_s = float(start_time_s)
+        self._ramp_s = config.command_period_s
+        self._arrived_s: Optional[float] = None  # the last command's arrival (its interval is the next ramp)
+        self._reflex_violations: Tuple[LimitViolation, ...] = ()
+        self._joints: Optional[JointMotion] = None
+        if config.joints:
+            try:
+                start = start_joints(config.start_position_m, config.start_orientation_xyzw, config.joint_limits)
+                self._joints = JointMotion(start, config.joint_limits, config.rel_tol)
+            except KinematicsError as exc:
+                raise SimArmError(f"start_position_m: {exc}") from None
 
     # --- inputs -----------------------------------------------------------------------
 
@@ -276,6 +161,14 @@ class SimArm:
                             "(franka_control's error_recovery action) before commanding again")
             self._ignored_in_reflex += 1
             return False
+        if self._interpolate:
+            # The controller moves from where its output is now to the new command over the
+            # interval since the last one (the first after rest: command_period_s).
+            since = now_s - self._arrived_s if self._arrived_s is not None else self._config.command_period_s
+            self._ramp_from = self._commanded
+            self._ramp_start_s = now_s
+            self._ramp_s = min(max(since, self._dt), 0.1) if since <= self._timeout_s else self._config.command_period_s
+            self._arrived_s = now_s
         self._held = values
         self._held_finite = all(math.isfinite(c) for c in values)
         self._held_time_s = now_s
@@ -297,6 +190,11 @@ class SimArm:
         errors = ", ".join(self._reflex_errors)
         self._mode = _RUN
         self._reflex_errors = ()
+        self._reflex_violations = ()
+        self._arrived_s = None
+        self._ramp_from = _ZERO6
+        if self._joints is not None:
+            self._joints.stop()
         self._ignored_in_reflex = 0
         self._event(float(now_s), EVENT_RECOVERED, f"recovered from reflex [{errors}]; the arm accepts commands again")
         return True
@@ -351,6 +249,12 @@ class SimArm:
         elif not self._held_finite:
             self._refuse_non_finite(t)
             return
+        elif self._interpolate and t - self._ramp_start_s < self._ramp_s:
+            s = max(0.0, (t - self._ramp_start_s) / self._ramp_s)  # a cycle before the command: still "from"
+            f = self._ramp_from
+            h = self._held
+            c = (f[0] + s * (h[0] - f[0]), f[1] + s * (h[1] - f[1]), f[2] + s * (h[2] - f[2]),
+                 f[3] + s * (h[3] - f[3]), f[4] + s * (h[4] - f[4]), f[5] + s * (h[5] - f[5]))
         else:
             c = self._held
 
@@ -382,8 +286,6 @@ class SimArm:
         ):
             self._reflex(t, c, (a0, a1, a2, a3, a4, a5), (j0, j1, j2, j3, j4, j5))
             return
-        self._commanded = c
-        self._accel = (a0, a1, a2, a3, a4, a5)
 
         # integrate the position, inside the workspace box
         x, y, z = self._position
@@ -397,9 +299,8 @@ class SimArm:
             nx, v0 = self._clamp(t, 0, x, nx, c0)
             ny, v1 = self._clamp(t, 1, y, ny, c1)
             nz, v2 = self._clamp(t, 2, z, nz, c2)
-        self._position = (nx, ny, nz)
-
         # integrate the orientation: q <- exp(w dt / 2) (x) q, w in the base frame
+        quat = self._quat
         w = sqrt(c3 * c3 + c4 * c4 + c5 * c5)
         if w > 0.0:  # (a tiny w can square to 0: then the rotation is below rounding anyway)
             half = 0.5 * w * dt
@@ -412,7 +313,20 @@ class SimArm:
             rz = cw * qz + qw * dz + (dx * qy - dy * qx)
             rw = cw * qw - (dx * qx + dy * qy + dz * qz)
             n = sqrt(rx * rx + ry * ry + rz * rz + rw * rw)
-            self._quat = (rx / n, ry / n, rz / n, rw / n)
+            quat = (rx / n, ry / n, rz / n, rw / n)
+
+        # the joints: the robot's IK of the command is judged, then they follow the new pose
+        joints = self._joints
+        if joints is not None and (c != _ZERO6 or not joints.at_rest()):
+            broken = joints.step(c, (nx, ny, nz), _rotation_matrix(quat), dt)
+            if broken:
+                self._abort(t, [LimitViolation(t, error, f"joint {joint}", value, limit)
+                                for error, joint, value, limit in broken])
+                return
+        self._commanded = c
+        self._accel = (a0, a1, a2, a3, a4, a5)
+        self._position = (nx, ny, nz)
+        self._quat = quat
         self._velocity = (v0, v1, v2, c3, c4, c5)
 
     def _clamp(self, t: float, i: int, old: float, new: float, v: float) -> Tuple[float, float]:
@@ -424,7 +338,7 @@ class SimArm:
                 if not self._wall[k]:
                     self._wall[k] = True
                     which = "min" if side == 0 else "max"
-                    self._event(t, EVENT_WORKSPACE, f"workspace limit: {_AXES[i]} at its {which} {bound:g} m; "
+                    self._event(t, EVENT_WORKSPACE, f"workspace limit: {AXES[i]} at its {which} {bound:g} m; "
                                 f"the velocity out of the box ({v:+.3g} m/s) is not applied")
                 return bound, (bound - old) / self._dt
             self._wall[k] = False
@@ -468,6 +382,9 @@ class SimArm:
             if v.error not in names:
                 names.append(v.error)
         self._reflex_errors = tuple(names)
+        self._reflex_violations = tuple(found)
+        if self._joints is not None:
+            self._joints.stop()
         self._mode = STATE_REFLEX
         self._ignored_in_reflex = 0
         self._held = _ZERO6
@@ -517,6 +434,24 @@ class SimArm:
         if self._mode in (STATE_REFLEX, STATE_TIMEOUT):
             return self._mode
         return STATE_MOVING if any(self._commanded) else STATE_IDLE
+
+    @property
+    def joint_positions(self) -> Optional[JointVector]:
+        """The seven joint angles (rad), as franka_state_controller publishes them (None: ``joints`` off)."""
+        return self._joints.positions if self._joints is not None else None
+
+    @property
+    def joint_velocities(self) -> Optional[JointVector]:
+        """What the joints did in the last cycle (rad/s; None: ``joints`` off)."""
+        if self._joints is None:
+            return None
+        v = self._joints.velocity
+        return (float(v[0]), float(v[1]), float(v[2]), float(v[3]), float(v[4]), float(v[5]), float(v[6]))
+
+    @property
+    def reflex_violations(self) -> Tuple[LimitViolation, ...]:
+        """The limits the current reflex broke, with their values (empty when there is none)."""
+        return self._reflex_violations
 
     @property
     def reflex_errors(self) -> Tuple[str, ...]:

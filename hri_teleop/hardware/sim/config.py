@@ -24,6 +24,8 @@ from hri_teleop.hardware.sim.arm import SimArmConfig, SimArmError
 from hri_teleop.hardware.sim.board import HANDOUT_FIRMWARE_RATE_HZ, BoardConfig, BoardError
 from hri_teleop.hardware.sim.grasp_objects import OBJECTS, GraspObject
 from hri_teleop.hardware.sim.hand_params import HandParams, HandSimError
+from hri_teleop.hardware.sim.joint_motion import start_joints
+from hri_teleop.hardware.sim.kinematics import KinematicsError
 from hri_teleop.hardware.sim.world import LAB_ARM_CONFIG, WorldConfig, WorldError
 
 __all__ = [
@@ -48,7 +50,8 @@ Layer = Tuple[Mapping[str, Any], str]  # (settings, where they come from)
 #: The value of ``object`` that means "nothing to grasp" (YAML ``null`` means the same).
 NO_OBJECT = "none"
 
-_ARM_KEYS = ("start_position_m", "start_orientation_xyzw", "workspace_min_m", "workspace_max_m", "timeout_s")
+_ARM_KEYS = ("start_position_m", "start_orientation_xyzw", "workspace_min_m", "workspace_max_m", "timeout_s",
+             "controller")
 _HAND_KEYS = tuple(f.name for f in dataclasses.fields(HandParams))
 _AttachmentKey = Literal["piston_travel_m", "spring_n_per_m"]
 _ATTACHMENT_KEYS: Tuple[_AttachmentKey, ...] = ("piston_travel_m", "spring_n_per_m")
@@ -90,8 +93,8 @@ _VECTOR_EXAMPLE: Dict[str, str] = {
     "object_xy_m": "[0.3069, 0.0] (or null: below the start pose)",
     "arm.start_position_m": "[0.3069, 0.0, 0.4867]",
     "arm.start_orientation_xyzw": "[1.0, 0.0, 0.0, 0.0] (pointing down)",
-    "arm.workspace_min_m": "[0.2, -0.5, 0.015]",
-    "arm.workspace_max_m": "[0.8, 0.5, 0.8]",
+    "arm.workspace_min_m": "[0.3, -0.25, 0.015]",
+    "arm.workspace_max_m": "[0.55, 0.25, 0.55]",
 }
 
 
@@ -329,10 +332,18 @@ class _Builder:
                                                            values["start_orientation_xyzw"], 4)
         if "timeout_s" in values:
             kwargs["timeout_s"] = self.number("arm.timeout_s", values["timeout_s"])
+        if "controller" in values:
+            kwargs["controller"] = values["controller"]
         try:
-            return dataclasses.replace(LAB_ARM_CONFIG, **kwargs)
+            arm = dataclasses.replace(LAB_ARM_CONFIG, **kwargs)
         except SimArmError as exc:
             raise self.wrapped("arm", exc, ()) from None
+        if arm.joints:
+            try:
+                start_joints(arm.start_position_m, arm.start_orientation_xyzw, arm.joint_limits)
+            except KinematicsError as exc:
+                raise SimConfigError(f"{self.source_of('arm.start_position_m')}: arm.start_position_m: {exc}") from None
+        return arm
 
     def hand(self) -> HandParams:
         values = self.section("hand")

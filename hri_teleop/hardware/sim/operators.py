@@ -22,9 +22,14 @@ _STICKS = ("left_x", "left_y", "right_x", "right_y")
 _BUTTONS = ("south", "east", "north")
 
 
-def random_operator(seed: int, duration_s: float = 10.0, quit_at_end: bool = True) -> List[ScriptStep]:
-    """A seeded random pad script of about ``duration_s`` seconds (see the module doc)."""
+def random_operator(seed: int, duration_s: float = 10.0, quit_at_end: bool = True,
+                    rotate: bool = True) -> List[ScriptStep]:
+    """A seeded random pad script of about ``duration_s`` seconds (see the module doc).
+
+    ``rotate`` False never presses triangle: the sticks only translate the hand.
+    """
     rng = random.Random(seed)
+    buttons = _BUTTONS if rotate else tuple(b for b in _BUTTONS if b != "north")
     steps: List[ScriptStep] = []
     t = 0.0
     pressed = set()
@@ -38,7 +43,7 @@ def random_operator(seed: int, duration_s: float = 10.0, quit_at_end: bool = Tru
             value = rng.choice((-1.0, 1.0, 0.0, round(rng.uniform(-1.0, 1.0), 3)))
             steps.append(ScriptStep(t, "axis", (rng.choice(_STICKS),), value))
         elif roll < 0.80:
-            button = rng.choice(_BUTTONS)
+            button = rng.choice(buttons)
             if button in pressed:
                 pressed.discard(button)
                 steps.append(ScriptStep(t, "release", (button,)))
@@ -46,7 +51,7 @@ def random_operator(seed: int, duration_s: float = 10.0, quit_at_end: bool = Tru
                 pressed.add(button)
                 steps.append(ScriptStep(t, "press", (button,)))
         elif roll < 0.88:
-            steps.append(ScriptStep(t, "tap", (rng.choice(_BUTTONS),), hold_s=rng.choice((0.02, 0.04, 0.1))))
+            steps.append(ScriptStep(t, "tap", (rng.choice(buttons),), hold_s=rng.choice((0.02, 0.04, 0.1))))
         elif roll < 0.94:
             unplugged = not unplugged
             steps.append(ScriptStep(t, "disconnect" if unplugged else "reconnect"))

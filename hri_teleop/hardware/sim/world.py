@@ -27,12 +27,14 @@ from hri_teleop.hardware.sim.hand_params import HandParams
 
 __all__ = ["WorldError", "WorldConfig", "ObjectStatus", "LabWorld", "LAB_ARM_CONFIG"]
 
-#: The arm as the lab world uses it: SimArm's defaults, with the workspace floor lowered to
-#: 15 mm above the table so that the fingers reach an object lying on it, and a command
-#: timeout of 0.3 s (15 missed messages at 50 Hz) instead of 0.1 s: on a student's busy
-#: laptop a Python node can stall for a tenth of a second, and a stall must not look like
-#: a dead node (the ramp to zero would then make the next command a step).
-LAB_ARM_CONFIG = SimArmConfig(workspace_min_m=(0.2, -0.5, 0.015), timeout_s=0.3)
+#: The arm as the lab world uses it: SimArm's defaults, with the workspace box where the Panda
+#: holds the hand down comfortably (x 0.3..0.55 m, y +-0.25 m, up to 0.55 m; beyond it the arm
+#: stretches toward a singular pose and its joints, not the operator, set the pace: docs/simulation.md)
+#: and its floor 15 mm above the table so that the fingers reach an object lying on it, and a
+#: command timeout of 0.3 s (15 missed messages at 50 Hz) instead of 0.1 s: on a student's busy
+#: laptop a Python node can stall for a tenth of a second, and a stall must not look like a dead
+#: node (the ramp to zero would then make the next command a step).
+LAB_ARM_CONFIG = SimArmConfig(workspace_min_m=(0.3, -0.25, 0.015), workspace_max_m=(0.55, 0.25, 0.55), timeout_s=0.3)
 
 
 class WorldError(HriTeleopError, ValueError):

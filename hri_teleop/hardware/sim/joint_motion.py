@@ -1,0 +1,130 @@
+"""The simulated Panda's joints under a Cartesian command: follow the hand's pose, judge every joint.
+
+Each 1 ms cycle the arm's Cartesian side has a commanded twist and the hand's next pose. The
+joints take the step that reaches that pose, and the robot's joint-side checks judge the joint
+motion its inverse kinematics makes of the commanded twist: position, velocity, acceleration and
+jerk against the Panda's limits, with libfranka's error names.
+"""
+
+from __future__ import annotations
+
+from functools import lru_cache
+from typing import List, Optional, Sequence, Tuple
+
+import numpy as np
+import pinocchio as pin
+
+from hri_teleop.core.joints import (
+    JOINT_ACCELERATION_DISCONTINUITY,
+    JOINT_POSITION_LIMITS_VIOLATION,
+    JOINT_VELOCITY_DISCONTINUITY,
+    JOINT_VELOCITY_LIMITS_VIOLATION,
+    PANDA_JOINT_LIMITS,
+    READY_POSE_RAD,
+    JointLimits,
+    JointVector,
+)
+from hri_teleop.hardware.sim.kinematics import PandaKinematics, Vector
+
+__all__ = ["JointMotion", "JointStep", "start_joints"]
+
+#: One broken joint limit: (libfranka error, joint 1..7, value, limit).
+JointStep = Tuple[str, int, float, float]
+
+
+@lru_cache(maxsize=64)
+def start_joints(position_m: Tuple[float, float, float], orientation_xyzw: Tuple[float, float, float, float],
+                 limits: JointLimits = PANDA_JOINT_LIMITS) -> JointVector:
+    """The joints of a start pose, found from the ready pose (cached: many arms start alike)."""
+    return PandaKinematics(limits).inverse(position_m, orientation_xyzw, seed=READY_POSE_RAD)
+
+
+class JointMotion:
+    """The seven joints: where they are, the joint velocity the command asks of them, and the judge."""
+
+    def __init__(self, start_rad: Sequence[float], limits: JointLimits = PANDA_JOINT_LIMITS,
+                 rel_tol: float = 1e-9) -> None:
+        self.kinematics = PandaKinematics(limits)
+        self.limits = limits
+        self.q: Vector = np.array(start_rad, dtype=float)
+        self.velocity: Vector = np.zeros(7)        # what the joints did in the last cycle (rad/s)
+        self._commanded: Vector = np.zeros(7)      # the IK of the commanded twist, last accepted cycle
+        self._acceleration: Vector = np.zeros(7)   # its backward difference
+        tol = 1.0 + rel_tol
+        self._low = np.array(limits.position_min_rad)
+        self._high = np.array(limits.position_max_rad)
+        self._v_max = np.array(limits.velocity_rad_per_s) * tol
+        self._a_max = np.array(limits.acceleration_rad_per_s2) * tol
+        self._j_max = np.array(limits.jerk_rad_per_s3) * tol
+        self._rhs = np.zeros((7, 2))  # row 7: the elbow stays still
+
+    @property
+    def positions(self) -> JointVector:
+        q = self.q
+        return (float(q[0]), float(q[1]), float(q[2]), float(q[3]), float(q[4]), float(q[5]), float(q[6]))
+
+    def at_rest(self) -> bool:
+        """No commanded joint motion and no acceleration left: an idle cycle can be skipped."""
+        return not self._commanded.any() and not self._acceleration.any()
+
+    def stop(self) -> None:
+        """The robot stopped (a reflex, or recovery): the joints are at rest."""
+        self._commanded = np.zeros(7)
+        self._acceleration = np.zeros(7)
+        self.velocity = np.zeros(7)
+
+    def step(self, commanded: Sequence[float], position_m: Sequence[float],
+             rotation: Optional[Vector], dt: float) -> List[JointStep]:
+        """One cycle: judge the command's joint motion, then move toward the hand's next pose.
+
+        ``commanded`` is the twist the robot judged (m/s, rad/s); ``position_m`` and ``rotation``
+        (a 3x3 matrix, None: unchanged) the hand's pose after this cycle. Returns the broken limits
+        (and leaves the joints where they are) or [] after moving them.
+        """
+        kin = self.kinematics
+        model, data, frame = kin.model, kin.data, kin.frame
+        q = self.q
+        # this runs 1000 times per simulated second: pinocchio directly, one solve for both twists
+        pin.computeJointJacobians(model, data, q)
+        placement = pin.updateFramePlacement(model, data, frame)
+        system = kin.system(pin.getFrameJacobian(model, data, frame, pin.LOCAL_WORLD_ALIGNED))
+        rhs = self._rhs
+        rhs[:6, 0] = commanded
+        current_r = placement.rotation
+        rhs[:3, 1] = (np.asarray(position_m, dtype=float) - placement.translation) / dt
+        rhs[3:6, 1] = pin.log3((rotation if rotation is not None else current_r) @ current_r.T) / dt
+        try:
+            both: Vector = np.asarray(np.linalg.solve(system, rhs), dtype=np.float64)
+        except np.linalg.LinAlgError:  # exactly singular: no finite joint motion does it
+            both = np.full((7, 2), np.inf)
+        commanded_dq: Vector = both[:, 0]
+        applied_dq: Vector = both[:, 1]
+        acceleration: Vector = (commanded_dq - self._commanded) / dt
+        jerk: Vector = (acceleration - self._acceleration) / dt
+        next_q: Vector = q + applied_dq * dt
+        ok = ((next_q >= self._low) & (next_q <= self._high) & (np.abs(commanded_dq) <= self._v_max)
+              & (np.abs(acceleration) <= self._a_max) & (np.abs(jerk) <= self._j_max))
+        if ok.all():
+            self._commanded = commanded_dq
+            self._acceleration = acceleration
+            self.velocity = applied_dq
+            self.q = next_q
+            return []
+        return self._broken(next_q, commanded_dq, acceleration, jerk)
+
+    def _broken(self, next_q: Vector, dq: Vector, ddq: Vector, dddq: Vector) -> List[JointStep]:
+        """Every broken limit of this cycle, joint by joint (the same tests as the fast path in step)."""
+        found: List[JointStep] = []
+        limits = self.limits
+        for j in range(7):
+            q = float(next_q[j])
+            if not self._low[j] <= q <= self._high[j]:
+                limit = limits.position_min_rad[j] if not q >= self._low[j] else limits.position_max_rad[j]
+                found.append((JOINT_POSITION_LIMITS_VIOLATION, j + 1, q, limit))
+            for error, value, bound, limit in (
+                    (JOINT_VELOCITY_LIMITS_VIOLATION, dq[j], self._v_max[j], limits.velocity_rad_per_s[j]),
+                    (JOINT_VELOCITY_DISCONTINUITY, ddq[j], self._a_max[j], limits.acceleration_rad_per_s2[j]),
+                    (JOINT_ACCELERATION_DISCONTINUITY, dddq[j], self._j_max[j], limits.jerk_rad_per_s3[j])):
+                if not abs(float(value)) <= bound:
+                    found.append((error, j + 1, float(value), limit))
+        return found
