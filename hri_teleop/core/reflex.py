@@ -92,11 +92,10 @@ def explain_reflex(causes: Sequence[ReflexCause]) -> List[str]:
         return ["No reflex: the robot accepts commands."]
     lines = ["The robot stopped itself (a reflex) because a command would have broken one of its limits:"]
     seen = set()
-    for cause in causes:
-        key = (cause.error, cause.where)
-        if key in seen:
+    for cause in causes:  # each error once, at the first place it broke (a singular pose breaks them all)
+        if cause.error in seen:
             continue
-        seen.add(key)
+        seen.add(cause.error)
         lines.append(f"- {explain_cause(cause)} [libfranka: {cause.error}]")
     lines.append(RECOVERY_HINT)
     return lines

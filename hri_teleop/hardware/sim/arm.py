@@ -166,7 +166,9 @@ class SimArm:
             # interval since the last one (the first after rest: command_period_s).
             since = now_s - self._arrived_s if self._arrived_s is not None else self._config.command_period_s
             self._ramp_from = self._commanded
-            self._ramp_start_s = now_s
+            # from the next cycle on: a caller that commands first and runs the cycles up to now
+            # after (a lock-step loop) gets them ramped, as a held command would reach them all
+            self._ramp_start_s = min(now_s, self._time_s)
             self._ramp_s = min(max(since, self._dt), 0.1) if since <= self._timeout_s else self._config.command_period_s
             self._arrived_s = now_s
         self._held = values
