@@ -69,8 +69,8 @@ def explain_cause(cause: ReflexCause) -> str:
         return "A command held NaN or infinity, which the robot refuses. Check the numbers your node computes."
     if e == JOINT_POSITION_LIMITS_VIOLATION:
         side = "upper" if value >= limit else "lower"
-        return (f"The hand cannot go further this way: {where} reached its {side} limit ({value:+.3f} rad, limit "
-                f"{limit:+.3f} rad). After recovering, move back the way you came (in rotation mode, turn the other "
+        return (f"The hand cannot go further this way: {where} reached its {side} limit ({value:+.4f} rad, limit "
+                f"{limit:+.4f} rad). After recovering, move back the way you came (in rotation mode, turn the other "
                 "way) or drive to the start pose first.")
     if e == JOINT_VELOCITY_LIMITS_VIOLATION:
         speed = "an infinite speed" if math.isinf(value) else f"{abs(value):.3g} rad/s"

@@ -45,6 +45,7 @@ class LabRecord:
     violations: int = 0
     violation_counts: Dict[str, int] = field(default_factory=dict)
     peak_grip_force_n: Optional[float] = None  # from the world, if it kept one
+    reflex_explanation: List[str] = field(default_factory=list)  # core.reflex.explain_reflex of the run's
     ended_by: str = ""  # "quit", "timeout", ...
     wall_s: float = 0.0
 
@@ -75,6 +76,7 @@ class LabSummary:
     violation_counts: Dict[str, int]
     duration_s: float
     ended_by: str
+    reflex_explanation: Tuple[str, ...] = ()
 
     @property
     def outcome(self) -> str:
@@ -116,6 +118,7 @@ def summarize(record: LabRecord) -> LabSummary:
         violation_counts=dict(record.violation_counts),
         duration_s=record.duration_s(),
         ended_by=record.ended_by,
+        reflex_explanation=tuple(record.reflex_explanation),
     )
 
 
@@ -136,4 +139,4 @@ def format_summary(summary: LabSummary) -> List[str]:
         f"pad rumbled       {summary.rumble_s:.2f} s",
         f"Franka limit violations {summary.violations}" + (f" ({counts})" if counts else ""),
         f"run               {summary.duration_s:.1f} s, ended by {summary.ended_by or '?'}",
-    ]
+    ] + [f"  {line}" for line in summary.reflex_explanation]

@@ -17,8 +17,10 @@ from pathlib import Path
 from typing import Any, Callable, Dict, List, Mapping, Optional
 
 from hri_teleop.core.config import DEFAULT_TWIST_TOPIC
+from hri_teleop.core.errors import HriTeleopError
 from hri_teleop.core.gripper import width_from_joint_positions_m
 from hri_teleop.core.run_record import LabRecord, format_summary, summarize
+from hri_teleop.core.yamlfile import read_yaml
 from hri_teleop.plots.common import lab_timeline
 from hri_teleop.ros.bags import read_topics
 from hri_teleop.ros.master import MasterError, PrivateMaster, run_reporting
@@ -81,6 +83,8 @@ def record_from_bag(bag_path: Path) -> LabRecord:
         last = _values(statuses[-1][1])
         rec.violation_counts = {k: int(v) for k, v in last.items()
                                 if k.startswith("cartesian_") and v.isdigit() and int(v) > 0}
+        explained = [_values(m).get("explanation", "") for _, m in statuses]
+        rec.reflex_explanation = next((e.split("\n") for e in reversed(explained) if e), [])
     return rec
 
 
@@ -116,11 +120,30 @@ def record_teleop_launch(master: PrivateMaster, bag_path: Path, launch_args: Map
     return rec
 
 
+class ScenarioError(HriTeleopError, ValueError):
+    """A scenario's ``expect:`` is unusable (one line naming the file and the fix)."""
+
+
+def expected_reflex(scenario: Optional[Path]) -> Optional[str]:
+    """The libfranka error a scenario's ``expect: {reflex: ...}`` says the run ends in (None: no reflex)."""
+    if scenario is None:
+        return None
+    data = read_yaml(scenario, ScenarioError, what="scenario file")
+    expect = data.get("expect") if isinstance(data, dict) else None
+    if expect is None:
+        return None
+    if not isinstance(expect, dict) or set(expect) != {"reflex"} or not isinstance(expect["reflex"], str):
+        raise ScenarioError(f"{scenario}: expect must be {{reflex: <libfranka error name>}}, got {expect!r}; "
+                            "e.g. expect: {reflex: cartesian_motion_generator_joint_position_limits_violation}")
+    return expect["reflex"]
+
+
 def _progress(message: str) -> None:
     print(f"[demo] {message}", flush=True)
 
 
 def run(scenario: Optional[Path], out_dir: Path, timeout_s: float, extra: Mapping[str, str]) -> int:
+    expected = expected_reflex(scenario)
     out_dir.mkdir(parents=True, exist_ok=True)
     bag_path = out_dir / "teleop_demo.bag"
     if bag_path.exists():
@@ -144,8 +167,11 @@ def run(scenario: Optional[Path], out_dir: Path, timeout_s: float, extra: Mappin
     lines: List[str] = ["", "Teleoperation lab, simulated (teleoperation.launch sim:=true):"]
     lines += ["  " + line for line in format_summary(summary)]
     lines += [f"  bag               {bag_path}", f"  timeline plot     {png}"]
+    if expected is not None:
+        lines.append(f"  expected reflex   {expected}: {'yes' if expected in summary.violation_counts else 'NO'}")
     print("\n".join(lines), flush=True)
-    return 0 if rec.ended_by == "quit" and summary.violations == 0 else 1
+    as_expected = summary.violations == 0 if expected is None else expected in summary.violation_counts
+    return 0 if rec.ended_by == "quit" and as_expected else 1
 
 
 def main(argv: Optional[List[str]] = None) -> int:

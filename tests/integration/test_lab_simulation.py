@@ -42,6 +42,17 @@ def test_make_demo_runs_the_default_scenario_lifts_the_egg_uncrushed_and_prints_
         assert label in out
 
 
+def test_make_demo_of_the_joint_limit_scenario_prints_libfrankas_error_and_says_it_was_expected(tmp_path, capsys):
+    code = teleop_demo.main(["--out", str(tmp_path), "--scenario", str(SCENARIOS / "joint_limit.yaml")])
+    out = capsys.readouterr().out
+    assert code == 0, out
+    violations = next(line for line in out.splitlines() if "Franka limit violations" in line)
+    count = int(violations.split("Franka limit violations")[1].split()[0])
+    assert count >= 1 and "cartesian_motion_generator_joint_position_limits_violation" in violations
+    assert "expected reflex   cartesian_motion_generator_joint_position_limits_violation: yes" in out
+    assert "ended by quit" in out
+
+
 def test_a_scenario_that_squeezes_hard_crushes_the_egg(ros_master, tmp_path):
     rec = record_teleop_launch(ros_master, tmp_path / "squeeze.bag",
                                {"sim": "true", "scenario": str(SCENARIOS / "squeeze.yaml")}, timeout_s=50)
@@ -59,7 +70,8 @@ def test_a_scenario_that_squeezes_hard_crushes_the_egg(ros_master, tmp_path):
 def test_random_operators_through_the_real_teleoperation_node_never_break_a_franka_limit(
         ros_master, tmp_path, seed):
     scenario = tmp_path / f"random_{seed}.yaml"
-    data = script_to_yaml_data(random_operator(seed, duration_s=8.0), f"random operator, seed {seed}")
+    # translating only: turning the hand long enough takes a joint to its limit, which is the joints' (below)
+    data = script_to_yaml_data(random_operator(seed, duration_s=8.0, rotate=False), f"random operator, seed {seed}")
     data["world"] = {"object": "egg"}
     scenario.write_text(yaml.safe_dump(data))
     rec = record_teleop_launch(ros_master, tmp_path / f"random_{seed}.bag",

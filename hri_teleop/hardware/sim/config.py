@@ -126,7 +126,7 @@ def load_sim_yaml(path: Union[str, Path]) -> Dict[str, Any]:
 def scenario_world_overrides(path: Union[str, Path]) -> Dict[str, Any]:
     """A scenario file's ``world:`` mapping (``{}`` when it has none).
 
-    A scenario is ``{description: ..., world: {...}, steps: [...]}``; only ``world`` is read
+    A scenario is ``{description: ..., world: {...}, expect: {...}, steps: [...]}``; only ``world`` is read
     here (its keys are sim.yaml's and are checked when the layers are built), the steps
     belong to the virtual pad.  A plain pad script (a list of steps) has no world: ``{}``.
     """

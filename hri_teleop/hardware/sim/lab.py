@@ -20,6 +20,7 @@ from hri_teleop.core.gamepad import GamepadError, RumbleRequests
 from hri_teleop.core.gripper import GoalThrottle
 from hri_teleop.core.limits import DEFAULT_LIMITS, CartesianLimits, Watchdog
 from hri_teleop.core.mapping import map_force
+from hri_teleop.core.reflex import explain_reflex
 from hri_teleop.core.run_record import LIFTED_M, LabRecord
 from hri_teleop.core.teleop import TeleopController, TeleopParams
 from hri_teleop.hardware.sim.gripper_goals import GoalRecord, MoveCommand
@@ -165,6 +166,8 @@ def run_lab(
     rec.crushed = status is not None and status.crushed
     rec.violations = lab.arm.violation_count
     rec.violation_counts = lab.arm.violation_counts
+    if lab.arm.violations:
+        rec.reflex_explanation = explain_reflex([v.cause() for v in lab.arm.violations])
     rec.peak_grip_force_n = lab.peak_grip_force_n
     rec.ended_by = ended_by
     rec.wall_s = time.perf_counter() - wall0

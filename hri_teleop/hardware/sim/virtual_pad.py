@@ -215,14 +215,14 @@ def _number(value: Any) -> Optional[float]:
 def parse_script(data: Any, source: str = "<script>") -> List[ScriptStep]:
     """Check parsed YAML and turn it into steps; each problem is one line naming source and step.
 
-    A script is a list of steps, or a mapping with ``steps`` (and optionally
-    ``description``, and ``world``, which the simulation reads and the pad ignores).
+    A script is a list of steps, or a mapping with ``steps`` (and optionally ``description``,
+    and ``world`` and ``expect``, which the simulation and the demo read and the pad ignores).
     """
     if isinstance(data, dict) and "steps" in data:
-        extra = [k for k in data if k not in ("steps", "description", "world")]
+        extra = [k for k in data if k not in ("steps", "description", "world", "expect")]
         if extra:
-            raise GamepadError("%s: unknown key %r; a script mapping has only 'description', 'world' and "
-                               "'steps'" % (source, extra[0]))
+            raise GamepadError("%s: unknown key %r; a script mapping has only 'description', 'world', "
+                               "'expect' and 'steps'" % (source, extra[0]))
         data = data["steps"]
     if not isinstance(data, list) or not data:
         raise GamepadError("%s: expected a non-empty list of steps; write one step per line, %s"
