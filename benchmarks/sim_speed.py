@@ -1,26 +1,32 @@
-"""Benchmark 3: how much faster than real time the simulated lab runs flat out.
+"""Benchmark 3: how much faster than real time the simulated lab runs flat out, and what the
+Panda's joints cost in each 1 ms cycle.
 
-``run_lab`` steps the teleoperation controller, the arm, the hand, the object and the
-sensor board in lock-step with no waiting: what the grader, the experiment rehearsal and
-the tests lean on. The scenarios are the lab's own (hri_lab/scenarios/), world included.
-The reference is real time: the ratio is the real-time factor itself.
+``run_lab`` steps the teleoperation controller, the arm, the hand, the object and the sensor board
+in lock-step on the lab's scenarios: the reference is real time. The second row times the arm alone
+with its seven joints (pinocchio's kinematics and the joint judge) against the hand alone.
 """
 
 from __future__ import annotations
 
 import statistics
+import time
 from pathlib import Path
 from typing import Callable, List, Tuple
 
 from benchmarks.report import BenchError, BenchOptions, BenchRow
 from hri_teleop.core.config import LAB_TELEOP_CONFIG, load_teleop_config
+from hri_teleop.core.limits import DEFAULT_LIMITS, TwistLimiter
 from hri_teleop.core.paths import SCENARIOS
+from hri_teleop.hardware.sim.arm import SimArm, SimArmConfig
 from hri_teleop.hardware.sim.config import default_sim_yaml, load_world_config
 from hri_teleop.hardware.sim.lab import run_lab
 from hri_teleop.hardware.sim.virtual_pad import load_script
+from hri_teleop.hardware.sim.world import LAB_ARM_CONFIG
 
 #: Runs of each scenario (the median counts): full run, smoke run.
 REPEATS = {False: 5, True: 1}
+#: Simulated seconds of the arm-cycle timing: full run, smoke run.
+ARM_SECONDS = {False: 20.0, True: 2.0}
 
 
 def run_scenario(path: Path) -> Tuple[float, float, int]:
@@ -52,4 +58,38 @@ def run(options: BenchOptions, progress: Callable[[str], None]) -> List[BenchRow
               "wall_per_tick_ms": wall_s / max(1, ticks) * 1e3, "runs": float(len(factors))}
     figure = (f"real-time factor {rtf:.0f} (min {min(factors):.0f}) over {len(factors)} runs of "
               f"{', '.join(p.stem for p in scenarios)}; {values['wall_per_tick_ms']:.3f} ms of wall time per control tick")
-    return [BenchRow("simulation flat out", figure, "real time (factor 1)", rtf, "simulated s / wall s", values)]
+    return [BenchRow("simulation flat out", figure, "real time (factor 1)", rtf, "simulated s / wall s", values),
+            run_arm(options, progress)]
+
+
+def arm_cycle_us(joints: bool, seconds: float) -> float:
+    """CPU microseconds per 1 ms cycle of the lab's arm under a 50 Hz limited stream that translates
+    and turns the hand inside the lab's box (the hand alone when ``joints`` is False)."""
+    config = LAB_ARM_CONFIG if joints else SimArmConfig(joints=False)
+    arm = SimArm(config)
+    limiter = TwistLimiter(DEFAULT_LIMITS)
+    targets = [(0.04, -0.03, -0.05, 0.1, -0.1, 0.2), (-0.04, 0.03, 0.05, -0.1, 0.1, -0.2)]
+    n = int(seconds * 50)
+    started = time.process_time()
+    t = 0.0
+    for k in range(n):
+        t += 0.02
+        arm.command(limiter.step(targets[(k // 100) % 2], 0.02), t)
+        arm.run_until(t)
+    cpu_s = time.process_time() - started
+    if arm.violation_count:
+        raise BenchError(f"the timing stream broke a limit ({arm.violation_counts}): the benchmark is wrong")
+    return cpu_s / (n * 20) * 1e6
+
+
+def run_arm(options: BenchOptions, progress: Callable[[str], None]) -> BenchRow:
+    seconds = ARM_SECONDS[options.smoke]
+    with_joints = arm_cycle_us(True, seconds)
+    hand_alone = arm_cycle_us(False, seconds)
+    progress(f"sim: arm cycle {with_joints:.1f} us with the joints, {hand_alone:.1f} us the hand alone")
+    values = {"cycle_us": with_joints, "hand_alone_us": hand_alone, "joints_us": with_joints - hand_alone,
+              "share_of_1ms": with_joints / 1000.0}
+    figure = (f"{with_joints:.1f} us of CPU per 1 ms cycle with the seven joints (pinocchio, the joint judge), "
+              f"{hand_alone:.1f} us for the hand alone: the joints cost {with_joints - hand_alone:.1f} us")
+    return BenchRow("Panda joints per 1 kHz cycle", figure, "the robot's 1 ms cycle", 1000.0 / with_joints,
+                    "1 ms / CPU per cycle", values)

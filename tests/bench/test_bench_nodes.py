@@ -59,11 +59,16 @@ def test_twist_arrives_every_period_idle_and_loaded(tmp_path):
 
 
 def test_simulation_runs_faster_than_real_time(tmp_path):
-    (row,) = sim_speed.run(BenchOptions(out_dir=tmp_path, smoke=True), _log)
+    row, arm = sim_speed.run(BenchOptions(out_dir=tmp_path, smoke=True), _log)
     _check_row(row)
     assert row.values["rtf_median"] > 5.0
     assert row.ratio == row.values["rtf_median"]
     assert row.values["simulated_s"] > 5.0
+    # the arm's 1 ms cycle: the joints' share of it and the ratio to the robot's period
+    _check_row(arm)
+    assert 0.0 < arm.values["hand_alone_us"] < arm.values["cycle_us"] < 1000.0
+    assert arm.values["joints_us"] == pytest.approx(arm.values["cycle_us"] - arm.values["hand_alone_us"])
+    assert arm.ratio == pytest.approx(1000.0 / arm.values["cycle_us"])
 
 
 def test_make_bench_prints_the_table_and_writes_results(tmp_path):
