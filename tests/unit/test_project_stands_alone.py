@@ -55,3 +55,9 @@ def test_the_lab_facts_page_quotes_the_limits_the_code_enforces():
     row_r = f"| rotation | {r.velocity:g} rad/s | {r.acceleration:g} rad/s² | {r.jerk:g} rad/s³ |"
     assert row_t in facts and row_r in facts
     assert f"0..{GRIPPER_MAX_WIDTH_M:g} m" in facts
+    from hri_teleop.core.joints import PANDA_JOINT_LIMITS as J
+
+    for label, values in (("position min (rad)", J.position_min_rad), ("position max (rad)", J.position_max_rad),
+                          ("velocity (rad/s)", J.velocity_rad_per_s), ("acceleration (rad/s²)", J.acceleration_rad_per_s2),
+                          ("jerk (rad/s³)", J.jerk_rad_per_s3)):
+        assert f"| {label} | " + " | ".join(f"{v:g}" for v in values) + " |" in facts, label
