@@ -31,7 +31,8 @@ from std_msgs.msg import Float32, Float64, Header, Int16, UInt32
 from std_srvs.srv import Trigger, TriggerResponse
 
 from hri_teleop.core.config import DEFAULT_TWIST_TOPIC
-from hri_teleop.core.joints import JOINT_ERRORS
+from hri_teleop.core.joints import JOINT_ERRORS, JOINT_NAMES, nearest_limit
+from hri_teleop.core.reflex import explain_reflex
 from hri_teleop.hardware.sim.arm import (
     ACCELERATION_DISCONTINUITY,
     EVENT_RECOVERED,
@@ -60,12 +61,14 @@ from hri_teleop.hardware.sim.gripper_goals import (
 from hri_teleop.hardware.sim.hand_params import HandSimError
 from hri_teleop.hardware.sim.world import LabWorld, ObjectStatus
 from hri_teleop.ros import franka_gripper_msgs as fg
+from hri_teleop.ros import franka_msgs as fm
 from hri_teleop.ros.clock import ClockError, NodeClock
 from hri_teleop.ros.params import fail, get_param, package_file, private_params, run_node
 
 #: Private parameters of the node itself; every other private parameter is a sim.yaml override.
-NODE_KEYS = ("config", "scenario", "twist_topic", "gripper_ns", "board", "frame_id", "gripper_rate_hz",
-             "state_rate_hz", "status_rate_hz", "object_rate_hz", "loop_period_s", "stall_s")
+NODE_KEYS = ("config", "scenario", "twist_topic", "gripper_ns", "control_ns", "board", "frame_id", "gripper_rate_hz",
+             "state_controller_rate_hz", "state_rate_hz", "status_rate_hz", "object_rate_hz", "loop_period_s",
+             "stall_s")
 FINGER_JOINTS = ["panda_finger_joint1", "panda_finger_joint2"]
 #: Every name the arm reports a violation under, in the order ~arm_status lists them.
 ARM_ERRORS = (VELOCITY_LIMITS_VIOLATION, VELOCITY_DISCONTINUITY, ACCELERATION_DISCONTINUITY, NON_FINITE_COMMAND,
@@ -124,16 +127,18 @@ class LabSimNode:
                                         scenario=scenario or None)
         twist_topic = get_param("~twist_topic", DEFAULT_TWIST_TOPIC, kind=str).strip()
         gripper_ns = get_param("~gripper_ns", "/franka_gripper", kind=str).strip().rstrip("/")
+        control_ns = get_param("~control_ns", "/franka_control", kind=str).strip().rstrip("/")
         for param, value, example in (("twist_topic", twist_topic, DEFAULT_TWIST_TOPIC),
-                                      ("gripper_ns", gripper_ns, "/franka_gripper")):
+                                      ("gripper_ns", gripper_ns, "/franka_gripper"),
+                                      ("control_ns", control_ns, "/franka_control")):
             if not value or not rosgraph.names.is_legal_name(value):
                 fail(f"parameter {name}/{param} is {value!r}, not a ROS name; use letters, digits, _ and /, "
                      f"e.g. {example}")
         self.board_on = get_param("~board", True, kind=bool)
         self.frame_id = get_param("~frame_id", "panda_link0", kind=str)
         periods = {}
-        for param, default in (("gripper_rate_hz", 30.0), ("state_rate_hz", 100.0), ("status_rate_hz", 10.0),
-                               ("object_rate_hz", 20.0)):
+        for param, default in (("gripper_rate_hz", 30.0), ("state_controller_rate_hz", 30.0), ("state_rate_hz", 100.0),
+                               ("status_rate_hz", 10.0), ("object_rate_hz", 20.0)):
             rate = get_param(f"~{param}", default, kind=float)
             if not 0.0 < rate <= 1000.0:
                 fail(f"parameter {name}/{param} is {rate!r}; set it to a rate in (0, 1000] Hz, e.g. {default:g}")
@@ -144,13 +149,18 @@ class LabSimNode:
         self.stall_s = get_param("~stall_s", 0.1, kind=float)
         if not self.stall_s > 2 * self.loop_period_s:
             fail(f"parameter {name}/stall_s is {self.stall_s!r}; set it above twice ~loop_period_s, e.g. 0.1")
-        self._periods = {"joints": periods["gripper_rate_hz"], "state": periods["state_rate_hz"],
+        self._periods = {"joints": periods["gripper_rate_hz"], "arm_joints": periods["state_controller_rate_hz"],
+                         "state": periods["state_rate_hz"],
                          "status": periods["status_rate_hz"], "object": periods["object_rate_hz"]}
         self._next_due = {key: 0.0 for key in self._periods}
 
         # Outputs first: they exist before anything can happen.
         self.force_pub = rospy.Publisher("/pub_force", Int16, queue_size=20) if self.board_on else None
         self.joints_pub = rospy.Publisher(f"{gripper_ns}/joint_states", JointState, queue_size=5)
+        # franka_state_controller's arm joints and joint_state_publisher's merge of arm and hand.
+        self.arm_joints_pub = (rospy.Publisher("/franka_state_controller/joint_states", JointState, queue_size=5)
+                               if self.config.arm.joints else None)
+        self.all_joints_pub = rospy.Publisher("/joint_states", JointState, queue_size=5)
         self.pose_pub = rospy.Publisher("~ee_pose", PoseStamped, queue_size=5)
         self.twist_pub = rospy.Publisher("~ee_twist", TwistStamped, queue_size=5)
         self.grip_pub = rospy.Publisher("~grip_force", Float32, queue_size=5)
@@ -190,11 +200,15 @@ class LabSimNode:
                                             functools.partial(self._on_cancel, action), auto_start=False)
             server.start()
             self.servers.append(server)
+        # franka_control's error recovery; ~recover (a Trigger) does the same, for a quick rosservice call.
+        self.recovery_server = actionlib.ActionServer(f"{control_ns}/error_recovery", fm.ErrorRecoveryAction,
+                                                      self._on_error_recovery, auto_start=False)
+        self.recovery_server.start()
         self.recover_srv = rospy.Service("~recover", Trigger, self._on_recover)
         self.twist_sub = rospy.Subscriber(twist_topic, Twist, self._on_twist, queue_size=100, tcp_nodelay=True)
-        rospy.loginfo("simulating the lab: %s. Commands on %s, gripper actions on %s/{move,grasp,homing,stop}%s",
-                      describe(self.config), self.twist_sub.resolved_name, gripper_ns,
-                      ", board on /pub_force" if self.board_on else ", board off (~board false)")
+        rospy.loginfo("simulating the lab: %s. Commands on %s, gripper actions on %s/{move,grasp,homing,stop}, "
+                      "error recovery on %s/error_recovery%s", describe(self.config), self.twist_sub.resolved_name,
+                      gripper_ns, control_ns, ", board on /pub_force" if self.board_on else ", board off (~board false)")
 
     # -- clock and world ------------------------------------------------------------------
 
@@ -275,7 +289,8 @@ class LabSimNode:
             self._advance_locked(now)
             self.world.cancel_gripper(goal.record, now)  # a running goal ends PREEMPTED
 
-    def _on_recover(self, _request: Any) -> TriggerResponse:
+    def _recover(self) -> str:
+        """Clear a reflex, as franka_control's error recovery does; what happened, in one line."""
         now = self.now()
         with self._lock:
             self._advance_locked(now)
@@ -283,11 +298,18 @@ class LabSimNode:
             recovered = self.world.arm.recover(now)
             state = self.world.arm.state
         if recovered:
-            message = f"recovered from reflex [{', '.join(errors)}]; the arm accepts commands again"
-        else:
-            message = f"no reflex to recover from (the arm is {state})"
+            return f"recovered from reflex [{', '.join(errors)}]; the arm accepts commands again"
+        return f"no reflex to recover from (the arm is {state})"
+
+    def _on_error_recovery(self, handle: Any) -> None:
+        """franka_msgs/ErrorRecoveryAction: recover, then succeed (the world's lock is free again by then)."""
+        message = self._recover()
+        handle.set_accepted(message)
         # franka_control's error recovery succeeds whether or not there was an error.
-        return TriggerResponse(success=True, message=message)
+        handle.set_succeeded(fm.ErrorRecoveryResult(), message)
+
+    def _on_recover(self, _request: Any) -> TriggerResponse:
+        return TriggerResponse(success=True, message=self._recover())
 
     # -- the loop -------------------------------------------------------------------------
 
@@ -348,6 +370,8 @@ class LabSimNode:
                     finished.append(goal)
             width = hand.width_m
             joint_v = hand.joint_velocities_m_per_s
+            arm_q, arm_dq = (arm.joint_positions, arm.joint_velocities) if due["arm_joints"] else (None, None)
+            explanation = self._reflex_words_locked()[0] if any(e.kind == EVENT_REFLEX for e in events) else ""
             pose = arm.pose if due["state"] else None
             velocity = arm.velocity
             grip = hand.grip_force_n
@@ -363,12 +387,14 @@ class LabSimNode:
         for goal in finished:
             self._report(goal)
         for event in events:
-            self._log_event(event)
+            self._log_event(event, explanation)
         stamp = rospy.Time.now()
         if due["joints"]:
             self.joints_pub.publish(JointState(
                 header=self._header(stamp, ""), name=FINGER_JOINTS, position=[0.5 * width, 0.5 * width],
                 velocity=list(joint_v), effort=[0.0, 0.0]))
+        if due["arm_joints"]:
+            self._publish_joint_states(stamp, arm_q, arm_dq, width, joint_v)
         if pose is not None:
             msg = PoseStamped(header=self._header(stamp, self.frame_id))
             p, q = msg.pose.position, msg.pose.orientation
@@ -414,13 +440,37 @@ class LabSimNode:
             goal.handle.set_canceled(result, text)
             rospy.logdebug("gripper %s goal %d preempted: %s", goal.action, record.goal_id, text)
 
-    def _log_event(self, event: Any) -> None:
+    def _publish_joint_states(self, stamp: rospy.Time, q: Optional[Tuple[float, ...]], dq: Optional[Tuple[float, ...]],
+                              width: float, finger_v: Tuple[float, float]) -> None:
+        """franka_state_controller's arm joints, and /joint_states: the arm's then the fingers (width/2
+        each), as joint_state_publisher merges them; the fingers alone when the arm has no joints."""
+        names, position, velocity = list(FINGER_JOINTS), [0.5 * width, 0.5 * width], list(finger_v)
+        if q is not None and dq is not None and self.arm_joints_pub is not None:
+            self.arm_joints_pub.publish(JointState(header=self._header(stamp, ""), name=list(JOINT_NAMES),
+                                                   position=list(q), velocity=list(dq), effort=[0.0] * 7))
+            names, position, velocity = list(JOINT_NAMES) + names, list(q) + position, list(dq) + velocity
+        self.all_joints_pub.publish(JointState(header=self._header(stamp, ""), name=names, position=position,
+                                               velocity=velocity, effort=[0.0] * len(names)))
+
+    def _log_event(self, event: Any, explanation: str) -> None:
         if event.kind == EVENT_REFLEX:
             rospy.logerr("simulated Franka at %.3f s: %s", event.time_s, event.message)
+            if explanation:
+                rospy.logerr("%s", explanation)
         elif event.kind == EVENT_RECOVERED:
             rospy.loginfo("simulated Franka at %.3f s: %s", event.time_s, event.message)
         else:  # command timeout, workspace limit, command ignored
             rospy.logwarn("simulated Franka at %.3f s: %s", event.time_s, event.message)
+
+    def _reflex_words_locked(self) -> Tuple[str, str]:
+        """The current reflex in plain words, and how near its nearest limit the joints stand
+        ("", "" without a reflex; call under the lock)."""
+        arm = self.world.arm
+        if arm.state != STATE_REFLEX:
+            return "", ""
+        explanation = "\n".join(explain_reflex([violation.cause() for violation in arm.reflex_violations]))
+        q = arm.joint_positions
+        return explanation, (nearest_limit(q).describe() if q is not None else "")
 
     def _arm_status_values(self) -> DiagnosticStatus:
         """~arm_status from the arm (call under the lock)."""
@@ -435,6 +485,8 @@ class LabSimNode:
         values += [KeyValue(key="ignored_commands", value=str(arm.ignored_command_count)),
                    KeyValue(key="reflex_errors", value=", ".join(arm.reflex_errors)),
                    KeyValue(key="position_m", value=f"{x:.4f} {y:.4f} {z:.4f}")]
+        explanation, nearest = self._reflex_words_locked()
+        values += [KeyValue(key="explanation", value=explanation), KeyValue(key="nearest_joint_limit", value=nearest)]
         return DiagnosticStatus(level=level, name=f"{self.name}: arm", message=arm.status,
                                 hardware_id="simulated Franka Panda", values=values)
 

@@ -13,8 +13,10 @@ rosbag stamps with, so the test can line events up with recorded topics). Steps:
   {"mark": "name"}                   a timestamp for the test
   {"twists": [[vx, vy, vz, wx, wy, wz], ...], "rate_hz": 100}   published one per period
   {"call": "recover"}                the node's ~recover (std_srvs/Trigger)
+  {"recover_action": 10}             franka_control's error_recovery action, waiting this long for its result
 
-Every goal's terminal state is logged as {"event": "result", "id", "status", "success", "error"}.
+Every goal's terminal state is logged as {"event": "result", "id", "status", "success", "error"}; an
+error recovery as {"event": "recovery", "status", "text"}.
 """
 
 from __future__ import annotations
@@ -30,6 +32,7 @@ from geometry_msgs.msg import Twist
 from std_srvs.srv import Trigger
 
 from hri_teleop.ros import franka_gripper_msgs as fg
+from hri_teleop.ros import franka_msgs as fm
 
 SPECS = {"move": fg.MoveAction, "grasp": fg.GraspAction, "homing": fg.HomingAction, "stop": fg.StopAction}
 
@@ -53,6 +56,10 @@ def main() -> None:
         if not client.wait_for_server(rospy.Duration(20.0)):
             write(event="error", what=f"no {name} server")
             return
+    recovery = actionlib.SimpleActionClient("/franka_control/error_recovery", fm.ErrorRecoveryAction)
+    if not recovery.wait_for_server(rospy.Duration(20.0)):
+        write(event="error", what="no error_recovery server")
+        return
     twist_pub = rospy.Publisher("/cartesian_velocity_controller/cmd_vel", Twist, queue_size=100)
     rospy.wait_for_service(f"{sim}/recover", 20.0)
     recover = rospy.ServiceProxy(f"{sim}/recover", Trigger)
@@ -115,6 +122,10 @@ def main() -> None:
         elif "call" in step:
             response = recover()
             write(event="called", success=response.success, message=response.message)
+        elif "recover_action" in step:
+            write(event="sent", id="error_recovery", action="error_recovery")
+            finished = recovery.send_goal_and_wait(fm.ErrorRecoveryGoal(), rospy.Duration(step["recover_action"]))
+            write(event="recovery", status=finished, text=recovery.get_goal_status_text())
     write(event="finished")
     log.close()
 

@@ -20,7 +20,7 @@ import yaml
 
 from hri_teleop.core import fsr
 from hri_teleop.core.attachment import Attachment
-from hri_teleop.core.joints import JOINT_ACCELERATION_DISCONTINUITY, JOINT_VELOCITY_DISCONTINUITY
+from hri_teleop.core.joints import JOINT_ACCELERATION_DISCONTINUITY, JOINT_NAMES, JOINT_VELOCITY_DISCONTINUITY
 from hri_teleop.hardware.sim.arm import ACCELERATION_DISCONTINUITY, VELOCITY_DISCONTINUITY
 from hri_teleop.hardware.sim.grasp_objects import OBJECTS
 from hri_teleop.hardware.sim.hand_params import COMMAND_ABORTED
@@ -39,7 +39,8 @@ TRAVEL_M = Attachment().piston_travel_m
 START = (0.3069, 0.0, 0.022)  # the egg's grasp height: half its 44 mm above the table
 PRESS_WIDTH_M = 0.0455        # 1.5 mm past the piston's contact at 44 + 3 mm
 TOPICS = ["/pub_force", "/franka_gripper/joint_states", "/lab_sim/ee_pose", "/lab_sim/ee_twist",
-          "/lab_sim/arm_status", "/lab_sim/violations", "/lab_sim/object", "/lab_sim/grip_force"]
+          "/lab_sim/arm_status", "/lab_sim/violations", "/lab_sim/object", "/lab_sim/grip_force",
+          "/franka_state_controller/joint_states", "/joint_states"]
 
 ZERO = [0.0] * 6
 ARM_DISCONTINUITIES = (VELOCITY_DISCONTINUITY, ACCELERATION_DISCONTINUITY, JOINT_VELOCITY_DISCONTINUITY,
@@ -89,6 +90,9 @@ PLAN: List[Dict[str, Any]] = [
     {"twists": TIMEOUT_RAMP, "rate_hz": 100}, {"mark": "silence"}, {"sleep": 0.6}, {"mark": "silence_end"},
     {"mark": "step"}, {"twists": STEP, "rate_hz": 100}, {"sleep": 0.3}, {"mark": "before_recover"},
     {"call": "recover"}, {"sleep": 0.3}, {"mark": "end"},
+    # (f) another step, cleared by franka_control's error_recovery action
+    {"twists": STEP, "rate_hz": 100}, {"sleep": 0.3}, {"mark": "before_action_recovery"},
+    {"recover_action": 10.0}, {"sleep": 0.3}, {"mark": "after_action_recovery"},
 ]
 
 
@@ -179,6 +183,10 @@ def test_the_node_speaks_the_hardware_types_and_stops_cleanly_on_sigint(session)
     assert types["/lab_sim/ee_twist"] == "geometry_msgs/TwistStamped"
     assert types["/lab_sim/arm_status"] == "diagnostic_msgs/DiagnosticStatus"
     assert types["/lab_sim/violations"] == "std_msgs/UInt32"
+    assert types["/franka_state_controller/joint_states"] == "sensor_msgs/JointState"
+    assert types["/joint_states"] == "sensor_msgs/JointState"
+    assert types["/franka_control/error_recovery/goal"] == "franka_msgs/ErrorRecoveryActionGoal"
+    assert types["/franka_control/error_recovery/result"] == "franka_msgs/ErrorRecoveryActionResult"
     assert session.node_exit_code == 0, session.node_output
     assert "Traceback" not in session.node_output
 
@@ -302,7 +310,7 @@ def test_a_velocity_step_is_a_reflex_with_libfrankas_error_until_recover(session
     assert discontinuities and all(e in reflex[0].message for e in discontinuities), reflex[0].message
     assert values["state"] == "reflex"
     assert int(values["ignored_commands"]) > 10  # the step kept coming for half a second
-    counter = [m.data for t, m in session.topics["/lab_sim/violations"] if t >= session.mark("step")]
+    counter = [m.data for t, m in session.between("/lab_sim/violations", "step", "before_recover")]
     assert counter and counter[-1] > 0 and counter[-1] == int(values["violations"])
     # the arm stopped at the step: the pose does not change, the velocity is zero
     poses = [_x(m) for _, m in session.between("/lab_sim/ee_pose", "step", "before_recover")]
@@ -395,3 +403,69 @@ def test_a_stalled_simulation_skips_the_stall_instead_of_judging_a_timeout(ros_m
     states = [_values(m)["state"] for _, m in read_topics(bag, ["/lab_sim/arm_status"])["/lab_sim/arm_status"]]
     assert states and "timeout" not in states, states
     assert "simulation stalled for" in node.output()
+
+
+# --- (f) franka_ros' joint states and error recovery --------------------------------------------
+
+
+FINGERS = ["panda_finger_joint1", "panda_finger_joint2"]
+
+
+def test_the_arm_joints_come_as_franka_state_controller_publishes_them_at_its_rate(session):
+    states = session.between("/franka_state_controller/joint_states", "press_start", "press_end")
+    assert _rate_hz([t for t, _ in states]) == pytest.approx(30.0, rel=0.1)
+    for _, msg in states:
+        assert list(msg.name) == list(JOINT_NAMES)
+        assert len(msg.position) == len(msg.velocity) == 7 and list(msg.effort) == [0.0] * 7
+    # the arm stands still at the egg: the joints too
+    first, last = states[0][1], states[-1][1]
+    assert list(last.position) == pytest.approx(list(first.position), abs=1e-9)
+    assert all(v == 0.0 for v in last.velocity)
+
+
+def test_joint_states_merges_arm_and_fingers_as_joint_state_publisher_does(session):
+    merged = session.between("/joint_states", "at60", "press")
+    assert _rate_hz([t for t, _ in merged]) == pytest.approx(30.0, rel=0.1)
+    arm = {m.header.stamp.to_sec(): list(m.position) for _, m in session.topics["/franka_state_controller/joint_states"]}
+    for _, msg in merged:
+        assert list(msg.name) == list(JOINT_NAMES) + FINGERS
+        assert list(msg.position[7:]) == pytest.approx([0.03, 0.03], abs=1e-9)  # the hand at 60 mm: half each
+        assert list(msg.position[:7]) == arm[msg.header.stamp.to_sec()]  # the same tick's arm joints
+        assert len(msg.velocity) == len(msg.effort) == 9
+
+
+def test_a_reflex_is_explained_in_plain_words_once_and_on_arm_status(session):
+    statuses = [m for _, m in session.between("/lab_sim/arm_status", "step", "before_recover")]
+    reflex = [_values(m) for m in statuses if m.level == 2]
+    assert reflex
+    explanation = reflex[-1]["explanation"]
+    assert explanation.startswith("The robot stopped itself (a reflex)")
+    assert "jumped" in explanation  # a step: the commanded velocity (or a joint's) jumped
+    assert "Then recover" in explanation
+    assert reflex[-1]["nearest_joint_limit"].startswith("joint ")
+    calm = [_values(m) for m in statuses if m.level == 0]
+    assert all(v["explanation"] == "" and v["nearest_joint_limit"] == "" for v in calm)
+    # logged once per reflex: the session has two (the ~recover and the error_recovery step)
+    assert session.node_output.count("The robot stopped itself (a reflex)") == 2, session.node_output
+
+
+def test_the_error_recovery_action_clears_a_reflex_and_succeeds(session):
+    before = [m for _, m in session.between("/lab_sim/arm_status", "end", "before_action_recovery")]
+    assert before and before[-1].level == 2, [m.message for m in before[-3:]]
+    done = next(e for e in session.events if e["event"] == "recovery")
+    assert done["status"] == 3 and "recovered from reflex" in done["text"], done  # SUCCEEDED
+    after = [m for _, m in session.between("/lab_sim/arm_status", "before_action_recovery", "after_action_recovery")]
+    assert after[-1].level == 0 and _values(after[-1])["state"] == "idle"
+
+
+def test_the_error_recovery_namespace_is_a_parameter(session):
+    master = session.master
+    node = master.run([str(LAB_SIM), "__name:=lab_sim_nj", "_board:=false", "_gripper_ns:=/nj_gripper",
+                       "_twist_topic:=/nj/cmd_vel", "_control_ns:=/nj_control", "_object:=none"], "lab_sim_nj")
+    master.wait_for(lambda: bool(master.subscribers("/nj/cmd_vel")) or not node.running, 30,
+                    "lab_sim_nj to subscribe its twist topic (the last thing it sets up)")
+    assert node.running, node.output()
+    assert "/lab_sim_nj" in master.subscribers("/nj_control/error_recovery/goal")
+    assert "/lab_sim_nj" not in master.subscribers("/franka_control/error_recovery/goal")
+    assert node.stop() == 0, node.output()
+    assert "error recovery on /nj_control/error_recovery" in node.output()
