@@ -73,3 +73,17 @@ def test_importing_the_widgets_needs_neither_rospy_nor_pygame():
     out = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, timeout=60)
     assert out.returncode == 0, out.stderr
     assert out.stdout.strip() == "[]"
+
+
+def test_a_thread_ticker_runs_in_its_own_thread_even_inside_a_running_loop():
+    threads = []
+
+    async def main():
+        ticker = Ticker(lambda: threads.append(threading.current_thread()), 0.01, name="drawer", thread=True).start()
+        await asyncio.sleep(0.1)
+        ticker.stop()
+        return ticker
+
+    ticker = asyncio.run(main())
+    assert not ticker.in_kernel_loop and not ticker.running
+    assert threads and {t.name for t in threads} == {"drawer"}

@@ -1,10 +1,10 @@
 """Widgets for the lab's notebooks (ipywidgets 8 + matplotlib; ipympl for interactive figures).
 
 One per need of the handout, each an ``ipywidgets.VBox`` shown as a cell's last expression:
-FsrExplorer (Ex. 1, 5), DeadzoneExplorer (Fig. 8), ControllerView (Ex. 8), LivePlot,
-CalibrationWidget (Ex. 11), GraphView (Ex. 15), TlxWidget and RehearsalOffer (Ex. 14). The rules
-come from the core; here are views and small pure helpers, tested without a browser. Importing
-needs neither rospy nor pygame: LivePlot, CalibrationWidget and GraphView start ROS when created
+FsrExplorer (Ex. 1, 5), DeadzoneExplorer (Fig. 8), ControllerView (Ex. 8), LivePlot, ArmView (the
+Panda in 3D), CalibrationWidget (Ex. 11), GraphView (Ex. 15), TlxWidget and RehearsalOffer (Ex. 14).
+The rules come from the core; here are views and small pure helpers, tested without a browser.
+Importing needs neither rospy nor pygame: the ROS widgets start ROS when they are created
 (:func:`~hri_teleop.course.notebook_ros.ensure_ros`), or say in one line what is missing.
 """
 
@@ -17,6 +17,7 @@ except ImportError:  # pragma: no cover - exercised by a subprocess test
                       "notebook widgets") from None
 
 from hri_teleop.course.widgets._base import FigureView, Ticker, WidgetError, lab_teleop_config
+from hri_teleop.course.widgets.arm3d import ArmView, ArmViewError, joint_config, read_joint_states
 from hri_teleop.course.widgets.calibration import CalibrationWidget, MaxRecorder
 from hri_teleop.course.widgets.controller import (
     ControllerModel,
@@ -59,6 +60,7 @@ __all__ = [
     "DeadzoneExplorer", "deadzone_curve", "filter_stick",
     "ControllerView", "ControllerModel", "ControllerSnapshot", "open_pad", "pad_svg",
     "LivePlot", "LiveTopics", "TopicBuffer", "TopicSpec", "lab_topics", "numeric_fields",
+    "ArmView", "ArmViewError", "joint_config", "read_joint_states",
     "CalibrationWidget", "MaxRecorder",
     "GraphView", "RosGraph", "graph_from_state", "layered_layout", "draw_graph", "read_graph",
     "TlxWidget", "trial_sidecars", "RehearsalOffer", "count_trials",

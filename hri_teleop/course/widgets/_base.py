@@ -146,15 +146,18 @@ class Ticker:
     In a kernel it is an asyncio task on the kernel's running loop, so it runs between cells and
     never concurrently with the student's code or matplotlib; elsewhere (a script, a test) a
     daemon thread. An exception in ``fn`` is printed once (one line) and the ticker keeps going:
-    a live plot must survive one bad message.
+    a live plot must survive one bad message. ``thread=True`` always takes a thread: for what
+    must go on while a cell runs and touches only its own, locked state (the 3D view's redraws).
     """
 
-    def __init__(self, fn: Callable[[], object], interval_s: float, name: str = "ticker") -> None:
+    def __init__(self, fn: Callable[[], object], interval_s: float, name: str = "ticker",
+                 thread: bool = False) -> None:
         if not 0.0 < float(interval_s) < 3600.0:
             raise WidgetError(f"{name}: interval_s must be in (0, 3600) s, got {interval_s!r}; e.g. 0.2")
         self._fn = fn
         self.interval_s = float(interval_s)
         self.name = name
+        self.thread = thread
         self._stop = threading.Event()
         self._task: Optional[Any] = None
         self._thread: Optional[threading.Thread] = None
@@ -173,7 +176,7 @@ class Ticker:
             return self
         self._stop.clear()
         try:
-            loop = asyncio.get_running_loop()
+            loop = None if self.thread else asyncio.get_running_loop()
         except RuntimeError:
             loop = None
         if loop is not None:

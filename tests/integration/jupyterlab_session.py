@@ -1,0 +1,90 @@
+"""JupyterLab on a free port with a private Jupyter home, and headless Chromium showing one notebook in it.
+
+For the browser tests: ``lab = JupyterLab(tmp_path, root, env)`` starts the server (the hri-teleop
+kernel by default), ``lab.open(name, flags)`` a browser on the notebook with its kernel idle,
+``lab.stop()`` ends both (kernels first, through the server's API, so their exit hooks run).
+test_jupyterlab_browser.py's own start is the same and can move here.
+"""
+
+from __future__ import annotations
+
+import json
+import os
+import urllib.request
+from pathlib import Path
+from typing import Any, Dict, List, Mapping, Sequence
+
+from test_jupyterlab_browser import _KERNEL_STATUS, CHROMEDRIVER, CHROMIUM, CHROMIUM_FLAGS, PYTHON, _server_up, _wait
+
+from hri_teleop.ros.kernel import KERNEL_NAME, install_kernelspec
+from hri_teleop.ros.master import ManagedProcess, free_port
+
+JUPYTER_HOME = (("JUPYTER_CONFIG_DIR", "config"), ("JUPYTER_DATA_DIR", "data"), ("JUPYTER_RUNTIME_DIR", "runtime"),
+                ("JUPYTERLAB_SETTINGS_DIR", "settings"), ("JUPYTERLAB_WORKSPACES_DIR", "workspaces"),
+                ("IPYTHONDIR", "ipython"))
+
+
+def write_notebook(path: Path, cells: Sequence[str]) -> None:
+    """A notebook of these code cells on the hri-teleop kernel."""
+    import nbformat
+
+    notebook = nbformat.v4.new_notebook(cells=[nbformat.v4.new_code_cell(cell) for cell in cells])
+    notebook.metadata["kernelspec"] = {"name": KERNEL_NAME, "display_name": KERNEL_NAME, "language": "python"}
+    nbformat.write(notebook, str(path))
+
+
+class JupyterLab:
+    """A JupyterLab server serving ``root``; ``env`` is the environment its kernels get."""
+
+    def __init__(self, tmp_path: Path, root: Path, env: Mapping[str, str]) -> None:
+        install_kernelspec()  # what `make lab` does (idempotent)
+        self.tmp_path = tmp_path
+        self.port, self.token = free_port(), "hri-" + os.urandom(8).hex()
+        full = dict(env)
+        full.update({name: str(tmp_path / sub) for name, sub in JUPYTER_HOME})
+        self.driver: Any = None
+        self.server = ManagedProcess(
+            [PYTHON, "-m", "jupyterlab", "--no-browser", f"--port={self.port}", "--ServerApp.ip=127.0.0.1",
+             f"--IdentityProvider.token={self.token}", f"--ServerApp.root_dir={root}", "--ServerApp.port_retries=0",
+             "--LabApp.expose_app_in_browser=True", "--LabApp.check_for_updates_class=jupyterlab.NeverCheckForUpdate",
+             f"--MultiKernelManager.default_kernel_name={KERNEL_NAME}"] + (["--allow-root"] if os.geteuid() == 0 else []),
+            full, tmp_path / "jupyterlab.log", cwd=root)
+        _wait(lambda: not self.server.running or _server_up(self.url("api/status")), 60, "JupyterLab to answer")
+        assert self.server.running, f"JupyterLab exited: {self.server.output()[-1500:]}"
+
+    def url(self, path: str) -> str:
+        return f"http://127.0.0.1:{self.port}/{path}?token={self.token}"
+
+    def open(self, notebook: str, flags: Sequence[str] = ()) -> Any:
+        """Headless Chromium on ``notebook``, returned once its kernel is idle."""
+        from selenium import webdriver
+        from selenium.webdriver.chrome.service import Service
+
+        options = webdriver.ChromeOptions()
+        options.binary_location = CHROMIUM
+        for flag in [*CHROMIUM_FLAGS, *flags, f"--user-data-dir={self.tmp_path / 'chromium'}"]:
+            options.add_argument(flag)
+        self.driver = webdriver.Chrome(service=Service(CHROMEDRIVER, log_output=str(self.tmp_path / "chromedriver.log")),
+                                       options=options)
+        self.driver.set_script_timeout(30)
+        self.driver.get(self.url(f"lab/tree/{notebook}"))
+        _wait(lambda: self.driver.execute_script(_KERNEL_STATUS) == f"idle {KERNEL_NAME}", 60,
+              "the notebook's hri-teleop kernel to be idle", poll_s=0.5)
+        return self.driver
+
+    def kernels(self) -> List[Dict[str, Any]]:
+        with urllib.request.urlopen(self.url("api/kernels"), timeout=5) as answer:
+            found: List[Dict[str, Any]] = json.load(answer)
+        return found
+
+    def stop(self) -> None:
+        """The browser, then every kernel as JupyterLab's "Shut Down Kernel" does, then the server."""
+        if self.driver is not None:
+            self.driver.quit()
+        try:
+            for kernel in self.kernels():
+                request = urllib.request.Request(self.url(f"api/kernels/{kernel['id']}"), method="DELETE")
+                urllib.request.urlopen(request, timeout=15).close()
+        except OSError:
+            pass  # the server is gone already: its kernels notice and exit
+        self.server.stop(timeout_s=15.0)
