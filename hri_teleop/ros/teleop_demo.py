@@ -41,6 +41,8 @@ TOPICS = (
     "/lab_sim/arm_status",
     "/joy",
 )
+#: Recorded too, for a replay of the arm in 3D (``widgets.ArmView().replay``); the LabRecord leaves them out.
+REPLAY_TOPICS = ("/joint_states",)
 
 #: The demo must end by itself within a minute, whatever happens.
 DEFAULT_TIMEOUT_S = 60.0
@@ -95,7 +97,7 @@ def record_teleop_launch(master: PrivateMaster, bag_path: Path, launch_args: Map
 
     The demo and the integration tests share this, so both judge the same run.
     """
-    recorder = master.record(bag_path, TOPICS)
+    recorder = master.record(bag_path, TOPICS + REPLAY_TOPICS)
     started = time.monotonic()
     launch = master.roslaunch("hri_lab", "teleoperation.launch", launch_args)
     ended_by = "timeout"
