@@ -1,5 +1,4 @@
-"""Benchmark 3: how much faster than real time the simulated lab runs flat out, and what the
-Panda's joints cost in each 1 ms cycle.
+"""Benchmark 3: how fast the simulated lab runs flat out, and what the Panda's joints cost per cycle.
 
 ``run_lab`` steps the teleoperation controller, the arm, the hand, the object and the sensor board
 in lock-step on the lab's scenarios: the reference is real time. The second row times the arm alone
