@@ -3,25 +3,71 @@
 For the browser tests: ``lab = JupyterLab(tmp_path, root, env)`` starts the server (the hri-teleop
 kernel by default), ``lab.open(name, flags)`` a browser on the notebook with its kernel idle,
 ``lab.stop()`` ends both (kernels first, through the server's API, so their exit hooks run).
-test_jupyterlab_browser.py's own start is the same and can move here.
 """
 
 from __future__ import annotations
 
 import json
 import os
+import time
 import urllib.request
 from pathlib import Path
-from typing import Any, Dict, List, Mapping, Sequence
+from typing import Any, Callable, Dict, List, Mapping, Sequence
 
-from test_jupyterlab_browser import _KERNEL_STATUS, CHROMEDRIVER, CHROMIUM, CHROMIUM_FLAGS, PYTHON, _server_up, _wait
+import pytest
 
 from hri_teleop.ros.kernel import KERNEL_NAME, install_kernelspec
 from hri_teleop.ros.master import ManagedProcess, free_port
 
+REPO = Path(__file__).resolve().parents[2]
+PYTHON = str(REPO / ".venv" / "bin" / "python")
+CHROMIUM, CHROMEDRIVER = "/usr/bin/chromium", "/usr/bin/chromedriver"
+CHROMIUM_FLAGS = ["--headless", "--no-sandbox", "--disable-gpu", "--disable-background-networking",
+                  "--disable-component-update", "--disable-sync", "--no-first-run", "--disable-dev-shm-usage",
+                  "--window-size=1400,1800"]
+#: The notebook panel's kernel, as JupyterLab's front end sees it.
+KERNEL_STATUS = """
+const app = window.jupyterapp;
+if (!app) return 'no app';
+const panel = app.shell.currentWidget;
+if (!panel || !panel.sessionContext) return 'no notebook';
+const kernel = panel.sessionContext.session && panel.sessionContext.session.kernel;
+return kernel ? kernel.status + ' ' + kernel.name : 'no kernel';
+"""
 JUPYTER_HOME = (("JUPYTER_CONFIG_DIR", "config"), ("JUPYTER_DATA_DIR", "data"), ("JUPYTER_RUNTIME_DIR", "runtime"),
                 ("JUPYTERLAB_SETTINGS_DIR", "settings"), ("JUPYTERLAB_WORKSPACES_DIR", "workspaces"),
                 ("IPYTHONDIR", "ipython"))
+
+
+def needs_browser() -> None:
+    """Fail where make setup installs Chromium (Debian) and it is missing; skip elsewhere (Ubuntu's snap)."""
+    if Path(CHROMIUM).exists() and Path(CHROMEDRIVER).exists():
+        return
+    debian = "ID=debian" in Path("/etc/os-release").read_text() if Path("/etc/os-release").exists() else False
+    message = "chromium and chromedriver are missing: run `make setup` (it installs chromium chromium-driver)"
+    if debian:
+        pytest.fail(message)
+    pytest.skip("no Debian chromium here (Ubuntu ships it as a snap); " + message)
+
+
+def wait(condition: Callable[[], Any], timeout_s: float, what: str, poll_s: float = 0.25) -> Any:
+    """Poll ``condition`` until it is true and return its value; AssertionError naming ``what`` on timeout."""
+    deadline = time.monotonic() + timeout_s
+    last = None
+    while time.monotonic() < deadline:
+        last = condition()
+        if last:
+            return last
+        time.sleep(poll_s)
+    raise AssertionError(f"timed out after {timeout_s:.0f} s waiting for {what} (last: {last!r})")
+
+
+def server_up(url: str) -> bool:
+    try:
+        with urllib.request.urlopen(url, timeout=2) as response:
+            return bool(response.status == 200)
+    except OSError:
+        return False
 
 
 def write_notebook(path: Path, cells: Sequence[str]) -> None:
@@ -49,7 +95,7 @@ class JupyterLab:
              "--LabApp.expose_app_in_browser=True", "--LabApp.check_for_updates_class=jupyterlab.NeverCheckForUpdate",
              f"--MultiKernelManager.default_kernel_name={KERNEL_NAME}"] + (["--allow-root"] if os.geteuid() == 0 else []),
             full, tmp_path / "jupyterlab.log", cwd=root)
-        _wait(lambda: not self.server.running or _server_up(self.url("api/status")), 60, "JupyterLab to answer")
+        wait(lambda: not self.server.running or server_up(self.url("api/status")), 60, "JupyterLab to answer")
         assert self.server.running, f"JupyterLab exited: {self.server.output()[-1500:]}"
 
     def url(self, path: str) -> str:
@@ -68,7 +114,7 @@ class JupyterLab:
                                        options=options)
         self.driver.set_script_timeout(30)
         self.driver.get(self.url(f"lab/tree/{notebook}"))
-        _wait(lambda: self.driver.execute_script(_KERNEL_STATUS) == f"idle {KERNEL_NAME}", 60,
+        wait(lambda: self.driver.execute_script(KERNEL_STATUS) == f"idle {KERNEL_NAME}", 60,
               "the notebook's hri-teleop kernel to be idle", poll_s=0.5)
         return self.driver
 

@@ -19,8 +19,7 @@ import time
 
 import numpy as np
 import pytest
-from jupyterlab_session import JupyterLab, write_notebook
-from test_jupyterlab_browser import _needs_browser, _wait
+from jupyterlab_session import JupyterLab, needs_browser, wait, write_notebook
 
 from hri_teleop.core.joints import JOINT_NAMES
 from hri_teleop.ros.master import PrivateMaster
@@ -81,7 +80,7 @@ def _gone(pid: int) -> bool:
 
 
 def test_an_arm_view_cell_draws_the_panda_in_webgl_and_follows_joint_states(tmp_path):
-    _needs_browser()
+    needs_browser()
     pytest.importorskip("selenium.webdriver")
     from conftest import _ros_env  # tests/conftest.py, on sys.path under pytest
     from selenium.webdriver.common.by import By
@@ -98,21 +97,21 @@ def test_an_arm_view_cell_draws_the_panda_in_webgl_and_follows_joint_states(tmp_
         # WebGL without a GPU: Chromium falls back to SwiftShader, which it now only allows when asked.
         driver = lab.open("arm.ipynb", ["--enable-unsafe-swiftshader"])
         driver.execute_script("window.jupyterapp.commands.execute('notebook:run-all-cells');")
-        text = _wait(lambda: (lambda t: t if "server pid" in t or "Error" in t else None)(_output_text(driver)), 90,
+        text = wait(lambda: (lambda t: t if "server pid" in t or "Error" in t else None)(_output_text(driver)), 90,
                      "the ArmView cell to run", poll_s=0.5)
         assert "Traceback" not in text and "Error" not in text, text[-2000:]
         pids = {name: int(re.search(rf"{name} pid (\d+)", text).group(1)) for name in ("kernel", "server")}
         build_s = float(re.search(r"built in ([\d.]+) s", text).group(1))
-        kernel_node = _wait(lambda: [n for n in master.subscribers("/joint_states") if n.startswith("/hri_notebook")],
+        kernel_node = wait(lambda: [n for n in master.subscribers("/joint_states") if n.startswith("/hri_notebook")],
                             30, "the kernel's node to subscribe to /joint_states")[0]
-        silent = _wait(lambda: (lambda t: t if "nothing on /joint_states" in t else None)(_output_text(driver)), 30,
+        silent = wait(lambda: (lambda t: t if "nothing on /joint_states" in t else None)(_output_text(driver)), 30,
                        "the line that says nothing arrives", poll_s=0.5)
         assert "lab.start_robot()" in silent
 
-        iframe = _wait(lambda: driver.find_elements(By.CSS_SELECTOR, ".jp-OutputArea-output iframe"), 30,
+        iframe = wait(lambda: driver.find_elements(By.CSS_SELECTOR, ".jp-OutputArea-output iframe"), 30,
                        "the meshcat iframe")[0]
         driver.switch_to.frame(iframe)
-        scene = _wait(lambda: (lambda s: s if s["meshes"] > 0 else None)(driver.execute_script(_SCENE)), 60,
+        scene = wait(lambda: (lambda s: s if s["meshes"] > 0 else None)(driver.execute_script(_SCENE)), 60,
                       "meshcat to load the hand's mesh", poll_s=0.5)
         assert scene["canvas"] and scene["canvas"][0] > 300 and scene["canvas"][2], scene
         loaded_s = time.monotonic() - started
@@ -127,7 +126,7 @@ def test_an_arm_view_cell_draws_the_panda_in_webgl_and_follows_joint_states(tmp_
                                "joint_states")
         master.wait_for(lambda: master.connections(kernel_node, "/joint_states") >= 1, 30,
                         "the kernel's subscriber to connect to the publisher")
-        line = _wait(lambda: (lambda t: t if re.search(r"live /joint_states: [23]\d Hz received", t)
+        line = wait(lambda: (lambda t: t if re.search(r"live /joint_states: [23]\d Hz received", t)
                               else None)(_output_text(driver)), 30, "the line to say the view follows at 20+ Hz",
                      poll_s=0.5)
         hand = np.array([float(v) for v in re.search(r"hand at \(([-\d.]+), ([-\d.]+), ([-\d.]+)\) m",
@@ -138,7 +137,7 @@ def test_an_arm_view_cell_draws_the_panda_in_webgl_and_follows_joint_states(tmp_
 
         driver.switch_to.frame(iframe)
         expected = _expected_hand()
-        matrix = _wait(lambda: (lambda m: m if np.allclose(np.array(m).reshape(4, 4).T, expected, atol=1e-6)
+        matrix = wait(lambda: (lambda m: m if np.allclose(np.array(m).reshape(4, 4).T, expected, atol=1e-6)
                                 else None)(driver.execute_script(_SCENE)["matrix"]), 10,
                        "the browser's hand to reach the pose forward kinematics gives")
         driver.switch_to.default_content()
@@ -161,7 +160,7 @@ def test_an_arm_view_cell_draws_the_panda_in_webgl_and_follows_joint_states(tmp_
         master.stop()
         for name, pid in pids.items():
             try:
-                _wait(lambda pid=pid: _gone(pid), 10, f"the {name} to exit")
+                wait(lambda pid=pid: _gone(pid), 10, f"the {name} to exit")
             except AssertionError:
                 os.kill(pid, signal.SIGKILL)  # ours: started by the server this test started
                 raise
