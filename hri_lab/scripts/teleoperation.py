@@ -4,8 +4,8 @@
 Every rule lives in hri_teleop.core.teleop.TeleopController; this script reads the settings
 (``~config``, hri_lab/config/teleop.yaml, overridden by private parameters), opens the pad and once
 per tick (``~rate``, 50 Hz) polls it, steps the controller and publishes the twist, /gripper_width,
-/joy and ``~rumble``. Quit, Ctrl-C, SIGTERM and a lost pad all ramp the twist to zero first.
-Parameters, topics, stopping and time: docs/ros-nodes.md.
+/joy and ``~rumble``; it warns before a joint limit and sends error recovery on options. Quit,
+Ctrl-C, SIGTERM and a lost pad all ramp the twist to zero first. Details: docs/ros-nodes.md.
 """
 
 from __future__ import annotations
@@ -19,13 +19,22 @@ from typing import Any, Optional, TextIO, Tuple
 import rosgraph
 import rospy
 from geometry_msgs.msg import Twist
-from sensor_msgs.msg import Joy
+from sensor_msgs.msg import JointState, Joy
 from std_msgs.msg import Float32
 
 from hri_teleop.core.config import load_teleop_config
 from hri_teleop.core.gamepad import GamepadError, PadState, RumbleRequests
+from hri_teleop.core.joints import JointLimitWatch, JointsError, JointStateWarning, JointVector, positions_by_name
 from hri_teleop.core.limits import Watchdog
-from hri_teleop.core.teleop import TeleopCommand, TeleopController, next_tick_s
+from hri_teleop.core.teleop import (
+    ButtonPress,
+    TeleopCommand,
+    TeleopController,
+    TeleopError,
+    check_extra_button,
+    combined_rumble,
+    next_tick_s,
+)
 from hri_teleop.hardware.gamepad import open_gamepad
 from hri_teleop.hardware.sim.virtual_pad import (
     RUMBLE_LOG_HEADER,
@@ -35,15 +44,38 @@ from hri_teleop.hardware.sim.virtual_pad import (
     rumble_log_line,
 )
 from hri_teleop.ros.clock import ClockError, NodeClock
+from hri_teleop.ros.error_recovery import ErrorRecoveryRequester
 from hri_teleop.ros.params import fail, get_param, package_file, private_params, run_node
 
 #: Private parameters of this node that are not part of the teleop configuration.
-NODE_ONLY_KEYS = ("config", "pad_script", "pad_index", "stop_timeout_s", "script_wait_s", "rumble_log")
+NODE_ONLY_KEYS = ("config", "pad_script", "pad_index", "stop_timeout_s", "script_wait_s", "rumble_log",
+                  "joint_states_topic", "joint_states_timeout_s", "joint_warning_margin_rad", "joint_warning_clear_rad",
+                  "joint_warning_rumble", "joint_warning_pulse_s", "recover_button", "error_recovery_action")
+#: The joint warning's parameters: node parameter -> (core argument, default).
+JOINT_WARNING_PARAMS = {"joint_warning_margin_rad": ("warn_margin_rad", 0.1),
+                        "joint_warning_clear_rad": ("clear_margin_rad", 0.11),
+                        "joint_warning_rumble": ("rumble_level", 0.6),
+                        "joint_warning_pulse_s": ("pulse_period_s", 0.4),
+                        "joint_states_timeout_s": ("timeout_s", 0.5)}
 
 
 def default_config_path() -> str:
     """hri_lab/config/teleop.yaml of the package this script belongs to ('' if not found)."""
     return package_file("config/teleop.yaml", __file__)
+
+
+def joint_warning_from_params(name: str) -> JointStateWarning:
+    """The joint-limit warning from the node's parameters; a bad one ends the node naming it."""
+    values = {param: get_param(f"~{param}", default, kind=float) for param, (_arg, default) in JOINT_WARNING_PARAMS.items()}
+    args = {JOINT_WARNING_PARAMS[param][0]: value for param, value in values.items()}
+    try:
+        timeout_s = args.pop("timeout_s")
+        return JointStateWarning(JointLimitWatch(**args), timeout_s)
+    except JointsError as exc:
+        message = str(exc)
+        for param, (arg, _default) in JOINT_WARNING_PARAMS.items():  # speak the parameters' names
+            message = message.replace(arg, f"~{param}")
+        fail(f"{name} parameters: {message}")
 
 
 def _twist_msg(twist: Tuple[float, ...]) -> Twist:
@@ -110,6 +142,28 @@ class TeleoperationNode:
         self.joy_pub = rospy.Publisher("joy", Joy, queue_size=1)
         self.rumble_pub = rospy.Publisher("~rumble", Float32, queue_size=1)
         self.force_sub = rospy.Subscriber("force_mapped", Float32, self.on_force, queue_size=1)
+
+        # Before a joint limit: a warning from the robot's joint states (logged, and a pulse on the pad).
+        self.joint_warning = joint_warning_from_params(name)
+        self._joint_state: Optional[Tuple[JointVector, float]] = None  # (positions, arrival), from the callback
+        self._joint_state_fed: Optional[Tuple[JointVector, float]] = None
+        # After a reflex: a press of ~recover_button sends franka_control's error recovery.
+        try:
+            recover_button = check_extra_button(params, get_param("~recover_button", "start", kind=str).strip(),
+                                                "recover_button")
+        except TeleopError as exc:
+            fail(f"parameter {name}/{exc}")
+        self.recover_press = ButtonPress(recover_button)
+        topics = {param: get_param(f"~{param}", default, kind=str).strip() for param, default in
+                  (("joint_states_topic", "/franka_state_controller/joint_states"),
+                   ("error_recovery_action", "/franka_control/error_recovery"))}
+        for param, value in topics.items():
+            if not value or not rosgraph.names.is_legal_name(value):
+                fail(f"parameter {name}/{param} is {value!r}, not a ROS name; use letters, digits, _ and /, "
+                     "e.g. /franka_control/error_recovery")
+        self.recovery = ErrorRecoveryRequester(topics["error_recovery_action"])
+        self.joint_states_sub = rospy.Subscriber(topics["joint_states_topic"], JointState, self.on_joint_states,
+                                                 queue_size=1)
         rospy.loginfo(
             "teleoperation at %.0f Hz: pad %s (%s, layout %s), twist on %s, k_trans %.3f m/s, "
             "k_rot %.3f rad/s, k_gripper %.3f m/s (config %s)", params.rate_hz, self.config.pad,
@@ -120,6 +174,12 @@ class TeleoperationNode:
     def on_force(self, msg: Float32) -> None:
         self._force = (float(msg.data), self.clock.now())
         self._force_arrived.set()
+
+    def on_joint_states(self, msg: JointState) -> None:
+        """The arm's seven positions by name (the loop feeds them to the warning: one thread touches it)."""
+        positions = positions_by_name(msg.name, msg.position)
+        if positions is not None:
+            self._joint_state = (positions, self.clock.now())
 
     def on_virtual_joy(self, msg: Joy) -> None:
         """Raw axes/buttons in the layout's order (as this node publishes on /joy)."""
@@ -210,10 +270,15 @@ class TeleoperationNode:
         self.last_command = cmd
         self.twist_pub.publish(_twist_msg(cmd.twist))
         self.width_pub.publish(Float32(data=cmd.gripper_width_m))
-        self.rumble_pub.publish(Float32(data=cmd.rumble))
+        self._watch_joints(now)
+        rumble = combined_rumble(cmd.rumble, self.joint_warning.rumble(now), cmd.stopping,
+                                 self.controller.params.feedback)
+        self.rumble_pub.publish(Float32(data=rumble))
         if state is not None:
             self._publish_joy(state)
-        self._rumble(cmd.rumble, now)
+        self._rumble(rumble, now)
+        if self.recover_press.update(state):
+            self.recovery.request()
         if not self._script_pending:
             self._ticks += 1
         if cmd.quit and not self._quit_logged:
@@ -221,6 +286,18 @@ class TeleoperationNode:
                           self.controller.params.quit_button)
             self._quit_logged = True
         return cmd
+
+    def _watch_joints(self, now: float) -> None:
+        """Feed the latest joint state to the warning; one log line when a warning starts or goes stale."""
+        joints = self._joint_state
+        if joints is not None and joints is not self._joint_state_fed:
+            self._joint_state_fed = joints
+            started = self.joint_warning.update(*joints)
+            if started is not None:
+                rospy.logwarn("joint limit: %s", started.describe())
+        if self.joint_warning.expire(now):
+            rospy.logwarn("joint limit warning ended: no joint states for %.2f s (nothing is known of the joints)",
+                          self.joint_warning.timeout_s)
 
     def _publish_joy(self, state: Any) -> None:
         axes, buttons = self.pad.layout.raw_from_state(state)
@@ -269,7 +346,10 @@ class TeleoperationNode:
         if force is None:
             return
         now = self.clock.now()
-        self._rumble(self.controller.rumble_between_ticks(force[0], now - force[1]), now)
+        last = self.last_command
+        self._rumble(combined_rumble(self.controller.rumble_between_ticks(force[0], now - force[1]),
+                                     self.joint_warning.rumble(now), last is None or last.stopping,
+                                     self.controller.params.feedback), now)
 
     # -- running and stopping ---------------------------------------------------------
     def request_stop(self, *_args: object) -> None:

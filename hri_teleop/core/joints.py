@@ -19,7 +19,7 @@ __all__ = [
     "JointsError", "JointLimits", "PANDA_JOINT_LIMITS", "JOINT_NAMES", "READY_POSE_RAD", "JointVector",
     "JOINT_POSITION_LIMITS_VIOLATION", "JOINT_VELOCITY_LIMITS_VIOLATION", "JOINT_VELOCITY_DISCONTINUITY",
     "JOINT_ACCELERATION_DISCONTINUITY", "JOINT_ERRORS", "JointViolation", "joint_violations", "LimitDistance",
-    "nearest_limit", "WARNING_MARGIN_RAD", "JointLimitWatch",
+    "nearest_limit", "WARNING_MARGIN_RAD", "JointLimitWatch", "positions_by_name", "JointStateWarning",
 ]
 
 JointVector = Tuple[float, float, float, float, float, float, float]
@@ -205,3 +205,65 @@ class JointLimitWatch:
             return 0.0
         phase = math.fmod(float(now_s), self.pulse_period_s)
         return self.rumble_level if phase < 0.5 * self.pulse_period_s else 0.0
+
+
+def positions_by_name(names: Sequence[str], positions: Sequence[float],
+                      joint_names: Sequence[str] = JOINT_NAMES) -> Optional[JointVector]:
+    """The arm's seven positions (rad) picked by name from a joint state, in ``joint_names``' order.
+
+    Other joints (``/joint_states`` also carries the fingers) are ignored; None when a joint is
+    missing, the lists differ in length or a position is not a finite number.
+    """
+    if len(names) != len(positions):
+        return None
+    index = {name: i for i, name in enumerate(names)}
+    if any(name not in index for name in joint_names):
+        return None
+    picked = [positions[index[name]] for name in joint_names]
+    if not all(is_finite_number(q, numpy=True) for q in picked):
+        return None
+    return _seven("position_rad", picked)
+
+
+class JointStateWarning:
+    """The operator's joint-limit warning from a stream of joint states.
+
+    A :class:`JointLimitWatch` fed with each state's positions; its pulse starts on, with the
+    warning. When no state came for longer than ``timeout_s`` nothing is known any more about
+    the joints, so the warning ends (and :meth:`rumble` is 0) until states come again.
+    """
+
+    def __init__(self, watch: JointLimitWatch, timeout_s: float = 0.5) -> None:
+        if not (is_finite_number(timeout_s) and timeout_s > 0.0):
+            raise JointsError(f"timeout_s must be a positive time in s, got {timeout_s!r}; e.g. 0.5")
+        self.watch = watch
+        self.timeout_s = float(timeout_s)
+        self._last_s: Optional[float] = None
+        self._started_s = 0.0  # when the current warning started: its pulse's phase
+
+    @property
+    def warning(self) -> Optional[LimitDistance]:
+        """The limit being warned of (None: no warning)."""
+        return self.watch.warning
+
+    def update(self, position_rad: Sequence[float], now_s: float) -> Optional[LimitDistance]:
+        """Take the joint state that arrived at ``now_s``; returns the nearest limit when a warning starts."""
+        self._last_s = float(now_s)
+        started = self.watch.update(position_rad)
+        if started is not None:
+            self._started_s = self._last_s
+        return started
+
+    def expire(self, now_s: float) -> bool:
+        """End the warning when the last state is older than ``timeout_s``; True when that ended one."""
+        if self._last_s is None or now_s - self._last_s <= self.timeout_s:
+            return False
+        self._last_s = None
+        ended = self.watch.warning is not None
+        self.watch.clear()
+        return ended
+
+    def rumble(self, now_s: float) -> float:
+        """The warning's pulse at ``now_s``, on from the warning's start (0 without one or with stale states)."""
+        self.expire(now_s)
+        return self.watch.rumble(max(0.0, now_s - self._started_s))

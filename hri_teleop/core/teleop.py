@@ -36,6 +36,9 @@ __all__ = [
     "TeleopCommand",
     "TeleopController",
     "next_tick_s",
+    "combined_rumble",
+    "check_extra_button",
+    "ButtonPress",
 ]
 
 #: The Franka Hand opens from 0 to 0.08 m (docs/lab-facts.md).
@@ -368,3 +371,49 @@ def next_tick_s(previous_s: float, now_s: float, period_s: float) -> float:
     """
     due = previous_s + period_s
     return due if due >= now_s - period_s else now_s
+
+
+def combined_rumble(force_rumble: float, warning_rumble: float, stopping: bool, feedback: bool = True) -> float:
+    """What the pad feels: the larger of the force feedback and the joint-limit warning's pulse.
+
+    The larger, not the sum: a force still shows while the warning pulses (the pad never drops
+    below the force), and the pad never goes past 1. Nothing while the controller is stopping
+    (pad lost, quit), and nothing with ``feedback`` off: Ex. 14's control condition keeps a silent
+    pad (the node still logs the warning). A value that is not a finite number counts as 0.
+    """
+    if stopping or not feedback:
+        return 0.0
+    values = [min(1.0, max(0.0, float(v))) for v in (force_rumble, warning_rumble) if is_finite_number(v)]
+    return max(values, default=0.0)
+
+
+def check_extra_button(params: TeleopParams, button: str, role: str) -> str:
+    """``button`` for a node's own ``role`` (e.g. recover), checked: a positional name that none of the
+    handout's buttons (close, open, toggle, quit, dead-man) already uses."""
+    if button not in BUTTONS:
+        raise TeleopError(f"{role} must be a positional button name, got {button!r}; use one of {', '.join(BUTTONS)}, "
+                          "e.g. start")
+    taken = {getattr(params, name): name[: -len("_button")] for name in
+             ("close_button", "open_button", "toggle_button", "quit_button", "deadman_button") if getattr(params, name)}
+    if button in taken:
+        raise TeleopError(f"{role} {button!r} is already the {taken[button]} button; choose another, e.g. start")
+    return button
+
+
+class ButtonPress:
+    """One press of a button: :meth:`update` is True on the tick it goes down, once per press.
+
+    A held button is one press; a missing or disconnected pad releases it.
+    """
+
+    def __init__(self, button: str) -> None:
+        if button not in BUTTONS:
+            raise TeleopError(f"button must be a positional button name, got {button!r}; use one of {', '.join(BUTTONS)}")
+        self.button = button
+        self._was_pressed = False
+
+    def update(self, pad: Optional[PadState]) -> bool:
+        pressed = pad is not None and pad.connected and pad.pressed(self.button)
+        went_down = pressed and not self._was_pressed
+        self._was_pressed = pressed
+        return went_down
