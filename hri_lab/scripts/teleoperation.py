@@ -24,7 +24,18 @@ from std_msgs.msg import Float32
 
 from hri_teleop.core.config import load_teleop_config
 from hri_teleop.core.gamepad import GamepadError, PadState, RumbleRequests
-from hri_teleop.core.joints import JointLimitWatch, JointsError, JointStateWarning, JointVector, positions_by_name
+from hri_teleop.core.joints import (
+    CLEAR_MARGIN_RAD,
+    JOINT_STATES_TIMEOUT_S,
+    WARNING_MARGIN_RAD,
+    WARNING_PULSE_S,
+    WARNING_RUMBLE,
+    JointLimitWatch,
+    JointsError,
+    JointStateWarning,
+    JointVector,
+    positions_by_name,
+)
 from hri_teleop.core.limits import Watchdog
 from hri_teleop.core.teleop import (
     ButtonPress,
@@ -34,6 +45,7 @@ from hri_teleop.core.teleop import (
     check_extra_button,
     combined_rumble,
     next_tick_s,
+    recovery_refusal,
 )
 from hri_teleop.hardware.gamepad import open_gamepad
 from hri_teleop.hardware.sim.virtual_pad import (
@@ -52,11 +64,11 @@ NODE_ONLY_KEYS = ("config", "pad_script", "pad_index", "stop_timeout_s", "script
                   "joint_states_topic", "joint_states_timeout_s", "joint_warning_margin_rad", "joint_warning_clear_rad",
                   "joint_warning_rumble", "joint_warning_pulse_s", "recover_button", "error_recovery_action")
 #: The joint warning's parameters: node parameter -> (core argument, default).
-JOINT_WARNING_PARAMS = {"joint_warning_margin_rad": ("warn_margin_rad", 0.1),
-                        "joint_warning_clear_rad": ("clear_margin_rad", 0.11),
-                        "joint_warning_rumble": ("rumble_level", 0.6),
-                        "joint_warning_pulse_s": ("pulse_period_s", 0.4),
-                        "joint_states_timeout_s": ("timeout_s", 0.5)}
+JOINT_WARNING_PARAMS = {"joint_warning_margin_rad": ("warn_margin_rad", WARNING_MARGIN_RAD),
+                        "joint_warning_clear_rad": ("clear_margin_rad", CLEAR_MARGIN_RAD),
+                        "joint_warning_rumble": ("rumble_level", WARNING_RUMBLE),
+                        "joint_warning_pulse_s": ("pulse_period_s", WARNING_PULSE_S),
+                        "joint_states_timeout_s": ("timeout_s", JOINT_STATES_TIMEOUT_S)}
 
 
 def default_config_path() -> str:
@@ -278,7 +290,11 @@ class TeleoperationNode:
             self._publish_joy(state)
         self._rumble(rumble, now)
         if self.recover_press.update(state):
-            self.recovery.request()
+            refusal = recovery_refusal(cmd.twist)
+            if refusal is None:
+                self.recovery.request()
+            else:
+                rospy.logwarn(refusal)
         if not self._script_pending:
             self._ticks += 1
         if cmd.quit and not self._quit_logged:

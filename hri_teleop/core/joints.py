@@ -19,7 +19,8 @@ __all__ = [
     "JointsError", "JointLimits", "PANDA_JOINT_LIMITS", "JOINT_NAMES", "READY_POSE_RAD", "JointVector",
     "JOINT_POSITION_LIMITS_VIOLATION", "JOINT_VELOCITY_LIMITS_VIOLATION", "JOINT_VELOCITY_DISCONTINUITY",
     "JOINT_ACCELERATION_DISCONTINUITY", "JOINT_ERRORS", "JointViolation", "joint_violations", "LimitDistance",
-    "nearest_limit", "WARNING_MARGIN_RAD", "JointLimitWatch", "positions_by_name", "JointStateWarning",
+    "nearest_limit", "WARNING_MARGIN_RAD", "CLEAR_MARGIN_RAD", "WARNING_RUMBLE", "WARNING_PULSE_S",
+    "JOINT_STATES_TIMEOUT_S", "JointLimitWatch", "positions_by_name", "JointStateWarning",
 ]
 
 JointVector = Tuple[float, float, float, float, float, float, float]
@@ -43,6 +44,13 @@ JOINT_ERRORS = (("position", JOINT_POSITION_LIMITS_VIOLATION), ("velocity", JOIN
 
 #: Warn this close to a position limit (rad): franka_control's ``joint_limit_warning_threshold`` default.
 WARNING_MARGIN_RAD = 0.1
+#: ... and stop warning once every joint is this far again (a joint hovering at the edge warns once).
+CLEAR_MARGIN_RAD = 1.5 * WARNING_MARGIN_RAD
+#: The warning's pulse on the pad: its intensity (0..1) and period (s, on for the first half).
+WARNING_RUMBLE = 0.6
+WARNING_PULSE_S = 0.4
+#: Joint states older than this (s) say nothing about the joints any more: the warning ends.
+JOINT_STATES_TIMEOUT_S = 0.5
 
 
 class JointsError(HriTeleopError, ValueError):
@@ -163,8 +171,8 @@ class JointLimitWatch:
     """
 
     def __init__(self, limits: JointLimits = PANDA_JOINT_LIMITS, warn_margin_rad: float = WARNING_MARGIN_RAD,
-                 clear_margin_rad: float = 1.5 * WARNING_MARGIN_RAD, rumble_level: float = 0.6,
-                 pulse_period_s: float = 0.4) -> None:
+                 clear_margin_rad: float = CLEAR_MARGIN_RAD, rumble_level: float = WARNING_RUMBLE,
+                 pulse_period_s: float = WARNING_PULSE_S) -> None:
         if not (is_finite_number(warn_margin_rad) and warn_margin_rad > 0.0):
             raise JointsError(f"warn_margin_rad must be a positive angle in rad, got {warn_margin_rad!r}; e.g. 0.1")
         if not (is_finite_number(clear_margin_rad) and clear_margin_rad >= warn_margin_rad):
@@ -233,7 +241,7 @@ class JointStateWarning:
     the joints, so the warning ends (and :meth:`rumble` is 0) until states come again.
     """
 
-    def __init__(self, watch: JointLimitWatch, timeout_s: float = 0.5) -> None:
+    def __init__(self, watch: JointLimitWatch, timeout_s: float = JOINT_STATES_TIMEOUT_S) -> None:
         if not (is_finite_number(timeout_s) and timeout_s > 0.0):
             raise JointsError(f"timeout_s must be a positive time in s, got {timeout_s!r}; e.g. 0.5")
         self.watch = watch

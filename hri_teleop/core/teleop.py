@@ -12,7 +12,7 @@ from __future__ import annotations
 import math
 from dataclasses import dataclass, field, fields
 from enum import Enum
-from typing import Optional, Tuple
+from typing import Optional, Sequence, Tuple
 
 from hri_teleop.core.checks import is_finite_number
 from hri_teleop.core.errors import HriTeleopError
@@ -38,6 +38,7 @@ __all__ = [
     "next_tick_s",
     "combined_rumble",
     "check_extra_button",
+    "recovery_refusal",
     "ButtonPress",
 ]
 
@@ -385,6 +386,21 @@ def combined_rumble(force_rumble: float, warning_rumble: float, stopping: bool, 
         return 0.0
     values = [min(1.0, max(0.0, float(v))) for v in (force_rumble, warning_rumble) if is_finite_number(v)]
     return max(values, default=0.0)
+
+
+def recovery_refusal(twist: Sequence[float]) -> Optional[str]:
+    """Why error recovery must wait (one line), or None when the node's twist is exactly zero.
+
+    A recovered robot starts from rest: a twist still being commanded would reach it as a step and
+    stop it again at once. So the sticks are let go first and the limiter ramps the twist to zero.
+    """
+    moving = [c for c in twist if c != 0.0]
+    if not moving:
+        return None
+    speed = math.sqrt(sum(c * c for c in twist[:3]))
+    turn = math.sqrt(sum(c * c for c in twist[3:]))
+    return (f"error recovery waits: the node still commands {speed:.3f} m/s and {turn:.3f} rad/s; let go of the "
+            "sticks, then press the recover button again (a recovered robot starts from rest)")
 
 
 def check_extra_button(params: TeleopParams, button: str, role: str) -> str:

@@ -36,7 +36,7 @@ LAB_SIM = REPO / "hri_lab" / "scripts" / "lab_sim.py"
 CLIENT = HERE / "lab_sim_client.py"
 EGG = OBJECTS["egg"]
 TRAVEL_M = Attachment().piston_travel_m
-START = (0.3069, 0.0, 0.022)  # the egg's grasp height: half its 44 mm above the table
+START = (0.4, 0.0, 0.022)  # the egg's grasp height: half its 44 mm above the table
 PRESS_WIDTH_M = 0.0455        # 1.5 mm past the piston's contact at 44 + 3 mm
 TOPICS = ["/pub_force", "/franka_gripper/joint_states", "/lab_sim/ee_pose", "/lab_sim/ee_twist",
           "/lab_sim/arm_status", "/lab_sim/violations", "/lab_sim/object", "/lab_sim/grip_force",

@@ -66,7 +66,7 @@ def test_a_scenario_that_squeezes_hard_crushes_the_egg(ros_master, tmp_path):
     assert len(rec.count) > 800 and summary.peak_force_mapped > 0.9 and 0.0 < summary.rumble_s < 2.0
 
 
-@pytest.mark.parametrize("seed", [3, 2026])
+@pytest.mark.parametrize("seed", [7, 2026])
 def test_random_operators_through_the_real_teleoperation_node_never_break_a_franka_limit(
         ros_master, tmp_path, seed):
     scenario = tmp_path / f"random_{seed}.yaml"

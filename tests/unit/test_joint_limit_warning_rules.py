@@ -152,3 +152,14 @@ def test_a_press_counts_once_while_held_and_a_lost_pad_releases_it():
     assert press.update(None) is False
     assert press.update(down) is True  # pressed again after the pad came back
     assert press.update(PadState({}, {"start": True}, False)) is False
+
+
+def test_recovery_waits_until_the_nodes_twist_is_exactly_zero():
+    from hri_teleop.core.teleop import recovery_refusal
+
+    assert recovery_refusal((0.0,) * 6) is None
+    assert recovery_refusal((-0.0, 0.0, 0.0, 0.0, 0.0, 0.0)) is None
+    tiny = recovery_refusal((0.0, 0.0, 1e-12, 0.0, 0.0, 0.0))
+    assert tiny is not None and "let go of the sticks" in tiny
+    turning = recovery_refusal((0.0, 0.0, 0.0, 0.0, 0.0, 0.3))
+    assert turning is not None and "0.300 rad/s" in turning and "0.000 m/s" in turning

@@ -93,11 +93,20 @@ def test_the_controller_reaches_a_command_one_interval_after_it_arrived():
     assert arm.commanded_velocity[2] == pytest.approx(0.015)
     arm.run_until(0.060)
     assert arm.commanded_velocity[2] == 0.02 and arm.violations == ()
+    # a message late and the next on time: still spread over the node's 20 ms, not the 2 ms between them
+    arm.command((0.0, 0.0, 0.021, 0.0, 0.0, 0.0), 0.062)
+    arm.run_until(0.064)
+    before = arm.commanded_velocity[2]
+    arm.command((0.0, 0.0, 0.022, 0.0, 0.0, 0.0), 0.064)  # 2 ms after the one before
+    arm.run_until(0.065)
+    assert arm.commanded_velocity[2] - before == pytest.approx((0.022 - before) / 20)
+    arm.run_until(0.084)
+    assert arm.commanded_velocity[2] == 0.022
     # a lock-step loop commands first and runs the cycles up to the command's time after: they ramp too
-    arm.command((0.0, 0.0, 0.0, 0.0, 0.0, 0.0), 0.080)
-    arm.run_until(0.080)
-    assert arm.commanded_velocity[2] == pytest.approx(0.02 * (1 - 20 / 50))  # 50 ms since the last
-    assert arm.time_s == pytest.approx(0.080) and arm.violations == ()
+    arm.command((0.0, 0.0, 0.0, 0.0, 0.0, 0.0), 0.104)  # 40 ms after the last: from the arm's 0.084 s on
+    arm.run_until(0.104)
+    assert arm.commanded_velocity[2] == pytest.approx(0.022 * (1 - 20 / 40))
+    assert arm.time_s == pytest.approx(0.104) and arm.violations == ()
 
 
 @settings(max_examples=30, deadline=None)
@@ -129,7 +138,7 @@ def test_a_velocity_step_still_stops_the_robot_through_the_joints():
     assert VELOCITY_DISCONTINUITY not in arm.reflex_errors
     assert set(arm.reflex_errors) <= {JOINT_VELOCITY_DISCONTINUITY, JOINT_ACCELERATION_DISCONTINUITY}
     assert all(v.group.startswith("joint ") for v in arm.reflex_violations)
-    assert arm.pose.position_m == pytest.approx(LAB_ARM_CONFIG.start_position_m, abs=1e-5)
+    assert arm.pose.position_m == pytest.approx(SimArmConfig().start_position_m, abs=1e-5)
 
 
 def turn_until_reflex(arm: SimArm, wz: float, seconds: float) -> float:

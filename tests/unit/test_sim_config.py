@@ -160,7 +160,7 @@ def test_a_custom_object_without_a_name_is_called_custom():
     ({"arm": {"timeout_s": True}}, ["arm.timeout_s must be a number", "bool"]),
     ({"arm": {"timeout_s": 0}}, ["arm.timeout_s must be a positive number", "e.g. 0.1"]),
     ({"arm": {"start_position_m": [0.3, 0.0]}}, ["arm.start_position_m must be a list of 3 numbers",
-                                                 "[0.3069, 0.0, 0.4867]"]),
+                                                 "[0.4, 0.0, 0.4867]"]),
     ({"arm": {"start_position_m": [0.9, 0.0, 0.3]}}, ["arm.start_position_m x = 0.9 m is outside the workspace",
                                                       "widen the box"]),
     ({"arm": {"workspace_min_m": [0.9, -0.5, 0.015]}}, ["arm: workspace x: min 0.9 m must be below max",

@@ -400,5 +400,5 @@ def launch_sim_case() -> LaunchSimCase:
         {"t": lift_to, "axis": "right_y", "value": 0.0},
         {"t": quit_s, "tap": "west", "hold": 0.1},
     )
-    world: Dict[str, object] = {"object": "sponge", "arm": {"start_position_m": [0.3069, 0.0, 0.03]}}
+    world: Dict[str, object] = {"object": "sponge", "arm": {"start_position_m": [0.4, 0.0, 0.03]}}
     return LaunchSimCase(world, script, lift_from, lift_to, quit_s)

@@ -169,7 +169,10 @@ class SimArm:
             # from the next cycle on: a caller that commands first and runs the cycles up to now
             # after (a lock-step loop) gets them ramped, as a held command would reach them all
             self._ramp_start_s = min(now_s, self._time_s)
-            self._ramp_s = min(max(since, self._dt), 0.1) if since <= self._timeout_s else self._config.command_period_s
+            # never shorter than the node's period: a message that comes late and the next on time
+            # (a busy machine) must not turn into a ramp of a few ms
+            period = self._config.command_period_s
+            self._ramp_s = min(max(since, period), 0.1) if since <= self._timeout_s else period
             self._arrived_s = now_s
         self._held = values
         self._held_finite = all(math.isfinite(c) for c in values)

@@ -128,8 +128,8 @@ class SimArmConfig:
       ``"interpolate"`` moves to the new one over the time since the one before (the robot
       sees no steps; a step still reaches the joints as a jerk), ``"hold"`` keeps the last one
       until the next (each change reaches the robot as a step within 1 ms).
-    * ``command_period_s`` 0.02 s: how long the first command after rest is interpolated
-      over (the teleoperation node's 50 Hz); later ones use the measured interval.
+    * ``command_period_s`` 0.02 s: the shortest interpolation (the teleoperation node's 50 Hz),
+      and the first after rest; slower commands are interpolated over their interval (up to 0.1 s).
     * ``joints`` True: the seven joints move and are judged; False leaves the hand alone,
       judged on its twist only (tests of the Cartesian judge, scenes far outside the reach).
     """

@@ -90,8 +90,8 @@ _MEANING: Dict[str, str] = {
     "attachment.spring_n_per_m": "piston spring stiffness in N/m",
 }
 _VECTOR_EXAMPLE: Dict[str, str] = {
-    "object_xy_m": "[0.3069, 0.0] (or null: below the start pose)",
-    "arm.start_position_m": "[0.3069, 0.0, 0.4867]",
+    "object_xy_m": "[0.4, 0.0] (or null: below the start pose)",
+    "arm.start_position_m": "[0.4, 0.0, 0.4867]",
     "arm.start_orientation_xyzw": "[1.0, 0.0, 0.0, 0.0] (pointing down)",
     "arm.workspace_min_m": "[0.3, -0.25, 0.015]",
     "arm.workspace_max_m": "[0.55, 0.25, 0.55]",

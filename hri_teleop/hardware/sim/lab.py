@@ -18,11 +18,12 @@ from hri_teleop.core.config import lab_max_sensor_force
 from hri_teleop.core.errors import HriTeleopError
 from hri_teleop.core.gamepad import GamepadError, RumbleRequests
 from hri_teleop.core.gripper import GoalThrottle
+from hri_teleop.core.joints import JointLimitWatch, JointStateWarning
 from hri_teleop.core.limits import DEFAULT_LIMITS, CartesianLimits, Watchdog
 from hri_teleop.core.mapping import map_force
 from hri_teleop.core.reflex import explain_reflex
 from hri_teleop.core.run_record import LIFTED_M, LabRecord
-from hri_teleop.core.teleop import TeleopController, TeleopParams
+from hri_teleop.core.teleop import TeleopController, TeleopParams, combined_rumble
 from hri_teleop.hardware.sim.gripper_goals import GoalRecord, MoveCommand
 from hri_teleop.hardware.sim.virtual_pad import ScriptedPad, ScriptStep, load_script
 from hri_teleop.hardware.sim.world import LabWorld, WorldConfig
@@ -107,6 +108,7 @@ def run_lab(
     lab = LabWorld(world if world is not None else WorldConfig(), start_s=0.0)
     gripper = _Gripper(lab, manager)
     rumble_requests = RumbleRequests()
+    joint_warning = JointStateWarning(JointLimitWatch())  # the node's warning, fed the arm's joints each tick
     watchdog = Watchdog(params.input_timeout_s)
     rec = LabRecord(object_name=lab.hand.object.name if lab.hand.object is not None else "")
     force: Optional[Tuple[float, float]] = None  # (mapped, arrival time)
@@ -125,7 +127,9 @@ def run_lab(
             rec.count.append((t_sample, float(count)))
             rec.mapped.append((t_sample, value))
             force = (value, t_sample)
-            request = rumble_requests.update(controller.rumble_between_ticks(value, 0.0), t_sample)
+            between = combined_rumble(controller.rumble_between_ticks(value, 0.0), joint_warning.rumble(t_sample),
+                                      False, params.feedback)
+            request = rumble_requests.update(between, t_sample)
             if request is not None:
                 pad.rumble(*request)
         while next_timer <= now + 1e-9:
@@ -142,13 +146,17 @@ def run_lab(
                 state = None
         mapped, age = (force[0], now - force[1]) if force is not None else (None, math.inf)
         cmd = controller.step(state, mapped, age, dt)
-        request = rumble_requests.update(cmd.rumble, now)
+        joints = lab.arm.joint_positions
+        if joints is not None:
+            joint_warning.update(joints, now)
+        rumble = combined_rumble(cmd.rumble, joint_warning.rumble(now), cmd.stopping, params.feedback)
+        request = rumble_requests.update(rumble, now)
         if request is not None:
             pad.rumble(*request)
         ticks[0] += 1
         lab.command_twist(cmd.twist, now)
         gripper.on_target(cmd.gripper_width_m, now)
-        rec.rumble.append((now, cmd.rumble))
+        rec.rumble.append((now, rumble))
         rec.width_target.append((now, cmd.gripper_width_m))
         if now + 1e-9 >= next_record:
             _sample_world(rec, lab, now)

@@ -34,7 +34,11 @@ __all__ = ["WorldError", "WorldConfig", "ObjectStatus", "LabWorld", "LAB_ARM_CON
 #: command timeout of 0.3 s (15 missed messages at 50 Hz) instead of 0.1 s: on a student's busy
 #: laptop a Python node can stall for a tenth of a second, and a stall must not look like a dead
 #: node (the ramp to zero would then make the next command a step).
-LAB_ARM_CONFIG = SimArmConfig(workspace_min_m=(0.3, -0.25, 0.015), workspace_max_m=(0.55, 0.25, 0.55), timeout_s=0.3)
+#: It starts 40 cm in front of the base (the ready pose's hand is at 31 cm): from there the hand reaches
+#: the table with every joint at least 0.35 rad from its limits; below the ready pose joint 4 would
+#: come within 0.06 rad of its lower limit and the teleoperation node would warn through the grasp.
+LAB_ARM_CONFIG = SimArmConfig(workspace_min_m=(0.3, -0.25, 0.015), workspace_max_m=(0.55, 0.25, 0.55),
+                              start_position_m=(0.4, 0.0, 0.4867), timeout_s=0.3)
 
 
 class WorldError(HriTeleopError, ValueError):
