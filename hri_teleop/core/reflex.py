@@ -52,38 +52,43 @@ def _unit(where: str) -> str:
 
 
 def explain_cause(cause: ReflexCause) -> str:
-    """One or two sentences for one broken limit."""
+    """One or two sentences for one broken limit (without the numbers when the robot gave none: NaN)."""
     e, where, value, limit = cause.error, cause.where, cause.value, cause.limit
     unit = _unit(where)
+    known = not (math.isnan(value) and math.isnan(limit))
+
+    def numbers(text: str) -> str:
+        return f" ({text})" if known else ""
+
     if e == CARTESIAN_VELOCITY_LIMITS_VIOLATION:
-        return (f"The hand was commanded faster than the robot allows ({where} {value:.3g} {unit}, limit {limit:g} "
-                f"{unit}). Lower the gains k_trans/k_rot or the velocity limit of the twist limiter.")
+        return (f"The hand was commanded faster than the robot allows{numbers(f'{where} {value:.3g} {unit}, limit {limit:g} {unit}')}. "
+                "Lower the gains k_trans/k_rot or the velocity limit of the twist limiter.")
     if e == CARTESIAN_VELOCITY_DISCONTINUITY:
-        return (f"The commanded {where} velocity jumped: its change within one millisecond is an acceleration of "
-                f"{value:.3g} {unit}/s (limit {limit:g}). Ramp the velocity with the twist limiter, never step it, "
-                "not even to zero.")
+        return (f"The commanded {where} velocity jumped: its change within one millisecond is too large an "
+                f"acceleration{numbers(f'{value:.3g} {unit}/s, limit {limit:g}')}. Ramp the velocity with the twist "
+                "limiter, never step it, not even to zero.")
     if e == CARTESIAN_ACCELERATION_DISCONTINUITY:
-        return (f"The commanded {where} acceleration jumped: a jerk of {value:.3g} {unit}/s^2 (limit {limit:g}). "
+        return (f"The commanded {where} acceleration jumped: too large a jerk{numbers(f'{value:.3g} {unit}/s^2, limit {limit:g}')}. "
                 "Ramp the velocity smoothly; a step, however small, is a jump of the acceleration.")
     if e == NON_FINITE_COMMAND:
         return "A command held NaN or infinity, which the robot refuses. Check the numbers your node computes."
     if e == JOINT_POSITION_LIMITS_VIOLATION:
-        side = "upper" if value >= limit else "lower"
-        return (f"The hand cannot go further this way: {where} reached its {side} limit ({value:+.4f} rad, limit "
-                f"{limit:+.4f} rad). After recovering, move back the way you came (in rotation mode, turn the other "
-                "way) or drive to the start pose first.")
+        side = ("upper " if value >= limit else "lower ") if known else ""
+        return (f"The hand cannot go further this way: {where} reached its {side}limit"
+                f"{numbers(f'{value:+.4f} rad, limit {limit:+.4f} rad')}. After recovering, move back the way you came "
+                "(in rotation mode, turn the other way) or drive to the start pose first.")
     if e == JOINT_VELOCITY_LIMITS_VIOLATION:
         speed = "an infinite speed" if math.isinf(value) else f"{abs(value):.3g} rad/s"
-        return (f"{where.capitalize()} would have had to turn at {speed} (limit {limit:g} rad/s): the arm is near a "
-                "singular pose (stretched out, or two wrist axes in line), where a small hand motion needs a large "
-                "joint motion. Move the hand back towards the middle of the workspace, slowly.")
+        return (f"{where.capitalize()} would have had to turn too fast{numbers(f'{speed}, limit {limit:g} rad/s')}: the "
+                "arm is near a singular pose (stretched out, or two wrist axes in line), where a small hand motion "
+                "needs a large joint motion. Move the hand back towards the middle of the workspace, slowly.")
     if e == JOINT_VELOCITY_DISCONTINUITY:
-        return (f"{where.capitalize()}'s velocity jumped ({abs(value):.3g} rad/s^2, limit {limit:g}): for this arm "
-                "pose the twist changed too abruptly. Ramp more gently, or move away from a stretched-out pose.")
+        return (f"{where.capitalize()}'s velocity jumped{numbers(f'{abs(value):.3g} rad/s^2, limit {limit:g}')}: for this "
+                "arm pose the twist changed too abruptly. Ramp more gently, or move away from a stretched-out pose.")
     if e == JOINT_ACCELERATION_DISCONTINUITY:
-        return (f"{where.capitalize()}'s acceleration jumped ({abs(value):.3g} rad/s^3, limit {limit:g}): a step in "
-                "the commanded twist reaches the joints as a jerk. Ramp the velocity, never step it.")
-    return f"{e} ({where}: {value:.3g}, limit {limit:g})."
+        return (f"{where.capitalize()}'s acceleration jumped{numbers(f'{abs(value):.3g} rad/s^3, limit {limit:g}')}: a "
+                "step in the commanded twist reaches the joints as a jerk. Ramp the velocity, never step it.")
+    return f"{e}{numbers(f'{where}: {value:.3g}, limit {limit:g}')}."
 
 
 def explain_reflex(causes: Sequence[ReflexCause]) -> List[str]:

@@ -1,8 +1,8 @@
 """The lab as a notebook cell drives it: start and stop nodes on the kernel's master.
 
 The lab's own nodes, the student's, a launch of the student's package, and the simulated
-robot, board and pipeline (which start nothing in lab mode, next to the real hardware).
-Everything started here stops with ``lab.stop()`` or with the kernel.
+robot, board and pipeline (which start nothing in lab mode, next to the real hardware), and after a
+reflex its explanation and error recovery. Everything started here stops with ``lab.stop()``.
 """
 
 from __future__ import annotations
@@ -15,7 +15,9 @@ from hri_teleop.course.nodes import rosrun_student as rosrun
 from hri_teleop.course.nodes import run_provided_node as run_provided
 from hri_teleop.course.nodes import run_student_node as run_student
 from hri_teleop.course.nodes import stop_nodes as stop
+from hri_teleop.course.recovery import recover, reflex
 from hri_teleop.ros.master import PrivateMaster as private_master
 
 __all__ = ["stop", "run_provided", "run_student", "rosrun", "launch_student", "wait_for_publisher", "start_robot",
-           "start_board", "start_pipeline", "pad_params", "mode", "hand_z_m", "max_sensor_force", "private_master"]
+           "start_board", "start_pipeline", "pad_params", "mode", "hand_z_m", "max_sensor_force", "private_master",
+           "reflex", "recover"]

@@ -1,0 +1,105 @@
+"""After a reflex, from a notebook cell: what stopped the robot in plain words, and error recovery.
+
+At home lab_sim says why in its ``~arm_status``; in the lab franka_state_controller's ``franka_states``
+names the errors. ``recover()`` sends franka_control's error recovery, which lab_sim serves at home.
+"""
+
+from __future__ import annotations
+
+import math
+from typing import Any, List, Mapping
+
+from hri_teleop.core.modes import LAB
+from hri_teleop.core.reflex import ReflexCause, explain_reflex
+from hri_teleop.course.errors import CourseError
+from hri_teleop.course.lab_nodes import mode
+from hri_teleop.course.notebook_ros import current_session
+
+__all__ = ["ARM_STATUS_TOPIC", "FRANKA_STATES_TOPIC", "ERROR_RECOVERY_ACTION", "reflex", "recover",
+           "reflex_from_status", "reflex_from_errors"]
+
+#: lab_sim's arm status (diagnostic_msgs/DiagnosticStatus), with the reflex explained.
+ARM_STATUS_TOPIC = "/lab_sim/arm_status"
+#: franka_state_controller's robot state (franka_msgs/FrankaState) in the lab.
+FRANKA_STATES_TOPIC = "/franka_state_controller/franka_states"
+#: franka_control's error recovery (franka_msgs/ErrorRecoveryAction), served by lab_sim at home.
+ERROR_RECOVERY_ACTION = "/franka_control/error_recovery"
+
+
+def _ros() -> Any:
+    if current_session() is None:
+        raise CourseError("no ROS node in this kernel: run the setup cell (ros = ensure_ros()) first")
+    import rospy  # noqa: PLC0415 - ROS only in the cells that talk to the robot
+
+    return rospy
+
+
+def reflex_from_status(values: Mapping[str, str]) -> List[str]:
+    """The lines for lab_sim's ``~arm_status`` values: its explanation during a reflex, else its state."""
+    if values.get("state") == "reflex" and values.get("explanation"):
+        return str(values["explanation"]).split("\n")
+    near = values.get("nearest_joint_limit", "")
+    return [f"No reflex: the robot is {values.get('state', 'unknown')} and accepts commands."] + ([near] if near else [])
+
+
+def reflex_from_errors(last_motion_errors: Any) -> List[str]:
+    """The lines for franka_msgs/Errors (the fields set to true), as the real robot reports them."""
+    names = [name for name in getattr(last_motion_errors, "__slots__", []) if getattr(last_motion_errors, name, False)]
+    return explain_reflex([ReflexCause(name, "a joint" if "joint" in name else "the hand", math.nan, math.nan)
+                           for name in names])
+
+
+def reflex(timeout_s: float = 3.0) -> List[str]:
+    """What stopped the robot, in plain words (one line when nothing did), from the robot's own report."""
+    rospy = _ros()
+    if mode() == LAB:
+        try:
+            from franka_msgs.msg import FrankaState  # type: ignore[import-not-found]  # noqa: PLC0415 - lab only
+        except ImportError:
+            return ["In the lab franka_control prints the reflex in its terminal and Desk shows it (franka_msgs is "
+                    "not importable in this kernel to read it here); recover with lab.recover()."]
+        try:
+            state = rospy.wait_for_message(FRANKA_STATES_TOPIC, FrankaState, timeout=timeout_s)
+        except rospy.ROSException:
+            raise CourseError(f"nothing on {FRANKA_STATES_TOPIC} within {timeout_s:.0f} s: is franka_control "
+                              "running (franka_control.launch)?") from None
+        return reflex_from_errors(state.last_motion_errors)
+    from diagnostic_msgs.msg import DiagnosticStatus  # noqa: PLC0415 - ROS only in the cells that talk to the robot
+
+    try:
+        status = rospy.wait_for_message(ARM_STATUS_TOPIC, DiagnosticStatus, timeout=timeout_s)
+    except rospy.ROSException:
+        raise CourseError(f"nothing on {ARM_STATUS_TOPIC} within {timeout_s:.0f} s: run the start cell (the "
+                          "simulated robot) first") from None
+    return reflex_from_status({kv.key: kv.value for kv in status.values})
+
+
+def recover(timeout_s: float = 10.0) -> bool:
+    """franka_control's error recovery: the robot accepts commands again (True), or one line why not.
+
+    Let go of the sticks first: a node still commanding a velocity stops the recovered robot again.
+    """
+    _ros()
+    import actionlib  # noqa: PLC0415 - ROS only in the cells that talk to the robot
+    from actionlib_msgs.msg import GoalStatus  # noqa: PLC0415
+
+    from hri_teleop.ros.franka_msgs import ErrorRecoveryAction, ErrorRecoveryGoal  # noqa: PLC0415 - genpy, ROS only
+
+    client = actionlib.SimpleActionClient(ERROR_RECOVERY_ACTION, ErrorRecoveryAction)
+    if not client.wait_for_server(_duration(timeout_s / 2)):
+        print(f"no error recovery on {ERROR_RECOVERY_ACTION}: at home run the start cell (the simulated robot), in "
+              "the lab start franka_control")
+        return False
+    client.send_goal(ErrorRecoveryGoal())
+    if not client.wait_for_result(_duration(timeout_s)) or client.get_state() != GoalStatus.SUCCEEDED:
+        print(f"error recovery did not succeed ({client.get_goal_status_text() or 'no answer'}); check the robot "
+              "(in the lab: its lights and Desk)")
+        return False
+    print("recovered: the robot accepts commands again, from rest")
+    return True
+
+
+def _duration(seconds: float) -> Any:
+    import rospy  # noqa: PLC0415 - ROS only in the cells that talk to the robot
+
+    return rospy.Duration.from_sec(max(0.1, float(seconds)))
