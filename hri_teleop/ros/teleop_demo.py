@@ -165,7 +165,8 @@ def run(scenario: Optional[Path], out_dir: Path, timeout_s: float, extra: Mappin
               "see the node output above", file=sys.stderr)
         return 1
     summary = summarize(rec)
-    png = lab_timeline(rec, out_dir / "teleop_demo.png", "make demo: the simulated lab, default scenario")
+    name = Path(scenario).stem if scenario is not None else "default"
+    png = lab_timeline(rec, out_dir / "teleop_demo.png", f"make demo: the simulated lab, {name} scenario")
     lines: List[str] = ["", "Teleoperation lab, simulated (teleoperation.launch sim:=true):"]
     lines += ["  " + line for line in format_summary(summary)]
     lines += [f"  bag               {bag_path}", f"  timeline plot     {png}"]
