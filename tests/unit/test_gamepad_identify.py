@@ -1,0 +1,89 @@
+"""layout: auto: the shipped layout identified from a pad's SDL GUID, its name and its counts."""
+
+from __future__ import annotations
+
+import pytest
+
+from hri_teleop.core.gamepad import available_layouts
+from hri_teleop.core.gamepad.identify import LayoutGuess, SdlGuid, identify_layout, parse_sdl_guid
+
+# (GUID as pygame's Joystick.get_guid() gives it on Linux, name, axes, buttons) -> layout.
+# Bus 0x03 = USB, 0x05 = Bluetooth; version bit 0x8000 = Sony's gamepad-spec kernel drivers.
+PADS = [
+    ("030000004c050000c405000011810000", "Sony Computer Entertainment Wireless Controller", 6, 13, "dualshock4"),
+    ("030000004c050000cc09000011810000", "Sony Interactive Entertainment Wireless Controller", 6, 13, "dualshock4"),
+    ("050000004c050000cc09000000810000", "Wireless Controller", 6, 13, "dualshock4"),
+    ("03008fe54c050000cc09000011810000", "PS4 Controller", 6, 13, "dualshock4"),  # SDL >= 2.26: name CRC
+    ("030000004c050000e60c000011810000", "Sony Interactive Entertainment DualSense Wireless Controller", 6, 13,
+     "dualsense"),
+    ("050000004c050000e60c000000810000", "DualSense Wireless Controller", 6, 13, "dualsense"),
+    ("030000004c050000f20d000011810000", "DualSense Edge Wireless Controller", 6, 13, "dualsense"),
+    ("030000004c050000e60c000011010000", "Sony Interactive Entertainment Wireless Controller", 6, 15,
+     "dualsense_hid_generic"),
+    ("050000004c050000e60c000000010000", "Wireless Controller", 6, 15, "dualsense_hid_generic"),
+    ("030000005e0400008e02000010010000", "Microsoft X-Box 360 pad", 6, 11, "xbox"),
+    ("030000005e040000d102000001010000", "Microsoft X-Box One pad", 6, 11, "xbox"),
+    ("030000005e040000120b000011050000", "Microsoft Xbox Series S|X Controller", 6, 12, "xbox"),
+]
+
+
+@pytest.mark.parametrize("guid, name, axes, buttons, layout", PADS)
+def test_each_pad_over_usb_and_bluetooth_gets_its_layout_from_the_guid(guid, name, axes, buttons, layout):
+    guess = identify_layout(guid, name, axes, buttons)
+    assert guess.layout == layout and layout in available_layouts()
+    assert "by its GUID" in guess.reason and "\n" not in guess.reason
+    ids = parse_sdl_guid(guid)
+    assert ids is not None and ids.ids() in guess.reason and ids.bus_name() in guess.reason
+
+
+def test_the_guid_decides_over_a_misleading_name():
+    # Both Sony pads are "Wireless Controller" over Bluetooth: only the product id tells them apart.
+    assert identify_layout("050000004c050000e60c000000810000", "Wireless Controller", 6, 13).layout == "dualsense"
+    assert identify_layout("050000004c050000cc09000000810000", "PS5 Controller", 6, 13).layout == "dualshock4"
+
+
+def test_guid_fields_are_decoded_little_endian():
+    assert parse_sdl_guid("050000004c050000e60c000000810000") == SdlGuid(0x05, 0x054C, 0x0CE6, 0x8100, 0)
+    assert parse_sdl_guid("03008fe54c050000cc09000011810000") == SdlGuid(0x03, 0x054C, 0x09CC, 0x8111, 0)
+    assert parse_sdl_guid("050000004c050000e60c000000006800").driver == ord("h")
+
+
+@pytest.mark.parametrize("guid", ["", "not a guid", "030000004c050000cc0900001181000",  # 31 digits
+                                  "05000000576972656c65737320436f6e",  # the name-in-GUID form: no ids
+                                  "00000000000000000000000000000000"])
+def test_a_guid_without_ids_gives_none(guid):
+    assert parse_sdl_guid(guid) is None
+
+
+@pytest.mark.parametrize("guid, name, why", [
+    ("050000004c050000cc09000000010000", "Wireless Controller", "orders the buttons"),  # DS4, generic HID driver
+    ("050000004c050000e60c000000006800", "PS5 Controller", "HIDAPI"),
+    ("050000005e040000fd02000030110000", "Xbox Wireless Controller", "USB cable"),  # Xbox over Bluetooth
+    ("050000007e0500000920000001800000", "Nintendo Switch Pro Controller", "not a pad"),
+    ("05000000576972656c65737320436f6e", "Wireless Controller", "not a pad"),  # DS4 or DualSense: cannot tell
+])
+def test_pads_no_layout_fits_give_none_and_a_one_line_reason(guid, name, why):
+    guess = identify_layout(guid, name, 6, 13)
+    assert guess.layout is None and why in guess.reason and "\n" not in guess.reason
+
+
+def test_a_pad_with_fewer_controls_than_the_layout_maps_is_not_given_it():
+    guid = "030000004c050000e60c000011810000"
+    assert identify_layout(guid, "DualSense", 6, 13).layout == "dualsense"
+    short = identify_layout(guid, "DualSense", 6, 12)
+    assert short.layout is None and "12 buttons" in short.reason and "needs 6 and 13" in short.reason
+    assert identify_layout(guid, "DualSense", 5, 13).layout is None
+
+
+def test_without_ids_the_name_and_the_button_count_tell_the_dualsense_drivers_apart():
+    no_ids = "05000000576972656c65737320436f6e"
+    assert identify_layout(no_ids, "PS5 Controller", 6, 13).layout == "dualsense"
+    assert identify_layout(no_ids, "PS5 Controller", 6, 14).layout == "dualsense_hid_generic"
+    assert identify_layout("", "DualShock 4", 6, 13).layout == "dualshock4"
+    assert identify_layout("", "DualShock 4", 6, 14).layout is None
+
+
+def test_a_third_party_xbox_pad_is_known_by_its_name_over_usb_only():
+    assert identify_layout("03000000d62000000120000000000000", "PowerA Xbox One Controller", 6, 11) == \
+        LayoutGuess("xbox", "Xbox pad by its name (driver xpad)")
+    assert identify_layout("05000000d62000000120000000000000", "PowerA Xbox One Controller", 6, 11).layout is None
