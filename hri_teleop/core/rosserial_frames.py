@@ -12,7 +12,7 @@ import struct
 from dataclasses import dataclass
 from typing import List, Tuple
 
-__all__ = ["ROSSERIAL_BAUD", "TOPIC_REQUEST", "ID_PUBLISHER", "ID_TIME", "Frame", "TopicInfo", "FrameReader", "frame",
+__all__ = ["ROSSERIAL_BAUD", "TOPIC_REQUEST", "ID_PUBLISHER", "ID_TIME", "ID_PARAMETER_REQUEST", "NO_PARAMETER", "Frame", "TopicInfo", "FrameReader", "frame",
            "decode_topic_info"]
 
 #: rosserial_arduino's default baud rate.
@@ -21,6 +21,11 @@ ROSSERIAL_BAUD = 57600
 ID_PUBLISHER = 0
 #: Topic id of time: the board's request (empty) and the host's answer (sec, nsec as uint32).
 ID_TIME = 10
+#: Topic id of a parameter request (the board's getParam) and of the host's answer.
+ID_PARAMETER_REQUEST = 6
+#: An answer with no value (rosserial_msgs/RequestParamResponse: no ints, floats or strings):
+#: the board's getParam fails at once and the sketch keeps its default, instead of waiting.
+NO_PARAMETER = bytes(12)
 _SYNC = b"\xff\xfe"
 
 

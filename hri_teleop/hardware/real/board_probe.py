@@ -17,8 +17,10 @@ import serial
 
 from hri_teleop.core.doctor import FSR_SERIAL, ROSSERIAL
 from hri_teleop.core.rosserial_frames import (
+    ID_PARAMETER_REQUEST,
     ID_PUBLISHER,
     ID_TIME,
+    NO_PARAMETER,
     ROSSERIAL_BAUD,
     TOPIC_REQUEST,
     FrameReader,
@@ -115,6 +117,8 @@ def _read_rosserial(ser: Any, boot_s: float, count_s: float) -> BoardReading:
                     deadline = now + count_s
             elif f.topic_id == ID_TIME:
                 ser.write(_time_answer(time.time()))
+            elif f.topic_id == ID_PARAMETER_REQUEST:  # no serial_node here: the sketch's default period
+                ser.write(frame(ID_PARAMETER_REQUEST, NO_PARAMETER))
             elif pub_force is not None and f.topic_id == pub_force and len(f.payload) >= 2:
                 counts.append(struct.unpack_from("<h", f.payload)[0])
                 times.append(now)

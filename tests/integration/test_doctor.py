@@ -1,0 +1,130 @@
+"""make doctor as a lab engineer runs it: at home against the simulated lab it starts (and stops), in
+lab mode refusing a simulation on the lab's master, and on serial ports with either sketch."""
+
+from __future__ import annotations
+
+import os
+import re
+import subprocess
+import sys
+import time
+from pathlib import Path
+from typing import Dict, List, Optional
+
+import pytest
+from fake_rosserial_board import FakeRosserialBoard
+from test_firmware_hil import firmware  # noqa: F401 - the fixture that builds the firmware
+
+from hri_teleop.hardware.sim.simavr_board import SimulatedUno, force_profile, write_profile
+from hri_teleop.ros.master import free_port
+from hri_teleop.ros.master_api import master_reachable
+
+REPO = Path(__file__).resolve().parents[2]
+#: The issue's promise for a whole run, measured on an idle 2-core machine (about 5 s at home).
+DOCTOR_BUDGET_S = 10.0
+
+
+def _doctor(env: Dict[str, str], *args: str, stdin: str = "") -> subprocess.CompletedProcess:
+    return subprocess.run([sys.executable, "-m", "hri_teleop.ros.doctor", *args], env=env, input=stdin,
+                          capture_output=True, text=True, timeout=90, cwd=REPO)
+
+
+def _env(base: Dict[str, str], mode: str, uri: Optional[str] = None) -> Dict[str, str]:
+    env = dict(base)
+    env["HRI_MODE"] = mode
+    env["ROS_MASTER_URI"] = uri or f"http://127.0.0.1:{free_port()}/"  # nobody there, never 11311
+    return env
+
+
+def _line(out: str, item: str) -> str:
+    return next((line for line in out.splitlines() if re.match(rf"^\S+\s+{re.escape(item)}\s", line)), "")
+
+
+def _processes_on(uri: str) -> List[int]:
+    """Processes of this user whose environment points at ``uri`` (what a run left behind)."""
+    found = []
+    for entry in Path("/proc").iterdir():
+        if entry.name.isdigit():
+            try:
+                if f"ROS_MASTER_URI={uri}".encode() in (entry / "environ").read_bytes().split(b"\0"):
+                    found.append(int(entry.name))
+            except OSError:
+                continue
+    return found
+
+
+@pytest.mark.ros
+def test_at_home_without_a_master_it_checks_the_simulated_lab_it_started_and_stops_it(ros_env):
+    started = time.monotonic()
+    proc = _doctor(_env(ros_env, "home"))
+    wall_s = time.monotonic() - started
+    out = proc.stdout
+    print(f"\n{out}wall {wall_s:.1f} s")
+    assert proc.returncode == 0, out + proc.stderr
+    uri = re.search(r"started the simulated lab on (\S+) ", out).group(1)
+    assert _line(out, "ROS master").startswith("ok") and uri in _line(out, "ROS master")
+    assert _line(out, "robot").startswith("ok") and "lab_sim" in _line(out, "robot")
+    assert _line(out, "teleoperation") == "ok    teleoperation     running with the virtual pad"
+    assert re.match(r"ok\s+board\s+the simulated board \(/lab_sim\) at (9\d|10\d)\.\d Hz", _line(out, "board"))
+    assert _line(out, "max_sensor_force").startswith("ok")
+    assert _line(out, "pad").startswith("note")
+    reported_s = float(re.search(r"\((\d+\.\d) s\)$", out.strip()).group(1))
+    assert reported_s < DOCTOR_BUDGET_S * (2 if os.environ.get("PYTEST_XDIST_WORKER") else 1), out
+    assert not master_reachable(uri) and not _processes_on(uri), "the simulated lab was left running"
+
+
+def test_in_lab_mode_without_a_master_it_fails_fast_and_starts_nothing(ros_env):
+    proc = _doctor(_env(ros_env, "lab"))
+    out = proc.stdout
+    assert proc.returncode == 1
+    assert _line(out, "ROS master").startswith("FAIL") and "lab's roscore" in _line(out, "ROS master")
+    assert "simulation" not in out
+    assert _line(out, "board").startswith("FAIL") or "--port" in out  # no Arduino on this machine
+    assert re.search(r"doctor: \d+ of \d+ ok or noted, \d+ to fix \(\d\.\d s\)$", out.strip())
+
+
+@pytest.mark.ros
+def test_in_lab_mode_a_simulation_on_the_master_fails_robot_and_board(ros_master, ros_env):
+    launch = ros_master.roslaunch("hri_lab", "teleoperation.launch", {"sim": "true", "scenario": ""})
+    ros_master.wait_for(lambda: "/lab_sim" in ros_master.publishers("/pub_force") or not launch.running, 30,
+                        "lab_sim")
+    assert launch.running, launch.output()
+    proc = _doctor(_env(ros_env, "lab", ros_master.uri), "--no-sim")
+    out = proc.stdout
+    assert proc.returncode == 1, out
+    assert "lab_sim runs on the lab's master" in _line(out, "robot")
+    assert _line(out, "board").startswith("FAIL") and "simulate the board" in _line(out, "board")
+    assert "private roscore" in _line(out, "ROS master")
+    launch.stop()
+
+
+def test_a_rosserial_board_on_a_port_is_found_by_its_topics_at_the_handouts_rate(ros_env):
+    with FakeRosserialBoard(period_s=0.3, count=17) as board:
+        proc = _doctor(_env(ros_env, "home"), "--no-sim", "--port", board.port)
+        answered = list(board.time_answers), board.param_answered
+    line = _line(proc.stdout, "board")
+    print(f"\n{line}")
+    assert re.match(rf"ok\s+board\s+{re.escape(board.port)}: rosserial at 3\.\d Hz", line), proc.stdout + proc.stderr
+    assert "pub_force (std_msgs/Int16)" in line
+    assert answered[0] and len(answered[0][0]) == 8 and answered[1], "the probe must answer time and parameter"
+
+
+def test_a_port_where_no_sketch_answers_fails_with_the_fix(ros_env):
+    master, slave = os.openpty()
+    try:
+        proc = _doctor(_env(ros_env, "home"), "--no-sim", "--port", os.ttyname(slave))
+    finally:
+        os.close(master)
+        os.close(slave)
+    line = _line(proc.stdout, "board")
+    assert line.startswith("FAIL") and "neither fsr_serial nor rosserial answers" in line and "upload" in line
+
+
+def test_an_fsr_serial_board_on_a_port_is_found_with_its_rate(firmware, ros_env, tmp_path):  # noqa: F811
+    link = tmp_path / "ttyACM0"
+    profile = write_profile(force_profile([0.0, 1.0], [0.0, 5.0]), tmp_path / "press.txt")
+    with SimulatedUno(link, profile, repeat_us=1_000_000):
+        proc = _doctor(_env(ros_env, "home"), "--no-sim", "--port", str(link))
+    line = _line(proc.stdout, "board")
+    print(f"\n{line}")
+    assert re.match(rf"ok\s+board\s+{re.escape(str(link))}: fsr_serial at (9\d|10\d)\.\d Hz", line), proc.stdout
