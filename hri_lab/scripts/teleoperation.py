@@ -177,9 +177,10 @@ class TeleoperationNode:
         self.joint_states_sub = rospy.Subscriber(topics["joint_states_topic"], JointState, self.on_joint_states,
                                                  queue_size=1)
         rospy.loginfo(
-            "teleoperation at %.0f Hz: pad %s (%s, layout %s), twist on %s, k_trans %.3f m/s, "
+            "teleoperation at %.0f Hz: pad %s (%s, layout %s: %s), twist on %s, k_trans %.3f m/s, "
             "k_rot %.3f rad/s, k_gripper %.3f m/s (config %s)", params.rate_hz, self.config.pad,
-            getattr(self.pad, "name", "?"), self.pad.layout.name, self.twist_pub.resolved_name,
+            getattr(self.pad, "name", "?"), self.pad.layout.name,
+            getattr(self.pad, "layout_reason", "set by the configuration"), self.twist_pub.resolved_name,
             params.k_trans, params.k_rot, params.k_gripper, self.config_path or "built-in defaults")
 
     # -- inputs -----------------------------------------------------------------------

@@ -17,7 +17,7 @@ from typing import Any, Dict, Mapping, Optional, Tuple, Union
 
 from hri_teleop.core.checks import is_finite_number
 from hri_teleop.core.errors import HriTeleopError
-from hri_teleop.core.gamepad import DEFAULT_LAYOUT, PAD_KINDS
+from hri_teleop.core.gamepad import AUTO_LAYOUT, DEFAULT_LAYOUT, PAD_KINDS
 from hri_teleop.core.limits import DEFAULT_LIMITS, AxisLimits, CartesianLimits, LimitsError, TwistLimiter
 from hri_teleop.core.mapping import ADC_MAX_COUNT
 from hri_teleop.core.paths import LAB_CONFIG
@@ -28,6 +28,7 @@ __all__ = [
     "ConfigError",
     "TeleopConfig",
     "DEFAULT_LAYOUT",
+    "AUTO_LAYOUT",
     "DEFAULT_PAD",
     "DEFAULT_TWIST_TOPIC",
     "LAB_TELEOP_CONFIG",
@@ -84,7 +85,7 @@ class TeleopConfig:
 
     params: TeleopParams
     limits: CartesianLimits
-    layout: str
+    layout: str  # "auto" (a real pad identifies itself), a shipped layout's name or a YAML path
     pad: str  # "pygame" | "virtual"
     twist_topic: str
 
@@ -199,7 +200,7 @@ def teleop_config_from_dict(d: Mapping[str, Any], source: str = "<dict>") -> Tel
                                   f"write {key}: true or {key}: false, without quotes")
             kwargs[field_name] = d[key]
 
-    strings = {"layout": DEFAULT_LAYOUT, "pad": DEFAULT_PAD, "twist_topic": DEFAULT_TWIST_TOPIC}
+    strings = {"layout": AUTO_LAYOUT, "pad": DEFAULT_PAD, "twist_topic": DEFAULT_TWIST_TOPIC}
     for key in _STRING_KEYS:
         if key in d:
             value = d[key]

@@ -216,9 +216,10 @@ def test_a_pad_that_cannot_be_read_ramps_the_twist_to_zero_and_resumes_after(ros
 
 def test_virtual_joy_drives_the_pad_and_silence_ramps_to_zero(ros_master, tmp_path):
     """pad:=virtual without a script listens on ~virtual_joy; input older than input_timeout stops."""
-    from hri_teleop.core.gamepad import PadState, load_layout
+    from hri_teleop.core.gamepad import PadState
+    from hri_teleop.core.gamepad.layout import as_layout
 
-    layout = load_layout(CONFIG.layout)
+    layout = as_layout(CONFIG.layout)  # auto: a virtual pad has the default
     axes, buttons = layout.raw_from_state(PadState({"left_y": 1.0}, {}, True))
     joy = "{axes: %s, buttons: %s}" % ([float(a) for a in axes], [int(b) for b in buttons])
     bag = tmp_path / "vjoy.bag"

@@ -19,7 +19,8 @@ from diagnostic_msgs.msg import DiagnosticStatus
 from geometry_msgs.msg import Twist
 from sensor_msgs.msg import Joy
 
-from hri_teleop.core.gamepad import PadState, load_layout
+from hri_teleop.core.gamepad import PadState
+from hri_teleop.core.gamepad.layout import as_layout
 
 RATE_HZ = 50.0
 
@@ -29,7 +30,7 @@ def main() -> None:
     with open(rospy.get_param("~plan")) as fh:
         plan = json.load(fh)
     log = open(rospy.get_param("~log"), "a")
-    layout = load_layout(rospy.get_param("~layout", "dualshock4"))
+    layout = as_layout(rospy.get_param("~layout", "dualshock4"))
     seen = {"state": "", "still": False}
 
     def on_status(msg: DiagnosticStatus) -> None:

@@ -18,7 +18,7 @@ from hri_teleop.core.config import (
     load_yaml,
     teleop_config_from_dict,
 )
-from hri_teleop.core.gamepad import DEFAULT_LAYOUT, available_layouts
+from hri_teleop.core.gamepad import AUTO_LAYOUT, DEFAULT_LAYOUT, available_layouts
 from hri_teleop.core.limits import DEFAULT_LIMITS, AxisLimits
 from hri_teleop.core.teleop import AxisAssignment, TeleopParams
 
@@ -41,7 +41,7 @@ def test_lab_teleop_yaml_loads_and_documents_the_defaults():
     # The file states the library defaults, so reading it or not gives the same lab.
     assert config.params == TeleopParams()
     assert config.limits == DEFAULT_LIMITS
-    assert config.layout == DEFAULT_LAYOUT and config.layout in available_layouts()
+    assert config.layout == AUTO_LAYOUT and DEFAULT_LAYOUT in available_layouts()
     assert config.pad == DEFAULT_PAD
     assert config.twist_topic == DEFAULT_TWIST_TOPIC
 
@@ -57,7 +57,7 @@ def test_lab_teleop_yaml_has_every_key_with_a_comment():
 
 def test_empty_dict_gives_the_defaults():
     config = teleop_config_from_dict({})
-    assert config == TeleopConfig(TeleopParams(), DEFAULT_LIMITS, DEFAULT_LAYOUT, DEFAULT_PAD, DEFAULT_TWIST_TOPIC)
+    assert config == TeleopConfig(TeleopParams(), DEFAULT_LIMITS, AUTO_LAYOUT, DEFAULT_PAD, DEFAULT_TWIST_TOPIC)
 
 
 def test_values_are_taken_over():

@@ -3,9 +3,11 @@
 from __future__ import annotations
 
 import pytest
+from test_gamepad_pygame import FakeJoystick, FakePygame  # tests/unit, on sys.path under pytest
 
-from hri_teleop.core.gamepad import available_layouts
+from hri_teleop.core.gamepad import DEFAULT_LAYOUT, available_layouts
 from hri_teleop.core.gamepad.identify import LayoutGuess, SdlGuid, identify_layout, parse_sdl_guid
+from hri_teleop.hardware.real.pygame_pad import PygamePad
 
 # (GUID as pygame's Joystick.get_guid() gives it on Linux, name, axes, buttons) -> layout.
 # Bus 0x03 = USB, 0x05 = Bluetooth; version bit 0x8000 = Sony's gamepad-spec kernel drivers.
@@ -87,3 +89,51 @@ def test_a_third_party_xbox_pad_is_known_by_its_name_over_usb_only():
     assert identify_layout("03000000d62000000120000000000000", "PowerA Xbox One Controller", 6, 11) == \
         LayoutGuess("xbox", "Xbox pad by its name (driver xpad)")
     assert identify_layout("05000000d62000000120000000000000", "PowerA Xbox One Controller", 6, 11).layout is None
+
+
+# ------------------------------------------------------------------ layout: auto in the real pad
+
+class GuidJoystick(FakeJoystick):
+    def __init__(self, guid: str, name: str, axes: int, buttons: int):
+        super().__init__(name, axes=axes, buttons=buttons)
+        self.guid = guid
+
+    def get_guid(self) -> str:
+        return self.guid
+
+
+def test_auto_opens_a_generic_hid_dualsense_with_its_own_layout():
+    js = GuidJoystick("050000004c050000e60c000000010000", "Wireless Controller", 6, 15)
+    js.buttons[1] = 1  # cross on the generic HID driver
+    logged: list = []
+    pad = PygamePad("auto", joystick=js, log=logged.append)
+    assert pad.layout.name == "dualsense_hid_generic" and pad.poll().pressed("south")
+    assert pad.layout_reason.startswith("auto: DualSense (054c:0ce6) over Bluetooth") and logged == []
+
+
+def test_an_explicit_layout_wins_over_the_pads_guid():
+    js = GuidJoystick("030000004c050000e60c000011810000", "DualSense", 6, 15)
+    pad = PygamePad("dualsense_hid_generic", joystick=js)
+    assert pad.layout.name == "dualsense_hid_generic" and pad.layout_reason == "set by the configuration"
+
+
+def test_auto_with_an_unknown_pad_logs_one_line_naming_it_and_uses_the_default():
+    js = GuidJoystick("050000007e0500000920000001800000", "Nintendo Switch Pro Controller", 6, 16)
+    logged: list = []
+    pad = PygamePad("auto", joystick=js, log=logged.append)
+    assert pad.layout.name == DEFAULT_LAYOUT and len(logged) == 1 and "\n" not in logged[0]
+    assert "Nintendo Switch Pro Controller" in logged[0] and js.guid in logged[0]
+    assert "layout:=" in logged[0] and "pad_check" in logged[0]
+
+
+def test_auto_identifies_again_when_another_pad_is_plugged_in():
+    first = GuidJoystick("030000004c050000cc09000011810000", "Wireless Controller", 6, 13)
+    second = GuidJoystick("030000005e0400008e02000010010000", "Microsoft X-Box 360 pad", 6, 11)
+    second.instance_id = 1
+    pygame = FakePygame(first)
+    pad = PygamePad("auto", pygame_module=pygame, log=lambda _m: None)
+    assert pad.layout.name == "dualshock4"
+    pygame.unplug(first)
+    pad.poll()
+    pygame.plug(second)
+    assert pad.poll().connected and pad.layout.name == "xbox"

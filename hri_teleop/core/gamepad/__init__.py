@@ -11,6 +11,7 @@ from __future__ import annotations
 from hri_teleop.core.gamepad.deadzone import check_deadzone, normalize_analog_input
 from hri_teleop.core.gamepad.interface import PAD_KINDS, Gamepad
 from hri_teleop.core.gamepad.layout import (
+    AUTO_LAYOUT,
     DEFAULT_LAYOUT,
     LAYOUT_DIR,
     AxisMap,
@@ -34,7 +35,7 @@ __all__ = [
     "AXES", "BUTTONS", "STICK_AXES", "TRIGGER_AXES", "BUTTON_LABELS",
     "GamepadError", "PadState", "Gamepad", "PAD_KINDS",
     "AxisMap", "Layout", "load_layout", "layout_from_dict", "available_layouts",
-    "DEFAULT_LAYOUT", "LAYOUT_DIR",
+    "DEFAULT_LAYOUT", "AUTO_LAYOUT", "LAYOUT_DIR",
     "normalize_analog_input", "check_deadzone",
     "RumblePolicy", "RumbleRequests",
 ]

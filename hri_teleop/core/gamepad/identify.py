@@ -11,12 +11,9 @@ from __future__ import annotations
 import re
 from typing import Dict, NamedTuple, Optional
 
-from hri_teleop.core.gamepad.layout import available_layouts, load_layout
+from hri_teleop.core.gamepad.layout import AUTO_LAYOUT, available_layouts, load_layout
 
 __all__ = ["AUTO_LAYOUT", "SdlGuid", "LayoutGuess", "parse_sdl_guid", "identify_layout", "BUS_NAMES"]
-
-#: The layout setting that asks for this identification.
-AUTO_LAYOUT = "auto"
 
 #: Bus types in an SDL GUID (Linux input.h BUS_*).
 BUS_USB = 0x03

@@ -18,7 +18,7 @@ from hri_teleop.core.checks import is_int, is_number
 from hri_teleop.core.gamepad.state import AXES, BUTTONS, STICK_AXES, TRIGGER_AXES, GamepadError, PadState
 from hri_teleop.core.yamlfile import read_yaml
 
-__all__ = ["AxisMap", "Layout", "LAYOUT_DIR", "DEFAULT_LAYOUT", "available_layouts",
+__all__ = ["AxisMap", "Layout", "LAYOUT_DIR", "DEFAULT_LAYOUT", "AUTO_LAYOUT", "available_layouts",
            "load_layout", "as_layout", "layout_from_dict"]
 
 
@@ -33,6 +33,9 @@ def _shipped_layouts() -> Path:
 
 LAYOUT_DIR = _shipped_layouts()
 DEFAULT_LAYOUT = "dualshock4"
+#: The layout setting that asks a real pad to identify itself (core.gamepad.identify); a pad
+#: that cannot (virtual, unknown) gets DEFAULT_LAYOUT.
+AUTO_LAYOUT = "auto"
 
 #: Buttons every layout must map: the lab's gripper, mode and quit buttons.
 REQUIRED_BUTTONS = ("south", "east", "west", "north")
@@ -250,7 +253,7 @@ def load_layout(name_or_path: Union[Layout, str, Path]) -> Layout:
 
 
 def as_layout(layout: Union[Layout, str, Path, None]) -> Layout:
-    """A Layout from a Layout, a name or a path; None gives the default (DualShock 4)."""
-    if layout is None:
+    """A Layout from a Layout, a name or a path; None and ``auto`` give the default (DualShock 4)."""
+    if layout is None or (isinstance(layout, str) and layout.strip() == AUTO_LAYOUT):
         return load_layout(DEFAULT_LAYOUT)
     return load_layout(layout)

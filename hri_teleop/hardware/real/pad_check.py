@@ -1,4 +1,4 @@
-"""Check a gamepad and its layout: ``python -m hri_teleop.hardware.real.pad_check [--layout dualshock4]``.
+"""Check a gamepad and its layout: ``python -m hri_teleop.hardware.real.pad_check [--layout auto]``.
 
 Prints the pad's raw SDL indices next to the positional names the layout gives them, one
 line per change, so a new controller or driver can be checked (and a layout file written)
@@ -12,14 +12,15 @@ import sys
 import time
 from typing import List, Optional
 
-from hri_teleop.core.gamepad.layout import available_layouts, load_layout
+from hri_teleop.core.gamepad.layout import AUTO_LAYOUT, available_layouts, load_layout
 from hri_teleop.core.gamepad.state import AXES, GamepadError
 from hri_teleop.hardware.real.pygame_pad import PygamePad
 
 
 def _parser() -> argparse.ArgumentParser:
     parser = argparse.ArgumentParser(prog="python -m hri_teleop.hardware.real.pad_check", description=__doc__.splitlines()[0])
-    parser.add_argument("--layout", default="dualshock4", help="layout name or YAML path (default: dualshock4)")
+    parser.add_argument("--layout", default=AUTO_LAYOUT,
+                        help="layout name or YAML path (default: auto, identified from the pad)")
     parser.add_argument("--index", type=int, default=0, help="joystick index (default: 0)")
     parser.add_argument("--rate", type=float, default=50.0, help="poll rate in Hz (default: 50)")
     parser.add_argument("--seconds", type=float, default=0.0, help="stop after this long (default: Ctrl-C)")
@@ -35,13 +36,14 @@ def main(argv: Optional[List[str]] = None) -> int:
             for name in available_layouts():
                 print("%-24s %s" % (name, load_layout(name).description))
             return 0
-        layout = load_layout(args.layout)
-        pad = PygamePad(layout, args.index, check_layout=False, log=lambda m: print("warning: " + m))
+        chosen = args.layout if args.layout.strip() == AUTO_LAYOUT else load_layout(args.layout)
+        pad = PygamePad(chosen, args.index, check_layout=False, log=lambda m: print("warning: " + m))
     except GamepadError as exc:
         print("error: %s" % exc, file=sys.stderr)
         return 1
-    print("pad %r, layout %r (%s); move sticks and press buttons, Ctrl-C to stop"
-          % (pad.name, layout.name, layout.description))
+    layout = pad.layout
+    print("pad %r, layout %r (%s; %s); move sticks and press buttons, Ctrl-C to stop"
+          % (pad.name, layout.name, layout.description, pad.layout_reason))
     period = 1.0 / max(1.0, args.rate)
     end = time.monotonic() + args.seconds if args.seconds > 0 else None
     last = None

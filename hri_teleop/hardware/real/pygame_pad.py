@@ -15,7 +15,8 @@ import os
 from typing import Any, Callable, List, Optional, Sequence, Tuple, Union
 
 from hri_teleop.core.checks import is_int
-from hri_teleop.core.gamepad.layout import Layout, as_layout, available_layouts
+from hri_teleop.core.gamepad.identify import identify_layout
+from hri_teleop.core.gamepad.layout import AUTO_LAYOUT, DEFAULT_LAYOUT, Layout, as_layout, available_layouts
 from hri_teleop.core.gamepad.state import GamepadError, PadState, clean_duration, clean_intensity
 
 __all__ = ["PygamePad", "NO_GAMEPAD_MESSAGE", "SDL_DEFAULTS", "import_pygame"]
@@ -84,13 +85,17 @@ class PygamePad:
     get_name) can stand in for the device, and a stand-in module for pygame's event queue
     and joystick module. Raw values become a PadState through the layout only.
     ``check_layout=False`` accepts a pad with fewer axes/buttons than the layout maps
-    (the missing ones read as at rest): for inspecting an unknown pad.
+    (the missing ones read as at rest): for inspecting an unknown pad. Layout ``auto``
+    identifies the pad (core.gamepad.identify; again when another pad is plugged in) and
+    falls back to the default layout with one log line; ``layout_reason`` says which it was.
     """
 
     def __init__(self, layout: Union[Layout, str, None] = None, index: int = 0, *,
                  pygame_module: Any = None, joystick: Any = None,
                  log: Optional[Callable[[str], None]] = None, check_layout: bool = True) -> None:
+        self._auto = isinstance(layout, str) and layout.strip() == AUTO_LAYOUT
         self._layout = as_layout(layout)
+        self.layout_reason = "set by the configuration"
         self._log = log if log is not None else _log.warning
         self._rumble_warned = False
         self._closed = False
@@ -100,6 +105,7 @@ class PygamePad:
         else:
             self._pg = pygame_module  # may be None: an injected device, nothing to pump
         self._check_layout = check_layout
+        self._identify(joystick)
         problem = self._mismatch(joystick)
         if problem:
             if self._pg is not None:  # we opened it: release it again
@@ -128,6 +134,23 @@ class PygamePad:
                                "/dev/input/event* (`ls -l /dev/input/`) or start with pad:=virtual"
                                % (index, exc)) from None
         return joystick
+
+    def _identify(self, joystick: Any) -> None:
+        """With layout auto: the layout this device's GUID/name says, or the default and one log line."""
+        if not self._auto:
+            return
+        name = str(getattr(joystick, "get_name", lambda: "gamepad")())
+        guid = str(joystick.get_guid()) if hasattr(joystick, "get_guid") else ""
+        guess = identify_layout(guid, name, joystick.get_numaxes(), joystick.get_numbuttons())
+        if guess.layout is not None:
+            self._layout, self.layout_reason = as_layout(guess.layout), "auto: " + guess.reason
+            return
+        self._layout = as_layout(DEFAULT_LAYOUT)
+        self.layout_reason = "auto: not identified, the default"
+        self._log("gamepad %r (GUID %s) has no known layout: %s; using layout %s. If its buttons or sticks do "
+                  "the wrong thing, set layout:= one of %s (check it with `python -m hri_teleop.hardware.real."
+                  "pad_check --layout NAME`)" % (name, guid or "?", guess.reason, DEFAULT_LAYOUT,
+                                                 ", ".join(available_layouts())))
 
     def _mismatch(self, joystick: Any) -> str:
         """Why this device cannot be read with the layout, or '' if it can."""
@@ -237,6 +260,7 @@ class PygamePad:
         except RuntimeError as exc:
             self._log("a gamepad was plugged in but cannot be opened (%s)" % exc)
             return
+        self._identify(joystick)
         problem = self._mismatch(joystick)
         if problem:
             self._log("ignoring the gamepad just plugged in: " + problem)
