@@ -2,13 +2,15 @@
 
 One per need of the handout, each an ``ipywidgets.VBox`` shown as a cell's last expression:
 FsrExplorer (Ex. 1, 5), DeadzoneExplorer (Fig. 8), ControllerView (Ex. 8), LivePlot, ArmView (the
-Panda in 3D), CalibrationWidget (Ex. 11), GraphView (Ex. 15), TlxWidget and RehearsalOffer (Ex. 14).
-The rules come from the core; here are views and small pure helpers, tested without a browser.
+Panda in 3D), CalibrationWidget (Ex. 11), GraphView (Ex. 15), TlxWidget, RehearsalOffer (Ex. 14) and
+BrowserPad (the browser's gamepad drives the node; loaded when first used). The rules come from the core.
 Importing needs neither rospy nor pygame: the ROS widgets start ROS when they are created
 (:func:`~hri_teleop.course.notebook_ros.ensure_ros`), or say in one line what is missing.
 """
 
 from __future__ import annotations
+
+from typing import Any
 
 try:
     import ipywidgets as _ipywidgets  # noqa: F401
@@ -26,6 +28,7 @@ from hri_teleop.course.widgets.controller import (
     open_pad,
     pad_svg,
 )
+from hri_teleop.course.widgets.doctor import Doctor, findings_html
 from hri_teleop.course.widgets.deadzone import DeadzoneExplorer, deadzone_curve, filter_stick
 from hri_teleop.course.widgets.fsr import (
     FsrCurve,
@@ -64,4 +67,16 @@ __all__ = [
     "CalibrationWidget", "MaxRecorder",
     "GraphView", "RosGraph", "graph_from_state", "layered_layout", "draw_graph", "read_graph",
     "TlxWidget", "trial_sidecars", "RehearsalOffer", "count_trials",
+    "BrowserPad",
 ]
+
+
+def __getattr__(name: str) -> Any:
+    """BrowserPad on first use: a kernel without anywidget still gets every other widget."""
+    if name != "BrowserPad":
+        raise AttributeError(f"module {__name__!r} has no attribute {name!r}")
+    try:
+        from hri_teleop.course.widgets.browser_pad import BrowserPad  # noqa: PLC0415 - anywidget only when asked
+    except ImportError as exc:
+        raise ImportError(f"widgets.BrowserPad needs anywidget ({exc}): run `make setup` (or `pip install -e .`)") from None
+    return BrowserPad
