@@ -1,0 +1,158 @@
+"""What run_autograder does in Gradescope's container: find the upload, grade it, write results.json.
+
+Paths are Gradescope's (/autograder/submission, /autograder/results/results.json); the checks and
+time limits come from gradescope.json in the autograder zip. The files are graded by one
+``hri-grade submission`` process; when it times out or crashes, each check runs alone, so one
+check the grader could not finish costs nothing else and is named in the results' output.
+"""
+
+from __future__ import annotations
+
+import hashlib
+import json
+import os
+import sys
+import tempfile
+import time
+from dataclasses import dataclass, replace
+from pathlib import Path
+from typing import Any, Dict, List, Optional, Sequence, Tuple
+
+from hri_teleop.grading.cases.inputs import seed_for
+from hri_teleop.grading.gradescope.layout import find_upload
+from hri_teleop.grading.gradescope.report import Unjudged, results_payload
+from hri_teleop.grading.judge.checks import CHECKS
+from hri_teleop.grading.results import CheckResult, GradingError
+from hri_teleop.grading.run.jobs import run_job
+
+__all__ = ["CONFIG_NAME", "CHECKS_ENV", "Config", "load_config", "load_config_checks", "seed_from_metadata", "grade_upload", "main"]
+
+#: The autograder's settings, at the zip's root (written by ``make gradescope``).
+CONFIG_NAME = "gradescope.json"
+#: Defaults: Gradescope stops a run at its own limit (10 min unless raised); ours ends first.
+SUBMISSION_TIMEOUT_S = 420.0
+CHECK_TIMEOUT_S = 180.0
+#: Environment variable: comma-separated checks that replace the config's (e.g. a TA regrading one check).
+CHECKS_ENV = "HRI_GRADESCOPE_CHECKS"
+
+
+@dataclass(frozen=True)
+class Config:
+    """Which checks this Gradescope assignment grades, and how long the grader may take."""
+
+    checks: Tuple[str, ...] = tuple(CHECKS)
+    submission_timeout_s: float = SUBMISSION_TIMEOUT_S
+    check_timeout_s: float = CHECK_TIMEOUT_S
+
+    def to_json(self) -> Dict[str, Any]:
+        return {"checks": list(self.checks), "submission_timeout_s": self.submission_timeout_s,
+                "check_timeout_s": self.check_timeout_s}
+
+
+def load_config(path: Path) -> Config:
+    """The config at ``path`` (defaults when absent); GradingError naming a bad key or check."""
+    if not path.is_file():
+        return Config()
+    try:
+        data = json.loads(path.read_text(encoding="utf-8"))
+        checks = tuple(data.get("checks", CHECKS))
+        config = Config(checks, float(data.get("submission_timeout_s", SUBMISSION_TIMEOUT_S)),
+                        float(data.get("check_timeout_s", CHECK_TIMEOUT_S)))
+    except (ValueError, TypeError, AttributeError) as exc:
+        raise GradingError(f"{path}: not a valid autograder config ({exc}); rebuild it with make gradescope") from exc
+    load_config_checks(config, str(path))
+    return config
+
+
+def load_config_checks(config: Config, where: str = CHECKS_ENV) -> None:
+    """GradingError unless every check of ``config`` is known and there is one at least."""
+    unknown = [c for c in config.checks if c not in CHECKS]
+    if unknown or not config.checks:
+        raise GradingError(f"{where}: unknown or no checks {unknown}; use some of {', '.join(CHECKS)}")
+
+
+def seed_from_metadata(path: Path) -> Optional[int]:
+    """The hidden inputs' seed from the students' Gradescope ids (the same on every resubmission).
+
+    Gradescope grades every upload in the same folder, so the folder-derived seed would give the
+    whole class the same hidden inputs. None when the metadata is missing or has no users.
+    """
+    try:
+        data = json.loads(path.read_text(encoding="utf-8"))
+        users = sorted(str(u.get("id", u.get("email", ""))) for u in data.get("users", []))
+        assignment = str((data.get("assignment") or {}).get("id", ""))
+    except (OSError, ValueError, AttributeError):
+        return None
+    if not users:
+        return None
+    digest = hashlib.sha256(("/".join(users) + "|" + assignment).encode("utf-8")).hexdigest()
+    return int(digest[:8], 16)
+
+
+def _hri_grade(package: Path, out: Path, checks: Sequence[str], seed: Optional[int], timeout_s: float,
+               log: Path) -> Tuple[List[CheckResult], Optional[str]]:
+    """(results, None) or ([], why it could not finish) for ``hri-grade submission`` on ``checks``."""
+    argv = [sys.executable, "-m", "hri_teleop.grading.cli", "submission", str(package), "--out", str(out),
+            "--checks", ",".join(checks)]
+    if seed is not None:
+        argv += ["--seed", str(seed)]
+    run = run_job(argv, log, timeout_s)
+    if run.timed_out:
+        return [], f"timed out after {timeout_s:.0f} s"
+    listing = out / "checks.json"
+    if run.returncode not in (0, 1) or not listing.is_file():
+        lines = log.read_text(encoding="utf-8", errors="replace").strip().splitlines()
+        return [], f"stopped with an error ({(lines[-1] if lines else 'no output')[:200]})"
+    return [CheckResult.from_dict(d) for d in json.loads(listing.read_text(encoding="utf-8"))], None
+
+
+def grade_upload(submission: Path, work: Path, config: Config, seed: Optional[int] = None) -> Dict[str, Any]:
+    """results.json's content for the upload in ``submission`` (scratch files under ``work``)."""
+    started = time.monotonic()
+    upload = find_upload(submission, work)
+    notes = list(upload.notes)
+    if upload.notebooks:
+        names = ", ".join(p.name for p in upload.notebooks[:6]) + (" ..." if len(upload.notebooks) > 6 else "")
+        notes.append(f"notebooks in the upload ({names}) are not graded here; course staff grade them with make grade")
+    results, why = _hri_grade(upload.hri_lab, work / "out", config.checks, seed, config.submission_timeout_s,
+                              work / "grader.log")
+    unjudged: List[Unjudged] = []
+    if why is not None:  # each check alone: what can be judged is
+        print(f"run_autograder: hri-grade submission {why}; grading each check alone", flush=True)
+        for check in config.checks:
+            one, reason = _hri_grade(upload.hri_lab, work / f"out-{check}", [check], seed, config.check_timeout_s,
+                                     work / f"grader-{check}.log")
+            results += one
+            if reason is not None:
+                unjudged.append(Unjudged(check, reason))
+    return results_payload(results, unjudged, notes, time.monotonic() - started, order=config.checks)
+
+
+def main(argv: Optional[Sequence[str]] = None) -> int:
+    """run_autograder: grade /autograder/submission into /autograder/results/results.json (``--root`` elsewhere)."""
+    args = list(sys.argv[1:] if argv is None else argv)
+    root = Path(args[args.index("--root") + 1]) if "--root" in args else Path("/autograder")
+    results_file = root / "results" / "results.json"
+    results_file.parent.mkdir(parents=True, exist_ok=True)
+    work = Path(tempfile.mkdtemp(prefix="hri-gradescope-"))
+    work.chmod(0o755)  # the sandbox's student uid must reach its copy of the package
+    try:
+        config = load_config(root / "source" / CONFIG_NAME)
+        if os.environ.get(CHECKS_ENV):  # a TA's rerun of some checks (and the zip's test)
+            config = replace(config, checks=tuple(c.strip() for c in os.environ[CHECKS_ENV].split(",") if c.strip()))
+            load_config_checks(config)
+        seed = seed_from_metadata(root / "submission_metadata.json")
+        if seed is None:  # not on Gradescope (a local try): one fixed seed, not one per scratch folder
+            seed = seed_for(root / "submission")
+        payload = grade_upload(root / "submission", work, config, seed)
+    except GradingError as exc:  # an upload that cannot be opened: one line for the student
+        payload = {"score": 0.0, "tests": [], "visibility": "visible", "stdout_visibility": "hidden",
+                   "output": f"Not graded: {exc}"}
+    results_file.write_text(json.dumps(payload, indent=2), encoding="utf-8")
+    print(f"run_autograder: score {payload['score']:g}, {len(payload['tests'])} tests, scratch files in {work}")
+    return 0
+
+
+if __name__ == "__main__":
+    os.umask(0o022)
+    sys.exit(main())

@@ -1,0 +1,91 @@
+"""The Gradescope results.json of one submission: a test per part, visibility, and what was not judged.
+
+Parts judged on the hidden inputs alone stay hidden from students until the grades are published
+(``after_published``), so a submission cannot be tuned to them; the rest is ``visible`` at once.
+A check the grader could not finish (a timeout, a grader crash) still lists its parts, at 0, and
+the top-level ``output`` names it in one line, so neither a student nor the TA mistakes it for a grade.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+from typing import Any, Dict, List, Sequence, Tuple
+
+from hri_teleop.grading.judge.compare_common import GRAPH, MAPPING, SENSOR_LAUNCH, TELEOP, TELEOP_LAUNCH
+from hri_teleop.grading.judge.package_check import CATKIN_PACKAGE
+from hri_teleop.grading.judge.robot_params import part_table
+from hri_teleop.grading.results import CheckResult, gradescope_json
+
+__all__ = ["HIDDEN_INPUT_PARTS", "Unjudged", "part_tables", "visibility", "results_payload"]
+
+#: check -> keys of its parts whose verdict rests on hidden inputs only (the seeded cases).
+HIDDEN_INPUT_PARTS: Dict[str, Tuple[str, ...]] = {
+    "mapping-node": ("hidden",),
+    "teleoperation": ("node_twist", "node_width", "node_rumble", "node_quit"),
+}
+VISIBLE, AFTER_PUBLISHED = "visible", "after_published"
+
+
+@dataclass(frozen=True)
+class Unjudged:
+    """A check the grader could not finish, and why in a few words ("timed out after 600 s")."""
+
+    check: str
+    reason: str
+
+
+def part_tables() -> Dict[str, Dict[str, Tuple[str, float]]]:
+    """check -> part key -> (part name as students see it, points), for every check."""
+    return {"robot-params": part_table(), "mapping-node": MAPPING, "sensor-launch": SENSOR_LAUNCH,
+            "teleoperation": TELEOP, "teleoperation-launch": TELEOP_LAUNCH, "graph": GRAPH,
+            "catkin-package": CATKIN_PACKAGE}
+
+
+def visibility(check: str, part_name: str) -> str:
+    """``after_published`` for a part judged on hidden inputs only, else ``visible``."""
+    table = part_tables().get(check, {})
+    hidden_names = {table[key][0] for key in HIDDEN_INPUT_PARTS.get(check, ()) if key in table}
+    return AFTER_PUBLISHED if part_name in hidden_names else VISIBLE
+
+
+def _unjudged_tests(item: Unjudged) -> List[Dict[str, Any]]:
+    return [{"name": f"{item.check}: {name}", "score": 0.0, "max_score": points, "status": "failed",
+             "visibility": visibility(item.check, name),
+             "output": f"not judged: the grader {item.reason}; course staff will regrade it (no need to resubmit)"}
+            for name, points in part_tables()[item.check].values()]
+
+
+def results_payload(results: Sequence[CheckResult], unjudged: Sequence[Unjudged] = (),
+                    notes: Sequence[str] = (), execution_time_s: float = 0.0,
+                    order: Sequence[str] = ()) -> Dict[str, Any]:
+    """results.json for Gradescope: ``results`` as graded, ``unjudged`` checks at 0, top-level output.
+
+    ``order`` lists the checks in the order students should see them (default: as given). The
+    output's first line names what was not judged; ``notes`` (where the package was found, the
+    checks' own notes) follow.
+    """
+    payload = gradescope_json(results)
+    by_name = iter(payload["tests"])
+    grouped: Dict[str, List[Dict[str, Any]]] = {}
+    for result in results:
+        for part in result.parts:
+            test = dict(next(by_name))
+            test["visibility"] = visibility(result.check, part.name)
+            grouped.setdefault(result.check, []).append(test)
+    for item in unjudged:
+        grouped[item.check] = _unjudged_tests(item)
+    checks = [c for c in order if c in grouped] + [c for c in grouped if c not in order]
+    tests = [dict(test, number=f"{i}.{j}") for i, check in enumerate(checks, 1)
+             for j, test in enumerate(grouped[check], 1)]
+    lines: List[str] = []
+    if unjudged:
+        lines.append("Not judged: " + "; ".join(f"{u.check} (the grader {u.reason})" for u in unjudged)
+                     + ". Those parts show 0 until course staff regrade; you need not resubmit.")
+    lines.extend(dict.fromkeys(list(notes) + [n for r in results for n in r.notes]))
+    out: Dict[str, Any] = {"score": round(sum(t["score"] for t in tests), 6), "tests": tests,
+                           "visibility": VISIBLE, "stdout_visibility": "hidden"}
+    if execution_time_s:
+        out["execution_time"] = round(execution_time_s, 1)
+    if lines:
+        out["output"] = "\n".join(lines)
+    return out

@@ -1,0 +1,190 @@
+"""The Gradescope autograder's pure steps: the upload's layout, results.json's visibility and output, the seed, the zip."""
+
+from __future__ import annotations
+
+import json
+import zipfile
+from pathlib import Path
+
+import pytest
+
+from hri_teleop.grading.gradescope.build import build_zip
+from hri_teleop.grading.gradescope.container import CONFIG_NAME, Config, load_config, seed_from_metadata
+from hri_teleop.grading.gradescope.layout import find_upload
+from hri_teleop.grading.gradescope.report import (
+    HIDDEN_INPUT_PARTS,
+    Unjudged,
+    part_tables,
+    results_payload,
+    visibility,
+)
+from hri_teleop.grading.judge.checks import CHECKS
+from hri_teleop.grading.results import CheckResult, GradingError, Part
+
+PACKAGE = {"config/robot_params.yaml": "robot_name: panda\n", "scripts/mapping_node.py": "print('map')\n",
+           "launch/sensor.launch": "<launch/>\n", "graph.yaml": "nodes: []\n"}
+
+
+def _write(root: Path, files: dict) -> Path:
+    for relative, text in files.items():
+        (root / relative).parent.mkdir(parents=True, exist_ok=True)
+        (root / relative).write_text(text)
+    return root
+
+
+def _zip(path: Path, files: dict) -> Path:
+    path.parent.mkdir(parents=True, exist_ok=True)
+    with zipfile.ZipFile(path, "w", compression=zipfile.ZIP_DEFLATED) as zf:
+        for name, text in files.items():
+            zf.writestr(name, text)
+    return path
+
+
+# -- the upload's layout ----------------------------------------------------------------------
+
+def test_a_package_nested_in_folders_is_found_and_named(tmp_path):
+    _write(tmp_path / "sub" / "Task 4" / "catkin_ws" / "src" / "hri_lab", PACKAGE)
+    upload = find_upload(tmp_path / "sub", tmp_path / "work")
+    assert sorted(upload.found) == sorted(PACKAGE)
+    assert (upload.hri_lab / "scripts" / "mapping_node.py").read_text() == "print('map')\n"
+    assert "found your package in Task 4/catkin_ws/src/hri_lab/" in upload.notes
+
+
+def test_a_zip_inside_a_zip_with_macosx_copies_is_opened_and_the_copies_ignored(tmp_path):
+    inner = {f"hri_lab/{k}": v for k, v in PACKAGE.items()}
+    inner.update({f"__MACOSX/hri_lab/._{Path(k).name}": "junk" for k in PACKAGE})
+    inner["hri_lab/.DS_Store"] = "junk"
+    inner_zip = _zip(tmp_path / "inner.zip", inner)
+    (tmp_path / "sub").mkdir()
+    with zipfile.ZipFile(tmp_path / "sub" / "submission.zip", "w") as zf:
+        zf.write(inner_zip, "work/inner.zip")
+        zf.writestr("__MACOSX/work/._inner.zip", "junk")
+    upload = find_upload(tmp_path / "sub", tmp_path / "work")
+    assert sorted(upload.found) == sorted(PACKAGE)
+    assert "found your package in submission.zip/work/inner.zip/hri_lab/" in upload.notes
+    assert not [p for p in upload.hri_lab.rglob("*") if p.name.startswith("._") or p.name == ".DS_Store"]
+
+
+def test_files_loose_at_the_root_are_put_in_their_places(tmp_path):
+    _write(tmp_path / "sub", {Path(k).name: v for k, v in PACKAGE.items()})
+    _write(tmp_path / "sub", {"analysis.ipynb": "{}", ".ipynb_checkpoints/analysis-checkpoint.ipynb": "{}"})
+    upload = find_upload(tmp_path / "sub", tmp_path / "work")
+    assert sorted(upload.found) == sorted(PACKAGE)
+    assert "took scripts/mapping_node.py from mapping_node.py" in upload.notes
+    assert [p.name for p in upload.notebooks] == ["analysis.ipynb"]
+
+
+def test_the_folder_with_most_files_wins_and_fills_its_gaps_from_elsewhere(tmp_path):
+    _write(tmp_path / "sub" / "old", {"scripts/mapping_node.py": "old\n"})
+    files = {k: v for k, v in PACKAGE.items() if k != "graph.yaml"}
+    _write(tmp_path / "sub" / "hri_lab", files)
+    _write(tmp_path / "sub", {"notes/graph.yaml": "nodes: [x]\n"})
+    upload = find_upload(tmp_path / "sub", tmp_path / "work")
+    assert (upload.hri_lab / "scripts" / "mapping_node.py").read_text() == "print('map')\n"
+    assert (upload.hri_lab / "graph.yaml").read_text() == "nodes: [x]\n"
+    assert "took graph.yaml from notes/graph.yaml" in upload.notes
+
+
+def test_an_upload_without_package_files_gets_an_empty_package_and_says_what_to_upload(tmp_path):
+    _write(tmp_path / "sub", {"essay.txt": "hello"})
+    upload = find_upload(tmp_path / "sub", tmp_path / "work")
+    assert upload.found == [] and upload.hri_lab.is_dir() and not any(upload.hri_lab.iterdir())
+    assert any("upload your hri_lab folder" in n for n in upload.notes)
+
+
+def test_a_zip_member_outside_the_archive_is_refused_in_one_line(tmp_path):
+    _zip(tmp_path / "sub" / "evil.zip", {"../../etc/evil": "x"})
+    with pytest.raises(GradingError, match="points outside the archive"):
+        find_upload(tmp_path / "sub", tmp_path / "work")
+    assert not (tmp_path / "etc").exists()
+
+
+def test_a_zip_that_unpacks_past_the_limit_is_refused(tmp_path, monkeypatch):
+    monkeypatch.setattr("hri_teleop.grading.gradescope.layout.MAX_UNPACKED_BYTES", 1000)
+    _zip(tmp_path / "sub" / "big.zip", {"hri_lab/graph.yaml": "x" * 2000})
+    with pytest.raises(GradingError, match="unpacks to more than"):
+        find_upload(tmp_path / "sub", tmp_path / "work")
+    _zip(tmp_path / "sub" / "big.zip", {"hri_lab/graph.yaml": "x" * 700})  # under it, the zip included: opened
+    assert find_upload(tmp_path / "sub", tmp_path / "work").found == ["graph.yaml"]
+
+
+# -- results.json ------------------------------------------------------------------------------
+
+def _result(check: str, failed: tuple = ()) -> CheckResult:
+    parts = [Part(name, points, key not in failed, "fix it" if key in failed else "")
+             for key, (name, points) in part_tables()[check].items()]
+    return CheckResult(check, "x", parts, seed=3, notes=("a note",))
+
+
+def test_hidden_input_parts_are_after_published_and_their_public_neighbours_visible():
+    tables = part_tables()
+    assert set(tables) == set(CHECKS)
+    for check, keys in HIDDEN_INPUT_PARTS.items():
+        assert set(keys) <= set(tables[check]), f"{check}: {keys} not all in its table"
+    mapping = tables["mapping-node"]
+    assert visibility("mapping-node", mapping["hidden"][0]) == "after_published"
+    assert visibility("mapping-node", mapping["values"][0]) == "visible"  # the public trace
+    teleop = tables["teleoperation"]
+    assert visibility("teleoperation", teleop["node_twist"][0]) == "after_published"
+    assert visibility("teleoperation", teleop["node_start"][0]) == "visible"  # topic names, no hidden values
+    assert visibility("graph", mapping["hidden"][0]) == "visible"  # the name belongs to mapping-node only
+
+
+def test_results_have_a_test_per_part_the_total_and_the_notes():
+    payload = results_payload([_result("mapping-node", ("clip", "hidden")), _result("robot-params")],
+                              notes=["found your package in hri_lab/"], execution_time_s=12.34)
+    maximum = sum(p for _, p in part_tables()["mapping-node"].values()) + sum(
+        p for _, p in part_tables()["robot-params"].values())
+    assert payload["score"] == maximum - 3 - 5
+    assert sum(t["max_score"] for t in payload["tests"]) == maximum
+    failed = [t for t in payload["tests"] if t["status"] == "failed"]
+    assert [t["visibility"] for t in failed] == ["visible", "after_published"]
+    assert all("fix it" in t["output"] for t in failed)
+    assert payload["output"] == "found your package in hri_lab/\na note"
+    assert payload["execution_time"] == 12.3 and payload["stdout_visibility"] == "hidden"
+    json.dumps(payload)
+
+
+def test_a_check_not_judged_lists_its_parts_at_zero_and_the_output_names_it_first():
+    payload = results_payload([_result("robot-params")], [Unjudged("teleoperation", "timed out after 180 s")],
+                              order=["teleoperation", "robot-params"])
+    lines = payload["output"].splitlines()
+    assert lines[0].startswith("Not judged: teleoperation (the grader timed out after 180 s)")
+    teleop = [t for t in payload["tests"] if t["name"].startswith("teleoperation: ")]
+    assert len(teleop) == len(part_tables()["teleoperation"]) and all(t["score"] == 0 for t in teleop)
+    assert payload["tests"][0]["name"].startswith("teleoperation: ") and payload["tests"][0]["number"] == "1.1"
+    assert payload["score"] == _result("robot-params").score
+    assert "Not judged" not in results_payload([_result("robot-params")]).get("output", "")
+
+
+# -- the seed, the config, the zip --------------------------------------------------------------
+
+def test_the_seed_follows_the_students_not_the_upload(tmp_path):
+    def seed(users, assignment=7):
+        path = tmp_path / "meta.json"
+        path.write_text(json.dumps({"id": 99, "users": [{"id": u} for u in users], "assignment": {"id": assignment}}))
+        return seed_from_metadata(path)
+    assert seed([1, 2]) == seed([2, 1]) != seed([1]) != seed([3])
+    assert seed([1]) != seed([1], assignment=8)
+    assert seed_from_metadata(tmp_path / "missing.json") is None
+    assert seed([]) is None
+
+
+def test_the_config_defaults_to_every_check_and_refuses_an_unknown_one(tmp_path):
+    assert load_config(tmp_path / CONFIG_NAME) == Config()
+    (tmp_path / CONFIG_NAME).write_text(json.dumps({"checks": ["graph", "grpah"]}))
+    with pytest.raises(GradingError, match="grpah"):
+        load_config(tmp_path / CONFIG_NAME)
+
+
+def test_the_zip_has_both_scripts_at_its_root_and_no_answer_key(tmp_path):
+    target = build_zip(tmp_path, ["robot-params", "graph"])
+    with zipfile.ZipFile(target) as zf:
+        infos = {i.filename: i for i in zf.infolist()}
+        config = json.loads(zf.read(CONFIG_NAME))
+    for script in ("setup.sh", "run_autograder"):
+        assert (infos[script].external_attr >> 16) & 0o111, f"{script} is not executable"
+    assert config["checks"] == ["robot-params", "graph"]
+    assert "tools/setup.sh" in infos and "grading/traces/mapping_public.bag" in infos
+    assert not [n for n in infos if n.startswith(("solutions/", "tests/")) or "__pycache__" in n]
+    assert build_zip(tmp_path / "again", ["robot-params", "graph"]).read_bytes() == target.read_bytes()
