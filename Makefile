@@ -8,7 +8,7 @@ export SDL_VIDEODRIVER ?= dummy
 export SDL_AUDIODRIVER ?= dummy
 export PYGAME_HIDE_SUPPORT_PROMPT := 1
 
-.PHONY: setup demo demo-sensor test lint clean bench
+.PHONY: setup demo doctor demo-sensor test lint clean bench
 
 setup:
 	@bash tools/setup.sh
@@ -16,6 +16,12 @@ setup:
 # The whole lab simulated: teleoperation.launch sim:=true with the default scenario (~25 s).
 demo: setup
 	@$(ENV) $(PY) -m hri_teleop.ros.teleop_demo $(DEMO_ARGS)
+
+# Preflight of a lab station (docs/lab-day.md): one line per part, ok or the fix, in under 10 s.
+# WALK=1 also walks through the pad's buttons, its rumble and a full press of the piston;
+# DOCTOR_ARGS="--port /dev/ttyACM1" names the Arduino's port. At home it checks the simulated lab.
+doctor: setup
+	@$(ENV) $(PY) -m hri_teleop.ros.doctor $(if $(filter-out 0,$(WALK)),--walk) $(DOCTOR_ARGS)
 
 # Only the sensor stage (handout Ex. 6): sensor.launch with the simulated press profile.
 demo-sensor: setup
@@ -51,6 +57,8 @@ clean:
 # an nbgrader course's submitted/<student>/<assignment>/ gets nbgrader's autograde and
 # generate_feedback as well (notebooks/README.md). JOBS=n at once (default: the cores),
 # TIMEOUT=s per submission, CHECKS=a,b limits the checks of the student files.
+# STUDENT=id regrades one student (the others' rows kept), LATE=late.yaml the late policy;
+# OUT also gets report.html (the class report) and lms.csv (grading/README.md).
 traces: setup
 	@$(ENV) $(PY) -m hri_teleop.grading.cli traces
 
@@ -58,7 +66,7 @@ templates: setup
 	@$(ENV) $(PY) -m hri_teleop.grading.cli templates
 
 grade: setup
-	@$(ENV) $(PY) -m hri_teleop.grading.cli batch $(or $(DIR),notebooks/submitted) --out $(or $(OUT),out/grades) $(if $(JOBS),--jobs $(JOBS)) $(if $(TIMEOUT),--timeout $(TIMEOUT)) $(if $(CHECKS),--checks $(CHECKS))
+	@$(ENV) $(PY) -m hri_teleop.grading.cli batch $(or $(DIR),notebooks/submitted) --out $(or $(OUT),out/grades) $(if $(JOBS),--jobs $(JOBS)) $(if $(TIMEOUT),--timeout $(TIMEOUT)) $(if $(CHECKS),--checks $(CHECKS)) $(if $(STUDENT),--student $(STUDENT)) $(if $(LATE),--late $(LATE))
 
 # Firmware (firmware/README.md): both Arduino sketches for the Uno with Debian's AVR
 # toolchain (flash and RAM use against 32 KB / 2 KB), and the simulated Uno (simavr) the

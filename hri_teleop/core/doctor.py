@@ -20,6 +20,8 @@ __all__ = ["OK", "FAIL", "NOTE", "Finding", "exit_code", "master_finding", "robo
            "MAX_PERIOD_MS"]
 
 OK, FAIL, NOTE = "ok", "FAIL", "note"
+#: Between a finding's detail and its fix on the printed line.
+FIX_MARK = "  -> "
 FSR_SERIAL, ROSSERIAL = "fsr_serial", "rosserial"
 #: The rosserial sketch sends a count every 300 ms without serial_node's ~publish_period_ms (the
 #: handout's delay), at that period (5..10000 ms) with it; fsr_serial every 10 ms.
@@ -42,7 +44,16 @@ class Finding:
     fix: str = ""
 
     def line(self) -> str:
-        return f"{self.status:<5} {self.item:<17} {self.detail}" + (f"  -> {self.fix}" if self.fix else "")
+        return f"{self.status:<5} {self.item:<17} {self.detail}" + (f"{FIX_MARK}{self.fix}" if self.fix else "")
+
+    @classmethod
+    def from_line(cls, line: str) -> Optional["Finding"]:
+        """The finding a :meth:`line` printed (None for any other line: prompts, the summary)."""
+        status = line[:5].strip()
+        if status not in (OK, FAIL, NOTE) or len(line) < 24 or line[5] != " " or line[23] != " ":
+            return None
+        detail, _mark, fix = line[24:].partition(FIX_MARK)
+        return cls(line[6:23].strip(), status, detail, fix)
 
 
 def exit_code(findings: Sequence[Finding]) -> int:

@@ -20,7 +20,7 @@ import time
 from pathlib import Path
 from typing import Any, Callable, Dict, Iterator, List, Optional, Sequence, Tuple
 
-from hri_teleop.core.config import DEFAULT_TWIST_TOPIC
+from hri_teleop.core.config import DEFAULT_TWIST_TOPIC, lab_max_sensor_force
 from hri_teleop.core.doctor import (
     FAIL,
     NOTE,
@@ -85,24 +85,24 @@ def check_teleop(mode: str) -> Finding:
 
 
 def _sim_ready(master: PrivateMaster) -> bool:
-    """lab_sim takes the twist and sends /pub_force, the gripper and recovery servers answer, the node runs."""
+    """lab_sim takes the twist and sends /pub_force, and its gripper and recovery servers answer."""
     return ("/lab_sim" in master.subscribers(DEFAULT_TWIST_TOPIC) and "/lab_sim" in master.publishers("/pub_force")
             and all(master.publishers(f"/franka_gripper/{a}/status") for a in GRIPPER_ACTIONS)
-            and bool(master.publishers("/franka_control/error_recovery/status"))
-            and "/teleoperation" in master.node_names())
+            and bool(master.publishers("/franka_control/error_recovery/status")))
 
 
 @contextlib.contextmanager
 def home_simulation(say: Callable[[str], None]) -> Iterator[PrivateMaster]:
-    """The simulated lab (``teleoperation.launch sim:=true``, the virtual pad idle) on a private roscore,
-    this process pointed at it while the checks run; everything stopped after."""
+    """The simulated station on a private roscore: lab_sim (arm, hand, board) and the lab's calibration,
+    none of the student's deliverables; this process points at it while the checks run, then all stops."""
     saved: Dict[str, Optional[str]] = {k: os.environ.get(k) for k in ("ROS_MASTER_URI", "ROS_HOSTNAME", "ROS_IP")}
     started = time.monotonic()
     with PrivateMaster() as master:
-        launch = master.roslaunch("hri_lab", "teleoperation.launch", {"sim": "true", "scenario": ""})
-        master.wait_for(lambda: _sim_ready(master) or not launch.running, SIM_READY_S, "the simulated lab")
-        if not launch.running:
-            raise MasterError(f"teleoperation.launch sim:=true exited: {launch.output()[-600:]}")
+        master.set_param("/max_sensor_force", lab_max_sensor_force())
+        sim = master.run(["rosrun", "hri_lab", "lab_sim.py"], "lab_sim")
+        master.wait_for(lambda: _sim_ready(master) or not sim.running, SIM_READY_S, "the simulated lab")
+        if not sim.running:
+            raise MasterError(f"lab_sim exited: {sim.output()[-600:]}")
         say(f"note  {'simulation':<17} no master: started the simulated lab on {master.uri} "
             f"({time.monotonic() - started:.1f} s); stopped after the checks")
         os.environ.update({"ROS_MASTER_URI": master.uri, "ROS_HOSTNAME": "127.0.0.1"})
@@ -115,7 +115,6 @@ def home_simulation(say: Callable[[str], None]) -> Iterator[PrivateMaster]:
                     os.environ.pop(key, None)
                 else:
                     os.environ[key] = value
-            launch.stop()
             master.stop(quick=True)
 
 

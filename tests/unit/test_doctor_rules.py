@@ -163,3 +163,16 @@ def test_the_governor_must_be_performance_on_every_core_in_the_lab() -> None:
     assert slow.status == FAIL and "powersave" in slow.detail
     assert governor_finding(HOME, ["powersave"]).status == NOTE
     assert governor_finding(LAB, []).status == NOTE
+
+
+@pytest.mark.parametrize("finding", [Finding("ROS master", OK, "http://x:1/ (running, lab mode)"),
+                                     Finding("real-time kernel", FAIL, "not PREEMPT_RT", "boot it -> now"),
+                                     Finding("pad buttons", NOTE, "not tried: square")])
+def test_a_printed_line_reads_back_as_its_finding(finding: Finding) -> None:
+    assert Finding.from_line(finding.line()) == finding
+
+
+@pytest.mark.parametrize("line", ["doctor: 3 of 3 ok or noted, 0 to fix (1.0 s)", "      press cross / A",
+                                  "ok", ""])
+def test_other_lines_are_not_findings(line: str) -> None:
+    assert Finding.from_line(line) is None

@@ -2,8 +2,8 @@
 
 One per need of the handout, each an ``ipywidgets.VBox`` shown as a cell's last expression:
 FsrExplorer (Ex. 1, 5), DeadzoneExplorer (Fig. 8), ControllerView (Ex. 8), LivePlot, ArmView (the
-Panda in 3D), CalibrationWidget (Ex. 11), GraphView (Ex. 15), TlxWidget, RehearsalOffer (Ex. 14) and
-BrowserPad (the browser's gamepad drives the node; loaded when first used). The rules come from the core.
+Panda in 3D), CalibrationWidget (Ex. 11), GraphView (Ex. 15), TlxWidget, RehearsalOffer (Ex. 14),
+Doctor (make doctor) and BrowserPad (the browser's pad drives the node; loaded when first used).
 Importing needs neither rospy nor pygame: the ROS widgets start ROS when they are created
 (:func:`~hri_teleop.course.notebook_ros.ensure_ros`), or say in one line what is missing.
 """
@@ -28,8 +28,8 @@ from hri_teleop.course.widgets.controller import (
     open_pad,
     pad_svg,
 )
-from hri_teleop.course.widgets.doctor import Doctor, findings_html
 from hri_teleop.course.widgets.deadzone import DeadzoneExplorer, deadzone_curve, filter_stick
+from hri_teleop.course.widgets.doctor import Doctor, findings_html
 from hri_teleop.course.widgets.fsr import (
     FsrCurve,
     FsrExplorer,
@@ -67,7 +67,7 @@ __all__ = [
     "CalibrationWidget", "MaxRecorder",
     "GraphView", "RosGraph", "graph_from_state", "layered_layout", "draw_graph", "read_graph",
     "TlxWidget", "trial_sidecars", "RehearsalOffer", "count_trials",
-    "BrowserPad",
+    "BrowserPad", "Doctor", "findings_html",
 ]
 
 
