@@ -128,3 +128,41 @@ def test_an_fsr_serial_board_on_a_port_is_found_with_its_rate(firmware, ros_env,
     line = _line(proc.stdout, "board")
     print(f"\n{line}")
     assert re.match(rf"ok\s+board\s+{re.escape(str(link))}: fsr_serial at (9\d|10\d)\.\d Hz", line), proc.stdout
+
+
+@pytest.mark.ros
+def test_the_notebook_widget_shows_the_same_checks_in_a_table(ros_env, monkeypatch):
+    from hri_teleop.course.widgets import Doctor
+
+    for key, value in _env(ros_env, "home").items():
+        monkeypatch.setenv(key, value)
+    doctor = Doctor()
+    try:
+        assert doctor.wait(60) == 0, doctor.lines
+    finally:
+        doctor.close()
+    items = {f.item: f.status for f in doctor.findings}
+    assert items["robot"] == "ok" and items["board"] == "ok" and items["ROS master"] == "ok", doctor.lines
+    assert "lab_sim" in doctor.table.value and doctor.summary.value.startswith("doctor: ")
+    assert all(b.layout.display == "none" for b in doctor.answer_buttons)
+
+
+@pytest.mark.ros
+def test_the_widget_walk_through_skips_the_piston_when_skip_is_pressed(ros_env, monkeypatch):
+    from hri_teleop.course.widgets import Doctor
+
+    for key, value in _env(ros_env, "home").items():
+        monkeypatch.setenv(key, value)
+    doctor = Doctor(walk=True)
+    try:
+        deadline = time.monotonic() + 60
+        while "piston" not in doctor.prompt.value and time.monotonic() < deadline:
+            time.sleep(0.05)
+        assert "piston" in doctor.prompt.value, doctor.lines
+        assert all(b.layout.display == "" for b in doctor.answer_buttons)
+        doctor.answer("")  # Skip
+        assert doctor.wait(60) == 0, doctor.lines
+    finally:
+        doctor.close()
+    assert "no live reading" not in " ".join(doctor.lines)
+    assert {f.item for f in doctor.findings} >= {"max_sensor_force", "pad"}
