@@ -62,6 +62,21 @@ def wait(condition: Callable[[], Any], timeout_s: float, what: str, poll_s: floa
     raise AssertionError(f"timed out after {timeout_s:.0f} s waiting for {what} (last: {last!r})")
 
 
+def output_text(driver: Any) -> str:
+    """The text of every cell output on the page, joined by newlines."""
+    return str(driver.execute_script(
+        "return Array.from(document.querySelectorAll('.jp-OutputArea-output')).map(e => e.innerText).join('\\n');"))
+
+
+def process_gone(pid: int) -> bool:
+    """Whether the process ``pid`` has exited (gone, or a zombie its parent has not reaped yet)."""
+    try:
+        with open(f"/proc/{pid}/stat") as fh:
+            return fh.read().rsplit(")", 1)[1].split()[0] == "Z"
+    except OSError:
+        return True
+
+
 def server_up(url: str) -> bool:
     try:
         with urllib.request.urlopen(url, timeout=2) as response:

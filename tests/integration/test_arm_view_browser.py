@@ -19,7 +19,7 @@ import time
 
 import numpy as np
 import pytest
-from jupyterlab_session import JupyterLab, needs_browser, wait, write_notebook
+from jupyterlab_session import JupyterLab, needs_browser, output_text, process_gone, wait, write_notebook
 
 from hri_teleop.core.joints import JOINT_NAMES
 from hri_teleop.ros.master import PrivateMaster
@@ -66,19 +66,6 @@ def _expected_hand() -> np.ndarray:
     return z_up_to_y_up @ data.oMf[model.getFrameId("panda_hand")].homogeneous
 
 
-def _output_text(driver) -> str:
-    return driver.execute_script(
-        "return Array.from(document.querySelectorAll('.jp-OutputArea-output')).map(e => e.innerText).join('\\n');")
-
-
-def _gone(pid: int) -> bool:
-    try:
-        with open(f"/proc/{pid}/stat") as fh:
-            return fh.read().rsplit(")", 1)[1].split()[0] == "Z"
-    except OSError:
-        return True
-
-
 def test_an_arm_view_cell_draws_the_panda_in_webgl_and_follows_joint_states(tmp_path):
     needs_browser()
     pytest.importorskip("selenium.webdriver")
@@ -97,14 +84,14 @@ def test_an_arm_view_cell_draws_the_panda_in_webgl_and_follows_joint_states(tmp_
         # WebGL without a GPU: Chromium falls back to SwiftShader, which it now only allows when asked.
         driver = lab.open("arm.ipynb", ["--enable-unsafe-swiftshader"])
         driver.execute_script("window.jupyterapp.commands.execute('notebook:run-all-cells');")
-        text = wait(lambda: (lambda t: t if "server pid" in t or "Error" in t else None)(_output_text(driver)), 90,
+        text = wait(lambda: (lambda t: t if "server pid" in t or "Error" in t else None)(output_text(driver)), 90,
                      "the ArmView cell to run", poll_s=0.5)
         assert "Traceback" not in text and "Error" not in text, text[-2000:]
         pids = {name: int(re.search(rf"{name} pid (\d+)", text).group(1)) for name in ("kernel", "server")}
         build_s = float(re.search(r"built in ([\d.]+) s", text).group(1))
         kernel_node = wait(lambda: [n for n in master.subscribers("/joint_states") if n.startswith("/hri_notebook")],
                             30, "the kernel's node to subscribe to /joint_states")[0]
-        silent = wait(lambda: (lambda t: t if "nothing on /joint_states" in t else None)(_output_text(driver)), 30,
+        silent = wait(lambda: (lambda t: t if "nothing on /joint_states" in t else None)(output_text(driver)), 30,
                        "the line that says nothing arrives", poll_s=0.5)
         assert "lab.start_robot()" in silent
 
@@ -127,7 +114,7 @@ def test_an_arm_view_cell_draws_the_panda_in_webgl_and_follows_joint_states(tmp_
         master.wait_for(lambda: master.connections(kernel_node, "/joint_states") >= 1, 30,
                         "the kernel's subscriber to connect to the publisher")
         line = wait(lambda: (lambda t: t if re.search(r"live /joint_states: [23]\d Hz received", t)
-                              else None)(_output_text(driver)), 30, "the line to say the view follows at 20+ Hz",
+                              else None)(output_text(driver)), 30, "the line to say the view follows at 20+ Hz",
                      poll_s=0.5)
         hand = np.array([float(v) for v in re.search(r"hand at \(([-\d.]+), ([-\d.]+), ([-\d.]+)\) m",
                                                      line).groups()])
@@ -160,7 +147,7 @@ def test_an_arm_view_cell_draws_the_panda_in_webgl_and_follows_joint_states(tmp_
         master.stop()
         for name, pid in pids.items():
             try:
-                wait(lambda pid=pid: _gone(pid), 10, f"the {name} to exit")
+                wait(lambda pid=pid: process_gone(pid), 10, f"the {name} to exit")
             except AssertionError:
                 os.kill(pid, signal.SIGKILL)  # ours: started by the server this test started
                 raise

@@ -16,7 +16,7 @@ import time
 from pathlib import Path
 
 import pytest
-from jupyterlab_session import JupyterLab, needs_browser, wait, write_notebook
+from jupyterlab_session import JupyterLab, needs_browser, output_text, process_gone, wait, write_notebook
 
 from hri_teleop.core.config import load_teleop_config
 
@@ -47,22 +47,9 @@ Object.defineProperty(Navigator.prototype, 'getGamepads', {value: () => window._
 _STATUS = "const s = document.querySelector('.hri-bp-status'); return s ? s.textContent : '';"
 
 
-def _output_text(driver) -> str:
-    return driver.execute_script(
-        "return Array.from(document.querySelectorAll('.jp-OutputArea-output')).map(e => e.innerText).join('\\n');")
-
-
 def _values(echo) -> list:
     """The floats ``rostopic echo <topic>/linear/x`` printed so far."""
     return [float(line) for line in echo.output().splitlines() if re.fullmatch(r"-?\d+(\.\d+)?(e-?\d+)?", line.strip())]
-
-
-def _gone(pid: int) -> bool:
-    try:
-        with open(f"/proc/{pid}/stat") as fh:
-            return fh.read().rsplit(")", 1)[1].split()[0] == "Z"
-    except OSError:
-        return True
 
 
 def test_a_pad_in_the_browser_drives_the_node_rumbles_and_stops_the_robot_when_unplugged(ros_master, tmp_path):
@@ -84,7 +71,7 @@ def test_a_pad_in_the_browser_drives_the_node_rumbles_and_stops_the_robot_when_u
         driver.execute_script(FAKE_PAD)
         driver.execute_script("window.jupyterapp.commands.execute('notebook:run-all-cells');")
         text = wait(lambda: (lambda t: t if "kernel pid" in t and ("gamepad" in t or "Error" in t) else None)(
-            _output_text(driver)), 60, "the BrowserPad cell to show the pad", poll_s=0.25)
+            output_text(driver)), 60, "the BrowserPad cell to show the pad", poll_s=0.25)
         assert "Traceback" not in text and "Error" not in text, text[-2000:]
         kernel_pid = int(re.search(r"kernel pid (\d+)", text).group(1))
         ros_master.wait_for(lambda: ros_master.connections("/teleoperation", "/teleoperation/virtual_joy") >= 1
@@ -129,7 +116,7 @@ def test_a_pad_in_the_browser_drives_the_node_rumbles_and_stops_the_robot_when_u
             proc.stop()
         if kernel_pid is not None:
             try:
-                wait(lambda: _gone(kernel_pid), 10, "the kernel to exit")
+                wait(lambda: process_gone(kernel_pid), 10, "the kernel to exit")
             except AssertionError:
                 os.kill(kernel_pid, signal.SIGKILL)  # ours: started by the server this test started
                 raise

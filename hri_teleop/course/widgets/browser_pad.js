@@ -127,11 +127,9 @@ function render({ model, el }) {
     stateEl.textContent = model.get("pad_line");
   }
 
-  model.on("change:status", showStatus);
-  model.on("change:status_error", showStatus);
-  model.on("change:rumble", onRumble);
-  model.on("change:echo_seq", onEcho);
-  model.on("change:pad_line", onState);
+  const handlers = [["change:status", showStatus], ["change:status_error", showStatus], ["change:rumble", onRumble],
+                    ["change:echo_seq", onEcho], ["change:pad_line", onState]];
+  handlers.forEach(([event, handler]) => model.on(event, handler));
   document.addEventListener("visibilitychange", send);
   showStatus();
   onState();
@@ -141,11 +139,7 @@ function render({ model, el }) {
     clearInterval(timer);
     clearTimeout(barTimer);
     document.removeEventListener("visibilitychange", send);
-    model.off("change:status", showStatus);
-    model.off("change:status_error", showStatus);
-    model.off("change:rumble", onRumble);
-    model.off("change:echo_seq", onEcho);
-    model.off("change:pad_line", onState);
+    handlers.forEach(([event, handler]) => model.off(event, handler));
   };
 }
 
