@@ -1,7 +1,7 @@
 """A gamepad read by the browser drives the teleoperation node (widgets.BrowserPad), for a kernel on a server.
 
-A kernel on a server (JupyterHub, the lab PC reached from a laptop) cannot open a pad plugged into the
-laptop, but the page can (the Gamepad API). The page (browser_pad.js) sends the pad 25 times a second;
+Such a kernel (JupyterHub, the lab PC reached from a laptop) cannot open a pad plugged into the laptop,
+but the page can (the Gamepad API). The page (browser_pad.js) sends the pad 25 times a second;
 the kernel publishes it on the node's ``~virtual_joy`` as any virtual-pad driver does, released once the
 page falls silent (:class:`~hri_teleop.core.gamepad.browser.BrowserInput`), and sends the node's
 ``~rumble`` back to the pad's motors, or to a bar on screen. docs/browser-pad.md: browsers, pads, numbers.
@@ -12,7 +12,7 @@ from __future__ import annotations
 import threading
 import time
 from pathlib import Path
-from typing import Any, Optional, Tuple
+from typing import Any, Callable, Optional, Tuple
 
 import anywidget
 import traitlets
@@ -56,7 +56,8 @@ class BrowserPad(anywidget.AnyWidget):
     pad:=virtual``), show ``widgets.BrowserPad()`` as a cell's last expression, press a button on the
     pad. ``node``: the teleoperation node's name; ``config``/``layout``: the node's teleop config or
     layout (the Joy's order; default: the lab's); ``timeout_s``: the heartbeat (no usable reading
-    for this long and the node gets a released pad). :meth:`close` stops it and releases the pad.
+    for this long and the node gets a released pad); ``clock``: the kernel's monotonic clock (tests).
+    :meth:`close` stops it and releases the pad.
     """
 
     _esm = _read_esm()
@@ -70,18 +71,19 @@ class BrowserPad(anywidget.AnyWidget):
 
     def __init__(self, node: str = "/teleoperation", *, config: Any = None, layout: Any = None,
                  timeout_s: float = HEARTBEAT_TIMEOUT_S, publish_rate_hz: float = PUBLISH_RATE_HZ,
-                 session: Any = None, autostart: bool = True) -> None:
-        super().__init__()
+                 session: Any = None, autostart: bool = True, clock: Callable[[], float] = time.monotonic) -> None:
         if not isinstance(node, str) or not node.startswith("/") or node.endswith("/"):
             raise WidgetError(f"node must be the teleoperation node's full name, e.g. '/teleoperation', got {node!r}")
         if not 0.0 < float(publish_rate_hz) <= 200.0:
             raise WidgetError(f"publish_rate_hz must be in (0, 200] Hz, got {publish_rate_hz!r}; e.g. {PUBLISH_RATE_HZ}")
+        super().__init__()
         self.node = node
+        self._clock = clock
         self.layout_ = as_layout(layout if layout is not None else lab_teleop_config(config).layout)
         self.input = BrowserInput(timeout_s)
         self.published = 0
         self._lock = threading.Lock()
-        self._rumble_in: Optional[Tuple[float, float]] = None  # (value, arrival on time.monotonic)
+        self._rumble_in: Optional[Tuple[float, float]] = None  # (value, arrival on the clock)
         self._requests = RumbleRequests()
         self._rumble_seq = 0
         self._echoed_s = -ECHO_PERIOD_S
@@ -102,7 +104,7 @@ class BrowserPad(anywidget.AnyWidget):
 
         self._joy_class = Joy
         self._joy_pub = rospy.Publisher(f"{node}/virtual_joy", Joy, queue_size=1, tcp_nodelay=True)
-        self._rumble_sub = rospy.Subscriber(f"{node}/rumble", Float32, self._on_rumble, queue_size=1,
+        self._rumble_sub = rospy.Subscriber(f"{node}/rumble", Float32, self.on_rumble, queue_size=1,
                                             tcp_nodelay=True)
         self._say("waiting for the browser page (press a button on the pad)")
         if autostart:
@@ -110,7 +112,7 @@ class BrowserPad(anywidget.AnyWidget):
 
     # -- from the page and the node (the kernel's thread, rospy's thread) ---------------------
     def _on_reading(self, change: Any) -> None:
-        now = time.monotonic()
+        now = self._clock()
         message = change["new"]
         with self._lock:
             reading = self.input.receive(message, now)
@@ -118,13 +120,14 @@ class BrowserPad(anywidget.AnyWidget):
             self._echoed_s = now
             self.echo_seq = message["seq"]
 
-    def _on_rumble(self, msg: Any) -> None:
-        self._rumble_in = (float(msg.data), time.monotonic())
+    def on_rumble(self, msg: Any) -> None:
+        """The node's ~rumble (std_msgs/Float32, 0..1; rospy's thread): kept for the next tick."""
+        self._rumble_in = (float(msg.data), self._clock())
 
     # -- the loop (a thread of its own: it goes on while a cell runs) ------------------------
     def tick(self) -> PadState:
         """Publish the pad's state to the node (released when the page is silent) and pass the rumble on."""
-        now = time.monotonic()
+        now = self._clock()
         with self._lock:
             state = self.input.state(now)
             problem = self.input.problem(now)
@@ -179,7 +182,10 @@ class BrowserPad(anywidget.AnyWidget):
 
     def close(self) -> None:
         """Stop publishing (one released pad first, so the node stops now, not after its timeout)."""
-        self.ticker.stop()
+        ticker = getattr(self, "ticker", None)  # None: __init__ refused its arguments (ipywidgets closes on __del__)
+        if ticker is None:
+            return
+        ticker.stop()
         if self._joy_pub is not None:
             with self._lock:
                 self.input.heartbeat.reset()
