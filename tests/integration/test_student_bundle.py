@@ -26,6 +26,7 @@ from hri_teleop.course.nodes import STUDENT_PACKAGE
 from hri_teleop.course.release import prepare_course_copy, solution_texts
 from hri_teleop.grading.batch.assignments import ASSIGNMENTS
 from hri_teleop.grading.cases.templates import make_answer
+from hri_teleop.ros.master import free_port
 
 pytestmark = pytest.mark.ros
 
@@ -194,3 +195,13 @@ def test_make_lab_serves_the_bundle_with_the_toolkits_kernel(installed):
         "hri-teleop/kernel.json")).read_text())
     assert kernel["argv"][1] == str(installed / "toolkit" / "tools" / "kernel.sh")
     assert done.stderr.strip() == ""
+
+
+def test_make_doctor_checks_the_simulated_lab_from_the_bundle_alone(installed):
+    env = _student_env()
+    env.update({"HRI_MODE": "home", "ROS_MASTER_URI": f"http://127.0.0.1:{free_port()}/"})  # nobody there
+    done = subprocess.run(["make", "-C", str(installed), "doctor"], capture_output=True, text=True, timeout=300,
+                          env=env, stdin=subprocess.DEVNULL)
+    assert done.returncode == 0, done.stdout[-3000:] + done.stderr[-3000:]
+    assert re.search(r"^ok\s+robot\s+the simulation \(lab_sim\)", done.stdout, re.M), done.stdout
+    assert re.search(r"^ok\s+board\s+the simulated board", done.stdout, re.M), done.stdout
