@@ -1,0 +1,203 @@
+"""The Gradescope autograder in Gradescope's own layout: the zip unpacked into /autograder/source, setup.sh,
+an upload in /autograder/submission, run_autograder, /autograder/results/results.json.
+
+/autograder is a folder of the test's, mounted there by bubblewrap over an otherwise read-only view
+of the machine (the host's / is never written). setup.sh is the zip's own; it reuses the checkout's
+.venv packages (HRI_GRADESCOPE_REUSE_VENV) instead of downloading them. The uploads are graded two at
+a time, each in a box of its own sharing the one source folder, as Gradescope shares its image.
+"""
+
+from __future__ import annotations
+
+import json
+import shutil
+import subprocess
+import time
+import zipfile
+from concurrent.futures import ThreadPoolExecutor
+from pathlib import Path
+from typing import Dict, List
+
+import pytest
+from grading_helpers import REPO, SOLUTIONS, answer_text, corpus_files, expectation, open_folder, part_keys
+
+from hri_teleop.course.release import STUDENT_MAKES_EXECUTABLE
+from hri_teleop.grading.cases.templates import generate_templates
+from hri_teleop.grading.gradescope.build import build_zip
+
+pytestmark = pytest.mark.ros
+_ENV = {"PATH": "/usr/local/sbin:/usr/local/bin:/usr/sbin:/usr/bin:/sbin:/bin", "HOME": "/tmp/home", "LANG": "C.UTF-8"}
+
+
+def _box(root: Path, source: Path, argv: List[str], env: Dict[str, str], timeout_s: float) -> subprocess.CompletedProcess:
+    """``argv`` with ``root`` at /autograder, ``source`` at /autograder/source and a /tmp of its own."""
+    args = ["bwrap", "--die-with-parent", "--tmpfs", "/", "--dev", "/dev", "--proc", "/proc"]
+    for entry in sorted(Path("/").iterdir()):
+        if entry.name in ("dev", "proc", "tmp", "autograder"):
+            continue
+        args += ["--symlink", str(entry.readlink()), str(entry)] if entry.is_symlink() else ["--bind", str(entry), str(entry)]
+    (root / "tmp" / "home").mkdir(parents=True, exist_ok=True)
+    (root / "ag" / "source").mkdir(parents=True, exist_ok=True)
+    args += ["--bind", str(root / "tmp"), "/tmp", "--bind", str(root / "ag"), "/autograder",
+             "--bind", str(source), "/autograder/source", "--chdir", "/autograder"]
+    return subprocess.run(args + argv, env=dict(_ENV, **env), capture_output=True, text=True, timeout=timeout_s,
+                          stdin=subprocess.DEVNULL)
+
+
+@pytest.fixture(scope="module")
+def autograder():
+    """(folder of the boxes, the source folder after setup.sh, setup.sh's seconds)."""
+    if shutil.which("bwrap") is None or subprocess.run(["bwrap", "--dev-bind", "/", "/", "true"]).returncode:
+        pytest.skip("bubblewrap cannot run here: the Gradescope layout needs it to mount /autograder")
+    for folder in open_folder("hri-gradescope-"):
+        zip_path = build_zip(folder / "zip")
+        source = folder / "source"
+        with zipfile.ZipFile(zip_path) as zf:
+            zf.extractall(source)
+            for info in zf.infolist():
+                (source / info.filename).chmod((info.external_attr >> 16) & 0o777)
+        started = time.monotonic()
+        setup = _box(folder / "setup", source, ["bash", "/autograder/source/setup.sh"],
+                     {"HRI_GRADESCOPE_REUSE_VENV": str(REPO / ".venv")}, timeout_s=300)
+        assert setup.returncode == 0, f"setup.sh failed:\n{setup.stdout}\n{setup.stderr}"
+        yield folder, source, time.monotonic() - started
+
+
+def _answer_key(root: Path) -> Path:
+    for path in SOLUTIONS.rglob("*"):
+        if path.is_file() and path.name != "README.md":
+            target = root / path.relative_to(SOLUTIONS)
+            target.parent.mkdir(parents=True, exist_ok=True)
+            target.write_text(answer_text(str(path.relative_to(SOLUTIONS))))
+            shutil.copymode(path, target)
+    return root
+
+
+def _corpus(name: str, root: Path) -> Path:
+    """Corpus entry ``name`` on top of the answer key (the student got one thing wrong)."""
+    _answer_key(root)
+    for relative, text in corpus_files(name).items():
+        (root / relative).write_text(text)
+    return root
+
+
+def _messy_zip(package: Path, upload: Path) -> None:
+    """A Finder-made zip of a zip: the package two folders down, __MACOSX and ._ copies beside it."""
+    inner = upload / "inner.zip"
+    upload.mkdir(parents=True, exist_ok=True)
+    with zipfile.ZipFile(inner, "w", zipfile.ZIP_DEFLATED) as zf:
+        for path in sorted(package.rglob("*")):
+            if path.is_file():
+                name = f"Lab 4/my work/hri_lab/{path.relative_to(package).as_posix()}"
+                zf.write(path, name)
+                zf.writestr(f"__MACOSX/{Path(name).parent.as_posix()}/._{path.name}", "\0\5\26\7 junk")
+    with zipfile.ZipFile(upload / "submission.zip", "w") as zf:
+        zf.write(inner, "Archive/inner.zip")
+        zf.writestr("__MACOSX/Archive/._inner.zip", "junk")
+    inner.unlink()
+
+
+def _loose(package: Path, upload: Path) -> None:
+    """Every file dropped at the upload's top level, as Gradescope's drag and drop does."""
+    upload.mkdir(parents=True, exist_ok=True)
+    for path in package.rglob("*"):
+        if path.is_file():
+            shutil.copy2(path, upload / path.name)
+
+
+def _cases(work: Path) -> Dict[str, dict]:
+    """name -> the upload folder and the checks graded (None: the zip's, i.e. all)."""
+    generate_templates(SOLUTIONS, work / "template" / "hri_lab", not_executable=STUDENT_MAKES_EXECUTABLE)
+    cases = {
+        "answer key": {"upload": _answer_key(work / "key" / "upload" / "hri_lab").parent, "checks": None},
+        "template": {"upload": work / "template", "checks": None},
+    }
+    for name, layout in (("mapping_no_clipping", _messy_zip), ("teleop_no_deadzone", _loose),
+                         ("params_robot_mass_int", None)):
+        package = _corpus(name, work / name / "package" / "hri_lab")
+        upload = work / name / "upload"
+        if layout is None:
+            shutil.copytree(package, upload / "hri_lab")
+        else:
+            layout(package, upload)
+        checks = sorted({expectation(name)["check"], "robot-params", "graph"})
+        cases[name] = {"upload": upload, "checks": ",".join(checks)}
+    return cases
+
+
+@pytest.fixture(scope="module")
+def graded(autograder):
+    """case -> (results.json, run_autograder's seconds)."""
+    folder, source, setup_s = autograder
+    cases = _cases(folder / "uploads")
+
+    def run(item):
+        name, case = item
+        box = folder / "boxes" / name.replace(" ", "_")
+        shutil.copytree(case["upload"], box / "ag" / "submission")
+        (box / "ag" / "submission_metadata.json").write_text(json.dumps({"users": [{"id": name}],
+                                                                          "assignment": {"id": 1}}))
+        env = {"HRI_GRADESCOPE_CHECKS": case["checks"]} if case["checks"] else {}
+        started = time.monotonic()
+        proc = _box(box, source, ["/autograder/source/run_autograder"], env, timeout_s=400)
+        results = box / "ag" / "results" / "results.json"
+        assert proc.returncode == 0 and results.is_file(), f"{name}: run_autograder failed:\n{proc.stdout}\n{proc.stderr}"
+        return name, (json.loads(results.read_text()), time.monotonic() - started)
+
+    with ThreadPoolExecutor(max_workers=2) as pool:  # the answer key and the template first: the longest
+        done = dict(pool.map(run, cases.items()))
+    print(f"setup.sh {setup_s:.1f} s; " + ", ".join(f"{n} {s:.1f} s" for n, (_, s) in done.items()))
+    return done
+
+
+#: Parts a corpus entry graded with ``node: false`` also fails here, where the node runs: the node
+#: publishes the same raw sticks (a hidden-input part, so the student sees it after publishing).
+_NODE_ALSO_FAILS = {"teleop_no_deadzone": {"node_twist"}}
+
+
+def _failed(payload: dict) -> Dict[str, dict]:
+    return {t["name"]: t for t in payload["tests"] if t["score"] < t["max_score"]}
+
+
+def test_the_answer_key_gets_full_marks_with_hidden_parts_after_published(graded):
+    payload, _ = graded["answer key"]
+    assert not _failed(payload), json.dumps(_failed(payload), indent=1)
+    assert payload["score"] == sum(t["max_score"] for t in payload["tests"]) > 80
+    hidden = [t["name"] for t in payload["tests"] if t["visibility"] == "after_published"]
+    assert any(n.startswith("mapping-node: takes the range") for n in hidden), hidden
+    assert "Not judged" not in payload.get("output", "") and "found your package in hri_lab/" in payload["output"]
+
+
+def test_the_template_gets_nothing_but_the_given_constructor_and_every_part_says_what_to_do(graded):
+    payload, _ = graded["template"]
+    scored = [t["name"] for t in payload["tests"] if t["score"]]
+    assert scored == ["teleoperation: imports and builds Teleoperation(rate, k_trans, k_rot, k_gripper, deadzone)"]
+    assert payload["score"] == 1
+    assert all(t["output"].strip() for t in payload["tests"] if t["max_score"] > t["score"])
+    assert "Not judged" not in payload.get("output", "")
+
+
+@pytest.mark.parametrize("name", ["mapping_no_clipping", "teleop_no_deadzone", "params_robot_mass_int"])
+def test_a_typical_mistake_is_partial_and_fails_exactly_its_parts(graded, name):
+    payload, _ = graded[name]
+    exp = expectation(name)
+    names = {key: f"{exp['check']}: {part}" for part, key in part_keys(exp["check"]).items()}
+    failed = _failed(payload)
+    wanted = {names[key] for key in set(exp["fails"]) | _NODE_ALSO_FAILS.get(name, set())}
+    assert set(failed) == wanted, f"{name}: failed {sorted(failed)}, expected {sorted(wanted)}"
+    for key, words in exp["fails"].items():
+        assert words in failed[names[key]]["output"], f"{name}: {key} should say {words!r}"
+    for key in _NODE_ALSO_FAILS.get(name, ()):
+        assert failed[names[key]]["visibility"] == "after_published"
+    assert 0 < payload["score"] < sum(t["max_score"] for t in payload["tests"])
+    assert {t["name"].split(":")[0] for t in payload["tests"]} == {exp["check"], "robot-params", "graph"}
+
+
+def test_messy_uploads_are_found_and_the_student_is_told_where(graded):
+    zipped, _ = graded["mapping_no_clipping"]
+    assert "found your package in submission.zip/Archive/inner.zip/Lab 4/my work/hri_lab/" in zipped["output"]
+    loose, _ = graded["teleop_no_deadzone"]
+    assert "took scripts/teleoperation.py from teleoperation.py" in loose["output"]
+    hidden = _failed(zipped)["mapping-node: takes the range from /max_sensor_force (hidden inputs, other values)"]
+    assert hidden["visibility"] == "after_published"
+    assert _failed(zipped)["mapping-node: clips counts above /max_sensor_force to 1.0 (public trace)"]["visibility"] == "visible"
