@@ -19,6 +19,7 @@ from typing import List, Optional, Sequence
 
 from hri_teleop.core.paths import REPO as _REPO
 from hri_teleop.grading.batch.folders import BatchError, course_layout, grade_all
+from hri_teleop.grading.batch.late import LateError
 from hri_teleop.grading.batch.nbgrader_batch import grade_course
 from hri_teleop.grading.cases.templates import TemplateError, generate_templates
 from hri_teleop.grading.cases.tracefiles import TRACE_DIR, write_traces
@@ -58,6 +59,10 @@ def _parser() -> argparse.ArgumentParser:
     b.add_argument("--timeout", type=float, default=None,
                    help="seconds one submission may take before it is stopped and recorded as not graded "
                         "(default: 1800 for an nbgrader autograde, 600 for the files)")
+    b.add_argument("--student", default=None,
+                   help="regrade this student only (their folder's name); the others' rows in OUT are kept")
+    b.add_argument("--late", default=None, help="the late policy (default: late.yaml beside the course or in the "
+                   "submissions folder, when there is one; format in grading/README.md)")
     t = sub.add_parser("traces", help="write the public reference traces")
     t.add_argument("--out", default=None, help="folder (default: grading/traces)")
     m = sub.add_parser("templates", help="write the student templates generated from solutions/")
@@ -102,11 +107,13 @@ def main(argv: Optional[List[str]] = None) -> int:
             if args.timeout is not None and args.timeout <= 0:
                 raise GradingError(f"--timeout {args.timeout:g}: give the seconds one submission may take, e.g. 1800")
             folder = Path(args.path)
+            late = Path(args.late) if args.late else None
             layout = course_layout(folder) if folder.is_dir() else None
             if layout is not None:  # an nbgrader course: nbgrader's autograde beside the files' checks
                 return grade_course(layout[0], layout[1], Path(args.out), jobs=args.jobs, checks=checks,
-                                    timeout_s=args.timeout)
-            return grade_all(folder, Path(args.out), jobs=args.jobs, checks=checks, timeout_s=args.timeout)
+                                    timeout_s=args.timeout, student=args.student, late=late)
+            return grade_all(folder, Path(args.out), jobs=args.jobs, checks=checks, timeout_s=args.timeout,
+                             student=args.student, late=late)
         if args.json:  # stdout is the results' JSON: the sandbox note, if any, goes beside it
             sandbox_mode(stream=sys.stderr)
         if not Path(args.path).expanduser().exists():
@@ -126,7 +133,7 @@ def main(argv: Optional[List[str]] = None) -> int:
         else:
             results = [grade(args.command, args.path, seed=args.seed, out_dir=out_dir)]
         return _report(results, args.json, out_dir)
-    except (GradingError, SandboxError, TemplateError, WorkspaceError, BatchError, OSError) as exc:
+    except (GradingError, SandboxError, TemplateError, WorkspaceError, BatchError, LateError, OSError) as exc:
         print(f"hri-grade: {exc}", file=sys.stderr)
         return EXIT_GRADER_ERROR
     except KeyboardInterrupt:

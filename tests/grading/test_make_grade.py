@@ -1,4 +1,5 @@
-"""`make grade` on a folder of 20 small submissions: progress shown, every grade recorded."""
+"""`make grade` on a folder of 20 small submissions: progress shown, every grade recorded, the class report,
+lms.csv and the late policy written; then `make grade STUDENT=id` regrades one student in place."""
 
 from __future__ import annotations
 
@@ -7,6 +8,7 @@ import json
 import os
 import signal
 import subprocess
+import time
 
 import pytest
 from grading_helpers import REPO, answer_text, grader_env, write_package
@@ -25,14 +27,16 @@ def _variant(i: int) -> str:
     return good
 
 
-def test_make_grade_grades_twenty_submissions_in_parallel_and_records_every_grade(tmp_path):
-    submitted = tmp_path / "submitted"
-    for i in range(20):
-        # nbgrader's layout: submitted/<student>/<assignment>/...
-        write_package(submitted / f"student{i:02d}" / "task4" / "hri_lab", {"config/robot_params.yaml": _variant(i)})
-    out = tmp_path / "grades"
+#: Handed in (nbgrader's timestamp.txt) against the deadline 2026-12-01 23:59 +01:00: per student, else on time.
+SUBMITTED = {4: "2026-12-02 00:00:00 +0100",    # one minute late: a day started, 10 % of the 89 points
+             5: "2026-12-02 23:59:00 +0100",    # a day late, but their extension is 2 days: on time
+             8: "2026-12-11 23:59:01 +0100"}    # 11 days started: the 50 % cap, and the total floored at 0
+LATE_YAML = 'deadline: "2026-12-01 23:59 +01:00"\nper_day: 10%\ncap: 50%\nextensions:\n  student05: 2\n'
+
+
+def _make_grade(submitted, out, *variables: str):
     # -o setup: the suite runs after `make setup` (make test does it); a concurrent re-setup must not time this out
-    proc = subprocess.Popen(["make", "-s", "-o", "setup", "grade", f"DIR={submitted}", f"OUT={out}", "JOBS=2"],
+    proc = subprocess.Popen(["make", "-s", "-o", "setup", "grade", f"DIR={submitted}", f"OUT={out}", *variables],
                             cwd=REPO, stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True, env=grader_env(),
                             start_new_session=True)
     try:
@@ -41,7 +45,22 @@ def test_make_grade_grades_twenty_submissions_in_parallel_and_records_every_grad
         os.killpg(proc.pid, signal.SIGKILL)  # make and everything it started
         proc.communicate()
         raise
-    assert proc.returncode == 0, stdout[-3000:] + stderr[-3000:]
+    return proc.returncode, stdout, stderr
+
+
+def test_make_grade_grades_twenty_submissions_in_parallel_and_records_every_grade(tmp_path):
+    submitted = tmp_path / "submitted"
+    for i in range(20):
+        # nbgrader's layout: submitted/<student>/<assignment>/...
+        write_package(submitted / f"student{i:02d}" / "task4" / "hri_lab", {"config/robot_params.yaml": _variant(i)})
+        (submitted / f"student{i:02d}" / "task4" / "timestamp.txt").write_text(
+            SUBMITTED.get(i, "2026-12-01 23:59:00 +0100"))
+    (submitted / "late.yaml").write_text(LATE_YAML)
+    out = tmp_path / "grades"
+    started = time.monotonic()
+    code, stdout, stderr = _make_grade(submitted, out, "JOBS=2")
+    print(f"make grade: {time.monotonic() - started:.1f} s")
+    assert code == 0, stdout[-3000:] + stderr[-3000:]
     progress = [line for line in stdout.splitlines() if line.startswith("[")]
     assert len(progress) == 20 and progress[-1].startswith("[20/20]"), stdout
     with open(out / "grades.csv") as fh:
@@ -58,3 +77,38 @@ def test_make_grade_grades_twenty_submissions_in_parallel_and_records_every_grad
         feedback = (out / row["student"] / "feedback.txt").read_text()
         assert "was not found" in feedback  # the missing deliverables are named
     assert "line 1" in (out / "student03" / "feedback.txt").read_text()
+
+    # the late policy: grades.csv's points taken and total, the student's feedback, lms.csv, the report
+    rows = {r["student"]: r for r in csv.DictReader(open(out / "grades.csv"))}
+    assert [(rows[s]["late_penalty"], rows[s]["total"]) for s in ("student00", "student04", "student05", "student08")] \
+        == [("0", "10"), ("8.9", "1.1"), ("0", "8"), ("44.5", "0")]
+    feedback = (out / "student04" / "feedback.txt").read_text().splitlines()
+    assert feedback[0].startswith("late policy: submitted 2026-12-02 00:00:00+01:00 (timestamp.txt), 1 min after"), \
+        feedback[0]
+    assert "your extension" in (out / "student05" / "feedback.txt").read_text()
+    lms = list(csv.reader(open(out / "lms.csv")))
+    assert lms[0] == ["Student", "ID", "SIS User ID", "SIS Login ID", "Section", "Task 4 total"]
+    assert lms[5] == ["student04", "", "", "student04", "", "1.1"] and len(lms) == 21
+    report = (out / "report.html").read_text()
+    for words in ("Score distribution", "Item analysis", "Every submission was graded", "Late submissions (2)",
+                  '<img src="report-scores.png"', "robot-params: robot_mass"):
+        assert words in report, words
+    assert (out / "report-scores.png").stat().st_size > 5000 and (out / "report-items.png").stat().st_size > 5000
+
+    # STUDENT=id: student03 fixed their file and is regraded; everyone else's rows stay as they were
+    write_package(submitted / "student03" / "task4" / "hri_lab", {"config/robot_params.yaml": _variant(0)})
+    started = time.monotonic()
+    code, stdout, stderr = _make_grade(submitted, out, "STUDENT=student03")
+    print(f"make grade STUDENT=student03: {time.monotonic() - started:.1f} s")
+    assert code == 0, stdout[-3000:] + stderr[-3000:]
+    assert [line for line in stdout.splitlines() if line.startswith("[")] == [
+        line for line in stdout.splitlines() if line.startswith("[1/1] student03")]
+    again = {r["student"]: r for r in csv.DictReader(open(out / "grades.csv"))}
+    assert list(again) == list(rows) and again["student03"]["total"] == "10"
+    assert all(again[s] == rows[s] for s in rows if s != "student03")
+    assert "student03,,,student03,,10" in (out / "lms.csv").read_text()
+
+    code, stdout, stderr = _make_grade(submitted, out, "STUDENT=student3")
+    mine = [line for line in stderr.splitlines() if line.startswith("hri-grade")]
+    assert code == 2 and len(mine) == 1 and "did you mean student13, student03" in mine[0], stderr
+    assert "ls " in stderr and "grades.csv" in stderr

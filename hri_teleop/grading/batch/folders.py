@@ -9,7 +9,7 @@ docs/grading-internals.md. The results in ``OUT/``: notebooks/README.md.
 
 from __future__ import annotations
 
-import csv
+import difflib
 import functools
 import json
 import os
@@ -20,6 +20,9 @@ from pathlib import Path
 from typing import Dict, List, Optional, Sequence, Tuple
 
 from hri_teleop.core.errors import HriTeleopError
+from hri_teleop.grading.batch.class_results import write_rows, write_summary
+from hri_teleop.grading.batch.finish import check_policy, find_late_policy, finish
+from hri_teleop.grading.batch.report_data import FILES_ONLY
 from hri_teleop.grading.judge import reuse
 from hri_teleop.grading.judge.graph import live_graph
 from hri_teleop.grading.run.jobs import (
@@ -33,7 +36,7 @@ from hri_teleop.grading.run.jobs import (
 )
 from hri_teleop.grading.run.sandbox import sandbox_mode
 
-__all__ = ["BatchError", "Outcome", "submissions_in", "grade_one", "live_graph_cache", "course_layout", "grade_all"]
+__all__ = ["BatchError", "Outcome", "submissions_in", "select_student", "grade_one", "live_graph_cache", "course_layout", "grade_all"]
 
 PER_SUBMISSION_TIMEOUT_S = 600.0    # hri-grade submission: one student's files
 
@@ -63,6 +66,19 @@ def submissions_in(folder: Path) -> List[Path]:
     if not found:
         raise BatchError(f"{folder}: no submission folders in it; expected one subfolder per student")
     return found
+
+
+def select_student(available: Sequence[str], wanted: Optional[str], folder: Path) -> Optional[str]:
+    """``wanted`` when it is one of ``available`` (None: everyone); else BatchError saying how to find the ids."""
+    if wanted is None:
+        return None
+    if wanted in available:
+        return wanted
+    close = difflib.get_close_matches(wanted, available, n=3)
+    hint = f" (did you mean {', '.join(close)}?)" if close else ""
+    raise BatchError(f"STUDENT={wanted}: no submission of that id in {folder}{hint}; the ids are the names of its "
+                     f"subfolders (ls {folder}) and the student column of grades.csv")
+
 
 
 def _hri_grade_argv(folder: Path, out: Path, graph_cache: Optional[Path], checks: Optional[Sequence[str]]) -> List[str]:
@@ -139,14 +155,22 @@ def course_layout(folder: Path) -> Optional[Tuple[Path, Path]]:
 
 
 def grade_all(folder: Path, out: Path, jobs: Optional[int] = None, checks: Optional[Sequence[str]] = None,
-              progress: Progress = print_line, timeout_s: Optional[float] = None) -> int:
+              progress: Progress = print_line, timeout_s: Optional[float] = None, student: Optional[str] = None,
+              late: Optional[Path] = None) -> int:
     """Grade every student's files in ``folder`` (a subfolder each) into ``out``; 0 when all were graded,
     2 if any could not be. An nbgrader course (:func:`course_layout`) goes to
     :func:`hri_teleop.grading.batch.nbgrader_batch.grade_course` instead (``hri-grade batch`` decides).
+
+    ``student``: grade that one only, keeping everyone else's rows in OUT; ``late``: the late policy
+    (default: ``folder``/late.yaml when there is one). Then :func:`~hri_teleop.grading.batch.finish.finish`.
     """
     folder = Path(folder)
-
+    policy = find_late_policy(late, folder)
+    check_policy(policy, [FILES_ONLY])
     subs = submissions_in(folder)
+    only = select_student([s.name for s in subs], student, folder)
+    if only is not None:
+        subs = [s for s in subs if s.name == only]
     out.mkdir(parents=True, exist_ok=True)
     jobs = job_count(jobs)
     limit = timeout_s or PER_SUBMISSION_TIMEOUT_S
@@ -169,15 +193,15 @@ def grade_all(folder: Path, out: Path, jobs: Optional[int] = None, checks: Optio
     run_all([(sub.name, functools.partial(grade_one, sub, out / sub.name, graph_cache, checks, limit))
              for sub in subs], jobs, done)
     ordered = [outcomes[s.name] for s in subs]
-    with open(out / "grades.csv", "w", newline="", encoding="utf-8") as fh:
-        writer = csv.writer(fh)
-        writer.writerow(["student", "score", "max_score", "status", "seconds", "message"])
-        for o in ordered:
-            writer.writerow([o.student, f"{o.score:g}", f"{o.max_score:g}", o.status, f"{o.seconds:.1f}", o.message])
-    (out / "summary.json").write_text(json.dumps([asdict(o) for o in ordered], indent=2), encoding="utf-8")
+    kept = {only} if only is not None else None
+    write_rows(out / "grades.csv", ["student", "score", "max_score", "status", "seconds", "message"],
+               [{"student": o.student, "score": f"{o.score:g}", "max_score": f"{o.max_score:g}", "status": o.status,
+                 "seconds": f"{o.seconds:.1f}", "message": o.message} for o in ordered], kept)
+    write_summary(out, [asdict(o) for o in ordered], kept)
+    finish(out, policy, lambda name, _assignment: folder / name, progress=progress)
     failed = [o for o in ordered if o.status != "graded"]
     progress(f"graded {len(ordered) - len(failed)}/{len(ordered)} in {time.monotonic() - started:.0f} s; "
-             f"results in {out} (grades.csv, <student>/feedback.txt)")
+             f"results in {out} (grades.csv, report.html, lms.csv, <student>/feedback.txt)")
     return 2 if failed else 0
 
 

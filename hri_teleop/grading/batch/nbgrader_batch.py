@@ -9,7 +9,6 @@ is locked" keep them apart (docs/grading-internals.md). Results: notebooks/READM
 
 from __future__ import annotations
 
-import csv
 import functools
 import json
 import os
@@ -28,12 +27,15 @@ from traitlets.config import Config
 from traitlets.config.loader import ConfigFileNotFound, PyFileConfigLoader
 
 from hri_teleop.grading.batch.assignments import ASSIGNMENT_CHECKS, ASSIGNMENTS, nbgrader_env
+from hri_teleop.grading.batch.class_results import read_summary, write_rows, write_summary
+from hri_teleop.grading.batch.finish import check_policy, find_late_policy, finish
 from hri_teleop.grading.batch.folders import (
     PER_SUBMISSION_TIMEOUT_S,
     BatchError,
     course_layout,
     grade_one,
     live_graph_cache,
+    select_student,
     submissions_in,
 )
 from hri_teleop.grading.batch.spare_kernels import PROVISIONER, PROVISIONER_ENV, SPARES_ENV
@@ -316,11 +318,14 @@ def _grade_files(course: _Course, student: str, assignment: str, out: Path, chec
     return JobOutcome(student, assignment, "files", o.score, o.max_score, o.status, o.seconds, o.message)
 
 
-def _generate_feedback(course: _Course, assignment: str, out: Path) -> Tuple[bool, Dict[str, str]]:
-    """``nbgrader generate_feedback`` for every autograded student of ``assignment``: (ok, {student: failure})."""
+def _generate_feedback(course: _Course, assignment: str, out: Path,
+                       student: Optional[str] = None) -> Tuple[bool, Dict[str, str]]:
+    """``nbgrader generate_feedback`` for every autograded student of ``assignment`` (or ``student`` only):
+    (ok, {student: failure})."""
     log = out / f"generate_feedback.{assignment}.log"
-    run = run_job(course.nbgrader_argv("generate_feedback", assignment, "--force"), log, 600.0, cwd=course.root,
-               env=nbgrader_job_env())
+    only = ["--student", student] if student is not None else []
+    run = run_job(course.nbgrader_argv("generate_feedback", assignment, "--force", *only), log, 600.0,
+                  cwd=course.root, env=nbgrader_job_env())
     text = log.read_text(errors="replace")
     failed = {m.group(2): "nbgrader generate_feedback failed (see " + str(log) + ")"
               for m in re.finditer(r"error processing assignment '([^']+)' for student '([^']+)'", text)}
@@ -347,16 +352,23 @@ def _fmt(value: Optional[float]) -> str:
 
 def grade_course(course: Path, submitted: Path, out: Path, jobs: Optional[int] = None,
                  checks: Optional[Sequence[str]] = None, progress: Progress = print_line,
-                 timeout_s: Optional[float] = None) -> int:
+                 timeout_s: Optional[float] = None, student: Optional[str] = None,
+                 late: Optional[Path] = None) -> int:
     """nbgrader autograde + generate_feedback of every submission of the course, and hri-grade on its files.
 
     ``checks`` limits the files' checks (each assignment gets those of its own among
     them); ``timeout_s`` limits each (student, assignment) job. 0 when everything was
-    graded, 2 when anything could not be (the reason is in grades.csv).
+    graded, 2 when anything could not be (the reason is in grades.csv). ``student``: that
+    one only (everyone else's rows kept); ``late``: the late policy (default: the course's late.yaml).
     """
     course, submitted, out = Path(course).resolve(), Path(submitted).resolve(), Path(out).resolve()
+    policy = find_late_policy(late, course)
     pairs, empty = course_submissions(course, submitted)
+    only = select_student(sorted({s for s, _a in pairs} | set(empty)), student, submitted)
+    if only is not None:
+        pairs, empty = [p for p in pairs if p[0] == only], [s for s in empty if s == only]
     assignments = _assignment_order(sorted({a for _s, a in pairs}))
+    check_policy(policy, assignments)
     nb = _open_course(course, submitted, assignments)
     install_kernelspec()  # the notebooks' kernel "hri-teleop" (.venv's Python in the lab's shell)
     out.mkdir(parents=True, exist_ok=True)
@@ -411,7 +423,7 @@ def grade_course(course: Path, submitted: Path, out: Path, jobs: Optional[int] =
                   if o.assignment == assignment and o.kind == "notebooks" and o.status == "graded"]
         if not graded:
             continue
-        ok, failed = _generate_feedback(nb, assignment, out)
+        ok, failed = _generate_feedback(nb, assignment, out, only)
         for student, why in failed.items():
             feedback_problems[(student, assignment)] = why
         problems = "" if ok else f"; errors, see {out / f'generate_feedback.{assignment}.log'}"
@@ -458,13 +470,15 @@ def grade_course(course: Path, submitted: Path, out: Path, jobs: Optional[int] =
                         "feedback": {a: str(course / "feedback" / student / a) for (a, k), o in sorted(mine.items())
                                      if k == "notebooks" and o.status == "graded"
                                      and (student, a) not in feedback_problems}})
-    columns = ["student", *[f"{a}_{x}" for a in assignments for x in ("score", "max")], "notebooks_score",
+    everyone = _assignment_order(sorted(set(assignments) | {str(j["assignment"]) for e in read_summary(out)
+                                                              if only is not None for j in e.get("jobs", ())}))
+    columns = ["student", *[f"{a}_{x}" for a in everyone for x in ("score", "max")], "notebooks_score",
                "notebooks_max", "files_score", "files_max", "needs_manual_grade", "status", "seconds", "message"]
-    with open(out / "grades.csv", "w", newline="", encoding="utf-8") as fh:
-        writer = csv.DictWriter(fh, fieldnames=columns)
-        writer.writeheader()
-        writer.writerows(rows)
-    (out / "summary.json").write_text(json.dumps(summary, indent=2), encoding="utf-8")
+    kept = {only} if only is not None else None
+    write_rows(out / "grades.csv", columns, rows, kept)
+    write_summary(out, summary, kept)
+    finish(out, policy, lambda name, assignment: submitted / name / assignment, everyone, (nb.db_url, nb.course_id),
+           lambda name, assignment: course / "feedback" / name / assignment, progress)
     not_graded = [r for r in rows if r["status"] != "graded"]
     manual = [r for r in rows if r["needs_manual_grade"]]
     progress(f"graded {len(rows) - len(not_graded)}/{len(rows)} student(s) in {time.monotonic() - started:.0f} s; "

@@ -1,0 +1,173 @@
+"""What ``make grade`` wrote into OUT, read back as report records, and written merged for one student.
+
+The report and lms.csv are computed from OUT (summary.json, each student's results.json, nbgrader's
+gradebook), never from a run's memory, so ``make grade STUDENT=id`` can regrade one student and
+rebuild them over everyone's results; :func:`write_rows` and :func:`write_summary` keep every
+other student's rows as they were.
+"""
+
+from __future__ import annotations
+
+import csv
+import json
+from pathlib import Path
+from typing import Any, Dict, Iterable, List, Optional, Sequence, Set, Tuple
+
+from hri_teleop.grading.batch.late import Lateness
+from hri_teleop.grading.batch.report_data import (
+    FILES_ONLY,
+    AssignmentScore,
+    ClassResults,
+    Job,
+    PartResult,
+    StudentRecord,
+)
+
+__all__ = ["read_class", "notebook_parts", "write_rows", "write_summary", "read_summary"]
+
+_FILES = "hri_lab"   # the label of a files job in course mode (nbgrader_batch)
+
+
+def read_summary(out: Path) -> List[Dict[str, Any]]:
+    """OUT/summary.json's entries ([] when there is none or it is unreadable)."""
+    try:
+        data = json.loads((out / "summary.json").read_text(encoding="utf-8"))
+    except (OSError, ValueError):
+        return []
+    return [d for d in data if isinstance(d, dict) and "student" in d] if isinstance(data, list) else []
+
+
+def write_summary(out: Path, entries: Sequence[Dict[str, Any]], only: Optional[Set[str]] = None) -> None:
+    """OUT/summary.json: ``entries``; with ``only`` (the students graded now) the earlier run's other entries stay."""
+    kept = [e for e in read_summary(out) if e["student"] not in (only or set())] if only is not None else []
+    merged = sorted(kept + list(entries), key=lambda e: str(e["student"]))
+    (out / "summary.json").write_text(json.dumps(merged, indent=2), encoding="utf-8")
+
+
+def write_rows(path: Path, columns: Sequence[str], rows: Sequence[Dict[str, str]],
+               only: Optional[Set[str]] = None) -> None:
+    """A CSV with one row per student; with ``only`` the earlier file's other rows stay as they were.
+
+    Columns: ``columns``, then any the earlier file had beyond them (its rows keep their values).
+    """
+    kept: List[Dict[str, str]] = []
+    header = list(columns)
+    if only is not None and path.is_file():
+        with open(path, newline="", encoding="utf-8") as fh:
+            reader = csv.DictReader(fh)
+            header += [c for c in reader.fieldnames or () if c not in header]
+            kept = [r for r in reader if r.get("student") not in only]
+    merged = sorted(kept + list(rows), key=lambda r: r["student"])
+    with open(path, "w", newline="", encoding="utf-8") as fh:
+        writer = csv.DictWriter(fh, fieldnames=header, restval="")
+        writer.writeheader()
+        writer.writerows(merged)
+
+
+def _parts_of(results_json: Path) -> List[PartResult]:
+    try:
+        payload = json.loads(results_json.read_text(encoding="utf-8"))
+        return [PartResult(str(t["name"]), float(t["score"]), float(t["max_score"])) for t in payload["tests"]]
+    except (OSError, ValueError, KeyError, TypeError):
+        return []
+
+
+def notebook_parts(db_url: str, course_id: str,
+                   pairs: Iterable[Tuple[str, str]]) -> Dict[Tuple[str, str], List[PartResult]]:
+    """The autograded test cells of each graded (student, assignment) in nbgrader's gradebook, one query."""
+    from nbgrader.api import (  # noqa: PLC0415 - optional (not on Python 3.8): courses only
+        Assignment,
+        BaseCell,
+        Grade,
+        Gradebook,
+        Notebook,
+        SubmittedAssignment,
+        SubmittedNotebook,
+    )
+
+    wanted = set(pairs)
+    found: Dict[Tuple[str, str], List[PartResult]] = {p: [] for p in wanted}
+    with Gradebook(db_url, course_id) as gb:
+        query = (gb.db.query(SubmittedAssignment.student_id, Assignment.name, Notebook.name, BaseCell.name,
+                             Grade.auto_score, Grade.score, Grade.max_score)
+                 .select_from(Grade)
+                 .join(SubmittedNotebook, Grade.notebook_id == SubmittedNotebook.id)
+                 .join(SubmittedAssignment, SubmittedNotebook.assignment_id == SubmittedAssignment.id)
+                 .join(Assignment, SubmittedAssignment.assignment_id == Assignment.id)
+                 .join(Notebook, SubmittedNotebook.notebook_id == Notebook.id)
+                 .join(BaseCell, Grade.cell_id == BaseCell.id))
+        for student, assignment, notebook, cell, auto, score, maximum in query:
+            if (student, assignment) in wanted and auto is not None and maximum:
+                found[(student, assignment)].append(
+                    PartResult(f"{assignment}/{notebook}: {cell}", float(score), float(maximum)))
+    for parts in found.values():
+        parts.sort(key=lambda p: p.item)
+    return found
+
+
+def _late(entry: Dict[str, Any]) -> Tuple[Lateness, ...]:
+    return tuple(Lateness.from_dict(d) for d in entry.get("late", ()))
+
+
+def _penalty(late: Sequence[Lateness], assignment: str, max_score: Optional[float]) -> float:
+    return sum(lt.points(max_score) for lt in late if lt.assignment == assignment)
+
+
+def _folder_student(out: Path, entry: Dict[str, Any]) -> StudentRecord:
+    student, status = str(entry["student"]), str(entry["status"])
+    late = _late(entry)
+    graded = status == "graded"
+    maximum = float(entry["max_score"]) if graded else None
+    score = AssignmentScore(FILES_ONLY, float(entry["score"]) if graded else None, maximum,
+                            _penalty(late, FILES_ONLY, maximum) if graded else 0.0)
+    job = Job(student, FILES_ONLY, status, float(entry.get("seconds", 0.0)), str(entry.get("message", "")),
+              f"{student}/grader.log")
+    return StudentRecord(student, status, (score,), (job,), (job.message,) if not graded else (),
+                         tuple(_parts_of(out / student / "results.json")), late)
+
+
+def _course_student(out: Path, entry: Dict[str, Any], assignments: Sequence[str],
+                    cells: Dict[Tuple[str, str], List[PartResult]]) -> StudentRecord:
+    student = str(entry["student"])
+    late = _late(entry)
+    jobs, scores = [], []
+    parts = _parts_of(out / student / "results.json")
+    by_key = {(j["assignment"], j["kind"]): j for j in entry.get("jobs", ())}
+    for assignment in assignments:
+        for kind, label, log in (("files", f"{assignment}/{_FILES}", "grader.log"),
+                                 ("notebooks", assignment, "autograde.log")):
+            j = by_key.get((assignment, kind))
+            if j is not None:
+                jobs.append(Job(student, label, str(j["status"]), float(j.get("seconds", 0.0)),
+                                str(j.get("message", "")), f"{student}/{assignment}/{log}"))
+        nb = by_key.get((assignment, "notebooks"))
+        if nb is None:
+            continue  # not handed in
+        if nb["status"] == "graded":
+            maximum = float(nb["max_score"])
+            scores.append(AssignmentScore(assignment, float(nb["score"]), maximum,
+                                          _penalty(late, assignment, maximum)))
+            parts += cells.get((student, assignment), [])
+        else:
+            scores.append(AssignmentScore(assignment, None, None))
+    return StudentRecord(student, str(entry["status"]), tuple(scores), tuple(jobs),
+                         tuple(str(r) for r in entry.get("reasons", ())), tuple(parts), late)
+
+
+def read_class(out: Path, assignments: Sequence[str] = (), gradebook: Optional[Tuple[str, str]] = None,
+               late_policy: str = "") -> ClassResults:
+    """OUT read back: summary.json (both modes), each student's results.json, and in a course the
+    gradebook's test cells (``gradebook``: nbgrader's database URL and course id)."""
+    entries = read_summary(out)
+    course = any("jobs" in e for e in entries) or gradebook is not None
+    if not course:
+        students = tuple(_folder_student(out, e) for e in entries)
+        return ClassResults("folders", (FILES_ONLY,), students, late_policy)
+    order = list(assignments) or sorted({j["assignment"] for e in entries for j in e.get("jobs", ())})
+    cells: Dict[Tuple[str, str], List[PartResult]] = {}
+    if gradebook is not None:
+        graded = [(str(e["student"]), j["assignment"]) for e in entries for j in e.get("jobs", ())
+                  if j["kind"] == "notebooks" and j["status"] == "graded"]
+        cells = notebook_parts(gradebook[0], gradebook[1], graded)
+    students = tuple(_course_student(out, e, order, cells) for e in entries)
+    return ClassResults("course", tuple(order), students, late_policy)

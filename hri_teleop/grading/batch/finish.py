@@ -1,0 +1,152 @@
+"""The end of ``make grade``: late.yaml applied, then grades.csv's totals, lms.csv and report.html.
+
+Both modes (folders, nbgrader course) end here. The late policy is applied to every student in
+OUT each time (a changed late.yaml takes effect with the next run, ``STUDENT=id`` included), its
+line goes into the student's feedback, and grades.csv gains the points taken and the total.
+"""
+
+from __future__ import annotations
+
+import csv
+import html
+import re
+from pathlib import Path
+from typing import Any, Callable, Dict, List, Optional, Sequence, Tuple
+
+from hri_teleop.grading.batch.class_results import read_class, read_summary, write_summary
+from hri_teleop.grading.batch.late import (
+    FEEDBACK_PREFIX,
+    LATE_FILE,
+    Lateness,
+    LatePolicy,
+    judge_lateness,
+    late_line,
+    read_late_policy,
+    submission_time,
+)
+from hri_teleop.grading.batch.report_data import FILES_ONLY, ClassResults
+from hri_teleop.grading.run.jobs import Progress, print_line
+
+__all__ = ["find_late_policy", "check_policy", "apply_late", "set_feedback_lines",
+           "mark_feedback_html", "add_totals", "finish", "TOTAL_COLUMNS"]
+
+#: The columns :func:`add_totals` writes at the end of grades.csv.
+TOTAL_COLUMNS = ("late_penalty", "total")
+#: Where a late line goes in nbgrader's HTML feedback: a block of ours, replaced on a rerun.
+_HTML_BLOCK = re.compile(r'<div id="hri-late-policy".*?</div>\n?', re.S)
+
+
+def find_late_policy(explicit: Optional[Path], home: Path) -> Optional[LatePolicy]:
+    """``explicit`` (LATE=...; must exist), else ``home``/late.yaml when there is one, else no policy."""
+    if explicit is not None:
+        return read_late_policy(explicit)
+    default = home / LATE_FILE
+    return read_late_policy(default) if default.is_file() else None
+
+
+def check_policy(policy: Optional[LatePolicy], assignments: Sequence[str]) -> None:
+    """LateError before any grading when an assignment has no deadline in the policy."""
+    if policy is not None:
+        for assignment in assignments:
+            policy.deadline_for("", assignment)
+
+
+def set_feedback_lines(path: Path, lines: Sequence[str]) -> None:
+    """``lines`` first in a feedback.txt, replacing the late policy's lines of an earlier run (file made if none)."""
+    old = path.read_text(encoding="utf-8").splitlines() if path.is_file() else []
+    kept = [line for line in old if not line.startswith(FEEDBACK_PREFIX)]
+    while kept and not kept[0].strip():
+        kept.pop(0)
+    body = list(lines) + ([""] if lines and kept else []) + kept
+    if body or path.is_file():
+        path.parent.mkdir(parents=True, exist_ok=True)
+        path.write_text("\n".join(body) + "\n", encoding="utf-8")
+
+
+def mark_feedback_html(path: Path, line: str) -> None:
+    """The late line as the first block of an nbgrader HTML feedback page (escaped; an earlier one replaced)."""
+    text = _HTML_BLOCK.sub("", path.read_text(encoding="utf-8"))
+    block = (f'<div id="hri-late-policy" style="border:2px solid #c60;padding:.5em;margin:1em">'
+             f"{html.escape(line)}</div>\n") if line else ""
+    body = re.search(r"<body[^>]*>\n?", text)
+    at = body.end() if body else 0
+    path.write_text(text[:at] + block + text[at:], encoding="utf-8")
+
+
+def apply_late(out: Path, policy: Optional[LatePolicy], folder_of: Callable[[str, str], Path],
+               feedback_html: Optional[Callable[[str, str], Path]] = None) -> List[str]:
+    """The policy over every student of OUT/summary.json: their ``late`` entries, feedback lines; the students.
+
+    ``folder_of(student, assignment)``: what they handed in (its time counts); ``feedback_html``:
+    nbgrader's feedback folder of a (student, assignment), whose pages get the line too.
+    """
+    entries = read_summary(out)
+    for entry in entries:
+        student = str(entry["student"])
+        handed_in = _handed_in(entry)
+        late: List[Lateness] = []
+        lines: List[str] = []
+        for assignment, max_score in handed_in:
+            if policy is None:
+                continue
+            when, source, problem = submission_time(folder_of(student, assignment))
+            lateness = judge_lateness(policy, student, assignment, when, source, problem)
+            late.append(lateness)
+            line = late_line(lateness, max_score, with_assignment=assignment != FILES_ONLY)
+            lines.append(line)
+            if feedback_html is not None:
+                for page in sorted(feedback_html(student, assignment).glob("*.html")):
+                    mark_feedback_html(page, line)
+        entry["late"] = [lt.to_dict() for lt in late]
+        set_feedback_lines(out / student / "feedback.txt", lines)
+    write_summary(out, entries)
+    return [str(e["student"]) for e in entries]
+
+
+def _handed_in(entry: Dict[str, Any]) -> List[Tuple[str, Optional[float]]]:
+    """(assignment, its points when graded) of what one summary entry says was handed in."""
+    jobs = entry.get("jobs")
+    if not isinstance(jobs, list):  # folders mode: one submission
+        graded = entry.get("status") == "graded"
+        return [(FILES_ONLY, float(entry["max_score"]) if graded else None)]
+    return [(str(j["assignment"]), float(j["max_score"]) if j["status"] == "graded" else None)
+            for j in jobs if j.get("kind") == "notebooks"]
+
+
+def _number(value: Optional[float]) -> str:
+    return "" if value is None else f"{round(value, 6):g}"
+
+
+def add_totals(path: Path, results: ClassResults) -> None:
+    """grades.csv's ``late_penalty`` (points taken) and ``total`` (after it; blank when not graded) per student."""
+    if not path.is_file():
+        return
+    with open(path, newline="", encoding="utf-8") as fh:
+        reader = csv.DictReader(fh)
+        header = [c for c in reader.fieldnames or () if c not in TOTAL_COLUMNS] + list(TOTAL_COLUMNS)
+        rows = list(reader)
+    records = {s.student: s for s in results.students}
+    for row in rows:
+        record = records.get(row.get("student", ""))
+        penalty = sum(a.penalty for a in record.assignments if a.score is not None) if record else 0.0
+        row["late_penalty"] = _number(penalty) if record and record.late else ""
+        row["total"] = _number(record.total) if record else ""
+    with open(path, "w", newline="", encoding="utf-8") as fh:
+        writer = csv.DictWriter(fh, fieldnames=header, restval="")
+        writer.writeheader()
+        writer.writerows(rows)
+
+
+def finish(out: Path, policy: Optional[LatePolicy], folder_of: Callable[[str, str], Path],
+           assignments: Sequence[str] = (), gradebook: Optional[Tuple[str, str]] = None,
+           feedback_html: Optional[Callable[[str, str], Path]] = None, progress: Progress = print_line) -> None:
+    """After the jobs: the late policy, grades.csv's totals, lms.csv and report.html over everyone in OUT."""
+    # matplotlib only here: every `hri-grade submission` process imports this module
+    from hri_teleop.grading.batch.report import write_class_outputs  # noqa: PLC0415
+
+    apply_late(out, policy, folder_of, feedback_html)
+    source = policy.source if policy is not None else ""
+    results = read_class(out, assignments, gradebook, source)
+    add_totals(out / "grades.csv", results)
+    extended = sorted(policy.extensions) if policy is not None else []
+    write_class_outputs(out, results, extended, progress)

@@ -1,0 +1,344 @@
+"""The late policy of ``make grade``: late.yaml read and checked, the rule, and submission times.
+
+A late penalty changes a student's grade, so the rule is a pure function tested at each threshold
+(:func:`judge_lateness`), late.yaml's every problem is one line naming the file, the key and the
+fix, and the time a submission counts as handed in says where it came from (nbgrader's
+``timestamp.txt``, else the newest file time). The file's format: grading/README.md.
+"""
+
+from __future__ import annotations
+
+import difflib
+import importlib
+import math
+import os
+import re
+from dataclasses import dataclass, field
+from datetime import date, datetime, timedelta, timezone, tzinfo
+from pathlib import Path
+from typing import Any, Dict, List, Mapping, Optional, Sequence, Tuple, Union
+
+from hri_teleop.core.errors import HriTeleopError
+from hri_teleop.core.yamlfile import read_yaml
+
+__all__ = ["LateError", "Extension", "LatePolicy", "Lateness", "LATE_FILE", "KEYS", "read_late_policy",
+           "parse_when", "judge_lateness", "submission_time", "parse_timestamp", "late_line", "duration_text",
+           "ALL_ASSIGNMENTS", "FEEDBACK_PREFIX"]
+
+#: The default late policy file: beside the course (an nbgrader course's folder, else the submissions folder).
+LATE_FILE = "late.yaml"
+KEYS = ("deadline", "per_day", "count", "cap", "extensions")
+COUNTS = ("started", "fraction")
+DAY_S = 86400.0
+#: The key of an extension or deadline that holds for every assignment.
+ALL_ASSIGNMENTS = "*"
+#: Each line a late policy adds to a student's feedback.txt starts with this (a rerun replaces them).
+FEEDBACK_PREFIX = "late policy"
+_EXAMPLE = '"2026-12-01 23:59 Europe/Berlin"'
+#: Time zone abbreviations nbgrader's timestamp.txt may carry (strftime's %Z), with their offset in hours.
+_ABBREVIATIONS = {"UTC": 0, "GMT": 0, "Z": 0, "WET": 0, "WEST": 1, "BST": 1, "CET": 1, "CEST": 2, "EET": 2,
+                  "EEST": 3, "EST": -5, "EDT": -4, "CST": -6, "CDT": -5, "MST": -7, "MDT": -6, "PST": -8, "PDT": -7}
+_OFFSET = re.compile(r"^([+-])(\d{2}):?(\d{2})$")
+
+
+class LateError(HriTeleopError, ValueError):
+    """late.yaml cannot be used as written (a key, a value, a missing time zone): one line with the file and the fix."""
+
+
+@dataclass(frozen=True)
+class Extension:
+    """A student's own deadline: ``days`` added to the course's, or ``until`` instead of it."""
+
+    days: float = 0.0
+    until: Optional[datetime] = None
+
+
+@dataclass(frozen=True)
+class LatePolicy:
+    """late.yaml, checked. ``deadlines``: assignment (or :data:`ALL_ASSIGNMENTS`) -> deadline, time-zone aware.
+
+    ``per_day`` and ``cap`` are fractions of the assignment's points; ``count`` "started" counts every
+    day begun after the deadline as a whole day, "fraction" counts days pro rata to the second.
+    """
+
+    source: str
+    deadlines: Dict[str, datetime]
+    per_day: float
+    cap: float = 1.0
+    count: str = "started"
+    extensions: Dict[str, Dict[str, Extension]] = field(default_factory=dict)
+
+    def deadline_for(self, student: str, assignment: str) -> Tuple[datetime, bool]:
+        """(the deadline that holds for ``student``'s ``assignment``, whether an extension moved it)."""
+        base = self.deadlines.get(assignment, self.deadlines.get(ALL_ASSIGNMENTS))
+        if base is None:
+            raise LateError(f"{self.source}: deadline has no entry for assignment {assignment!r}; "
+                            f"add `{assignment}: {_EXAMPLE}` under deadline")
+        own = self.extensions.get(student, {})
+        ext = own.get(assignment, own.get(ALL_ASSIGNMENTS))
+        if ext is None:
+            return base, False
+        return (ext.until if ext.until is not None else base + timedelta(days=ext.days)), True
+
+
+@dataclass(frozen=True)
+class Lateness:
+    """The late policy applied to one (student, assignment): when it came, how late, the penalty.
+
+    ``late_s`` is 0 when on time; ``fraction`` is the penalty as a fraction of the points (capped);
+    ``submitted`` None means the time is unknown (``problem`` says why) and nothing is taken.
+    """
+
+    student: str
+    assignment: str
+    submitted: Optional[datetime]
+    source: str
+    deadline: datetime
+    extended: bool
+    late_s: float
+    days: float
+    fraction: float
+    problem: str = ""
+
+    @property
+    def late(self) -> bool:
+        return self.late_s > 0
+
+    def points(self, max_score: Optional[float]) -> float:
+        """The points taken from an assignment worth ``max_score`` (0 when its points are unknown)."""
+        return round(self.fraction * max_score, 6) if max_score else 0.0
+
+    def to_dict(self) -> Dict[str, Any]:
+        return {"student": self.student, "assignment": self.assignment,
+                "submitted": self.submitted.isoformat() if self.submitted else None, "source": self.source,
+                "deadline": self.deadline.isoformat(), "extended": self.extended, "late_s": self.late_s,
+                "days": self.days, "fraction": self.fraction, "problem": self.problem}
+
+    @classmethod
+    def from_dict(cls, d: Mapping[str, Any]) -> "Lateness":
+        submitted = datetime.fromisoformat(d["submitted"]) if d.get("submitted") else None
+        return cls(d["student"], d["assignment"], submitted, d.get("source", ""),
+                   datetime.fromisoformat(d["deadline"]), bool(d.get("extended")), float(d["late_s"]),
+                   float(d["days"]), float(d["fraction"]), d.get("problem", ""))
+
+
+def judge_lateness(policy: LatePolicy, student: str, assignment: str, submitted: Optional[datetime],
+                   source: str = "", problem: str = "") -> Lateness:
+    """The rule: late is after the deadline (at it is on time); each day started costs ``per_day``
+    (or each second its share with count "fraction"), never more than ``cap``; an extension moves the deadline."""
+    deadline, extended = policy.deadline_for(student, assignment)
+    if submitted is None:
+        return Lateness(student, assignment, None, source, deadline, extended, 0.0, 0.0, 0.0,
+                        problem or "no submission time")
+    late_s = max(0.0, (submitted - deadline).total_seconds())
+    days = math.ceil(late_s / DAY_S) if policy.count == "started" else late_s / DAY_S
+    fraction = min(policy.cap, policy.per_day * days)
+    return Lateness(student, assignment, submitted, source, deadline, extended, late_s, float(days), fraction)
+
+
+def duration_text(seconds: float) -> str:
+    """``90061`` -> ``"1 d 1 h 1 min"``; under a minute in seconds."""
+    seconds = int(round(seconds))
+    if seconds < 60:
+        return f"{seconds} s"
+    days, rest = divmod(seconds, 86400)
+    hours, rest = divmod(rest, 3600)
+    parts = [f"{days} d"] if days else []
+    parts += [f"{hours} h"] if hours else []
+    parts += [f"{rest // 60} min"] if rest // 60 else []
+    return " ".join(parts)
+
+
+def _when_text(when: datetime, zone: Optional[tzinfo]) -> str:
+    return when.astimezone(zone).isoformat(sep=" ", timespec="seconds")
+
+
+def late_line(lateness: Lateness, max_score: Optional[float], with_assignment: bool = False) -> str:
+    """The one line a student's feedback gets: submitted when (from where), how late, the penalty."""
+    head = FEEDBACK_PREFIX + (f", {lateness.assignment}" if with_assignment else "") + ": "
+    deadline = _when_text(lateness.deadline, lateness.deadline.tzinfo)
+    own = " (your extension)" if lateness.extended else ""
+    if lateness.submitted is None:
+        return f"{head}submission time unknown ({lateness.problem}); deadline {deadline}{own}; no penalty"
+    submitted = f"submitted {_when_text(lateness.submitted, lateness.deadline.tzinfo)} ({lateness.source})"
+    if not lateness.late:
+        return f"{head}{submitted}, on time (deadline {deadline}{own}); no penalty"
+    counted = (f"{lateness.days:g} day(s) started" if lateness.days == int(lateness.days)
+               else f"{lateness.days:.2f} day(s)")
+    taken = f"penalty {lateness.fraction:.0%}" + (f" of {max_score:g} points = {lateness.points(max_score):g}"
+                                                   if max_score else " of the points")
+    return (f"{head}{submitted}, {duration_text(lateness.late_s)} after the deadline {deadline}{own}: "
+            f"{counted}, {taken}")
+
+
+def _zone(name: str) -> Optional[tzinfo]:
+    """An IANA zone (Europe/Berlin) or a fixed offset/abbreviation; None when unknown."""
+    match = _OFFSET.match(name)
+    if match:
+        sign = -1 if match.group(1) == "-" else 1
+        return timezone(sign * timedelta(hours=int(match.group(2)), minutes=int(match.group(3))))
+    if name.upper() in _ABBREVIATIONS:
+        return timezone(timedelta(hours=_ABBREVIATIONS[name.upper()]))
+    try:  # zoneinfo is Python >= 3.9; on 3.8 write an offset
+        zoneinfo = importlib.import_module("zoneinfo")
+        found: tzinfo = zoneinfo.ZoneInfo(name)
+        return found
+    except (ImportError, ValueError, KeyError, OSError):
+        return None
+
+
+def parse_when(value: object) -> Union[datetime, str]:
+    """A time-zone-aware datetime from late.yaml or timestamp.txt, or the reason it is not one.
+
+    Accepted: ISO 8601 with an offset (``2026-12-01T23:59:00+01:00``, ``...Z``), or a date and time
+    followed by a zone name, an abbreviation or an offset (``2026-12-01 23:59 Europe/Berlin``, nbgrader's
+    ``2026-12-01 22:59:00.123456 UTC``).
+    """
+    if isinstance(value, datetime):
+        return value if value.tzinfo is not None else "it has no time zone"
+    if isinstance(value, date):
+        return "it is a date without a time and time zone"
+    if not isinstance(value, str) or not value.strip():
+        return f"it is {value!r}, not a date and time"
+    text = value.strip()
+    try:
+        parsed = datetime.fromisoformat(text[:-1] + "+00:00" if text.endswith("Z") else text)
+    except ValueError:
+        parsed = None
+    if parsed is not None:
+        return parsed if parsed.tzinfo is not None else "it has no time zone"
+    head, _sep, name = text.rpartition(" ")
+    zone = _zone(name) if head else None
+    if zone is None:
+        return f"cannot read the time zone {name!r}" if head else "it has no time zone"
+    try:
+        local = datetime.fromisoformat(head.strip())
+    except ValueError:
+        return "cannot read the date and time (write YYYY-MM-DD HH:MM[:SS])"
+    return local.replace(tzinfo=zone) if local.tzinfo is None else local
+
+
+def _when(value: object, source: str, key: str) -> datetime:
+    parsed = parse_when(value)
+    if isinstance(parsed, str):
+        raise LateError(f"{source}: {key} {value!s:.60}: {parsed}; write e.g. {key.split('.')[0]}: {_EXAMPLE} "
+                        "(quoted) or 2026-12-01T23:59:00+01:00")
+    return parsed
+
+
+def _fraction(value: object, source: str, key: str, example: str) -> float:
+    text = str(value).strip()
+    number: Optional[float] = None
+    try:
+        number = float(text[:-1]) / 100.0 if text.endswith("%") else float(text)
+    except ValueError:
+        pass
+    if isinstance(value, bool) or number is None or not 0.0 <= number <= 1.0 or math.isnan(number):
+        raise LateError(f"{source}: {key} must be a fraction of the points, 0..1 or 0%..100%, got {value!r}; "
+                        f"write e.g. {key}: {example}")
+    return number
+
+
+def _extension(value: object, source: str, key: str) -> Extension:
+    if isinstance(value, (int, float)) and not isinstance(value, bool) and value >= 0:
+        return Extension(days=float(value))
+    if isinstance(value, str) and re.fullmatch(r"\s*\d+(\.\d+)?\s*(d|days?)?\s*", value):
+        return Extension(days=float(re.sub(r"[^\d.]", "", value)))
+    parsed = parse_when(value)
+    if isinstance(parsed, str):
+        raise LateError(f"{source}: {key} must be days added (e.g. 2) or the student's own deadline with its "
+                        f"time zone, got {value!r} ({parsed}); write e.g. {key.split('.')[-1]}: 2")
+    return Extension(until=parsed)
+
+
+def _unknown_key(key: str, source: str, where: str, valid: Sequence[str]) -> LateError:
+    close = difflib.get_close_matches(key, valid, n=1)
+    hint = f"did you mean {close[0]!r}? " if close else ""
+    return LateError(f"{source}: unknown key {where}{key!r}; {hint}valid keys are {', '.join(valid)}")
+
+
+def read_late_policy(path: Union[str, Path]) -> LatePolicy:
+    """late.yaml checked into a :class:`LatePolicy`; :class:`LateError` (one line: file, key, fix) otherwise."""
+    source = str(path)
+    data = read_yaml(path, LateError, what="late policy",
+                     missing_fix="give LATE=path/to/late.yaml or put late.yaml beside the course (grading/README.md)")
+    if not isinstance(data, dict):
+        raise LateError(f"{source}: expected `key: value` lines ({', '.join(KEYS)}), got {type(data).__name__}; "
+                        f"write e.g. deadline: {_EXAMPLE}")
+    for key in data:
+        if key not in KEYS:
+            raise _unknown_key(str(key), source, "", KEYS)
+    if "deadline" not in data:
+        raise LateError(f"{source}: no deadline; add deadline: {_EXAMPLE}")
+    if "per_day" not in data:
+        raise LateError(f"{source}: no per_day (the penalty per day late); add e.g. per_day: 10%")
+    raw = data["deadline"]
+    if isinstance(raw, dict):
+        deadlines = {str(a): _when(v, source, f"deadline.{a}") for a, v in raw.items()}
+    else:
+        deadlines = {ALL_ASSIGNMENTS: _when(raw, source, "deadline")}
+    count = data.get("count", "started")
+    if count not in COUNTS:
+        raise LateError(f"{source}: count must be started (every day begun counts whole) or fraction "
+                        f"(pro rata), got {count!r}; write count: started")
+    extensions: Dict[str, Dict[str, Extension]] = {}
+    raw_ext = data.get("extensions") or {}
+    if not isinstance(raw_ext, dict):
+        raise LateError(f"{source}: extensions must map students to days or deadlines, got {raw_ext!r}; "
+                        "write e.g. extensions: {alice: 2}")
+    for student, value in raw_ext.items():
+        if isinstance(value, dict):
+            extensions[str(student)] = {str(a): _extension(v, source, f"extensions.{student}.{a}")
+                                        for a, v in value.items()}
+        else:
+            extensions[str(student)] = {ALL_ASSIGNMENTS: _extension(value, source, f"extensions.{student}")}
+    return LatePolicy(source, deadlines, _fraction(data["per_day"], source, "per_day", "10%"),
+                      _fraction(data.get("cap", 1.0), source, "cap", "50%"), count, extensions)
+
+
+def parse_timestamp(path: Path) -> Union[datetime, str]:
+    """The time in an nbgrader ``timestamp.txt`` (no zone: UTC, as nbgrader reads it), or why it cannot be read."""
+    try:
+        text = path.read_text(encoding="utf-8", errors="replace").strip()
+    except OSError as exc:
+        return f"{path}: cannot read ({exc.strerror})"
+    if not text:
+        return f"{path} is empty"
+    parsed = parse_when(text)
+    if parsed == "it has no time zone":
+        parsed = parse_when(text + " UTC")
+    return parsed if isinstance(parsed, datetime) else f"{path}: {text[:40]!r}: {parsed}"
+
+
+def _newest_file_time(folder: Path) -> Optional[datetime]:
+    newest: Optional[float] = None
+    for dirpath, dirnames, filenames in os.walk(folder):
+        dirnames[:] = [d for d in dirnames if d != "__pycache__"]
+        for name in filenames:
+            try:
+                mtime = os.lstat(os.path.join(dirpath, name)).st_mtime
+            except OSError:
+                continue
+            newest = mtime if newest is None else max(newest, mtime)
+    return None if newest is None else datetime.fromtimestamp(newest, timezone.utc)
+
+
+def submission_time(folder: Path) -> Tuple[Optional[datetime], str, str]:
+    """(when ``folder`` was handed in, where that came from, why it is unknown).
+
+    nbgrader's ``timestamp.txt`` in the folder or one level below (the newest when there are
+    several); without one, the newest modification time of its files ("file times").
+    """
+    stamps: List[Path] = [folder / "timestamp.txt"] if (folder / "timestamp.txt").is_file() else []
+    if not stamps and folder.is_dir():
+        stamps = sorted(p for p in folder.glob("*/timestamp.txt") if p.is_file())
+    if stamps:
+        read = [parse_timestamp(p) for p in stamps]
+        times = [t for t in read if isinstance(t, datetime)]
+        if not times:
+            return None, "", str(read[0])
+        return max(times), "timestamp.txt", ""
+    newest = _newest_file_time(folder) if folder.is_dir() else None
+    if newest is None:
+        return None, "", f"no files in {folder}"
+    return newest, "file times", ""
