@@ -68,6 +68,13 @@ templates: setup
 grade: setup
 	@$(ENV) $(PY) -m hri_teleop.grading.cli batch $(or $(DIR),notebooks/submitted) --out $(or $(OUT),out/grades) $(if $(JOBS),--jobs $(JOBS)) $(if $(TIMEOUT),--timeout $(TIMEOUT)) $(if $(CHECKS),--checks $(CHECKS)) $(if $(STUDENT),--student $(STUDENT)) $(if $(LATE),--late $(LATE))
 
+# Gradescope (grading/README.md, section Gradescope): out/gradescope/autograder.zip with setup.sh and
+# run_autograder at its root, for a programming assignment on Gradescope's Ubuntu 22.04 base image.
+# CHECKS=a,b grades some of the checks (default: all), OUT=dir writes it elsewhere.
+.PHONY: gradescope
+gradescope: setup
+	@$(ENV) $(PY) -m hri_teleop.grading.gradescope build --out $(or $(OUT),out/gradescope) $(if $(CHECKS),--checks $(CHECKS))
+
 # Firmware (firmware/README.md): both Arduino sketches for the Uno with Debian's AVR
 # toolchain (flash and RAM use against 32 KB / 2 KB), and the simulated Uno (simavr) the
 # tests run the plain-serial sketch on. ROS_LIB=... points at a rosserial Arduino library;
