@@ -27,9 +27,10 @@ MAPPING: Dict[str, Tuple[str, float]] = {
     "hidden": ("takes the range from /max_sensor_force (hidden inputs, other values)", 5),
 }
 TELEOP: Dict[str, Tuple[str, float]] = {
-    "import": ("imports and builds Teleoperation(rate, k_trans, k_rot, k_gripper, deadzone)", 1),
+    # 0 points: the template already builds (the constructor is given); it gates the parts below.
+    "import": ("imports and builds Teleoperation(rate, k_trans, k_rot, k_gripper, deadzone)", 0),
     "gripper": ("gripper width: k_gripper / rate per tick while cross/circle is held, within 0..0.08 m", 3),
-    "twist": ("sticks -> cartesian_velocity with the dead zone and k_trans / k_rot", 3),
+    "twist": ("sticks -> cartesian_velocity with the dead zone and k_trans / k_rot", 4),
     "toggle": ("triangle toggles translation <-> rotation once per press", 2),
     "rumble": ("rumble from the mapped force, limited to 0..1", 2),
     "node_start": ("node: starts and subscribes /force_mapped (std_msgs/Float32)", 2),
