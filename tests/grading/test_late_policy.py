@@ -155,3 +155,15 @@ def test_the_submission_time_is_nbgraders_timestamp_else_the_newest_file_time(tm
     (nested / "task4" / "timestamp.txt").write_text("2026-12-01 23:59:00 +0100")
     assert submission_time(nested)[:2] == (DEADLINE, "timestamp.txt")
     assert submission_time(tmp_path / "empty")[2].startswith("no files in")
+
+
+def test_a_zone_name_on_python_38_asks_for_an_offset(monkeypatch):
+    import importlib.util
+
+    from hri_teleop.grading.batch import late
+
+    real = importlib.util.find_spec
+    monkeypatch.setattr(importlib.util, "find_spec", lambda name, *a: None if name == "zoneinfo" else real(name, *a))
+    monkeypatch.setattr(late, "_zone", lambda name: None)  # as on 3.8: no zoneinfo module
+    assert parse_when("2026-12-01 23:59 Europe/Berlin") == (
+        "zone names like 'Europe/Berlin' need Python 3.9 or later; write the offset instead, e.g. +01:00")

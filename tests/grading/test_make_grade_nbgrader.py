@@ -186,6 +186,9 @@ def test_make_grade_autogrades_an_nbgrader_course_in_parallel_and_survives_hosti
     from nbgrader.api import Gradebook
 
     submitted = _submissions(course, tmp_path)
+    for student, at in (("alice", "2026-12-01 22:59:01.000000 UTC"), ("bob", "2026-12-01 22:59:00.000000 UTC")):
+        (submitted / student / ASSIGNMENT / "timestamp.txt").write_text(at)  # as nbgrader collect writes it
+    (course / "late.yaml").write_text(f'deadline: {{{ASSIGNMENT}: "2026-12-01 23:59 Europe/Berlin"}}\nper_day: 10%\n')
     out = tmp_path / "grades"
     held: list = []
     locker = []
@@ -274,6 +277,28 @@ def test_make_grade_autogrades_an_nbgrader_course_in_parallel_and_survives_hosti
         ex04 = (course / "autograded" / student / ASSIGNMENT / "ex04_robot_params.ipynb").read_text()
         assert REUSED_NOTE[:60] in ex04, student
 
+    # the class report, lms.csv and the late policy (alice a second late: 10 % of the points; bob on time)
+    rows = {row["student"]: row for row in csv.DictReader(open(out / "grades.csv"))}
+    assert (rows["alice"]["late_penalty"], rows["bob"]["late_penalty"]) == (f"{0.1 * total:g}", "0")
+    assert float(rows["alice"]["total"]) == pytest.approx(auto - 0.1 * total) and rows["ada"]["total"] == ""
+    assert "Task 4 total" in (out / "lms.csv").read_text().splitlines()[0]
+    late = f"late policy, {ASSIGNMENT}: submitted 2026-12-01 23:59:01+01:00 (timestamp.txt), 1 s after the deadline"
+    assert (out / "alice" / "feedback.txt").read_text().startswith(late), (out / "alice" / "feedback.txt").read_text()
+    for name in NOTEBOOKS:  # nbgrader's HTML feedback carries the line too
+        assert late in (course / "feedback" / "alice" / ASSIGNMENT / f"{name}.html").read_text()
+    report = (out / "report.html").read_text()
+    for words in ("Not judged (3)", "<td>timeout</td>", "<td>kernel died</td>", "refused (link outside",
+                  f"{ASSIGNMENT}/ex04_robot_params:", "robot-params: loads", "Late submissions (1)"):
+        assert words in report, words
+
+    # STUDENT=bob: only bob's jobs run again; everyone else's rows, the report's other students stay
+    code, lines, stderr = _make_grade(submitted, out, STUDENT="bob", CHECKS="robot-params")
+    assert code == 0, "\n".join(lines) + stderr
+    assert sorted(line.split()[1] for line in lines if line.startswith("[")) == ["bob", "bob"], lines
+    again = {row["student"]: row for row in csv.DictReader(open(out / "grades.csv"))}
+    assert list(again) == students and all(again[s] == rows[s] for s in students if s != "bob")
+    assert again["bob"]["status"] == "graded" and "Not judged (3)" in (out / "report.html").read_text()
+
     # nothing of the hung submission is left: the process its kernel started in a session of its own neither
     escapee = int((tmp_path / "escapee.pid").read_text())
     assert not _alive(escapee), f"pid {escapee} (sleep 600 from ada's notebook) outlived grading"
@@ -306,6 +331,10 @@ def test_make_grade_names_what_is_wrong_with_the_course_in_one_line(course, tmp_
     # no submissions in it
     shutil.rmtree(broken / "submitted" / "alice")
     assert "no submission folders" in grade(broken / "submitted")
+    # a late.yaml beside the course that cannot be used: said before anything is graded
+    (broken / "late.yaml").write_text("deadline: 2026-12-01 23:59:00\nper_day: 10%\n")
+    stderr = grade(broken / "submitted")
+    assert f"{broken / 'late.yaml'}: deadline" in stderr and "no time zone" in stderr, stderr
     # DIR missing
     assert "nowhere: no such folder" in grade(tmp_path / "nowhere")
     for stderr in errors:  # one line of ours (make adds its own "Error" line)

@@ -10,6 +10,7 @@ from __future__ import annotations
 
 import difflib
 import importlib
+import importlib.util
 import math
 import os
 import re
@@ -209,6 +210,8 @@ def parse_when(value: object) -> Union[datetime, str]:
         return parsed if parsed.tzinfo is not None else "it has no time zone"
     head, _sep, name = text.rpartition(" ")
     zone = _zone(name) if head else None
+    if zone is None and head and "/" in name and importlib.util.find_spec("zoneinfo") is None:
+        return f"zone names like {name!r} need Python 3.9 or later; write the offset instead, e.g. +01:00"
     if zone is None:
         return f"cannot read the time zone {name!r}" if head else "it has no time zone"
     try:
