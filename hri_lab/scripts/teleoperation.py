@@ -24,6 +24,7 @@ from std_msgs.msg import Float32
 
 from hri_teleop.core.config import load_teleop_config
 from hri_teleop.core.gamepad import GamepadError, PadState, RumbleRequests
+from hri_teleop.core.gamepad.stale import StaleInputWatch
 from hri_teleop.core.joints import (
     CLEAR_MARGIN_RAD,
     JOINT_STATES_TIMEOUT_S,
@@ -131,6 +132,10 @@ class TeleoperationNode:
                                 script=pad_script or None, log=rospy.logwarn,
                                 clock=(lambda: self._ticks * self.dt_s) if pad_script else None)
         self.pad_watchdog = Watchdog(params.input_timeout_s)
+        # A real pad whose held stick reads bit for bit the same counts as lost (core.gamepad.stale);
+        # not a pad driven by code or sliders, whose exact values may rightly stay the same.
+        self.stale_watch = (StaleInputWatch(params.stale_input_timeout_s, params.deadzone, params.assignment.axes_used())
+                            if getattr(self.pad, "stale_input_watch", False) else None)
         # pad:=virtual without a script is driven by messages on ~virtual_joy (a notebook
         # widget, a test, `rosbag play` of a recorded /joy): its input is fresh only while
         # they keep coming, so the watchdog is fed by them, not by polling.
@@ -209,7 +214,8 @@ class TeleoperationNode:
         A failed read gives None and a disconnected reading is passed on as it is: the
         controller stops on both at once. A connected reading counts only while the input
         is fresh (the watchdog: fed by every good poll, or for the topic-driven virtual pad
-        by its messages); input older than input_timeout also gives None.
+        by its messages); input older than input_timeout also gives None, and so do readings
+        of a real pad frozen with a stick held for stale_input_timeout (core.gamepad.stale).
         """
         try:
             state = self.pad.poll()
@@ -224,7 +230,24 @@ class TeleoperationNode:
             self._poll_error_logged = False
         if state is not None and state.connected and self.pad_watchdog.is_stale(now):
             return None  # no fresh input for input_timeout: stop as for a lost pad
+        if self.stale_watch is not None and self._frozen(state, now):
+            return None
         return state
+
+    def _frozen(self, state: Optional[PadState], now: float) -> bool:
+        """The stale-input watchdog: True while a held stick's readings are frozen (one log line each way)."""
+        assert self.stale_watch is not None
+        was = self.stale_watch.stale
+        if self.stale_watch.update(state, now):
+            if not was:
+                rospy.logwarn("gamepad %r: its readings have not changed for %.1f s with a stick held "
+                              "(stale_input_timeout): a wireless link that dropped? Treating the pad as lost, the "
+                              "twist ramps to zero; move a stick, or reconnect the pad (a USB cable), to continue",
+                              getattr(self.pad, "name", "?"), self.stale_watch.timeout_s)
+            return True
+        if was:
+            rospy.loginfo("gamepad readings change again: teleoperation continues")
+        return False
 
     # -- one tick ---------------------------------------------------------------------
     def _robot_listens(self, now: float) -> bool:

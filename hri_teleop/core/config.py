@@ -21,7 +21,7 @@ from hri_teleop.core.gamepad import AUTO_LAYOUT, DEFAULT_LAYOUT, PAD_KINDS
 from hri_teleop.core.limits import DEFAULT_LIMITS, AxisLimits, CartesianLimits, LimitsError, TwistLimiter
 from hri_teleop.core.mapping import ADC_MAX_COUNT
 from hri_teleop.core.paths import LAB_CONFIG
-from hri_teleop.core.teleop import AxisAssignment, TeleopError, TeleopParams
+from hri_teleop.core.teleop import RUMBLE_MOTORS, AxisAssignment, TeleopError, TeleopParams
 from hri_teleop.core.yamlfile import read_yaml
 
 __all__ = [
@@ -60,19 +60,24 @@ _NUMBER_KEYS: Dict[str, Tuple[str, str]] = {
     "width_max": ("width_max_m", "largest gripper width in m"),
     "initial_width": ("initial_width_m", "gripper width at start in m"),
     "input_timeout": ("input_timeout_s", "seconds without pad input before stopping"),
+    "stale_input_timeout": ("stale_input_timeout_s", "seconds a held stick may read identical before the pad counts as lost, 0: off"),
+    "precision_scale": ("precision_scale", "gain factor while the precision button is held, 0..1"),
     "force_timeout": ("force_timeout_s", "seconds after which the mapped force is stale"),
     "rumble_threshold": ("rumble_threshold", "mapped force 0..1 below which the pad does not rumble"),
 }
 _STRING_KEYS = ("layout", "pad", "twist_topic")
+_CHOICE_KEYS = {"rumble_motors": ("rumble_motors", RUMBLE_MOTORS)}
 _BOOL_KEYS = {"feedback": ("feedback", "force feedback: true = the pad rumbles, false = it never does")}
 # ROS graph resource names: optional ~ or /, then segments that start with a letter.
 _ROS_NAME = re.compile(r"^[~/]?[A-Za-z][A-Za-z0-9_]*(/[A-Za-z][A-Za-z0-9_]*)*$")
 _BUTTON_ROLES = {"close": "close_button", "open": "open_button", "toggle": "toggle_button", "quit": "quit_button",
-                 "deadman": "deadman_button"}
+                 "deadman": "deadman_button", "precision": "precision_button"}
+_OPTIONAL_ROLES = ("deadman", "precision")
 _LIMIT_NAMES = ("velocity", "acceleration", "jerk")
 
 #: Every top-level key the teleop config may have.
-CONFIG_KEYS = tuple(sorted(list(_NUMBER_KEYS) + list(_STRING_KEYS) + list(_BOOL_KEYS) + ["limits", "axes", "buttons"]))
+CONFIG_KEYS = tuple(sorted(list(_NUMBER_KEYS) + list(_STRING_KEYS) + list(_BOOL_KEYS) + list(_CHOICE_KEYS)
+                           + ["limits", "axes", "buttons"]))
 
 
 class ConfigError(HriTeleopError, ValueError):
@@ -200,6 +205,13 @@ def teleop_config_from_dict(d: Mapping[str, Any], source: str = "<dict>") -> Tel
                                   f"write {key}: true or {key}: false, without quotes")
             kwargs[field_name] = d[key]
 
+    for key, (field_name, choices) in _CHOICE_KEYS.items():
+        if key in d:
+            if d[key] not in choices:
+                raise ConfigError(f"{source}: {key} must be one of {', '.join(choices)}, got {d[key]!r}; "
+                                  f"write e.g. {key}: {choices[0]}")
+            kwargs[field_name] = d[key]
+
     strings = {"layout": AUTO_LAYOUT, "pad": DEFAULT_PAD, "twist_topic": DEFAULT_TWIST_TOPIC}
     for key in _STRING_KEYS:
         if key in d:
@@ -218,8 +230,8 @@ def teleop_config_from_dict(d: Mapping[str, Any], source: str = "<dict>") -> Tel
         for role, value in roles.items():
             if role not in _BUTTON_ROLES:
                 raise _unknown(str(role), "buttons.", tuple(_BUTTON_ROLES), source)
-            if role == "deadman" and value in (None, "none", ""):
-                value = ""  # no dead-man switch (the handout's behaviour)
+            if role in _OPTIONAL_ROLES and value in (None, "none", ""):
+                value = ""  # no dead-man switch / precision button (the handout's behaviour)
             if not isinstance(value, str):
                 raise ConfigError(f"{source}: buttons.{role} must be a button name such as south, got {value!r}; write e.g. {role}: south")
             kwargs[_BUTTON_ROLES[role]] = value

@@ -17,6 +17,7 @@ from typing import Optional, Sequence, Tuple
 from hri_teleop.core.checks import is_finite_number
 from hri_teleop.core.errors import HriTeleopError
 from hri_teleop.core.gamepad import AXES, BUTTONS, PadState, normalize_analog_input
+from hri_teleop.core.gamepad.stale import STALE_INPUT_TIMEOUT_S
 from hri_teleop.core.limits import (
     DEFAULT_LIMITS,
     CartesianLimits,
@@ -37,6 +38,8 @@ __all__ = [
     "TeleopController",
     "next_tick_s",
     "combined_rumble",
+    "motor_rumble",
+    "RUMBLE_MOTORS",
     "check_extra_button",
     "recovery_refusal",
     "ButtonPress",
@@ -46,6 +49,10 @@ __all__ = [
 GRIPPER_MAX_WIDTH_M = 0.08
 
 _ZERO_TWIST: Twist = (0.0, 0.0, 0.0, 0.0, 0.0, 0.0)
+#: How the pad's two rumble motors are used (TeleopParams.rumble_motors; motor_rumble).
+RUMBLE_MOTORS = ("split", "combined")
+#: The buttons a configuration may leave out ("" = none).
+OPTIONAL_BUTTONS = ("deadman_button", "precision_button")
 
 
 class TeleopError(HriTeleopError, ValueError):
@@ -118,6 +125,11 @@ class AxisAssignment:
         """((axis or None, sign), ...) for x, y, z of ``mode``."""
         return tuple(_parse_source(e, f"axes.{Mode(mode).value}[{i}]") for i, e in enumerate(getattr(self, Mode(mode).value)))
 
+    def axes_used(self) -> Tuple[str, ...]:
+        """The pad axes that drive the twist in either mode, in AXES order."""
+        used = {axis for mode in Mode for axis, _sign in self.sources(mode) if axis is not None}
+        return tuple(a for a in AXES if a in used)
+
 
 DEFAULT_AXIS_ASSIGNMENT = AxisAssignment()
 
@@ -140,6 +152,9 @@ class TeleopParams:
     width_max_m: float = GRIPPER_MAX_WIDTH_M
     initial_width_m: float = GRIPPER_MAX_WIDTH_M
     input_timeout_s: float = 0.5  # pad silent/lost this long -> ramp to zero
+    # A held stick whose readings stay bit for bit the same this long -> the pad counts as lost
+    # (a wireless pad that dropped out without a removal event); 0 = off. core.gamepad.stale.
+    stale_input_timeout_s: float = STALE_INPUT_TIMEOUT_S
     force_timeout_s: float = 1.0  # mapped force older than this -> rumble 0 (> 3 periods of the handout's 300 ms firmware)
     rumble_threshold: float = 0.01  # mapped force at or below this -> no rumble (above ADC noise at rest: 7 of 700 counts)
     assignment: AxisAssignment = field(default_factory=AxisAssignment)
@@ -154,11 +169,18 @@ class TeleopParams:
     # Force feedback on (the lab) or off (the control condition of Ex. 14's experiment):
     # off, the pad never rumbles; everything else is the same.
     feedback: bool = True
+    # Optional precision button: while held, the gains k_trans and k_rot are scaled by
+    # precision_scale (through the limiter: a press ramps, never jumps). "" = none.
+    precision_button: str = ""
+    precision_scale: float = 0.3
+    # Two rumble motors: "split" = the force on the low-frequency (strong, left) motor, the joint
+    # warning on the high-frequency (weak, right) one; "combined" = both feel the larger (one motor).
+    rumble_motors: str = "split"
 
     def __post_init__(self) -> None:
         for f in fields(self):
             value = getattr(self, f.name)
-            if f.name == "assignment" or f.name.endswith("_button"):
+            if f.name in ("assignment", "rumble_motors") or f.name.endswith("_button"):
                 continue
             if f.name == "feedback":
                 if not isinstance(value, bool):
@@ -188,6 +210,13 @@ class TeleopParams:
         for name in ("input_timeout_s", "force_timeout_s"):
             if getattr(p, name) <= 0:
                 raise TeleopError(f"{name} must be > 0 s, got {getattr(p, name)!r}; e.g. 0.5")
+        if p.stale_input_timeout_s < 0:
+            raise TeleopError(f"stale_input_timeout_s must be >= 0 s (0: off), got {p.stale_input_timeout_s!r}; e.g. 1.0")
+        if not 0.0 < p.precision_scale <= 1.0:
+            raise TeleopError(f"precision_scale must be in (0, 1], got {p.precision_scale!r}; e.g. 0.3 (a third of the gains)")
+        if p.rumble_motors not in RUMBLE_MOTORS:
+            raise TeleopError(f"rumble_motors must be one of {', '.join(RUMBLE_MOTORS)}, got {p.rumble_motors!r}; "
+                              "split for a pad with two motors, combined for one")
         if not 0.0 <= p.rumble_threshold <= 1.0:
             raise TeleopError(f"rumble_threshold must be in [0, 1] (mapped force), got {p.rumble_threshold!r}; e.g. 0.05")
         if not isinstance(p.assignment, AxisAssignment):
@@ -196,12 +225,14 @@ class TeleopParams:
         for name in roles:
             if getattr(p, name) not in BUTTONS:
                 raise TeleopError(f"{name} must be a positional button name, got {getattr(p, name)!r}; use one of {', '.join(BUTTONS)}")
-        if p.deadman_button and p.deadman_button not in BUTTONS:
-            raise TeleopError(f"deadman_button must be empty or a positional button name, got {p.deadman_button!r}; "
-                              f"use one of {', '.join(BUTTONS)}, e.g. l1")
-        chosen = [getattr(p, name) for name in roles] + ([p.deadman_button] if p.deadman_button else [])
+        for name in ("deadman_button", "precision_button"):
+            if getattr(p, name) and getattr(p, name) not in BUTTONS:
+                raise TeleopError(f"{name} must be empty or a positional button name, got {getattr(p, name)!r}; "
+                                  f"use one of {', '.join(BUTTONS)}, e.g. l1")
+        chosen = [getattr(p, name) for name in roles + OPTIONAL_BUTTONS if getattr(p, name)]
         if len(set(chosen)) != len(chosen):
-            raise TeleopError(f"close, open, toggle, quit (and deadman) need different buttons, got {chosen}; change the buttons")
+            raise TeleopError(f"close, open, toggle, quit (and deadman, precision) need different buttons, got {chosen}; "
+                              "change the buttons")
 
     @property
     def gripper_step_m(self) -> float:
@@ -287,6 +318,8 @@ class TeleopController:
             return _ZERO_TWIST
         p = self._params
         gain = p.k_trans if self._mode is Mode.TRANSLATION else p.k_rot
+        if p.precision_button and pad.pressed(p.precision_button):
+            gain *= p.precision_scale
         values = []
         for axis, sign in p.assignment.sources(self._mode):
             if axis is None:
@@ -384,8 +417,30 @@ def combined_rumble(force_rumble: float, warning_rumble: float, stopping: bool, 
     """
     if stopping or not feedback:
         return 0.0
-    values = [min(1.0, max(0.0, float(v))) for v in (force_rumble, warning_rumble) if is_finite_number(v)]
-    return max(values, default=0.0)
+    return max(_unit(force_rumble), _unit(warning_rumble))
+
+
+def _unit(value: float) -> float:
+    """A rumble strength clipped to 0..1; anything but a finite number is 0."""
+    return min(1.0, max(0.0, float(value))) if is_finite_number(value) else 0.0
+
+
+def motor_rumble(force_rumble: float, warning_rumble: float, stopping: bool, feedback: bool = True,
+                 motors: str = "split") -> Tuple[float, float]:
+    """(low-frequency, high-frequency) motor strengths 0..1: the two signals kept apart on a two-motor pad.
+
+    ``split``: the force on the strong, low-frequency (left) motor and the joint-limit warning on the
+    weak, high-frequency (right) one, so the operator can tell them apart; ``combined``: both motors
+    at :func:`combined_rumble` (a pad with one motor). Silent while stopping and with feedback off.
+    """
+    if motors not in RUMBLE_MOTORS:
+        raise TeleopError(f"motors must be one of {', '.join(RUMBLE_MOTORS)}, got {motors!r}; e.g. split")
+    if motors == "combined":
+        both = combined_rumble(force_rumble, warning_rumble, stopping, feedback)
+        return both, both
+    if stopping or not feedback:
+        return 0.0, 0.0
+    return _unit(force_rumble), _unit(warning_rumble)
 
 
 def recovery_refusal(twist: Sequence[float]) -> Optional[str]:
@@ -410,7 +465,7 @@ def check_extra_button(params: TeleopParams, button: str, role: str) -> str:
         raise TeleopError(f"{role} must be a positional button name, got {button!r}; use one of {', '.join(BUTTONS)}, "
                           "e.g. start")
     taken = {getattr(params, name): name[: -len("_button")] for name in
-             ("close_button", "open_button", "toggle_button", "quit_button", "deadman_button") if getattr(params, name)}
+             ("close_button", "open_button", "toggle_button", "quit_button") + OPTIONAL_BUTTONS if getattr(params, name)}
     if button in taken:
         raise TeleopError(f"{role} {button!r} is already the {taken[button]} button; choose another, e.g. start")
     return button

@@ -53,7 +53,8 @@ CORE_TESTS = ["test_fsr.py", "test_mapping.py", "test_limits.py", "test_teleop.p
               "test_grading_results.py", "test_grading_compare.py",
               "test_experiment.py", "test_experiment_stats.py", "test_paramfile.py",
               "test_experiment_tlx.py", "test_experiment_analysis.py", "test_bench_stats.py",
-              "test_checks_counts.py", "test_gamepad_browser.py"]
+              "test_checks_counts.py", "test_gamepad_browser.py", "test_gamepad_identify.py", "test_gamepad_stale.py",
+              "test_teleop_precision_motors.py"]
 
 
 @pytest.mark.skipif(not (REPO / ".venv38" / "bin" / "python").exists(),

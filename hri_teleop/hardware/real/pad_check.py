@@ -2,7 +2,8 @@
 
 Prints the pad's raw SDL indices next to the positional names the layout gives them, one
 line per change, so a new controller or driver can be checked (and a layout file written)
-in a minute. ``--rumble`` vibrates while a button is held; ``--list`` lists the layouts.
+in a minute. ``--rumble`` vibrates while a button is held; ``--list`` lists the layouts;
+``--stale`` reports the longest run of identical readings with a stick held (stale_input_timeout).
 """
 
 from __future__ import annotations
@@ -13,6 +14,7 @@ import time
 from typing import List, Optional
 
 from hri_teleop.core.gamepad.layout import AUTO_LAYOUT, available_layouts, load_layout
+from hri_teleop.core.gamepad.stale import StaleInputWatch
 from hri_teleop.core.gamepad.state import AXES, GamepadError
 from hri_teleop.hardware.real.pygame_pad import PygamePad
 
@@ -26,6 +28,10 @@ def _parser() -> argparse.ArgumentParser:
     parser.add_argument("--seconds", type=float, default=0.0, help="stop after this long (default: Ctrl-C)")
     parser.add_argument("--rumble", action="store_true", help="rumble while any mapped button is held")
     parser.add_argument("--list", action="store_true", help="list the shipped layouts and exit")
+    parser.add_argument("--stale", action="store_true",
+                        help="hold a stick still: report the longest run of identical readings (compare "
+                             "stale_input_timeout in teleop.yaml)")
+    parser.add_argument("--deadzone", type=float, default=0.1, help="with --stale: a stick beyond this is held")
     return parser
 
 
@@ -47,6 +53,8 @@ def main(argv: Optional[List[str]] = None) -> int:
     period = 1.0 / max(1.0, args.rate)
     end = time.monotonic() + args.seconds if args.seconds > 0 else None
     last = None
+    watch = StaleInputWatch(timeout_s=3600.0, deadzone=args.deadzone)  # only measures how long
+    longest_s = 0.0
     try:
         while end is None or time.monotonic() < end:
             raw = pad.read_raw()
@@ -63,6 +71,13 @@ def main(argv: Optional[List[str]] = None) -> int:
                     " ".join(held) or "-")
                 if args.rumble:
                     pad.rumble(1.0 if held else 0.0, 0.2)
+                if args.stale:
+                    watch.update(state, time.monotonic())
+                    run_s = watch.frozen_s(time.monotonic())
+                    if run_s > longest_s:
+                        if int(run_s * 10) > int(longest_s * 10):  # a line per 0.1 s more
+                            line = "longest run of identical readings with a stick held: %.1f s" % run_s
+                        longest_s = run_s
             if line != last:
                 print(line, flush=True)
                 last = line
@@ -71,6 +86,8 @@ def main(argv: Optional[List[str]] = None) -> int:
         pass
     finally:
         pad.close()
+    if args.stale:
+        print("longest run of identical readings with a stick held: %.2f s" % longest_s)
     return 0
 
 

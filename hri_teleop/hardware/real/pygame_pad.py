@@ -90,6 +90,9 @@ class PygamePad:
     falls back to the default layout with one log line; ``layout_reason`` says which it was.
     """
 
+    #: A hand on a real pad always trembles: identical held readings mean a frozen link (core.gamepad.stale).
+    stale_input_watch = True
+
     def __init__(self, layout: Union[Layout, str, None] = None, index: int = 0, *,
                  pygame_module: Any = None, joystick: Any = None,
                  log: Optional[Callable[[str], None]] = None, check_layout: bool = True) -> None:

@@ -13,6 +13,8 @@ from dataclasses import dataclass
 from pathlib import Path
 from typing import Any, Callable, Dict, List, Optional, Sequence, Tuple, Union
 
+import numpy
+
 from hri_teleop.core.checks import is_number
 from hri_teleop.core.gamepad.layout import Layout, as_layout
 from hri_teleop.core.gamepad.state import (
@@ -76,8 +78,12 @@ class VirtualPad:
     """A pad whose state is set by code; implements the Gamepad protocol.
 
     ``layout`` only matters for ``set_raw`` and for the node's /joy message (raw order);
-    the logical state does not depend on it.
+    the logical state does not depend on it. Values set by code (or a slider) are exact, so
+    identical readings say nothing of a lost link: ``stale_input_watch`` is False.
     """
+
+    #: Whether the node's stale-input watchdog applies (core.gamepad.stale): not to exact values.
+    stale_input_watch = False
 
     def __init__(self, layout: Union[Layout, str, None] = None, name: str = "virtual", *,
                  clock: Clock = time.monotonic) -> None:
@@ -172,7 +178,7 @@ class VirtualPad:
 
 @dataclass(frozen=True)
 class ScriptStep:
-    """One timed action: ``action`` is axis, press, release, tap, disconnect, reconnect, fail or recover.
+    """One timed action: ``action`` is axis, press, release, tap, disconnect, reconnect, fail, recover or freeze.
 
     ``hold_s``: how long a tap holds its buttons.  ``every_s``: a tap repeated this often
     until the rumble condition holds.  ``when``: the step waits for the condition, then
@@ -194,7 +200,7 @@ class ScriptStep:
         return bool(self.condition)
 
 
-_ACTIONS = ("axis", "press", "release", "tap", "disconnect", "reconnect", "fail", "recover")
+_ACTIONS = ("axis", "press", "release", "tap", "disconnect", "reconnect", "fail", "recover", "freeze")
 _OPTIONS = ("hold", "every", "until", "when", "above", "max_wait")
 _STEP_KEYS = ("t", "value") + _ACTIONS + _OPTIONS
 _CONDITIONS = ("rumble",)
@@ -344,6 +350,10 @@ class ScriptedPad(VirtualPad):
     The script's clock stops while a step waits for its condition (``when``/``until``):
     the steps after it keep their spacing from the moment the wait ends, whatever the wait
     took.  A wait that gives up after ``max_wait`` is recorded in ``timed_out``.
+    A script with a ``freeze`` step plays a hand on a wireless pad: every other poll its held
+    sticks read one float step nearer rest (a hand's tremor at the smallest step there is, which
+    moves no twist), until the freeze, from which the readings stay bit for bit the same (a link
+    that dropped without a removal event) up to the script's next step.
     """
 
     def __init__(self, steps: Union[Sequence[ScriptStep], str, Path],
@@ -361,6 +371,9 @@ class ScriptedPad(VirtualPad):
         self._release_at: Optional[float] = None  # elapsed time a tap lets go
         self._next_tap_at: Optional[float] = None  # repeated tap: elapsed time of the next decision
         self.taps = 0
+        self.stale_input_watch = any(step.action == "freeze" for step in self.steps)
+        self._frozen = False
+        self._polls = 0
         #: (script step number from 1, seconds waited) of every wait that gave up.
         self.timed_out: List[Tuple[int, float]] = []
         #: (script step number from 1, seconds waited) of every wait that ended by its condition.
@@ -447,7 +460,11 @@ class ScriptedPad(VirtualPad):
             self.start()
         assert self._start_s is not None
         self.advance(float(self._clock()) - self._start_s)
-        return super().poll()
+        state = super().poll()
+        self._polls += 1
+        if not self.stale_input_watch or self._frozen or self._polls % 2 or not state.connected:
+            return state
+        return PadState({a: float(numpy.nextafter(v, 0.0)) for a, v in state.axes.items()}, state.buttons, True)
 
     def _tap(self, step: ScriptStep, elapsed: float) -> None:
         for name in step.target:
@@ -457,6 +474,9 @@ class ScriptedPad(VirtualPad):
         self.taps += 1
 
     def _apply(self, step: ScriptStep, elapsed: float) -> None:
+        self._frozen = step.action == "freeze"  # until the next step
+        if step.action == "freeze":
+            return
         if step.action == "axis":
             self.set_axis(step.target[0], step.value)
         elif step.action == "press":
