@@ -18,9 +18,9 @@ from pathlib import Path
 from typing import List, Optional, Sequence
 
 from hri_teleop.core.paths import REPO as _REPO
-from hri_teleop.grading.batch.folders import BatchError, course_layout, grade_all
+from hri_teleop.grading.batch.folders import BatchError, course_layout, grade_all, refresh_folders
 from hri_teleop.grading.batch.late import LateError
-from hri_teleop.grading.batch.nbgrader_batch import grade_course
+from hri_teleop.grading.batch.nbgrader_batch import grade_course, refresh_course
 from hri_teleop.grading.cases.templates import TemplateError, generate_templates
 from hri_teleop.grading.cases.tracefiles import TRACE_DIR, write_traces
 from hri_teleop.grading.judge.checks import CHECKS, grade, grade_submission
@@ -61,6 +61,9 @@ def _parser() -> argparse.ArgumentParser:
                         "(default: 1800 for an nbgrader autograde, 600 for the files)")
     b.add_argument("--student", default=None,
                    help="regrade this student only (their folder's name); the others' rows in OUT are kept")
+    b.add_argument("--report-only", action="store_true",
+                   help="grade nothing: the late policy, grades.csv's totals, lms.csv and report.html again from OUT "
+                        "and nbgrader's gradebook (after grading by hand, or a changed late.yaml)")
     b.add_argument("--late", default=None, help="the late policy (default: late.yaml beside the course or in the "
                    "submissions folder, when there is one; format in grading/README.md)")
     t = sub.add_parser("traces", help="write the public reference traces")
@@ -109,6 +112,10 @@ def main(argv: Optional[List[str]] = None) -> int:
             folder = Path(args.path)
             late = Path(args.late) if args.late else None
             layout = course_layout(folder) if folder.is_dir() else None
+            if args.report_only:
+                if layout is not None:
+                    return refresh_course(layout[0], layout[1], Path(args.out), late=late)
+                return refresh_folders(folder, Path(args.out), late=late)
             if layout is not None:  # an nbgrader course: nbgrader's autograde beside the files' checks
                 return grade_course(layout[0], layout[1], Path(args.out), jobs=args.jobs, checks=checks,
                                     timeout_s=args.timeout, student=args.student, late=late)

@@ -118,7 +118,11 @@ def test_the_report_escapes_what_students_wrote_and_links_the_figures(tmp_path):
         StudentRecord("mallory", "not graded", (AssignmentScore(FILES_ONLY, None, None),), (job,), (job.message,))))
     page = write_report(tmp_path, results).read_text()
     assert evil not in page and "&lt;script&gt;" in page
-    assert "Not judged (1)" in page and 'href="mallory/grader.log"' in page and "No late policy" in page
+    assert "Not judged (1)" in page and 'href="./mallory/grader.log"' in page and "No late policy" in page
+    sneaky = Job("javascript:alert(1)", FILES_ONLY, "not graded", 1.0, "crash", "javascript:alert(1)/grader.log")
+    page = write_report(tmp_path, ClassResults("folders", (FILES_ONLY,), (StudentRecord(
+        sneaky.student, "not graded", (), (sneaky,)),))).read_text()
+    assert 'href="./javascript%3Aalert%281%29/grader.log"' in page
     assert (tmp_path / "report-scores.png").read_bytes()[:4] == b"\x89PNG"
     assert (tmp_path / "report-items.png").read_bytes()[:4] == b"\x89PNG"
 

@@ -108,6 +108,14 @@ def test_make_grade_grades_twenty_submissions_in_parallel_and_records_every_grad
     assert all(again[s] == rows[s] for s in rows if s != "student03")
     assert "student03,,,student03,,10" in (out / "lms.csv").read_text()
 
+    # REPORT=1 grades nothing: student04's new extension reaches grades.csv, lms.csv and the feedback
+    (submitted / "late.yaml").write_text(LATE_YAML + "  student04: 1\n")
+    code, stdout, stderr = _make_grade(submitted, out, "REPORT=1")
+    assert code == 0 and not [line for line in stdout.splitlines() if line.startswith("[")], stdout + stderr
+    refreshed = {r["student"]: r for r in csv.DictReader(open(out / "grades.csv"))}
+    assert (refreshed["student04"]["late_penalty"], refreshed["student04"]["total"]) == ("0", "10")
+    assert "your extension" in (out / "student04" / "feedback.txt").read_text()
+
     code, stdout, stderr = _make_grade(submitted, out, "STUDENT=student3")
     mine = [line for line in stderr.splitlines() if line.startswith("hri-grade")]
     assert code == 2 and len(mine) == 1 and "did you mean student13, student03" in mine[0], stderr

@@ -299,6 +299,19 @@ def test_make_grade_autogrades_an_nbgrader_course_in_parallel_and_survives_hosti
     assert list(again) == students and all(again[s] == rows[s] for s in students if s != "bob")
     assert again["bob"]["status"] == "graded" and "Not judged (3)" in (out / "report.html").read_text()
 
+    # graded by hand (a written answer of alice's at full points), then REPORT=1: nothing graded, her score updated
+    with Gradebook(f"sqlite:///{course / 'gradebook.db'}", "hri-task4-teleoperation") as gb:
+        manual = next(g for n in gb.find_submission(ASSIGNMENT, "alice").notebooks for g in n.grades
+                      if g.auto_score is None)
+        manual.manual_score, by_hand = manual.max_score, manual.max_score
+        gb.db.commit()
+    code, lines, stderr = _make_grade(submitted, out, REPORT="1")
+    assert code == 0 and not [line for line in lines if line.startswith("[")], "\n".join(lines) + stderr
+    after = {row["student"]: row for row in csv.DictReader(open(out / "grades.csv"))}
+    assert float(after["alice"][f"{ASSIGNMENT}_score"]) == auto + by_hand
+    assert float(after["alice"]["total"]) == pytest.approx(auto + by_hand - 0.1 * total)
+    assert after["bob"] == again["bob"]
+
     # nothing of the hung submission is left: the process its kernel started in a session of its own neither
     escapee = int((tmp_path / "escapee.pid").read_text())
     assert not _alive(escapee), f"pid {escapee} (sleep 600 from ada's notebook) outlived grading"

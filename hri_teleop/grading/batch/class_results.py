@@ -23,7 +23,7 @@ from hri_teleop.grading.batch.report_data import (
     StudentRecord,
 )
 
-__all__ = ["read_class", "notebook_parts", "write_rows", "write_summary", "read_summary"]
+__all__ = ["read_class", "notebook_parts", "write_rows", "update_rows", "write_summary", "read_summary"]
 
 _FILES = "hri_lab"   # the label of a files job in course mode (nbgrader_batch)
 
@@ -62,6 +62,24 @@ def write_rows(path: Path, columns: Sequence[str], rows: Sequence[Dict[str, str]
         writer = csv.DictWriter(fh, fieldnames=header, restval="")
         writer.writeheader()
         writer.writerows(merged)
+
+
+def update_rows(path: Path, updates: Sequence[Dict[str, str]], new_columns: Sequence[str] = ()) -> None:
+    """grades.csv with the given cells of each student's row replaced (other cells and rows as they were);
+    ``new_columns`` go last (added when missing)."""
+    if not path.is_file():
+        return
+    with open(path, newline="", encoding="utf-8") as fh:
+        reader = csv.DictReader(fh)
+        header = [c for c in reader.fieldnames or () if c not in new_columns] + list(new_columns)
+        rows = list(reader)
+    by_student = {u["student"]: u for u in updates}
+    for row in rows:
+        row.update({k: v for k, v in by_student.get(row.get("student", ""), {}).items() if k in header})
+    with open(path, "w", newline="", encoding="utf-8") as fh:
+        writer = csv.DictWriter(fh, fieldnames=header, restval="")
+        writer.writeheader()
+        writer.writerows(rows)
 
 
 def _parts_of(results_json: Path) -> List[PartResult]:

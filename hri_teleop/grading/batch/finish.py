@@ -7,13 +7,12 @@ line goes into the student's feedback, and grades.csv gains the points taken and
 
 from __future__ import annotations
 
-import csv
 import html
 import re
 from pathlib import Path
 from typing import Any, Callable, Dict, List, Optional, Sequence, Tuple
 
-from hri_teleop.grading.batch.class_results import read_class, read_summary, write_summary
+from hri_teleop.grading.batch.class_results import read_class, read_summary, update_rows, write_summary
 from hri_teleop.grading.batch.late import (
     FEEDBACK_PREFIX,
     LATE_FILE,
@@ -119,22 +118,12 @@ def _number(value: Optional[float]) -> str:
 
 def add_totals(path: Path, results: ClassResults) -> None:
     """grades.csv's ``late_penalty`` (points taken) and ``total`` (after it; blank when not graded) per student."""
-    if not path.is_file():
-        return
-    with open(path, newline="", encoding="utf-8") as fh:
-        reader = csv.DictReader(fh)
-        header = [c for c in reader.fieldnames or () if c not in TOTAL_COLUMNS] + list(TOTAL_COLUMNS)
-        rows = list(reader)
-    records = {s.student: s for s in results.students}
-    for row in rows:
-        record = records.get(row.get("student", ""))
-        penalty = sum(a.penalty for a in record.assignments if a.score is not None) if record else 0.0
-        row["late_penalty"] = _number(penalty) if record and record.late else ""
-        row["total"] = _number(record.total) if record else ""
-    with open(path, "w", newline="", encoding="utf-8") as fh:
-        writer = csv.DictWriter(fh, fieldnames=header, restval="")
-        writer.writeheader()
-        writer.writerows(rows)
+    rows = []
+    for record in results.students:
+        penalty = sum(a.penalty for a in record.assignments if a.score is not None)
+        rows.append({"student": record.student, "late_penalty": _number(penalty) if record.late else "",
+                     "total": _number(record.total)})
+    update_rows(path, rows, TOTAL_COLUMNS)
 
 
 def finish(out: Path, policy: Optional[LatePolicy], folder_of: Callable[[str, str], Path],

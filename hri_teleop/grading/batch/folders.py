@@ -20,7 +20,7 @@ from pathlib import Path
 from typing import Dict, List, Optional, Sequence, Tuple
 
 from hri_teleop.core.errors import HriTeleopError
-from hri_teleop.grading.batch.class_results import write_rows, write_summary
+from hri_teleop.grading.batch.class_results import read_summary, write_rows, write_summary
 from hri_teleop.grading.batch.finish import check_policy, find_late_policy, finish
 from hri_teleop.grading.batch.report_data import FILES_ONLY
 from hri_teleop.grading.judge import reuse
@@ -36,7 +36,8 @@ from hri_teleop.grading.run.jobs import (
 )
 from hri_teleop.grading.run.sandbox import sandbox_mode
 
-__all__ = ["BatchError", "Outcome", "submissions_in", "select_student", "grade_one", "live_graph_cache", "course_layout", "grade_all"]
+__all__ = ["BatchError", "Outcome", "submissions_in", "select_student", "grade_one", "live_graph_cache", "course_layout", "grade_all",
+           "refresh_folders"]
 
 PER_SUBMISSION_TIMEOUT_S = 600.0    # hri-grade submission: one student's files
 
@@ -203,6 +204,18 @@ def grade_all(folder: Path, out: Path, jobs: Optional[int] = None, checks: Optio
     progress(f"graded {len(ordered) - len(failed)}/{len(ordered)} in {time.monotonic() - started:.0f} s; "
              f"results in {out} (grades.csv, report.html, lms.csv, <student>/feedback.txt)")
     return 2 if failed else 0
+
+
+def refresh_folders(folder: Path, out: Path, progress: Progress = print_line, late: Optional[Path] = None) -> int:
+    """``make grade REPORT=1`` on plain folders: nothing graded; the late policy, totals, lms.csv, report again."""
+    folder = Path(folder)
+    policy = find_late_policy(late, folder)
+    check_policy(policy, [FILES_ONLY])
+    if not read_summary(out):
+        raise BatchError(f"{out}: no results of make grade in it (summary.json); run make grade first, "
+                         "or give its folder with OUT=...")
+    finish(out, policy, lambda name, _assignment: folder / name, progress=progress)
+    return 0
 
 
 if __name__ == "__main__":  # ``python -m hri_teleop.grading.batch.folders reap -- COMMAND...``: the reaper of jobs.py

@@ -27,7 +27,7 @@ from traitlets.config import Config
 from traitlets.config.loader import ConfigFileNotFound, PyFileConfigLoader
 
 from hri_teleop.grading.batch.assignments import ASSIGNMENT_CHECKS, ASSIGNMENTS, nbgrader_env
-from hri_teleop.grading.batch.class_results import read_summary, write_rows, write_summary
+from hri_teleop.grading.batch.class_results import read_summary, update_rows, write_rows, write_summary
 from hri_teleop.grading.batch.finish import check_policy, find_late_policy, finish
 from hri_teleop.grading.batch.folders import (
     PER_SUBMISSION_TIMEOUT_S,
@@ -45,7 +45,8 @@ from hri_teleop.grading.run.jobs import Progress, job_count, print_line, run_all
 from hri_teleop.grading.run.sandbox import sandbox_mode
 from hri_teleop.ros.kernel import install_kernelspec, ipc_kernel_argv
 
-__all__ = ["BatchError", "JobOutcome", "course_layout", "course_submissions", "grade_course", "nbgrader_job_env"]
+__all__ = ["BatchError", "JobOutcome", "course_layout", "course_submissions", "grade_course", "refresh_course",
+           "nbgrader_job_env"]
 
 _NOTEBOOK_TIMEOUT_S = 1800.0        # nbgrader autograde of one (student, assignment); a cell has 300 s of its own
 _DB_BUSY_TIMEOUT_S = 60             # SQLite busy timeout of every nbgrader process
@@ -312,6 +313,15 @@ def _autograde_in(course: _Course, student: str, assignment: str, out: Path, tim
     return JobOutcome(student, assignment, "notebooks", 0.0, 0.0, "not graded", seconds, _failure_reason(log))
 
 
+def autograde_one(course_root: Path, student: str, assignment: str, out: Path, timeout_s: float,
+                  progress: Progress = print_line) -> JobOutcome:
+    """nbgrader autograde of one student's one assignment in the course folder ``course_root`` (its
+    ``submitted/<student>/<assignment>/`` and gradebook), as make grade runs it (the Gradescope autograder)."""
+    course = _open_course(course_root, course_root / "submitted", [assignment])
+    out.mkdir(parents=True, exist_ok=True)
+    return _autograde(course, student, assignment, out, timeout_s, threading.Lock(), progress)
+
+
 def _grade_files(course: _Course, student: str, assignment: str, out: Path, checks: Sequence[str],
                  graph_cache: Optional[Path], timeout_s: float, results_dir: Optional[Path] = None) -> JobOutcome:
     o = grade_one(course.submitted / student / assignment, out, graph_cache, checks, timeout_s, results_dir)
@@ -486,3 +496,41 @@ def grade_course(course: Path, submitted: Path, out: Path, jobs: Optional[int] =
              "<student>/feedback.txt)"
              + (f"; {len(manual)} with answers to grade by hand (nbgrader formgrader)" if manual else ""))
     return 2 if not_graded else 0
+
+
+def refresh_course(course: Path, submitted: Path, out: Path, progress: Progress = print_line,
+                   late: Optional[Path] = None) -> int:
+    """``make grade REPORT=1``: nothing graded; the gradebook's scores now (after grading by hand) into
+    OUT's summary.json and grades.csv, then the late policy, totals, lms.csv and report.html again."""
+    course, submitted, out = Path(course).resolve(), Path(submitted).resolve(), Path(out).resolve()
+    policy = find_late_policy(late, course)
+    entries = read_summary(out)
+    if not entries:
+        raise BatchError(f"{out}: no results of make grade in it (summary.json); run make grade first, "
+                         "or give its folder with OUT=...")
+    assignments = _assignment_order(sorted({str(j["assignment"]) for e in entries for j in e.get("jobs", ())}))
+    check_policy(policy, assignments)
+    nb = _open_course(course, submitted, assignments)
+    lock = threading.Lock()
+    for entry in entries:
+        for job in entry.get("jobs", ()):
+            if job["kind"] == "notebooks" and job["status"] == "graded":
+                job["score"], job["max_score"], job["needs_manual_grade"] = _submission_score(
+                    nb, lock, str(entry["student"]), str(job["assignment"]))
+    write_summary(out, entries)
+    rows = []
+    for entry in entries:
+        graded = {j["assignment"]: j for j in entry.get("jobs", ()) if j["kind"] == "notebooks"
+                  and j["status"] == "graded"}
+        row = {"student": str(entry["student"]),
+               "needs_manual_grade": " ".join(a for a, j in sorted(graded.items()) if j["needs_manual_grade"])}
+        for assignment, job in graded.items():
+            row[f"{assignment}_score"], row[f"{assignment}_max"] = _fmt(job["score"]), _fmt(job["max_score"])
+        if graded:
+            row["notebooks_score"] = _fmt(sum(float(j["score"]) for j in graded.values()))
+            row["notebooks_max"] = _fmt(sum(float(j["max_score"]) for j in graded.values()))
+        rows.append(row)
+    update_rows(out / "grades.csv", rows)
+    finish(out, policy, lambda name, assignment: submitted / name / assignment, assignments, (nb.db_url, nb.course_id),
+           lambda name, assignment: course / "feedback" / name / assignment, progress)
+    return 0

@@ -9,6 +9,7 @@ from __future__ import annotations
 
 import html
 import time
+import urllib.parse
 from datetime import datetime
 from pathlib import Path
 from typing import List, Sequence
@@ -51,7 +52,11 @@ def _table(header: Sequence[str], rows: Sequence[Sequence[str]], numeric: Sequen
 
 
 def _link(where: str) -> str:
-    return f'<a href="{_e(where)}">{_e(where)}</a>' if where else ""
+    """A link to a log; a relative one starts with ./ so that a student id like ``javascript:...`` stays a path."""
+    if not where:
+        return ""
+    href = urllib.parse.quote(where if where.startswith("/") else f"./{where}")
+    return f'<a href="{_e(href)}">{_e(where)}</a>'
 
 
 def _scores(results: ClassResults, out: Path) -> str:
