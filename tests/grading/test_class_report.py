@@ -186,3 +186,11 @@ def test_feedback_lines_and_html_blocks_replace_the_earlier_ones(tmp_path):
     text = page.read_text()
     assert text.count("hri-late-policy") == 1 and "2 days &lt;late&gt;" in text
     assert text.index("hri-late-policy") < text.index("<h1>")
+
+
+def test_a_student_not_graded_now_adds_no_stale_parts_to_the_item_analysis(tmp_path):
+    out, _submitted = _folders_out(tmp_path)
+    write_summary(out, [{"student": "bob", "score": 0.0, "max_score": 0.0, "status": "not graded", "seconds": 600.0,
+                         "message": "grading took longer than 600 s"}], {"bob"})  # his results.json is a run before
+    rates = item_rates(read_class(out).students)
+    assert [(r.item, r.n) for r in rates] == [("robot-params: loads", 1)]

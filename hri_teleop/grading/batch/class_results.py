@@ -140,8 +140,8 @@ def _folder_student(out: Path, entry: Dict[str, Any]) -> StudentRecord:
                             _penalty(late, FILES_ONLY, maximum) if graded else 0.0)
     job = Job(student, FILES_ONLY, status, float(entry.get("seconds", 0.0)), str(entry.get("message", "")),
               f"{student}/grader.log")
-    return StudentRecord(student, status, (score,), (job,), (job.message,) if not graded else (),
-                         tuple(_parts_of(out / student / "results.json")), late)
+    parts = tuple(_parts_of(out / student / "results.json")) if graded else ()  # none stale from a run before
+    return StudentRecord(student, status, (score,), (job,), (job.message,) if not graded else (), parts, late)
 
 
 def _course_student(out: Path, entry: Dict[str, Any], assignments: Sequence[str],
@@ -149,8 +149,9 @@ def _course_student(out: Path, entry: Dict[str, Any], assignments: Sequence[str]
     student = str(entry["student"])
     late = _late(entry)
     jobs, scores = [], []
-    parts = _parts_of(out / student / "results.json")
     by_key = {(j["assignment"], j["kind"]): j for j in entry.get("jobs", ())}
+    files_ok = all(j["status"] == "graded" for (_a, kind), j in by_key.items() if kind == "files")
+    parts = _parts_of(out / student / "results.json") if files_ok else []  # none stale from a run before
     for assignment in assignments:
         for kind, label, log in (("files", f"{assignment}/{_FILES}", "grader.log"),
                                  ("notebooks", assignment, "autograde.log")):
