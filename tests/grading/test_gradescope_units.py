@@ -8,9 +8,11 @@ from pathlib import Path
 
 import pytest
 
+from hri_teleop.core.paths import REPO
 from hri_teleop.grading.gradescope.build import build_zip
 from hri_teleop.grading.gradescope.container import CONFIG_NAME, Config, load_config, seed_from_metadata
 from hri_teleop.grading.gradescope.layout import find_upload
+from hri_teleop.grading.gradescope.notebooks import without_solutions
 from hri_teleop.grading.gradescope.report import (
     HIDDEN_INPUT_PARTS,
     Unjudged,
@@ -188,3 +190,78 @@ def test_the_zip_has_both_scripts_at_its_root_and_no_answer_key(tmp_path):
     assert "tools/setup.sh" in infos and "grading/traces/mapping_public.bag" in infos
     assert not [n for n in infos if n.startswith(("solutions/", "tests/")) or "__pycache__" in n]
     assert build_zip(tmp_path / "again", ["robot-params", "graph"]).read_bytes() == target.read_bytes()
+
+
+# -- the course's notebooks ---------------------------------------------------------------------
+
+def _solution_answers(notebook: dict) -> set:
+    """Lines only the answers of the notebook's solution cells have (not also in its other cells)."""
+    answers, others = set(), set()
+    for cell in notebook["cells"]:
+        text = "".join(cell["source"]) if isinstance(cell["source"], list) else cell["source"]
+        meta = cell.get("metadata", {}).get("nbgrader", {})
+        lines = [line.strip() for line in text.split("\n")]
+        if meta.get("solution") and "BEGIN SOLUTION" in text:
+            inside = False
+            for line in lines:
+                if "SOLUTION" in line:
+                    inside = "BEGIN SOLUTION" in line
+                elif inside:
+                    answers.add(line)
+                else:
+                    others.add(line)
+        elif meta.get("solution"):
+            answers.update(lines)
+        else:
+            others.update(lines)
+    return {line for line in answers - others if len(line) > 3}
+
+
+def test_the_zip_carries_every_course_notebook_with_its_tests_and_none_of_its_answers(tmp_path):
+    target = build_zip(tmp_path, ["robot-params"])
+    sources = sorted((REPO / "notebooks" / "source").glob("*/*.ipynb"))
+    with zipfile.ZipFile(target) as zf:
+        shipped = {n: zf.read(n).decode() for n in zf.namelist() if n.startswith("course/source/")}
+        assert "course/nbgrader_config.py" in zf.namelist()
+    assert sorted(shipped) == [f"course/source/{p.parent.name}/{p.name}" for p in sources]
+    looked_for = 0
+    for path in sources:
+        source = json.loads(path.read_text())
+        text = shipped[f"course/source/{path.parent.name}/{path.name}"]
+        answers = _solution_answers(source)
+        looked_for += len(answers)
+        kept = json.loads(text)["cells"]
+        lines = {line.strip() for c in kept for line in "".join(c["source"]).split("\n")}
+        assert not answers & lines, f"{path.name} carries answers"
+        tests = [c["source"] for c in source["cells"] if c.get("metadata", {}).get("nbgrader", {}).get("grade")
+                 and not c["metadata"]["nbgrader"].get("solution")]
+        assert tests == [c["source"] for c in kept if c.get("metadata", {}).get("nbgrader", {}).get("grade")
+                         and not c["metadata"]["nbgrader"].get("solution")], f"{path.name}: its tests changed"
+    assert looked_for > 20
+
+
+def test_a_solution_region_keeps_its_markers_and_loses_its_lines_and_a_bare_answer_cell_empties():
+    cell = {"cell_type": "code", "outputs": [{"output_type": "stream", "text": "42"}], "execution_count": 3,
+            "metadata": {"nbgrader": {"solution": True, "grade_id": "a"}},
+            "source": "x = 1\n### BEGIN SOLUTION\nanswer = 42\n### END SOLUTION\ny = 2"}
+    text = {"cell_type": "markdown", "metadata": {"nbgrader": {"solution": True, "grade_id": "b"}},
+            "source": ["The rumble ", "saturates."]}
+    test = {"cell_type": "code", "outputs": [], "execution_count": None, "metadata": {"nbgrader": {"grade": True}},
+            "source": "assert answer == 42\n### BEGIN HIDDEN TESTS\nassert answer > 0\n### END HIDDEN TESTS"}
+    cells = without_solutions({"cells": [cell, text, test], "metadata": {}})["cells"]
+    assert cells[0]["source"] == "x = 1\n### BEGIN SOLUTION\n### END SOLUTION\ny = 2" and cells[0]["outputs"] == []
+    assert cells[1]["source"] == "" and cells[2] == test
+    assert cell["source"].count("42") == 1  # the original is left alone
+
+
+def test_notebook_tests_follow_the_checks_and_a_notebook_not_judged_is_named_first():
+    nb_test = {"name": "preparation/ex01_fsr_and_arduino.ipynb: ex1a_rate", "score": 0.0, "max_score": 1.0,
+               "status": "failed", "visibility": "visible", "output": "not judged"}
+    payload = results_payload([_result("robot-params")], notes=["a note"],
+                              notebook_tests={"preparation/ex01_fsr_and_arduino.ipynb": [nb_test]},
+                              notebooks_unjudged=[("preparation/ex01_fsr_and_arduino.ipynb", "it took too long")])
+    assert payload["tests"][-1]["name"] == nb_test["name"] and payload["tests"][-1]["number"] == "2.1"
+    assert payload["output"].splitlines()[0] == ("Not judged: preparation/ex01_fsr_and_arduino.ipynb (it took too "
+                                                 "long). Those parts show 0 until course staff regrade; you need "
+                                                 "not resubmit.")
+    assert payload["score"] == _result("robot-params").score

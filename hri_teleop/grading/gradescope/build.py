@@ -1,8 +1,9 @@
 """``make gradescope``: the autograder zip Gradescope takes (setup.sh and run_autograder at its root).
 
 The zip's root becomes /autograder/source: the two scripts, the assignment's settings
-(gradescope.json) and the toolkit's files the grader needs (the package, the lab's files,
-the public traces, the setup scripts). The answer key and the tests stay out of it.
+(gradescope.json), the toolkit's files the grader needs (the package, the lab's files, the
+public traces, the setup scripts) and the course's notebooks with their answers removed
+(course/, for uploaded notebooks). The answer key and the tests stay out of it.
 """
 
 from __future__ import annotations
@@ -14,6 +15,7 @@ from typing import Iterator, List, Sequence, Tuple
 
 from hri_teleop.core.paths import REPO
 from hri_teleop.grading.gradescope.container import CONFIG_NAME, Config
+from hri_teleop.grading.gradescope.notebooks import course_members
 from hri_teleop.grading.judge.checks import CHECKS
 from hri_teleop.grading.results import GradingError
 
@@ -42,10 +44,14 @@ def zip_members(repo: Path = REPO) -> Iterator[Tuple[Path, str]]:
 
 
 def _add(zf: zipfile.ZipFile, source: Path, name: str) -> None:
+    _add_bytes(zf, source.read_bytes(), name, 0o755 if source.stat().st_mode & 0o111 else 0o644)
+
+
+def _add_bytes(zf: zipfile.ZipFile, data: bytes, name: str, mode: int = 0o644) -> None:
     info = zipfile.ZipInfo(name, date_time=(2020, 1, 1, 0, 0, 0))  # the same bytes for the same files
-    info.external_attr = ((0o755 if source.stat().st_mode & 0o111 else 0o644) | 0o100000) << 16
+    info.external_attr = (mode | 0o100000) << 16
     info.compress_type = zipfile.ZIP_DEFLATED
-    zf.writestr(info, source.read_bytes())
+    zf.writestr(info, data)
 
 
 def build_zip(out_dir: Path, checks: Sequence[str] = tuple(CHECKS), repo: Path = REPO) -> Path:
@@ -65,5 +71,7 @@ def build_zip(out_dir: Path, checks: Sequence[str] = tuple(CHECKS), repo: Path =
         for source, name in zip_members(repo):
             _add(zf, source, name)
             names.append(name)
+        for name, data in course_members(repo / "notebooks"):
+            _add_bytes(zf, data, name)
     target.with_suffix(".tmp").replace(target)
     return target

@@ -3,7 +3,8 @@
 Paths are Gradescope's (/autograder/submission, /autograder/results/results.json); the checks and
 time limits come from gradescope.json in the autograder zip. The files are graded by one
 ``hri-grade submission`` process; when it times out or crashes, each check runs alone, so one
-check the grader could not finish costs nothing else and is named in the results' output.
+check the grader could not finish costs nothing else and is named in the results' output. The
+upload's notebooks of the course are then autograded by nbgrader (:mod:`.notebooks`).
 """
 
 from __future__ import annotations
@@ -20,6 +21,7 @@ from typing import Any, Dict, List, Optional, Sequence, Tuple
 
 from hri_teleop.grading.cases.inputs import seed_for
 from hri_teleop.grading.gradescope.layout import find_upload
+from hri_teleop.grading.gradescope.notebooks import COURSE, NOTEBOOKS_TIMEOUT_S, NotebookTests, grade_notebooks
 from hri_teleop.grading.gradescope.report import Unjudged, results_payload
 from hri_teleop.grading.judge.checks import CHECKS
 from hri_teleop.grading.results import CheckResult, GradingError
@@ -43,10 +45,11 @@ class Config:
     checks: Tuple[str, ...] = tuple(CHECKS)
     submission_timeout_s: float = SUBMISSION_TIMEOUT_S
     check_timeout_s: float = CHECK_TIMEOUT_S
+    notebooks_timeout_s: float = NOTEBOOKS_TIMEOUT_S
 
     def to_json(self) -> Dict[str, Any]:
         return {"checks": list(self.checks), "submission_timeout_s": self.submission_timeout_s,
-                "check_timeout_s": self.check_timeout_s}
+                "check_timeout_s": self.check_timeout_s, "notebooks_timeout_s": self.notebooks_timeout_s}
 
 
 def load_config(path: Path) -> Config:
@@ -57,7 +60,8 @@ def load_config(path: Path) -> Config:
         data = json.loads(path.read_text(encoding="utf-8"))
         checks = tuple(data.get("checks", CHECKS))
         config = Config(checks, float(data.get("submission_timeout_s", SUBMISSION_TIMEOUT_S)),
-                        float(data.get("check_timeout_s", CHECK_TIMEOUT_S)))
+                        float(data.get("check_timeout_s", CHECK_TIMEOUT_S)),
+                        float(data.get("notebooks_timeout_s", NOTEBOOKS_TIMEOUT_S)))
     except (ValueError, TypeError, AttributeError) as exc:
         raise GradingError(f"{path}: not a valid autograder config ({exc}); rebuild it with make gradescope") from exc
     load_config_checks(config, str(path))
@@ -106,14 +110,28 @@ def _hri_grade(package: Path, out: Path, checks: Sequence[str], seed: Optional[i
     return [CheckResult.from_dict(d) for d in json.loads(listing.read_text(encoding="utf-8"))], None
 
 
-def grade_upload(submission: Path, work: Path, config: Config, seed: Optional[int] = None) -> Dict[str, Any]:
-    """results.json's content for the upload in ``submission`` (scratch files under ``work``)."""
+def _notebooks(notebooks: Sequence[Path], package: Path, course: Optional[Path], work: Path,
+               timeout_s: float) -> NotebookTests:
+    """The course's notebooks of the upload graded; a failure of the grader is a "not judged" line, never a crash."""
+    if not notebooks or course is None or not course.is_dir():
+        return NotebookTests()
+    try:
+        return grade_notebooks(notebooks, package, course, work / "notebooks", timeout_s)
+    except Exception as exc:  # noqa: BLE001 - whatever stops nbgrader, the files' grades must still be written
+        print(f"run_autograder: grading the notebooks failed: {type(exc).__name__}: {exc}", flush=True)
+        names = ", ".join(p.name for p in notebooks[:6]) + (" ..." if len(notebooks) > 6 else "")
+        return NotebookTests(unjudged=[(names, f"the grader stopped with {type(exc).__name__}")])
+
+
+def grade_upload(submission: Path, work: Path, config: Config, seed: Optional[int] = None,
+                 course: Optional[Path] = None) -> Dict[str, Any]:
+    """results.json's content for the upload in ``submission`` (scratch files under ``work``).
+
+    ``course``: the zip's course folder; the upload's notebooks of that course are graded too.
+    """
     started = time.monotonic()
     upload = find_upload(submission, work)
     notes = list(upload.notes)
-    if upload.notebooks:
-        names = ", ".join(p.name for p in upload.notebooks[:6]) + (" ..." if len(upload.notebooks) > 6 else "")
-        notes.append(f"notebooks in the upload ({names}) are not graded here; course staff grade them with make grade")
     results, why = _hri_grade(upload.hri_lab, work / "out", config.checks, seed, config.submission_timeout_s,
                               work / "grader.log")
     unjudged: List[Unjudged] = []
@@ -125,7 +143,9 @@ def grade_upload(submission: Path, work: Path, config: Config, seed: Optional[in
             results += one
             if reason is not None:
                 unjudged.append(Unjudged(check, reason))
-    return results_payload(results, unjudged, notes, time.monotonic() - started, order=config.checks)
+    graded = _notebooks(upload.notebooks, upload.hri_lab, course, work, config.notebooks_timeout_s)
+    return results_payload(results, unjudged, notes + graded.notes, time.monotonic() - started, order=config.checks,
+                           notebook_tests=graded.tests, notebooks_unjudged=graded.unjudged)
 
 
 def main(argv: Optional[Sequence[str]] = None) -> int:
@@ -144,7 +164,7 @@ def main(argv: Optional[Sequence[str]] = None) -> int:
         seed = seed_from_metadata(root / "submission_metadata.json")
         if seed is None:  # not on Gradescope (a local try): one fixed seed, not one per scratch folder
             seed = seed_for(root / "submission")
-        payload = grade_upload(root / "submission", work, config, seed)
+        payload = grade_upload(root / "submission", work, config, seed, root / "source" / COURSE)
     except GradingError as exc:  # an upload that cannot be opened: one line for the student
         payload = {"score": 0.0, "tests": [], "visibility": "visible", "stdout_visibility": "hidden",
                    "output": f"Not graded: {exc}"}

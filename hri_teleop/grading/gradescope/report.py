@@ -9,7 +9,7 @@ the top-level ``output`` names it in one line, so neither a student nor the TA m
 from __future__ import annotations
 
 from dataclasses import dataclass
-from typing import Any, Dict, List, Sequence, Tuple
+from typing import Any, Dict, List, Mapping, Optional, Sequence, Tuple
 
 from hri_teleop.grading.judge.compare_common import GRAPH, MAPPING, SENSOR_LAUNCH, TELEOP, TELEOP_LAUNCH
 from hri_teleop.grading.judge.package_check import CATKIN_PACKAGE
@@ -57,12 +57,14 @@ def _unjudged_tests(item: Unjudged) -> List[Dict[str, Any]]:
 
 def results_payload(results: Sequence[CheckResult], unjudged: Sequence[Unjudged] = (),
                     notes: Sequence[str] = (), execution_time_s: float = 0.0,
-                    order: Sequence[str] = ()) -> Dict[str, Any]:
+                    order: Sequence[str] = (), notebook_tests: Optional[Mapping[str, Sequence[Dict[str, Any]]]] = None,
+                    notebooks_unjudged: Sequence[Tuple[str, str]] = ()) -> Dict[str, Any]:
     """results.json for Gradescope: ``results`` as graded, ``unjudged`` checks at 0, top-level output.
 
-    ``order`` lists the checks in the order students should see them (default: as given). The
-    output's first line names what was not judged; ``notes`` (where the package was found, the
-    checks' own notes) follow.
+    ``order`` lists the checks in the order students should see them (default: as given);
+    ``notebook_tests`` (notebook -> its tests) follow them. The output's first line names what
+    was not judged (``notebooks_unjudged``: (notebook, why)); ``notes`` (where the package was
+    found, the checks' own notes) follow.
     """
     payload = gradescope_json(results)
     by_name = iter(payload["tests"])
@@ -75,11 +77,15 @@ def results_payload(results: Sequence[CheckResult], unjudged: Sequence[Unjudged]
     for item in unjudged:
         grouped[item.check] = _unjudged_tests(item)
     checks = [c for c in order if c in grouped] + [c for c in grouped if c not in order]
+    for name, nb_tests in (notebook_tests or {}).items():
+        grouped[name] = [dict(t) for t in nb_tests]
+        checks.append(name)
     tests = [dict(test, number=f"{i}.{j}") for i, check in enumerate(checks, 1)
              for j, test in enumerate(grouped[check], 1)]
     lines: List[str] = []
-    if unjudged:
-        lines.append("Not judged: " + "; ".join(f"{u.check} (the grader {u.reason})" for u in unjudged)
+    if unjudged or notebooks_unjudged:
+        lines.append("Not judged: " + "; ".join([f"{u.check} (the grader {u.reason})" for u in unjudged]
+                                                + [f"{name} ({why})" for name, why in notebooks_unjudged])
                      + ". Those parts show 0 until course staff regrade; you need not resubmit.")
     lines.extend(dict.fromkeys(list(notes) + [n for r in results for n in r.notes]))
     out: Dict[str, Any] = {"score": round(sum(t["score"] for t in tests), 6), "tests": tests,

@@ -1,0 +1,219 @@
+"""The course's notebooks in a Gradescope upload: nbgrader's autograde, a test per autograded cell.
+
+The zip carries the source notebooks with their solution regions emptied (hidden tests kept), so
+no answer travels in it. run_autograder generates the assignment from them in a scratch course
+(the stubs come back as in the release), puts the student's notebooks beside their hri_lab and
+runs nbgrader's autograde as make grade does; the gradebook gives each cell's points.
+"""
+
+from __future__ import annotations
+
+import json
+import re
+import shutil
+import sys
+from dataclasses import dataclass, field
+from pathlib import Path
+from typing import Any, Dict, Iterator, List, Sequence, Tuple
+
+from hri_teleop.grading.batch.assignments import ASSIGNMENTS
+from hri_teleop.grading.batch.nbgrader_batch import autograde_one, nbgrader_job_env
+from hri_teleop.grading.results import GradingError
+from hri_teleop.grading.run.jobs import run_job
+
+__all__ = ["COURSE", "NOTEBOOKS_TIMEOUT_S", "NotebookTests", "course_members", "without_solutions",
+           "course_notebooks", "grade_notebooks"]
+
+#: The folder of the zip holding the course (nbgrader_config.py, source/<assignment>/*.ipynb).
+COURSE = "course"
+#: nbgrader autograde of one assignment's uploaded notebooks (each cell also has the course's 300 s).
+NOTEBOOKS_TIMEOUT_S = 600.0
+_STUDENT = "student"
+_HIDDEN = "BEGIN HIDDEN TESTS"
+_BEGIN, _END = "BEGIN SOLUTION", "END SOLUTION"  # nbgrader's delimiters: a line holding one
+_OUTPUT_CHARS = 1500
+_ANSI = re.compile(r"\x1b\[[0-9;]*m")
+
+
+def without_solutions(notebook: Dict[str, Any]) -> Dict[str, Any]:
+    """``notebook`` (nbformat JSON) with its solution cells' answers and every output removed.
+
+    A region between the markers keeps its markers and loses its lines; a solution cell without
+    markers becomes empty. nbgrader's generate_assignment puts the course's stubs back in both.
+    """
+    cells = []
+    for cell in notebook.get("cells", []):
+        cell = dict(cell)
+        meta = cell.get("metadata", {}).get("nbgrader", {})
+        if meta.get("solution"):
+            text = "".join(cell["source"]) if isinstance(cell["source"], list) else cell["source"]
+            if _BEGIN in text:
+                kept, inside = [], False
+                for line in text.split("\n"):
+                    if _BEGIN in line or _END in line:
+                        inside = _BEGIN in line
+                        kept.append(line)
+                    elif not inside:
+                        kept.append(line)
+                cell["source"] = "\n".join(kept)
+            else:
+                cell["source"] = ""
+        if cell.get("cell_type") == "code":
+            cell["outputs"], cell["execution_count"] = [], None
+        cells.append(cell)
+    return dict(notebook, cells=cells)
+
+
+def course_members(course_dir: Path) -> Iterator[Tuple[str, bytes]]:
+    """(name in the zip, bytes) of the course: its nbgrader_config.py and every source notebook, answers removed."""
+    yield f"{COURSE}/nbgrader_config.py", (course_dir / "nbgrader_config.py").read_bytes()
+    for assignment in ASSIGNMENTS:
+        for path in sorted((course_dir / "source" / assignment).glob("*.ipynb")):
+            try:
+                notebook = without_solutions(json.loads(path.read_text(encoding="utf-8")))
+            except (ValueError, KeyError, TypeError) as exc:
+                raise GradingError(f"{path}: not a notebook nbgrader can read ({exc}); fix it and build again") from exc
+            text = json.dumps(notebook, indent=1, sort_keys=True, ensure_ascii=False) + "\n"
+            yield f"{COURSE}/source/{assignment}/{path.name}", text.encode("utf-8")
+
+
+def course_notebooks(course: Path) -> Dict[str, str]:
+    """notebook name (no suffix) -> its assignment, for the course shipped in the zip (``course``)."""
+    return {path.stem: assignment for assignment in ASSIGNMENTS
+            for path in sorted((course / "source" / assignment).glob("*.ipynb"))}
+
+
+@dataclass
+class NotebookTests:
+    """Gradescope tests of the graded notebooks (notebook -> tests), the notebooks not judged and why, notes."""
+
+    tests: Dict[str, List[Dict[str, Any]]] = field(default_factory=dict)
+    unjudged: List[Tuple[str, str]] = field(default_factory=list)
+    notes: List[str] = field(default_factory=list)
+
+
+def _cells(path: Path) -> List[Dict[str, Any]]:
+    return list(json.loads(path.read_text(encoding="utf-8")).get("cells", []))
+
+
+def _manual_points(source: Path) -> float:
+    """The points of the notebook's answers nbgrader leaves to course staff (written answers)."""
+    return sum(float(c["metadata"]["nbgrader"].get("points", 0)) for c in _cells(source)
+               if c.get("metadata", {}).get("nbgrader", {}).get("grade")
+               and c["metadata"]["nbgrader"].get("solution"))
+
+
+def _autograded_cells(source: Path) -> List[Tuple[str, float, bool]]:
+    """(grade id, points, holds hidden tests) of the source notebook's autograded cells, in order."""
+    found = []
+    for cell in _cells(source):
+        meta = cell.get("metadata", {}).get("nbgrader", {})
+        if meta.get("grade") and not meta.get("solution") and cell.get("cell_type") == "code":
+            text = "".join(cell["source"]) if isinstance(cell["source"], list) else cell["source"]
+            found.append((str(meta["grade_id"]), float(meta.get("points", 0)), _HIDDEN in text))
+    return found
+
+
+def _cell_output(autograded: Path) -> Dict[str, str]:
+    """grade id -> what the autograded cell printed and the error it raised (ANSI colours removed)."""
+    outputs: Dict[str, str] = {}
+    if not autograded.is_file():
+        return outputs
+    for cell in _cells(autograded):
+        grade_id = cell.get("metadata", {}).get("nbgrader", {}).get("grade_id")
+        if not grade_id or cell.get("cell_type") != "code":
+            continue
+        parts = []
+        for out in cell.get("outputs", []):
+            if out.get("output_type") == "stream":
+                parts.append("".join(out.get("text", "")))
+            elif out.get("output_type") == "error":
+                parts.append(f"{out.get('ename', 'Error')}: {out.get('evalue', '')}")
+        text = _ANSI.sub("", "".join(p if p.endswith("\n") else p + "\n" for p in parts)).strip()
+        outputs[str(grade_id)] = text[-_OUTPUT_CHARS:]
+    return outputs
+
+
+def _tests(name: str, cells: Sequence[Tuple[str, float, bool]], scores: Dict[str, float],
+           outputs: Dict[str, str], not_judged: str = "") -> List[Dict[str, Any]]:
+    tests = []
+    for grade_id, points, hidden in cells:
+        score = 0.0 if not_judged else scores.get(grade_id, 0.0)
+        if not_judged:
+            output = f"not judged: {not_judged}; course staff will regrade it (no need to resubmit)"
+        elif score >= points:
+            output = outputs.get(grade_id, "") or "passed"
+        else:
+            output = ((outputs.get(grade_id, "") + "\n").lstrip() + "This cell checks the answers above it: fill "
+                      "them in, run the notebook from the top, and upload it again.")
+        tests.append({"name": f"{name}: {grade_id}", "score": score, "max_score": points,
+                      "status": "passed" if score >= points else "failed",
+                      "visibility": "after_published" if hidden else "visible", "output": output})
+    return tests
+
+
+def _scores(db: Path, assignment: str, notebook: str) -> Dict[str, float]:
+    from nbgrader.api import Gradebook  # noqa: PLC0415 - optional (not on Python 3.8): notebooks only
+
+    with Gradebook(f"sqlite:///{db}") as gb:
+        return {g.name: float(g.score) for g in gb.find_submission_notebook(notebook, assignment, _STUDENT).grades}
+
+
+def _generate(course: Path, assignment: str, log: Path) -> str:
+    """nbgrader generate_assignment in ``course``: "" or why it failed."""
+    argv = [sys.executable, "-m", "nbgrader", "generate_assignment", assignment, "--create", "--force",
+            f"--CourseDirectory.root={course}"]
+    run = run_job(argv, log, 300.0, cwd=course, env=nbgrader_job_env())
+    if run.returncode == 0 and not run.timed_out:
+        return ""
+    lines = log.read_text(encoding="utf-8", errors="replace").strip().splitlines()
+    return f"the course could not be prepared ({(lines[-1] if lines else 'no output')[:200]})"
+
+
+def grade_notebooks(notebooks: Sequence[Path], package: Path, shipped: Path, work: Path,
+                    timeout_s: float = NOTEBOOKS_TIMEOUT_S) -> NotebookTests:
+    """Autograde the course's notebooks among ``notebooks`` beside ``package`` (the course in ``shipped``)."""
+    result = NotebookTests()
+    known = course_notebooks(shipped)
+    chosen: Dict[str, Path] = {}
+    for path in sorted(notebooks, key=lambda p: (len(p.parts), str(p))):
+        if path.stem in known:
+            chosen.setdefault(path.stem, path)
+    ignored = sorted({p.name for p in notebooks if p.stem not in known})
+    if ignored:
+        result.notes.append(f"ignored {', '.join(ignored)}: not notebooks of the course (keep their names: "
+                            f"{', '.join(sorted(known)[:3])}, ...)")
+    course = work / "course"
+    for assignment in ASSIGNMENTS:
+        mine = {stem: path for stem, path in chosen.items() if known[stem] == assignment}
+        if not mine:
+            continue
+        if course.exists():
+            shutil.rmtree(course)
+        course.mkdir(parents=True)
+        shutil.copy(shipped / "nbgrader_config.py", course)
+        shutil.copytree(shipped / "source" / assignment, course / "source" / assignment)
+        cells = {stem: _autograded_cells(course / "source" / assignment / f"{stem}.ipynb") for stem in mine}
+        why = _generate(course, assignment, work / f"generate-{assignment}.log")
+        if not why:
+            folder = course / "submitted" / _STUDENT / assignment
+            folder.mkdir(parents=True)
+            for stem, path in mine.items():
+                shutil.copy(path, folder / f"{stem}.ipynb")
+            shutil.copytree(package, folder / "hri_lab", symlinks=True)
+            outcome = autograde_one(course, _STUDENT, assignment, work / f"autograde-{assignment}", timeout_s,
+                                    progress=lambda line: print(line, flush=True))
+            why = "" if outcome.status == "graded" else outcome.message
+        for stem in sorted(mine):
+            name = f"{assignment}/{stem}.ipynb"
+            manual = _manual_points(course / "source" / assignment / f"{stem}.ipynb")
+            if manual:
+                result.notes.append(f"{name}: {manual:g} more points of written answers are graded by course staff")
+            if why:
+                result.unjudged.append((name, why))
+                result.tests[name] = _tests(name, cells[stem], {}, {}, why)
+            else:
+                autograded = course / "autograded" / _STUDENT / assignment / f"{stem}.ipynb"
+                result.tests[name] = _tests(name, cells[stem], _scores(course / "gradebook.db", assignment, stem),
+                                            _cell_output(autograded))
+    return result
