@@ -322,15 +322,6 @@ def autograde_one(course_root: Path, student: str, assignment: str, out: Path, t
     return _autograde(course, student, assignment, out, timeout_s, threading.Lock(), progress)
 
 
-def autograde_one(course_root: Path, student: str, assignment: str, out: Path, timeout_s: float,
-                  progress: Progress = print_line) -> JobOutcome:
-    """nbgrader autograde of one student's one assignment in the course folder ``course_root`` (its
-    ``submitted/<student>/<assignment>/`` and gradebook), as make grade runs it (the Gradescope autograder)."""
-    course = _open_course(course_root, course_root / "submitted", [assignment])
-    out.mkdir(parents=True, exist_ok=True)
-    return _autograde(course, student, assignment, out, timeout_s, threading.Lock(), progress)
-
-
 def _grade_files(course: _Course, student: str, assignment: str, out: Path, checks: Sequence[str],
                  graph_cache: Optional[Path], timeout_s: float, results_dir: Optional[Path] = None) -> JobOutcome:
     o = grade_one(course.submitted / student / assignment, out, graph_cache, checks, timeout_s, results_dir)
