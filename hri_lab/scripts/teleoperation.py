@@ -20,10 +20,11 @@ import rosgraph
 import rospy
 from geometry_msgs.msg import Twist
 from sensor_msgs.msg import JointState, Joy
-from std_msgs.msg import Float32
+from std_msgs.msg import Bool, Float32
 
 from hri_teleop.core.config import load_teleop_config
 from hri_teleop.core.gamepad import GamepadError, PadState, RumbleRequests
+from hri_teleop.core.gamepad.rumble import RUMBLE_CHECK_LEVEL, RUMBLE_CHECK_S, rumble_refused
 from hri_teleop.core.gamepad.stale import StaleInputWatch
 from hri_teleop.core.joints import (
     CLEAR_MARGIN_RAD,
@@ -44,7 +45,7 @@ from hri_teleop.core.teleop import (
     TeleopController,
     TeleopError,
     check_extra_button,
-    combined_rumble,
+    motor_rumble,
     next_tick_s,
     recovery_refusal,
 )
@@ -63,7 +64,8 @@ from hri_teleop.ros.params import fail, get_param, package_file, private_params,
 #: Private parameters of this node that are not part of the teleop configuration.
 NODE_ONLY_KEYS = ("config", "pad_script", "pad_index", "stop_timeout_s", "script_wait_s", "rumble_log",
                   "joint_states_topic", "joint_states_timeout_s", "joint_warning_margin_rad", "joint_warning_clear_rad",
-                  "joint_warning_rumble", "joint_warning_pulse_s", "recover_button", "error_recovery_action")
+                  "joint_warning_rumble", "joint_warning_pulse_s", "recover_button", "error_recovery_action",
+                  "rumble_check_s", "rumble_check_level")
 #: The joint warning's parameters: node parameter -> (core argument, default).
 JOINT_WARNING_PARAMS = {"joint_warning_margin_rad": ("warn_margin_rad", WARNING_MARGIN_RAD),
                         "joint_warning_clear_rad": ("clear_margin_rad", CLEAR_MARGIN_RAD),
@@ -158,6 +160,7 @@ class TeleoperationNode:
         self.width_pub = rospy.Publisher("gripper_width", Float32, queue_size=1)
         self.joy_pub = rospy.Publisher("joy", Joy, queue_size=1)
         self.rumble_pub = rospy.Publisher("~rumble", Float32, queue_size=1)
+        self.rumble_ok_pub = rospy.Publisher("~rumble_ok", Bool, queue_size=1, latch=True)
         self.force_sub = rospy.Subscriber("force_mapped", Float32, self.on_force, queue_size=1)
 
         # Before a joint limit: a warning from the robot's joint states (logged, and a pulse on the pad).
@@ -181,12 +184,28 @@ class TeleoperationNode:
         self.recovery = ErrorRecoveryRequester(topics["error_recovery_action"])
         self.joint_states_sub = rospy.Subscriber(topics["joint_states_topic"], JointState, self.on_joint_states,
                                                  queue_size=1)
+        self._check_rumble(name)
         rospy.loginfo(
             "teleoperation at %.0f Hz: pad %s (%s, layout %s: %s), twist on %s, k_trans %.3f m/s, "
             "k_rot %.3f rad/s, k_gripper %.3f m/s (config %s)", params.rate_hz, self.config.pad,
             getattr(self.pad, "name", "?"), self.pad.layout.name,
             getattr(self.pad, "layout_reason", "set by the configuration"), self.twist_pub.resolved_name,
             params.k_trans, params.k_rot, params.k_gripper, self.config_path or "built-in defaults")
+
+    def _check_rumble(self, name: str) -> None:
+        """A short rumble at start: refused -> one line with cause and fix; ~rumble_ok (latched) says which."""
+        duration_s = get_param("~rumble_check_s", RUMBLE_CHECK_S, kind=float)
+        level = get_param("~rumble_check_level", RUMBLE_CHECK_LEVEL, kind=float)
+        if not (0.0 <= duration_s <= 2.0 and 0.0 < level <= 1.0):
+            fail(f"parameters {name}/rumble_check_s {duration_s!r} and rumble_check_level {level!r}: set a time in "
+                 "0..2 s (0: no check) and a strength in (0, 1], e.g. 0.2 and 0.5")
+        check = getattr(self.pad, "check_rumble", None)
+        if duration_s == 0.0 or check is None or not self.controller.params.feedback:
+            return  # no check asked, a pad that cannot tell, or a pad that must stay silent (feedback: false)
+        accepted, why = check(level, duration_s)
+        self.rumble_ok_pub.publish(Bool(data=accepted))
+        if not accepted:
+            rospy.logwarn(rumble_refused(getattr(self.pad, "name", "?"), why))
 
     # -- inputs -----------------------------------------------------------------------
     def on_force(self, msg: Float32) -> None:
@@ -307,12 +326,11 @@ class TeleoperationNode:
         self.twist_pub.publish(_twist_msg(cmd.twist))
         self.width_pub.publish(Float32(data=cmd.gripper_width_m))
         self._watch_joints(now)
-        rumble = combined_rumble(cmd.rumble, self.joint_warning.rumble(now), cmd.stopping,
-                                 self.controller.params.feedback)
-        self.rumble_pub.publish(Float32(data=rumble))
+        motors = self._motors(cmd.rumble, now, cmd.stopping)
+        self.rumble_pub.publish(Float32(data=max(motors)))  # what the pad feels at most
         if state is not None:
             self._publish_joy(state)
-        self._rumble(rumble, now)
+        self._rumble(motors, now)
         if self.recover_press.update(state):
             refusal = recovery_refusal(cmd.twist)
             if refusal is None:
@@ -345,12 +363,25 @@ class TeleoperationNode:
         msg.header.stamp = rospy.Time.now()
         self.joy_pub.publish(msg)
 
-    def _rumble(self, intensity: float, now: float) -> None:
-        request = self.rumble_requests.update(intensity, now)
-        if request is not None:
-            self.pad.rumble(*request)
-            if self.rumble_log is not None:
-                self.rumble_log.write(rumble_log_line(RumbleRecord(time.monotonic(), *request)) + "\n")
+    def _motors(self, force_rumble: float, now: float, stopping: bool) -> Tuple[float, float]:
+        """(low, high) motor strengths: force and joint warning apart or combined (~rumble_motors)."""
+        params = self.controller.params
+        return motor_rumble(force_rumble, self.joint_warning.rumble(now), stopping, params.feedback,
+                            params.rumble_motors)
+
+    def _rumble(self, motors: Tuple[float, float], now: float) -> None:
+        request = self.rumble_requests.update_motors(motors[0], motors[1], now)
+        if request is None:
+            return
+        low, high, duration_s = request
+        two_motors = getattr(self.pad, "rumble_motors", None)
+        if two_motors is not None:
+            two_motors(low, high, duration_s)
+        else:
+            self.pad.rumble(max(low, high), duration_s)
+        if self.rumble_log is not None:
+            record = RumbleRecord(time.monotonic(), max(low, high), duration_s, low, high)
+            self.rumble_log.write(rumble_log_line(record) + "\n")
 
     @staticmethod
     def _open_rumble_log(path: str) -> Optional[TextIO]:
@@ -387,9 +418,8 @@ class TeleoperationNode:
             return
         now = self.clock.now()
         last = self.last_command
-        self._rumble(combined_rumble(self.controller.rumble_between_ticks(force[0], now - force[1]),
-                                     self.joint_warning.rumble(now), last is None or last.stopping,
-                                     self.controller.params.feedback), now)
+        self._rumble(self._motors(self.controller.rumble_between_ticks(force[0], now - force[1]), now,
+                                  last is None or last.stopping), now)
 
     # -- running and stopping ---------------------------------------------------------
     def request_stop(self, *_args: object) -> None:

@@ -89,7 +89,7 @@ def live_plot(count: int, out: str) -> None:
     with open(out[:-len(".json")] + ".png", "wb") as fh:
         fh.write(plot.view.png())  # the last frame, for a person to look at
     result = {"node": session.node_name, "draws": len(draws), "draw_ms_mean": 1000 * sum(draws) / max(1, len(draws)),
-              "draw_ms_max": 1000 * max(draws or [0.0]), "topics": {}}
+              "draw_ms_max": 1000 * max(draws or [0.0]), "topics": {}, "pad_cue": plot.pad_cue.value}
     for topic, buffer in buffers.items():
         times, values = buffer.snapshot()
         result["topics"][topic] = {"received": buffer.received, "first_column": [float(v) for v in values[:, 0]],

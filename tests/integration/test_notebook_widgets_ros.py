@@ -33,10 +33,15 @@ def _finish(master, proc, out, timeout_s):
 def test_four_topics_at_100_hz_arrive_complete_and_in_order_while_the_plot_redraws(ros_master, tmp_path):
     count = 500  # 5 s at 100 Hz on each of the lab's four topics
     out = tmp_path / "live.json"
+    # The teleoperation node's start check said the pad refuses rumble (latched): the plot shows it in red.
+    refused = ros_master.run(["rostopic", "pub", "--latch", "/teleoperation/rumble_ok", "std_msgs/Bool", "data: false"],
+                             "rumble_ok")
     plot = _run(ros_master, "live-plot", "live-plot", count, out)
     burst = _run(ros_master, "burst", "publish-burst", count, 100)
     result = _finish(ros_master, plot, out, 90)
     burst.stop()
+    refused.stop()
+    assert "refuses rumble" in result["pad_cue"] and "#b00020" in result["pad_cue"], result["pad_cue"]
     topics = [spec.topic for spec in lab_topics()]
     assert sorted(result["topics"]) == sorted(topics)
     for topic in topics:

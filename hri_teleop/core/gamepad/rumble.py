@@ -34,16 +34,35 @@ class RumbleRequests:
 
     def __init__(self, policy: RumblePolicy = RumblePolicy()) -> None:
         self.policy = policy
-        self._sent = 0.0
+        self._sent: Tuple[float, ...] = (0.0, 0.0)
         self._sent_at = -math.inf
 
     def update(self, intensity: float, now_s: float) -> Optional[Tuple[float, float]]:
         """(intensity, duration_s) to send now, or None to send nothing."""
-        value = min(1.0, max(0.0, float(intensity))) if math.isfinite(intensity) else 0.0
-        switched = (value == 0.0) != (self._sent == 0.0)
-        changed = abs(value - self._sent) >= self.policy.change
-        refresh = value > 0.0 and now_s - self._sent_at >= self.policy.refresh_s
+        request = self.update_motors(intensity, intensity, now_s)
+        return None if request is None else (request[0], request[2])
+
+    def update_motors(self, low: float, high: float, now_s: float) -> Optional[Tuple[float, float, float]]:
+        """(low, high, duration_s) for a pad's two motors to send now, or None: the same rule per motor."""
+        values = tuple(min(1.0, max(0.0, float(v))) if math.isfinite(v) else 0.0 for v in (low, high))
+        on = max(values) > 0.0
+        switched = on != (max(self._sent) > 0.0)
+        changed = any(abs(v - s) >= self.policy.change for v, s in zip(values, self._sent))
+        refresh = on and now_s - self._sent_at >= self.policy.refresh_s
         if not (switched or changed or refresh):
             return None
-        self._sent, self._sent_at = value, now_s
-        return value, (self.policy.hold_s if value > 0.0 else 0.0)
+        self._sent, self._sent_at = values, now_s
+        return values[0], values[1], (self.policy.hold_s if on else 0.0)
+
+
+#: The start check (teleoperation's ~rumble_check_level, ~rumble_check_s): a short rumble of both motors,
+#: strength 0..1 and length s, that an operator notices as "the pad works" and a refusal shows at once.
+RUMBLE_CHECK_LEVEL = 0.5
+RUMBLE_CHECK_S = 0.2
+
+
+def rumble_refused(pad_name: str, why: str) -> str:
+    """One line for a pad that refused the start check: which pad, why, and what to do."""
+    return (f"gamepad {pad_name!r} refuses rumble ({why}): no force feedback with it; connect the pad with a USB "
+            "cable (some Bluetooth links carry no rumble), check that its kernel driver supports force feedback "
+            "and that /dev/input/event* is writable (`ls -l /dev/input/`), or use another pad")

@@ -26,6 +26,7 @@ from hri_teleop.core.gamepad import (
     check_deadzone,
     normalize_analog_input,
 )
+from hri_teleop.core.gamepad.rumble import RUMBLE_CHECK_LEVEL, RUMBLE_CHECK_S, rumble_refused
 from hri_teleop.core.limits import DEFAULT_LIMITS, CartesianLimits
 from hri_teleop.core.teleop import GRIPPER_MAX_WIDTH_M, Mode, TeleopController, TeleopParams
 from hri_teleop.course.widgets._base import (
@@ -39,7 +40,7 @@ from hri_teleop.hardware.gamepad import open_gamepad
 from hri_teleop.hardware.sim.virtual_pad import VirtualPad
 
 __all__ = ["ControllerSnapshot", "ControllerModel", "stick_dot_xy", "button_roles", "pad_svg", "open_pad",
-           "ControllerView"]
+           "rumble_cue", "ControllerView"]
 
 #: Longest stretch of time one advance() catches up on (s): after the kernel was busy for
 #: a minute, the controller must not replay a minute of ticks in one go.
@@ -203,6 +204,15 @@ def open_pad(source: Any = "auto", layout: Any = None) -> Tuple[Gamepad, str]:
     return pad, f"gamepad {getattr(pad, 'name', '')!r} (move the sticks, press the buttons)"
 
 
+def rumble_cue(pad: Any, feedback: bool = True) -> str:
+    """The start check of a real pad's rumble, as the node runs it: '' if accepted (or not checkable), else why."""
+    check = getattr(pad, "check_rumble", None)
+    if check is None or not feedback or isinstance(pad, VirtualPad):
+        return ""
+    accepted, why = check(RUMBLE_CHECK_LEVEL, RUMBLE_CHECK_S)
+    return "" if accepted else rumble_refused(getattr(pad, "name", "?"), why)
+
+
 class ControllerView(widgets.VBox):
     """The pad (sticks, buttons) and the controller's mode, gripper width, twist and rumble, live.
 
@@ -248,7 +258,8 @@ class ControllerView(widgets.VBox):
                                                 style={"description_width": "60px"})
         self.rumble_label = widgets.Label()
         self.twist_label = widgets.HTML()
-        self.status = widgets.HTML(message_html(note))
+        cue = rumble_cue(self.pad, cfg.params.feedback)  # a pad that refuses rumble: said in red, at once
+        self.status = widgets.HTML(message_html(note) + ("<br>" + message_html(cue, error=True) if cue else ""))
 
         for axis, slider in self.sticks.items():
             slider.observe(self._stick_moved(axis), names="value")

@@ -31,7 +31,21 @@ from hri_teleop.course.widgets._base import (
 )
 
 __all__ = ["TopicSpec", "TopicBuffer", "numeric_fields", "field_getter", "rate_hz", "lab_topics", "LiveTopics",
-           "LivePlot", "DEFAULT_MAXLEN"]
+           "LivePlot", "DEFAULT_MAXLEN", "RUMBLE_OK_TOPIC", "pad_cue_html"]
+
+#: The teleoperation node's latched start check of the pad's rumble (std_msgs/Bool).
+RUMBLE_OK_TOPIC = "/teleoperation/rumble_ok"
+
+
+def pad_cue_html(rumble_ok: Optional[bool]) -> str:
+    """The visible cue for the node's rumble check: red when the pad refused, nothing before a check."""
+    if rumble_ok is None:
+        return ""
+    if rumble_ok:
+        return message_html("pad rumble: accepted (force feedback works)")
+    return message_html("the pad refuses rumble: no force feedback at this station. The teleoperation node's log "
+                        "says why; try a USB cable or another pad", error=True)
+
 
 #: Samples kept per topic: 50 s at the lab's 100 Hz, a few hundred kB in all.
 DEFAULT_MAXLEN = 5000
@@ -220,15 +234,20 @@ class LivePlot(widgets.VBox):
     ``{topic: type}`` mapping. ``session``: an :func:`~hri_teleop.course.notebook_ros.ensure_ros`
     session (made here if None). Without ROS it shows one line saying what to install.
     ``plot.topics.buffers`` holds the data; :meth:`stop` pauses, :meth:`close` ends it.
+    ``rumble_ok_topic`` (the teleoperation node's latched start check; '' for none): a pad
+    that refused rumble is said in red above the plots (``pad_cue``).
     """
 
     def __init__(self, topics: TopicsArg = None, *, window_s: float = 10.0, interval_s: float = 0.5,
                  maxlen: int = DEFAULT_MAXLEN, session: Any = None, figure: str = "auto",
-                 autostart: bool = True) -> None:
+                 autostart: bool = True, rumble_ok_topic: str = RUMBLE_OK_TOPIC) -> None:
         if not 0.0 < float(window_s) <= 3600.0:
             raise WidgetError(f"window_s must be in (0, 3600] s, got {window_s!r}; e.g. 10")
         self.window_s = float(window_s)
         self.status = widgets.HTML()
+        self.pad_cue = widgets.HTML()
+        self._rumble_ok: Optional[bool] = None  # from rospy's thread; shown by redraw
+        self._rumble_ok_sub: Any = None
         self.topics: Optional[LiveTopics] = None
         self.view: Optional[FigureView] = None
         self.ticker = Ticker(self.redraw, interval_s, name="live plot")
@@ -238,6 +257,11 @@ class LivePlot(widgets.VBox):
             super().__init__([self.status])
             return
         self.topics = LiveTopics(topics, maxlen=maxlen)
+        if rumble_ok_topic:
+            import rospy  # noqa: PLC0415 - ROS only when needed (as _message_class)
+            from std_msgs.msg import Bool  # noqa: PLC0415
+
+            self._rumble_ok_sub = rospy.Subscriber(rumble_ok_topic, Bool, self._on_rumble_ok, queue_size=1)
         specs = self.topics.specs
         height_in = 1.9 * len(specs) + 0.4
         fig = Figure(figsize=(9.0, height_in), dpi=80)
@@ -263,7 +287,7 @@ class LivePlot(widgets.VBox):
         axes[-1].set_xlabel("time (s, 0 = now)")
         self.view = FigureView(fig, figure)
         self.status.value = message_html(session.describe())
-        super().__init__([self.status, self.view.widget])
+        super().__init__([self.status, self.pad_cue, self.view.widget])
         replace_in_cell(self)
         self.redraw()
         if autostart:
@@ -277,10 +301,14 @@ class LivePlot(widgets.VBox):
         """Stop redrawing; the subscribers keep filling the buffers."""
         self.ticker.stop()
 
+    def _on_rumble_ok(self, msg: Any) -> None:
+        self._rumble_ok = bool(msg.data)
+
     def redraw(self, now_s: Optional[float] = None) -> None:
-        """Draw the last ``window_s`` seconds of every buffer."""
+        """Draw the last ``window_s`` seconds of every buffer (and the pad's rumble check)."""
         if self.topics is None or self.view is None:
             return
+        self.pad_cue.value = pad_cue_html(self._rumble_ok)
         now = time.monotonic() if now_s is None else now_s
         for spec in self.topics.specs:
             buffer = self.topics.buffers[spec.topic]
@@ -301,6 +329,9 @@ class LivePlot(widgets.VBox):
     def close(self) -> None:
         """Stop redrawing and unsubscribe."""
         self.ticker.stop()
+        if self._rumble_ok_sub is not None:
+            self._rumble_ok_sub.unregister()
+            self._rumble_ok_sub = None
         if self.topics is not None:
             self.topics.close()
         super().close()

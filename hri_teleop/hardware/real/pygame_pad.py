@@ -200,24 +200,39 @@ class PygamePad:
 
     def rumble(self, intensity: float, duration_s: float) -> None:
         """Both motors at ``intensity`` (0..1) for ``duration_s`` (0: until the next call); 0 stops."""
-        level = clean_intensity(intensity)
-        duration = clean_duration(duration_s)
-        joystick = self._js
-        if joystick is None or self._closed:
-            return
-        try:
-            if level == 0.0:
-                joystick.stop_rumble()
-                return
-            duration_ms = 0 if duration == 0.0 else max(1, int(round(duration * 1000.0)))
-            played = bool(joystick.rumble(level, level, duration_ms))
-        except (RuntimeError, AttributeError):  # pygame.error, or a pygame without rumble
-            played = False
+        self.rumble_motors(intensity, intensity, duration_s)
+
+    def rumble_motors(self, low: float, high: float, duration_s: float) -> None:
+        """The low-frequency (strong, left) and high-frequency (weak, right) motors apart; both 0 stops."""
+        played, _why = self._play(clean_intensity(low), clean_intensity(high), clean_duration(duration_s))
         if not played and not self._rumble_warned:
             self._rumble_warned = True
             self._log("gamepad %r does not accept rumble; force feedback is off: check that the kernel "
                       "driver supports force feedback and that /dev/input/event* is writable"
                       % self.name)
+
+    def check_rumble(self, level: float, duration_s: float) -> Tuple[bool, str]:
+        """Rumble both motors briefly now: (accepted, why not). A refusal is then not warned again."""
+        played, why = self._play(clean_intensity(level), clean_intensity(level), clean_duration(duration_s))
+        self._rumble_warned = self._rumble_warned or not played
+        return played, why
+
+    def _play(self, low: float, high: float, duration: float) -> Tuple[bool, str]:
+        joystick = self._js
+        if joystick is None or self._closed:
+            return True, ""  # nothing to play on: not a refusal
+        try:
+            if low == 0.0 and high == 0.0:
+                joystick.stop_rumble()
+                return True, ""
+            duration_ms = 0 if duration == 0.0 else max(1, int(round(duration * 1000.0)))
+            if bool(joystick.rumble(low, high, duration_ms)):
+                return True, ""
+            return False, "SDL reports no rumble for this pad and driver"
+        except AttributeError:
+            return False, "this pygame has no rumble (pygame >= 2.0.2 with SDL >= 2.0.9 has)"
+        except RuntimeError as exc:  # pygame.error
+            return False, "SDL: %s" % exc
 
     def close(self) -> None:
         if self._closed:

@@ -23,7 +23,7 @@ from hri_teleop.core.limits import DEFAULT_LIMITS, CartesianLimits, Watchdog
 from hri_teleop.core.mapping import map_force
 from hri_teleop.core.reflex import explain_reflex
 from hri_teleop.core.run_record import LIFTED_M, LabRecord
-from hri_teleop.core.teleop import TeleopController, TeleopParams, combined_rumble
+from hri_teleop.core.teleop import TeleopController, TeleopParams, motor_rumble
 from hri_teleop.hardware.sim.gripper_goals import GoalRecord, MoveCommand
 from hri_teleop.hardware.sim.virtual_pad import ScriptedPad, ScriptStep, load_script
 from hri_teleop.hardware.sim.world import LabWorld, WorldConfig
@@ -127,11 +127,11 @@ def run_lab(
             rec.count.append((t_sample, float(count)))
             rec.mapped.append((t_sample, value))
             force = (value, t_sample)
-            between = combined_rumble(controller.rumble_between_ticks(value, 0.0), joint_warning.rumble(t_sample),
-                                      False, params.feedback)
-            request = rumble_requests.update(between, t_sample)
+            between = motor_rumble(controller.rumble_between_ticks(value, 0.0), joint_warning.rumble(t_sample),
+                                   False, params.feedback, params.rumble_motors)
+            request = rumble_requests.update_motors(*between, t_sample)
             if request is not None:
-                pad.rumble(*request)
+                pad.rumble_motors(*request)
         while next_timer <= now + 1e-9:
             gripper.maybe_send(next_timer if next_timer > lab.time_s else lab.time_s)
             next_timer += MANAGER_TIMER_S
@@ -149,10 +149,12 @@ def run_lab(
         joints = lab.arm.joint_positions
         if joints is not None:
             joint_warning.update(joints, now)
-        rumble = combined_rumble(cmd.rumble, joint_warning.rumble(now), cmd.stopping, params.feedback)
-        request = rumble_requests.update(rumble, now)
+        motors = motor_rumble(cmd.rumble, joint_warning.rumble(now), cmd.stopping, params.feedback,
+                              params.rumble_motors)  # as the node: force and warning on their own motors
+        rumble = max(motors)
+        request = rumble_requests.update_motors(*motors, now)
         if request is not None:
-            pad.rumble(*request)
+            pad.rumble_motors(*request)
         ticks[0] += 1
         lab.command_twist(cmd.twist, now)
         gripper.on_target(cmd.gripper_width_m, now)

@@ -38,15 +38,27 @@ Clock = Callable[[], float]
 
 @dataclass(frozen=True)
 class RumbleRecord:
-    """One rumble request as the pad received it (intensity already clipped to 0..1)."""
+    """One rumble request as the pad received it (intensities already clipped to 0..1).
+
+    ``low``/``high``: the low-frequency (strong) and high-frequency (weak) motors; both are
+    ``intensity`` for a one-level request, and ``intensity`` is the larger for a two-motor one.
+    """
 
     time_s: float
     intensity: float
     duration_s: float
+    low: Optional[float] = None
+    high: Optional[float] = None
+
+    def __post_init__(self) -> None:
+        for name in ("low", "high"):
+            if getattr(self, name) is None:
+                object.__setattr__(self, name, self.intensity)
 
 
 #: First line of a rumble log (see :func:`rumble_log_line`).
-RUMBLE_LOG_HEADER = "# time_s intensity duration_s  (time: CLOCK_MONOTONIC, comparable across processes)"
+RUMBLE_LOG_HEADER = ("# time_s intensity duration_s low high  (time: CLOCK_MONOTONIC, comparable across processes; "
+                     "low/high: the two motors)")
 
 
 def rumble_log_line(record: RumbleRecord) -> str:
@@ -56,21 +68,26 @@ def rumble_log_line(record: RumbleRecord) -> str:
     moment a force was published in another process; CLOCK_MONOTONIC is one clock for
     every process on the machine, and a file adds no hop to what is measured.
     """
-    return f"{record.time_s:.6f} {record.intensity:.6f} {record.duration_s:.6f}"
+    return f"{record.time_s:.6f} {record.intensity:.6f} {record.duration_s:.6f} {record.low:.6f} {record.high:.6f}"
 
 
 def read_rumble_log(path: Union[str, Path]) -> List[RumbleRecord]:
-    """The records of a rumble log, in order; GamepadError naming the file and line if malformed."""
+    """The records of a rumble log, in order; GamepadError naming the file and line if malformed.
+
+    Lines of three columns (logs written before the two motors were logged) read both motors as ``intensity``.
+    """
     records = []
     for number, line in enumerate(Path(path).read_text().splitlines(), start=1):
         if not line.strip() or line.startswith("#"):
             continue
         try:
-            time_s, intensity, duration_s = (float(v) for v in line.split())
+            values = [float(v) for v in line.split()]
+            if len(values) not in (3, 5):
+                raise ValueError(line)
         except ValueError:
-            raise GamepadError(f"{path}:{number}: not a rumble log line ('time_s intensity duration_s'): "
+            raise GamepadError(f"{path}:{number}: not a rumble log line ('time_s intensity duration_s low high'): "
                                f"{line[:60]!r}; the file must come from the node's ~rumble_log") from None
-        records.append(RumbleRecord(time_s, intensity, duration_s))
+        records.append(RumbleRecord(*values))
     return records
 
 
@@ -114,6 +131,15 @@ class VirtualPad:
         """Record the request (time from the pad's clock); intensity is clipped to 0..1."""
         self.rumbles.append(RumbleRecord(float(self._clock()), clean_intensity(intensity),
                                          clean_duration(duration_s)))
+
+    def rumble_motors(self, low: float, high: float, duration_s: float) -> None:
+        """Record a two-motor request: low-frequency (strong) and high-frequency (weak) apart."""
+        low, high = clean_intensity(low), clean_intensity(high)
+        self.rumbles.append(RumbleRecord(float(self._clock()), max(low, high), clean_duration(duration_s), low, high))
+
+    def check_rumble(self, level: float, duration_s: float) -> Tuple[bool, str]:
+        """A virtual pad always accepts rumble; nothing is recorded (a script's rumble waits stay untouched)."""
+        return True, ""
 
     def close(self) -> None:
         self._closed = True
