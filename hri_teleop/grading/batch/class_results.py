@@ -15,6 +15,7 @@ from typing import Any, Dict, Iterable, List, Optional, Sequence, Set, Tuple
 
 from hri_teleop.grading.batch.late import Lateness
 from hri_teleop.grading.batch.report_data import (
+    FILES_JOB,
     FILES_ONLY,
     AssignmentScore,
     ClassResults,
@@ -24,8 +25,6 @@ from hri_teleop.grading.batch.report_data import (
 )
 
 __all__ = ["read_class", "notebook_parts", "write_rows", "update_rows", "write_summary", "read_summary"]
-
-_FILES = "hri_lab"   # the label of a files job in course mode (nbgrader_batch)
 
 
 def read_summary(out: Path) -> List[Dict[str, Any]]:
@@ -153,7 +152,7 @@ def _course_student(out: Path, entry: Dict[str, Any], assignments: Sequence[str]
     files_ok = all(j["status"] == "graded" for (_a, kind), j in by_key.items() if kind == "files")
     parts = _parts_of(out / student / "results.json") if files_ok else []  # none stale from a run before
     for assignment in assignments:
-        for kind, label, log in (("files", f"{assignment}/{_FILES}", "grader.log"),
+        for kind, label, log in (("files", f"{assignment}/{FILES_JOB}", "grader.log"),
                                  ("notebooks", assignment, "autograde.log")):
             j = by_key.get((assignment, kind))
             if j is not None:

@@ -38,6 +38,7 @@ from hri_teleop.grading.batch.folders import (
     select_student,
     submissions_in,
 )
+from hri_teleop.grading.batch.report_data import FILES_JOB
 from hri_teleop.grading.batch.spare_kernels import PROVISIONER, PROVISIONER_ENV, SPARES_ENV
 from hri_teleop.grading.judge import reuse
 from hri_teleop.grading.results import CheckResult, feedback_text, gradescope_json
@@ -54,7 +55,6 @@ _DB_ATTEMPTS = 3                    # autograde runs of one submission when the 
 #: Notebook kernels start a private roscore only when no master is reachable: never share
 #: one (the lab's on 11311, say) between students graded at the same time.
 _NO_MASTER = "http://127.0.0.1:1/"
-_FILES = "hri_lab"                  # the label of a files-only job in course mode
 
 
 @dataclass(frozen=True)
@@ -73,7 +73,7 @@ class JobOutcome:
 
     @property
     def label(self) -> str:
-        return self.assignment if self.kind == "notebooks" else f"{self.assignment}/{_FILES}"
+        return self.assignment if self.kind == "notebooks" else f"{self.assignment}/{FILES_JOB}"
 
 
 def _assignment_order(names: Sequence[str]) -> List[str]:
@@ -350,7 +350,7 @@ def _combine_files_results(student_out: Path, assignments: Sequence[str]) -> Non
         if checks.is_file():
             these = [CheckResult.from_dict(d) for d in json.loads(checks.read_text(encoding="utf-8"))]
             results += these
-            parts.append(f"== {assignment}: {assignment}/{_FILES} ==\n{feedback_text(these)}")
+            parts.append(f"== {assignment}: {assignment}/{FILES_JOB} ==\n{feedback_text(these)}")
     if results:
         (student_out / "results.json").write_text(json.dumps(gradescope_json(results), indent=2), encoding="utf-8")
         (student_out / "feedback.txt").write_text("\n\n".join(parts) + "\n", encoding="utf-8")
@@ -409,7 +409,7 @@ def grade_course(course: Path, submitted: Path, out: Path, jobs: Optional[int] =
                       functools.partial(_autograde, nb, student, assignment, out / student / assignment, notebook_limit,
                                         db_lock, progress, results_dir)))
     progress(f"autograding {len(pairs)} submission(s) of {len(students)} student(s) in {course} with nbgrader "
-             f"({', '.join(assignments)}), and their {_FILES} files; {jobs} at once")
+             f"({', '.join(assignments)}), and their {FILES_JOB} files; {jobs} at once")
     started = time.monotonic()
     outcomes: Dict[str, JobOutcome] = {}
     width = len(str(len(tasks)))
@@ -460,7 +460,7 @@ def grade_course(course: Path, submitted: Path, out: Path, jobs: Optional[int] =
             if f is not None and f.status == "graded":
                 files_score, files_max = (files_score or 0.0) + f.score, (files_max or 0.0) + f.max_score
             elif f is not None:
-                reasons.append(f"{assignment}/{_FILES}: {f.message}")
+                reasons.append(f"{assignment}/{FILES_JOB}: {f.message}")
             if (student, assignment) in feedback_problems:
                 reasons.append(f"{assignment}: {feedback_problems[(student, assignment)]}")
         if student in empty:

@@ -16,11 +16,13 @@ from typing import Dict, List, Optional, Sequence, Tuple
 from hri_teleop.grading.batch.late import Lateness
 
 __all__ = ["Job", "AssignmentScore", "PartResult", "StudentRecord", "ClassResults", "Bin", "Stats", "ItemRate",
-           "NotJudged", "LateRow", "FILES_ONLY", "histogram", "score_stats", "distributions", "item_rates",
+           "NotJudged", "LateRow", "FILES_ONLY", "FILES_JOB", "histogram", "score_stats", "distributions", "item_rates",
            "classify_reason", "not_judged", "slowest", "late_rows", "unused_extensions"]
 
 #: The one "assignment" of a folder graded files-only (no nbgrader course).
 FILES_ONLY = "files"
+#: A course's files job is labelled "<assignment>/hri_lab" (the student package it grades).
+FILES_JOB = "hri_lab"
 _EPS = 1e-9
 
 
