@@ -107,6 +107,9 @@ def test_lms_csv_has_canvas_identity_columns_a_number_per_assignment_and_blank_f
                       "Task 4 total"]
     assert rows == [["ada", "", "", "ada", "", "9", "", ""], ["bob", "", "", "bob", "", "7.25", "16", "23.25"]]
     text = write_lms(tmp_path / "lms.csv", two).read_bytes()
+    assert "Waiting for grading by hand" not in write_report(tmp_path, two).read_text()
+    waiting = ClassResults("course", ("lab",), (StudentRecord("bob", "graded", manual=("lab",)),))
+    assert "Waiting for grading by hand (1)</h2>" in write_report(tmp_path, waiting).read_text()
     assert not text.startswith(b"\xef\xbb\xbf") and b"Points Possible" not in text
 
 

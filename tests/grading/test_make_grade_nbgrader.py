@@ -288,7 +288,8 @@ def test_make_grade_autogrades_an_nbgrader_course_in_parallel_and_survives_hosti
         assert late in (course / "feedback" / "alice" / ASSIGNMENT / f"{name}.html").read_text()
     report = (out / "report.html").read_text()
     for words in ("Not judged (3)", "<td>timeout</td>", "<td>kernel died</td>", "refused (link outside",
-                  f"{ASSIGNMENT}/ex04_robot_params:", "robot-params: loads", "Late submissions (1)"):
+                  f"{ASSIGNMENT}/ex04_robot_params:", "robot-params: loads", "Late submissions (1)",
+                  "Waiting for grading by hand (1)"):
         assert words in report, words
 
     # STUDENT=bob: only bob's jobs run again; everyone else's rows, the report's other students stay

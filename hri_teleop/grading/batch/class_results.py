@@ -168,8 +168,9 @@ def _course_student(out: Path, entry: Dict[str, Any], assignments: Sequence[str]
             parts += cells.get((student, assignment), [])
         else:
             scores.append(AssignmentScore(assignment, None, None))
+    manual = tuple(a for (a, kind), j in sorted(by_key.items()) if kind == "notebooks" and j.get("needs_manual_grade"))
     return StudentRecord(student, str(entry["status"]), tuple(scores), tuple(jobs),
-                         tuple(str(r) for r in entry.get("reasons", ())), tuple(parts), late)
+                         tuple(str(r) for r in entry.get("reasons", ())), tuple(parts), late, manual)
 
 
 def read_class(out: Path, assignments: Sequence[str] = (), gradebook: Optional[Tuple[str, str]] = None,

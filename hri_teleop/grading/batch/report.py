@@ -95,6 +95,16 @@ def _not_judged(results: ClassResults) -> str:
             "the cause is fixed.</p>" + _table(["student", "what", "kind", "reason", "where to look"], rows))
 
 
+def _manual(results: ClassResults) -> str:
+    waiting = [s for s in results.students if s.manual]
+    if results.mode != "course" or not waiting:
+        return ""
+    rows = [[_e(s.student), _e(", ".join(s.manual))] for s in waiting]
+    return (f"<h2>Waiting for grading by hand ({len(rows)})</h2><p>Written answers in nbgrader's formgrader "
+            "(<code>cd notebooks && nbgrader formgrader</code>); then <code>make grade REPORT=1</code> "
+            "puts those points into this page and lms.csv.</p>" + _table(["student", "assignments"], rows))
+
+
 def _slowest(results: ClassResults) -> str:
     rows = [[_e(j.student), _e(j.label), f"{j.seconds:.1f}", _e(j.status), _link(j.log)]
             for j in slowest(results.students)]
@@ -132,8 +142,8 @@ def write_report(out: Path, results: ClassResults, extended: Sequence[str] = (),
             f"{'nbgrader course' if results.mode == 'course' else 'student folders'}"
             f" ({_e(', '.join(results.assignments))}); written {datetime.now().isoformat(sep=' ', timespec='seconds')}."
             f" Grades: <a href=grades.csv>grades.csv</a>, for the LMS <a href={LMS}>{LMS}</a>.</p>")
-    parts = [head, _scores(results, out), _items(results, out), _not_judged(results), _slowest(results),
-             _late(results, extended)]
+    parts = [head, _scores(results, out), _items(results, out), _not_judged(results), _manual(results),
+             _late(results, extended), _slowest(results)]
     page = (f"<!DOCTYPE html><html><head><meta charset=utf-8><title>{_e(title or 'class report')}</title>"
             f"<style>{_STYLE}</style></head><body>{''.join(parts)}</body></html>\n")
     path = out / REPORT

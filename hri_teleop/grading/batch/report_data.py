@@ -77,6 +77,7 @@ class StudentRecord:
     reasons: Tuple[str, ...] = ()
     parts: Tuple[PartResult, ...] = ()
     late: Tuple[Lateness, ...] = ()
+    manual: Tuple[str, ...] = ()    # assignments with answers still to grade by hand (nbgrader)
 
     @property
     def graded(self) -> bool:
