@@ -69,7 +69,7 @@ def _scores(results: ClassResults, out: Path) -> str:
         stats = score_stats(values)
         rows.append([_e(title), str(len(values)), f"{maximum:g}"] + (
             [f"{stats.mean:.1f}", f"{stats.median:g}", f"{stats.low:g}", f"{stats.high:g}"] if stats else [""] * 4))
-    penalty = " after late penalties" if results.late_policy else ""
+    penalty = ", after late penalties" if results.late_policy else ""
     return (f"<h2>Score distribution</h2><p>Graded students only{penalty}.</p>"
             f'<img src="{SCORES_PNG}" alt="histogram of scores">'
             + _table(["", "students", "max", "mean", "median", "min", "max scored"], rows, range(1, 7)))
