@@ -90,14 +90,19 @@ def robot_finding(mode: str, controller_listens: bool, gripper_servers: Sequence
     return Finding("robot", OK, f"{where}: velocity command, gripper {', '.join(gripper_servers)}, error_recovery")
 
 
-def teleop_finding(mode: str, running: bool, pad: object) -> Finding:
-    """The teleoperation node: running, and which pad it reads (``pad`` its ``~pad`` parameter, None: unset)."""
+def teleop_finding(mode: str, running: bool, pad: object, rumble_ok: Optional[bool] = None) -> Finding:
+    """The teleoperation node: running, which pad it reads (``pad`` its ``~pad`` parameter, None: unset), and
+    its start check's ``~rumble_ok`` (None: not heard, e.g. a node from before the check or a student's own)."""
     if not running:
         return Finding("teleoperation", NOTE, "not running (roslaunch hri_lab teleoperation.launch starts it)")
     kind = pad if isinstance(pad, str) and pad else "the pad teleop.yaml names"
+    reads = "the virtual pad" if kind == "virtual" else kind
+    if rumble_ok is False:
+        return Finding("teleoperation", FAIL, f"running with {reads}, whose pad refused the start check's rumble",
+                       "no force feedback this way: a USB cable or another pad, then restart the launch")
     if mode == LAB and kind == "virtual":
         return Finding("teleoperation", NOTE, "running with the virtual pad: a notebook's widget drives the robot")
-    return Finding("teleoperation", OK, f"running with {'the virtual pad' if kind == 'virtual' else kind}")
+    return Finding("teleoperation", OK, f"running with {reads}" + ("; rumble accepted" if rumble_ok else ""))
 
 
 def expected_board_hz(sketch: str, period_param_ms: object = None, banner_period_us: object = None) -> float:

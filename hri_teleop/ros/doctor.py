@@ -81,7 +81,30 @@ def check_robot(mode: str) -> Finding:
 
 def check_teleop(mode: str) -> Finding:
     running = bool(running_nodes(among=["/teleoperation"]))
-    return teleop_finding(mode, running, _param("/teleoperation/pad") if running else None)
+    if not running:
+        return teleop_finding(mode, False, None)
+    return teleop_finding(mode, True, _param("/teleoperation/pad"), _latched_bool("/teleoperation/rumble_ok"))
+
+
+def _latched_bool(topic: str, timeout_s: float = 1.0) -> Optional[bool]:
+    """A latched std_msgs/Bool's value, or None when nobody publishes it (within ``timeout_s``)."""
+    import rospy  # noqa: PLC0415 - only with a master: the machine checks run without ROS
+    from std_msgs.msg import Bool  # noqa: PLC0415
+
+    if not _nodes(_state()[0], topic):
+        return None
+    _init_node()
+    try:
+        return bool(rospy.wait_for_message(topic, Bool, timeout=timeout_s).data)
+    except rospy.ROSException:
+        return None
+
+
+def _init_node() -> None:
+    import rospy  # noqa: PLC0415 - only with a master
+
+    if not rospy.core.is_initialized():
+        rospy.init_node("hri_doctor", anonymous=True, disable_signals=True)
 
 
 def _sim_ready(master: PrivateMaster) -> bool:
@@ -123,8 +146,7 @@ def _listen_pub_force(seconds: float) -> Tuple[List[int], List[float]]:
     import rospy  # noqa: PLC0415 - only with a master: the machine checks run without ROS
     from std_msgs.msg import Int16  # noqa: PLC0415
 
-    if not rospy.core.is_initialized():
-        rospy.init_node("hri_doctor", anonymous=True, disable_signals=True)
+    _init_node()
     counts: List[int] = []
     times: List[float] = []
 

@@ -84,7 +84,7 @@ def test_in_lab_mode_without_a_master_it_fails_fast_and_starts_nothing(ros_env):
 
 
 @pytest.mark.ros
-def test_in_lab_mode_a_simulation_on_the_master_fails_robot_and_board(ros_master, ros_env):
+def test_in_lab_mode_a_simulation_on_the_master_fails_robot_and_board_and_at_home_passes(ros_master, ros_env):
     launch = ros_master.roslaunch("hri_lab", "teleoperation.launch", {"sim": "true", "scenario": ""})
     ros_master.wait_for(lambda: "/lab_sim" in ros_master.publishers("/pub_force") or not launch.running, 30,
                         "lab_sim")
@@ -95,6 +95,10 @@ def test_in_lab_mode_a_simulation_on_the_master_fails_robot_and_board(ros_master
     assert "lab_sim runs on the lab's master" in _line(out, "robot")
     assert _line(out, "board").startswith("FAIL") and "simulate the board" in _line(out, "board")
     assert "private roscore" in _line(out, "ROS master")
+    assert _line(out, "teleoperation").startswith("note") and "virtual pad" in _line(out, "teleoperation")
+    at_home = _doctor(_env(ros_env, "home", ros_master.uri), "--no-sim").stdout  # the same master, at home
+    assert _line(at_home, "teleoperation") == "ok    teleoperation     running with the virtual pad; rumble accepted"
+    assert _line(at_home, "robot").startswith("ok"), at_home
     launch.stop()
 
 

@@ -82,6 +82,13 @@ def test_teleoperation_not_running_is_a_note_and_its_pad_is_named() -> None:
     assert "teleop.yaml" in teleop_finding(LAB, True, None).detail
 
 
+def test_a_pad_that_refused_the_nodes_start_rumble_fails_and_an_accepted_one_says_so() -> None:
+    refused = teleop_finding(LAB, True, "pygame", rumble_ok=False)
+    assert refused.status == FAIL and "refused" in refused.detail and "USB" in refused.fix
+    assert teleop_finding(LAB, True, "pygame", rumble_ok=True).detail == "running with pygame; rumble accepted"
+    assert teleop_finding(LAB, True, "pygame", rumble_ok=None).detail == "running with pygame"
+
+
 def test_expected_rate_fsr_serial_from_its_banner_else_100_hz() -> None:
     assert expected_board_hz(FSR_SERIAL, banner_period_us=20000) == pytest.approx(50.0)
     assert expected_board_hz(FSR_SERIAL, banner_period_us=0) == LAB_BOARD_HZ
