@@ -99,3 +99,27 @@ def test_a_scripted_hand_trembles_until_the_freeze_and_not_after():
 
 def test_pads_driven_by_code_are_not_watched():
     assert not ScriptedPad(parse_script([{"t": 0.0, "axis": "left_y", "value": 1.0}])).stale_input_watch
+
+
+def test_pad_check_measures_the_longest_identical_run_of_a_held_stick(monkeypatch, capsys):
+    from test_gamepad_pygame import FakeJoystick  # tests/unit, on sys.path under pytest
+
+    from hri_teleop.hardware.real import pad_check
+    from hri_teleop.hardware.real.pygame_pad import PygamePad
+
+    class Trembling(FakeJoystick):
+        calls = 0
+
+        def get_axis(self, i: int) -> float:  # the held axis moves by a hair every other read
+            if i != 1:
+                return self.axes[i]
+            self.calls += 1
+            return self.axes[i] + (1e-4 if self.calls % 2 else 0.0)
+
+    for device, frozen in ((FakeJoystick(), True), (Trembling(), False)):
+        device.axes[1] = -0.8  # left stick held up
+        monkeypatch.setattr(pad_check, "PygamePad", lambda layout, index, device=device, **kw:
+                            PygamePad(layout, joystick=device, **kw))
+        assert pad_check.main(["--layout", "dualshock4", "--stale", "--seconds", "0.3", "--rate", "200"]) == 0
+        longest_s = float(capsys.readouterr().out.splitlines()[-1].split(": ")[1].split()[0])
+        assert (longest_s > 0.2) if frozen else (longest_s < 0.05), longest_s
