@@ -12,6 +12,7 @@ from __future__ import annotations
 import json
 import shutil
 import subprocess
+import sys
 import time
 import zipfile
 from concurrent.futures import ThreadPoolExecutor
@@ -19,13 +20,24 @@ from pathlib import Path
 from typing import Dict, List
 
 import pytest
-from grading_helpers import REPO, SOLUTIONS, answer_text, corpus_files, expectation, open_folder, part_keys
+from grading_helpers import (
+    REPO,
+    SOLUTIONS,
+    answer_text,
+    corpus_files,
+    expectation,
+    grader_env,
+    open_folder,
+    part_keys,
+)
 
-from hri_teleop.course.release import STUDENT_MAKES_EXECUTABLE
+from hri_teleop.course.release import COURSE_DIR, STUDENT_MAKES_EXECUTABLE
 from hri_teleop.grading.cases.templates import generate_templates
 from hri_teleop.grading.gradescope.build import build_zip
 
 pytestmark = pytest.mark.ros
+#: The course notebook the uploads hold: Ex. 1 runs no ROS, so it autogrades in seconds.
+NOTEBOOK = "ex01_fsr_and_arduino.ipynb"
 _ENV = {"PATH": "/usr/local/sbin:/usr/local/bin:/usr/sbin:/usr/bin:/sbin:/bin", "HOME": "/tmp/home", "LANG": "C.UTF-8"}
 
 
@@ -105,13 +117,34 @@ def _loose(package: Path, upload: Path) -> None:
             shutil.copy2(path, upload / path.name)
 
 
+def _released_notebook(work: Path) -> Path:
+    """NOTEBOOK as students get it (nbgrader generate_assignment in a course of its own)."""
+    course = work / "course"
+    (course / "source" / "preparation").mkdir(parents=True)
+    shutil.copy(COURSE_DIR / "nbgrader_config.py", course)
+    shutil.copy(COURSE_DIR / "source" / "preparation" / NOTEBOOK, course / "source" / "preparation")
+    proc = subprocess.run([sys.executable, "-m", "nbgrader", "generate_assignment", "preparation", "--create"],
+                          cwd=course, capture_output=True, text=True, env=grader_env(PYTHONWARNINGS="ignore"),
+                          timeout=120)
+    assert proc.returncode == 0, proc.stdout[-2000:] + proc.stderr[-2000:]
+    return course / "release" / "preparation" / NOTEBOOK
+
+
 def _cases(work: Path) -> Dict[str, dict]:
-    """name -> the upload folder and the checks graded (None: the zip's, i.e. all)."""
+    """name -> the upload folder and the checks graded (None: the zip's, i.e. all).
+
+    The answer key's upload also holds the instructor's NOTEBOOK (every answer in it); the
+    template's the released NOTEBOOK, untouched, and a notebook that is not the course's.
+    """
     generate_templates(SOLUTIONS, work / "template" / "hri_lab", not_executable=STUDENT_MAKES_EXECUTABLE)
     cases = {
         "answer key": {"upload": _answer_key(work / "key" / "upload" / "hri_lab").parent, "checks": None},
         "template": {"upload": work / "template", "checks": None},
     }
+    shutil.copy(COURSE_DIR / "source" / "preparation" / NOTEBOOK, work / "key" / "upload")
+    shutil.copy(_released_notebook(work / "release"), work / "template")
+    (work / "template" / "Untitled.ipynb").write_text(json.dumps({"cells": [], "metadata": {}, "nbformat": 4,
+                                                                  "nbformat_minor": 5}))
     for name, layout in (("mapping_no_clipping", _messy_zip), ("teleop_no_deadzone", _loose),
                          ("params_robot_mass_int", None)):
         package = _corpus(name, work / name / "package" / "hri_lab")
@@ -200,3 +233,30 @@ def test_messy_uploads_are_found_and_the_student_is_told_where(graded):
     hidden = _failed(zipped)["mapping-node: takes the range from /max_sensor_force (hidden inputs, other values)"]
     assert hidden["visibility"] == "after_published"
     assert _failed(zipped)["mapping-node: clips counts above /max_sensor_force to 1.0 (public trace)"]["visibility"] == "visible"
+
+
+def _notebook_tests(payload: dict) -> List[dict]:
+    return [t for t in payload["tests"] if t["name"].startswith(f"preparation/{NOTEBOOK}: ")]
+
+
+def _autograded_points() -> List[float]:
+    cells = json.loads((COURSE_DIR / "source" / "preparation" / NOTEBOOK).read_text())["cells"]
+    return [c["metadata"]["nbgrader"]["points"] for c in cells if c.get("metadata", {}).get("nbgrader", {}).get("grade")
+            and not c["metadata"]["nbgrader"].get("solution")]
+
+
+def test_an_answered_course_notebook_gets_full_marks_for_each_autograded_cell(graded):
+    payload, _ = graded["answer key"]
+    tests = _notebook_tests(payload)
+    assert [t["max_score"] for t in tests] == _autograded_points() and len(tests) >= 3
+    assert all(t["score"] == t["max_score"] and t["visibility"] == "visible" for t in tests), payload.get("output")
+    assert f"preparation/{NOTEBOOK}: 2 more points of written answers are graded by course staff" in payload["output"]
+
+
+def test_an_untouched_released_notebook_gets_zero_and_other_notebooks_are_named_and_ignored(graded):
+    payload, _ = graded["template"]
+    tests = _notebook_tests(payload)
+    assert [t["max_score"] for t in tests] == _autograded_points()
+    assert all(t["score"] == 0 and "fill them in" in t["output"] and "Error" in t["output"] for t in tests), payload.get("output")
+    assert "ignored Untitled.ipynb: not notebooks of the course" in payload["output"]
+    assert not [t for t in payload["tests"] if "Untitled" in t["name"]]

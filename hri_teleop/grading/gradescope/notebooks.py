@@ -9,6 +9,7 @@ runs nbgrader's autograde as make grade does; the gradebook gives each cell's po
 from __future__ import annotations
 
 import json
+import os
 import re
 import shutil
 import sys
@@ -20,6 +21,7 @@ from hri_teleop.grading.batch.assignments import ASSIGNMENTS
 from hri_teleop.grading.batch.nbgrader_batch import autograde_one, nbgrader_job_env
 from hri_teleop.grading.results import GradingError
 from hri_teleop.grading.run.jobs import run_job
+from hri_teleop.ros.kernel import install_kernelspec
 
 __all__ = ["COURSE", "NOTEBOOKS_TIMEOUT_S", "NotebookTests", "course_members", "without_solutions",
            "course_notebooks", "grade_notebooks"]
@@ -159,6 +161,18 @@ def _scores(db: Path, assignment: str, notebook: str) -> Dict[str, float]:
         return {g.name: float(g.score) for g in gb.find_submission_notebook(notebook, assignment, _STUDENT).grades}
 
 
+def _alembic_on_path(work: Path) -> None:
+    """nbgrader's gradebook runs the ``alembic`` command: put one on PATH (this Python's, or a shim
+    running ``python -m alembic``, for a venv that borrows another one's packages)."""
+    os.environ["PATH"] = os.pathsep.join([str(Path(sys.executable).parent), os.environ.get("PATH", "")])
+    if shutil.which("alembic") is None:
+        shim = work / "bin" / "alembic"
+        shim.parent.mkdir(parents=True, exist_ok=True)
+        shim.write_text(f'#!/bin/sh\nexec "{sys.executable}" -m alembic "$@"\n', encoding="utf-8")
+        shim.chmod(0o755)
+        os.environ["PATH"] = os.pathsep.join([str(shim.parent), os.environ["PATH"]])
+
+
 def _generate(course: Path, assignment: str, log: Path) -> str:
     """nbgrader generate_assignment in ``course``: "" or why it failed."""
     argv = [sys.executable, "-m", "nbgrader", "generate_assignment", assignment, "--create", "--force",
@@ -167,7 +181,9 @@ def _generate(course: Path, assignment: str, log: Path) -> str:
     if run.returncode == 0 and not run.timed_out:
         return ""
     lines = log.read_text(encoding="utf-8", errors="replace").strip().splitlines()
-    return f"the course could not be prepared ({(lines[-1] if lines else 'no output')[:200]})"
+    errors = [line for line in lines if re.match(r"^\s*\w*(Error|Exception)\b", line)]
+    print(f"run_autograder: nbgrader generate_assignment {assignment} failed:\n" + "\n".join(lines[-40:]), flush=True)
+    return f"the course could not be prepared ({(errors or lines or ['no output'])[-1].strip()[:200]})"
 
 
 def grade_notebooks(notebooks: Sequence[Path], package: Path, shipped: Path, work: Path,
@@ -184,6 +200,9 @@ def grade_notebooks(notebooks: Sequence[Path], package: Path, shipped: Path, wor
         result.notes.append(f"ignored {', '.join(ignored)}: not notebooks of the course (keep their names: "
                             f"{', '.join(sorted(known)[:3])}, ...)")
     course = work / "course"
+    if chosen:
+        install_kernelspec()  # the notebooks' kernel "hri-teleop", as make grade installs it
+        _alembic_on_path(work)
     for assignment in ASSIGNMENTS:
         mine = {stem: path for stem, path in chosen.items() if known[stem] == assignment}
         if not mine:
@@ -204,6 +223,10 @@ def grade_notebooks(notebooks: Sequence[Path], package: Path, shipped: Path, wor
             outcome = autograde_one(course, _STUDENT, assignment, work / f"autograde-{assignment}", timeout_s,
                                     progress=lambda line: print(line, flush=True))
             why = "" if outcome.status == "graded" else outcome.message
+            if why:  # for the instructor: run_autograder's log
+                log = work / f"autograde-{assignment}" / "autograde.log"
+                tail = log.read_text(encoding="utf-8", errors="replace").splitlines()[-40:] if log.is_file() else []
+                print(f"run_autograder: {why}\n" + "\n".join(tail), flush=True)
         for stem in sorted(mine):
             name = f"{assignment}/{stem}.ipynb"
             manual = _manual_points(course / "source" / assignment / f"{stem}.ipynb")
