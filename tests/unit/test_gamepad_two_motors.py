@@ -90,3 +90,16 @@ def test_the_live_plot_cue_follows_the_nodes_latched_check():
     assert pad_cue_html(None) == ""
     assert "accepted" in pad_cue_html(True) and "#b00020" not in pad_cue_html(True)
     assert "refuses rumble" in pad_cue_html(False) and "#b00020" in pad_cue_html(False)
+
+
+def test_the_controller_view_names_the_identified_layout_and_the_precision_button(monkeypatch):
+    from test_gamepad_identify import GuidJoystick  # tests/unit, on sys.path under pytest
+
+    from hri_teleop.core.teleop import TeleopParams
+    from hri_teleop.course.widgets import controller
+
+    device = GuidJoystick("050000004c050000e60c000000810000", "Wireless Controller", 6, 13)
+    monkeypatch.setattr(controller, "open_gamepad", lambda kind, layout: PygamePad(layout, joystick=device))
+    _pad, note = controller.open_pad("auto", "auto")
+    assert "layout dualsense (auto: DualSense (054c:0ce6) over Bluetooth by its GUID" in note
+    assert controller.button_roles(TeleopParams(precision_button="r1"))["r1"] == "precision"

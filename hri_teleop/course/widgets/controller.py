@@ -118,11 +118,13 @@ def stick_dot_xy(center_x: float, center_y: float, radius: float, x: float, y: f
 
 
 def button_roles(params: TeleopParams) -> Mapping[str, str]:
-    """Positional button -> what it does in the lab ('close', 'open', 'mode', 'quit', 'deadman')."""
+    """Positional button -> what it does in the lab ('close', 'open', 'mode', 'quit', 'deadman', 'precision')."""
     roles = {params.close_button: "close", params.open_button: "open", params.toggle_button: "mode",
              params.quit_button: "quit"}
     if params.deadman_button:
         roles[params.deadman_button] = "deadman"
+    if params.precision_button:
+        roles[params.precision_button] = "precision"
     return roles
 
 
@@ -201,7 +203,9 @@ def open_pad(source: Any = "auto", layout: Any = None) -> Tuple[Gamepad, str]:
         reason = str(exc).split(":")[0]
         return VirtualPad(layout), (f"{reason}: using the virtual pad (drive it below); plug a pad in and run "
                                     "the cell again to use it")
-    return pad, f"gamepad {getattr(pad, 'name', '')!r} (move the sticks, press the buttons)"
+    reason = getattr(pad, "layout_reason", "")
+    return pad, (f"gamepad {getattr(pad, 'name', '')!r}, layout {pad.layout.name}" + (f" ({reason})" if reason else "")
+                 + " (move the sticks, press the buttons)")
 
 
 def rumble_cue(pad: Any, feedback: bool = True) -> str:
