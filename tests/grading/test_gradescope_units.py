@@ -12,7 +12,7 @@ from hri_teleop.core.paths import REPO
 from hri_teleop.grading.gradescope.build import build_zip
 from hri_teleop.grading.gradescope.container import CONFIG_NAME, Config, load_config, seed_from_metadata
 from hri_teleop.grading.gradescope.layout import find_upload
-from hri_teleop.grading.gradescope.notebooks import without_solutions
+from hri_teleop.grading.gradescope.notebooks import COURSE, cell_tests, course_members, without_solutions
 from hri_teleop.grading.gradescope.report import (
     HIDDEN_INPUT_PARTS,
     Unjudged,
@@ -265,3 +265,65 @@ def test_notebook_tests_follow_the_checks_and_a_notebook_not_judged_is_named_fir
                                                  "long). Those parts show 0 until course staff regrade; you need "
                                                  "not resubmit.")
     assert payload["score"] == _result("robot-params").score
+
+
+def _notebook(path: Path, cells: list) -> Path:
+    path.parent.mkdir(parents=True, exist_ok=True)
+    path.write_text(json.dumps({"cells": cells, "metadata": {}, "nbformat": 4, "nbformat_minor": 5}))
+    return path
+
+
+def _grade_cell(grade_id: str, points: float, source: str, solution: bool = False) -> dict:
+    return {"cell_type": "code", "source": source, "outputs": [], "execution_count": None,
+            "metadata": {"nbgrader": {"grade": True, "solution": solution, "grade_id": grade_id, "points": points}}}
+
+
+def test_a_cell_with_hidden_tests_is_after_published_and_a_failed_cell_says_what_to_do(tmp_path):
+    source = _notebook(tmp_path / "ex.ipynb", [
+        _grade_cell("seen", 2, "assert rate_hz == 10"),
+        _grade_cell("hidden", 1, "assert x\n### BEGIN HIDDEN TESTS\nassert y\n### END HIDDEN TESTS"),
+        _grade_cell("written", 2, "YOUR ANSWER HERE", solution=True)])
+    tests = cell_tests("lab/ex.ipynb", source, {"seen": 2.0, "hidden": 0.0, "written": 1.0},
+                       {"hidden": "AssertionError: y"})
+    assert [(t["name"], t["score"], t["max_score"], t["visibility"]) for t in tests] == [
+        ("lab/ex.ipynb: seen", 2.0, 2.0, "visible"), ("lab/ex.ipynb: hidden", 0.0, 1.0, "after_published")]
+    assert tests[1]["status"] == "failed" and tests[1]["output"].startswith("AssertionError: y\nThis cell checks")
+    unjudged = cell_tests("lab/ex.ipynb", source, {"seen": 2.0}, {}, "it took too long")
+    assert [t["score"] for t in unjudged] == [0.0, 0.0] and all("not judged: it took too long" in t["output"]
+                                                                 for t in unjudged)
+
+
+def test_a_notebook_run_that_fails_is_not_judged_and_other_notebooks_are_named(tmp_path, monkeypatch):
+    from hri_teleop.grading.batch.nbgrader_batch import JobOutcome
+    from hri_teleop.grading.gradescope import notebooks
+
+    shipped = tmp_path / "zip"
+    for name, data in course_members(REPO / "notebooks"):
+        (shipped / name).parent.mkdir(parents=True, exist_ok=True)
+        (shipped / name).write_bytes(data)
+    why = "nbgrader autograde took longer than 600 s (stopped in ex01_fsr_and_arduino.ipynb)"
+    monkeypatch.setattr(notebooks, "install_kernelspec", lambda: tmp_path)
+    monkeypatch.setattr(notebooks, "_alembic_on_path", lambda work: None)
+    monkeypatch.setattr(notebooks, "_generate", lambda course, assignment, log: "")
+    monkeypatch.setattr(notebooks, "autograde_one", lambda course, student, assignment, *a, **k: JobOutcome(
+        student, assignment, "notebooks", 0.0, 0.0, "not graded", 600.0, why))
+    uploaded = [_notebook(tmp_path / "up" / "a" / "ex01_fsr_and_arduino.ipynb", []),
+                _notebook(tmp_path / "up" / "notes.ipynb", [])]
+    (tmp_path / "hri_lab").mkdir()
+    result = notebooks.grade_notebooks(uploaded, tmp_path / "hri_lab", shipped / COURSE, tmp_path / "work")
+    assert result.unjudged == [("preparation/ex01_fsr_and_arduino.ipynb", why)]
+    tests = result.tests["preparation/ex01_fsr_and_arduino.ipynb"]
+    assert len(tests) == 3 and all(t["score"] == 0 and why in t["output"] for t in tests)
+    assert any(n.startswith("ignored notes.ipynb: not notebooks of the course") for n in result.notes)
+
+
+def test_a_grader_crash_on_the_notebooks_is_one_not_judged_line(tmp_path, monkeypatch):
+    from hri_teleop.grading.gradescope import container
+
+    def crash(*args, **kwargs):
+        raise OSError("disk full")
+
+    monkeypatch.setattr(container, "grade_notebooks", crash)
+    result = container._notebooks([tmp_path / "ex01_fsr_and_arduino.ipynb"], tmp_path, tmp_path, tmp_path, 60.0, 7)
+    assert result.unjudged == [("ex01_fsr_and_arduino.ipynb", "the grader stopped with OSError")]
+    assert container._notebooks([], tmp_path, tmp_path, tmp_path, 60.0, 7).unjudged == []

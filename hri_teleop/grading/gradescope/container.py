@@ -111,12 +111,13 @@ def _hri_grade(package: Path, out: Path, checks: Sequence[str], seed: Optional[i
 
 
 def _notebooks(notebooks: Sequence[Path], package: Path, course: Optional[Path], work: Path,
-               timeout_s: float) -> NotebookTests:
+               timeout_s: float, seed: Optional[int]) -> NotebookTests:
     """The course's notebooks of the upload graded; a failure of the grader is a "not judged" line, never a crash."""
     if not notebooks or course is None or not course.is_dir():
         return NotebookTests()
     try:
-        return grade_notebooks(notebooks, package, course, work / "notebooks", timeout_s)
+        student = "student" if seed is None else f"student-{seed}"  # the check cells' seed: one per student
+        return grade_notebooks(notebooks, package, course, work / "notebooks", timeout_s, student)
     except Exception as exc:  # noqa: BLE001 - whatever stops nbgrader, the files' grades must still be written
         print(f"run_autograder: grading the notebooks failed: {type(exc).__name__}: {exc}", flush=True)
         names = ", ".join(p.name for p in notebooks[:6]) + (" ..." if len(notebooks) > 6 else "")
@@ -143,7 +144,7 @@ def grade_upload(submission: Path, work: Path, config: Config, seed: Optional[in
             results += one
             if reason is not None:
                 unjudged.append(Unjudged(check, reason))
-    graded = _notebooks(upload.notebooks, upload.hri_lab, course, work, config.notebooks_timeout_s)
+    graded = _notebooks(upload.notebooks, upload.hri_lab, course, work, config.notebooks_timeout_s, seed)
     return results_payload(results, unjudged, notes + graded.notes, time.monotonic() - started, order=config.checks,
                            notebook_tests=graded.tests, notebooks_unjudged=graded.unjudged)
 

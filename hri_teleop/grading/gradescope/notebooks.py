@@ -24,13 +24,12 @@ from hri_teleop.grading.run.jobs import run_job
 from hri_teleop.ros.kernel import install_kernelspec
 
 __all__ = ["COURSE", "NOTEBOOKS_TIMEOUT_S", "NotebookTests", "course_members", "without_solutions",
-           "course_notebooks", "grade_notebooks"]
+           "course_notebooks", "cell_tests", "grade_notebooks"]
 
 #: The folder of the zip holding the course (nbgrader_config.py, source/<assignment>/*.ipynb).
 COURSE = "course"
 #: nbgrader autograde of one assignment's uploaded notebooks (each cell also has the course's 300 s).
 NOTEBOOKS_TIMEOUT_S = 600.0
-_STUDENT = "student"
 _HIDDEN = "BEGIN HIDDEN TESTS"
 _BEGIN, _END = "BEGIN SOLUTION", "END SOLUTION"  # nbgrader's delimiters: a line holding one
 _OUTPUT_CHARS = 1500
@@ -136,10 +135,12 @@ def _cell_output(autograded: Path) -> Dict[str, str]:
     return outputs
 
 
-def _tests(name: str, cells: Sequence[Tuple[str, float, bool]], scores: Dict[str, float],
-           outputs: Dict[str, str], not_judged: str = "") -> List[Dict[str, Any]]:
+def cell_tests(name: str, source: Path, scores: Dict[str, float], outputs: Dict[str, str],
+               not_judged: str = "") -> List[Dict[str, Any]]:
+    """A Gradescope test per autograded cell of the ``source`` notebook: ``scores`` and ``outputs`` by grade
+    id (nbgrader's); cells with hidden tests are ``after_published``; all at 0 when ``not_judged`` says why."""
     tests = []
-    for grade_id, points, hidden in cells:
+    for grade_id, points, hidden in _autograded_cells(source):
         score = 0.0 if not_judged else scores.get(grade_id, 0.0)
         if not_judged:
             output = f"not judged: {not_judged}; course staff will regrade it (no need to resubmit)"
@@ -154,11 +155,11 @@ def _tests(name: str, cells: Sequence[Tuple[str, float, bool]], scores: Dict[str
     return tests
 
 
-def _scores(db: Path, assignment: str, notebook: str) -> Dict[str, float]:
+def _scores(db: Path, assignment: str, notebook: str, student: str) -> Dict[str, float]:
     from nbgrader.api import Gradebook  # noqa: PLC0415 - optional (not on Python 3.8): notebooks only
 
     with Gradebook(f"sqlite:///{db}") as gb:
-        return {g.name: float(g.score) for g in gb.find_submission_notebook(notebook, assignment, _STUDENT).grades}
+        return {g.name: float(g.score) for g in gb.find_submission_notebook(notebook, assignment, student).grades}
 
 
 def _alembic_on_path(work: Path) -> None:
@@ -187,8 +188,12 @@ def _generate(course: Path, assignment: str, log: Path) -> str:
 
 
 def grade_notebooks(notebooks: Sequence[Path], package: Path, shipped: Path, work: Path,
-                    timeout_s: float = NOTEBOOKS_TIMEOUT_S) -> NotebookTests:
-    """Autograde the course's notebooks among ``notebooks`` beside ``package`` (the course in ``shipped``)."""
+                    timeout_s: float = NOTEBOOKS_TIMEOUT_S, student: str = "student") -> NotebookTests:
+    """Autograde the course's notebooks among ``notebooks`` beside ``package`` (the course in ``shipped``).
+
+    ``student`` names the submission's folder, whose last parts seed the check cells' hidden inputs
+    (:func:`hri_teleop.grading.cases.inputs.seed_for`): one per student, as on make grade.
+    """
     result = NotebookTests()
     known = course_notebooks(shipped)
     chosen: Dict[str, Path] = {}
@@ -212,15 +217,14 @@ def grade_notebooks(notebooks: Sequence[Path], package: Path, shipped: Path, wor
         course.mkdir(parents=True)
         shutil.copy(shipped / "nbgrader_config.py", course)
         shutil.copytree(shipped / "source" / assignment, course / "source" / assignment)
-        cells = {stem: _autograded_cells(course / "source" / assignment / f"{stem}.ipynb") for stem in mine}
         why = _generate(course, assignment, work / f"generate-{assignment}.log")
         if not why:
-            folder = course / "submitted" / _STUDENT / assignment
+            folder = course / "submitted" / student / assignment
             folder.mkdir(parents=True)
             for stem, path in mine.items():
                 shutil.copy(path, folder / f"{stem}.ipynb")
             shutil.copytree(package, folder / "hri_lab", symlinks=True)
-            outcome = autograde_one(course, _STUDENT, assignment, work / f"autograde-{assignment}", timeout_s,
+            outcome = autograde_one(course, student, assignment, work / f"autograde-{assignment}", timeout_s,
                                     progress=lambda line: print(line, flush=True))
             why = "" if outcome.status == "graded" else outcome.message
             if why:  # for the instructor: run_autograder's log
@@ -229,14 +233,15 @@ def grade_notebooks(notebooks: Sequence[Path], package: Path, shipped: Path, wor
                 print(f"run_autograder: {why}\n" + "\n".join(tail), flush=True)
         for stem in sorted(mine):
             name = f"{assignment}/{stem}.ipynb"
-            manual = _manual_points(course / "source" / assignment / f"{stem}.ipynb")
+            source = course / "source" / assignment / f"{stem}.ipynb"
+            manual = _manual_points(source)
             if manual:
                 result.notes.append(f"{name}: {manual:g} more points of written answers are graded by course staff")
             if why:
                 result.unjudged.append((name, why))
-                result.tests[name] = _tests(name, cells[stem], {}, {}, why)
+                result.tests[name] = cell_tests(name, source, {}, {}, why)
             else:
-                autograded = course / "autograded" / _STUDENT / assignment / f"{stem}.ipynb"
-                result.tests[name] = _tests(name, cells[stem], _scores(course / "gradebook.db", assignment, stem),
-                                            _cell_output(autograded))
+                autograded = course / "autograded" / student / assignment / f"{stem}.ipynb"
+                result.tests[name] = cell_tests(name, source, _scores(course / "gradebook.db", assignment, stem,
+                                                                      student), _cell_output(autograded))
     return result
