@@ -158,7 +158,7 @@ def pad_finding(mode: str, found: Optional[str], layout: Optional[str], layout_r
         return Finding("pad", NOTE, "no gamepad: the virtual pad (or widgets.BrowserPad) stands in at home")
     if layout is None:
         return Finding("pad", NOTE, f"{found}; layout not identified ({layout_reason})",
-                       "pick one: layout:=dualshock4 | dualsense | xbox, then --walk to check it")
+                       "pick one: layout:=dualshock4 | dualsense | dualsense_hid_generic | xbox, then WALK=1 to check it")
     return Finding("pad", OK, f"{found}; layout {layout} ({layout_reason})")
 
 
