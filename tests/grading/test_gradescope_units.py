@@ -308,13 +308,18 @@ def test_a_notebook_run_that_fails_is_not_judged_and_other_notebooks_are_named(t
     monkeypatch.setattr(notebooks, "autograde_one", lambda course, student, assignment, *a, **k: JobOutcome(
         student, assignment, "notebooks", 0.0, 0.0, "not graded", 600.0, why))
     uploaded = [_notebook(tmp_path / "up" / "a" / "ex01_fsr_and_arduino.ipynb", []),
-                _notebook(tmp_path / "up" / "notes.ipynb", [])]
+                _notebook(tmp_path / "up" / "notes.ipynb", []),
+                _notebook(tmp_path / "up" / "old" / "copy" / "ex01_fsr_and_arduino.ipynb",
+                          [{"cell_type": "markdown", "source": "an old copy", "metadata": {}}])]
     (tmp_path / "hri_lab").mkdir()
     result = notebooks.grade_notebooks(uploaded, tmp_path / "hri_lab", shipped / COURSE, tmp_path / "work")
     assert result.unjudged == [("preparation/ex01_fsr_and_arduino.ipynb", why)]
     tests = result.tests["preparation/ex01_fsr_and_arduino.ipynb"]
     assert len(tests) == 3 and all(t["score"] == 0 and why in t["output"] for t in tests)
     assert any(n.startswith("ignored notes.ipynb: not notebooks of the course") for n in result.notes)
+    assert "ex01_fsr_and_arduino.ipynb: in the upload more than once; graded the copy nearest its top" in result.notes
+    assert (tmp_path / "work" / "course" / "submitted" / "student" / "preparation" / "ex01_fsr_and_arduino.ipynb"
+            ).read_bytes() == uploaded[0].read_bytes()
 
 
 def test_a_grader_crash_on_the_notebooks_is_one_not_judged_line(tmp_path, monkeypatch):

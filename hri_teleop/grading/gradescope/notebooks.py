@@ -200,6 +200,9 @@ def grade_notebooks(notebooks: Sequence[Path], package: Path, shipped: Path, wor
     for path in sorted(notebooks, key=lambda p: (len(p.parts), str(p))):
         if path.stem in known:
             chosen.setdefault(path.stem, path)
+    twice = sorted({p.name for p in notebooks if p.stem in chosen and p != chosen[p.stem]})
+    if twice:
+        result.notes.append(f"{', '.join(twice)}: in the upload more than once; graded the copy nearest its top")
     ignored = sorted({p.name for p in notebooks if p.stem not in known})
     if ignored:
         result.notes.append(f"ignored {', '.join(ignored)}: not notebooks of the course (keep their names: "
