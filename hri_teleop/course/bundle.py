@@ -41,7 +41,8 @@ LAB_DELIVERABLES = ("hri_lab/scripts/mapping_node.py", "hri_lab/scripts/teleoper
                     "hri_lab/launch/sensor.launch", "hri_lab/launch/teleoperation.launch",
                     "hri_lab/config/robot_params.yaml", "hri_lab/CMakeLists.txt")
 #: what only instructors and developers read or run (the nodes' docs go to students, the rubric does not)
-INSTRUCTOR_ONLY = ("benchmarks", "docs/instructors.md", "docs/grading-internals.md", "docs/benchmarks.md")
+INSTRUCTOR_ONLY = ("benchmarks", "docs/instructors.md", "docs/grading-internals.md", "docs/benchmarks.md",
+                   "hri_teleop/grading/gradescope")  # it ships the course notebooks' hidden tests
 #: Region lines shorter than this (``else:``, ``}``) are too common to prove a leak.
 _MIN_LEAK_CHARS = 8
 _IGNORE = shutil.ignore_patterns("__pycache__", "*.pyc", "*.egg-info", ".ipynb_checkpoints", "catkin_ws")

@@ -52,6 +52,15 @@ def _box(root: Path, source: Path, argv: List[str], env: Dict[str, str], timeout
     (root / "ag" / "source").mkdir(parents=True, exist_ok=True)
     args += ["--bind", str(root / "tmp"), "/tmp", "--bind", str(root / "ag"), "/autograder",
              "--bind", str(source), "/autograder/source", "--chdir", "/autograder"]
+    # The checkout's .venv (HRI_GRADESCOPE_REUSE_VENV) stays visible where a checkout lives under /tmp (CI),
+    # its folders traversable by the students' uid (bwrap would make them 0700).
+    venv = REPO / ".venv"
+    if str(venv).startswith("/tmp/"):
+        mount_point = root / "tmp" / venv.relative_to("/tmp")
+        mount_point.mkdir(parents=True, exist_ok=True)
+        for folder in [mount_point, *mount_point.parents][: len(venv.relative_to("/tmp").parts)]:
+            folder.chmod(0o755)
+        args += ["--ro-bind", str(venv), str(venv)]
     return subprocess.run(args + argv, env=dict(_ENV, **env), capture_output=True, text=True, timeout=timeout_s,
                           stdin=subprocess.DEVNULL)
 
