@@ -80,26 +80,19 @@ def recover(timeout_s: float = 10.0) -> bool:
     Let go of the sticks first: a node still commanding a velocity stops the recovered robot again.
     """
     _ros()
-    import actionlib  # noqa: PLC0415 - ROS only in the cells that talk to the robot
-    from actionlib_msgs.msg import GoalStatus  # noqa: PLC0415
+    from actionlib_msgs.msg import GoalStatus  # noqa: PLC0415 - ROS only in the cells that talk to the robot
 
-    from hri_teleop.ros.franka_msgs import ErrorRecoveryAction, ErrorRecoveryGoal  # noqa: PLC0415 - genpy, ROS only
+    from hri_teleop.ros.error_recovery import recover_and_wait, status_name  # noqa: PLC0415 - actionlib, ROS only
 
-    client = actionlib.SimpleActionClient(ERROR_RECOVERY_ACTION, ErrorRecoveryAction)
-    if not client.wait_for_server(_duration(timeout_s / 2)):
+    found, status, text = recover_and_wait(ERROR_RECOVERY_ACTION, timeout_s / 2, timeout_s)
+    if not found:
         print(f"no error recovery on {ERROR_RECOVERY_ACTION}: at home run the start cell (the simulated robot), in "
               "the lab start franka_control")
         return False
-    client.send_goal(ErrorRecoveryGoal())
-    if not client.wait_for_result(_duration(timeout_s)) or client.get_state() != GoalStatus.SUCCEEDED:
-        print(f"error recovery did not succeed ({client.get_goal_status_text() or 'no answer'}); check the robot "
+    if status != GoalStatus.SUCCEEDED:
+        print(f"error recovery did not succeed ({text or status_name(status)}); check the robot "
               "(in the lab: its lights and Desk)")
         return False
     print("recovered: the robot accepts commands again, from rest")
     return True
 
-
-def _duration(seconds: float) -> Any:
-    import rospy  # noqa: PLC0415 - ROS only in the cells that talk to the robot
-
-    return rospy.Duration.from_sec(max(0.1, float(seconds)))

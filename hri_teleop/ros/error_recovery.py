@@ -9,7 +9,7 @@ goes to franka_control_node in the lab and to lab_sim at home (docs/ros-nodes.md
 from __future__ import annotations
 
 import threading
-from typing import Any, Optional
+from typing import Any, List, Optional, Tuple
 
 import actionlib
 import rospy
@@ -18,7 +18,7 @@ from actionlib_msgs.msg import GoalStatus
 
 from hri_teleop.ros.franka_msgs import ErrorRecoveryAction, ErrorRecoveryGoal
 
-__all__ = ["ErrorRecoveryRequester"]
+__all__ = ["ErrorRecoveryRequester", "recover_and_wait", "status_name"]
 
 _STATUS_NAMES = {getattr(GoalStatus, name): name for name in
                  ("PENDING", "ACTIVE", "PREEMPTED", "SUCCEEDED", "ABORTED", "REJECTED", "PREEMPTING", "RECALLING",
@@ -70,3 +70,35 @@ class ErrorRecoveryRequester:
         else:
             rospy.logwarn("error recovery ended %s: %s", _STATUS_NAMES.get(status, str(status)),
                           text or "no reason given; look at the robot's log (franka_control or lab_sim)")
+
+
+def status_name(status: Optional[int]) -> str:
+    """actionlib's name of a goal status (SUCCEEDED, ABORTED, ...); "no answer" for None."""
+    return "no answer" if status is None else _STATUS_NAMES.get(status, str(status))
+
+
+def recover_and_wait(action_ns: str, server_timeout_s: float, result_timeout_s: float
+                     ) -> Tuple[bool, Optional[int], str]:
+    """Send one recovery goal and wait for its end: (server found, final status or None, status text).
+
+    Not SimpleActionClient: it stores the goal handle only after sending, so a server as fast as
+    lab_sim can answer first, and the answer is logged as "not tracking" and lost. Here the
+    callback needs no stored handle, and the handle is kept alive until the end.
+    """
+    client = actionlib.ActionClient(rospy.resolve_name(action_ns), ErrorRecoveryAction)
+    if not client.wait_for_server(rospy.Duration.from_sec(max(0.1, server_timeout_s))):
+        return False, None, ""
+    done = threading.Event()
+    ended: List[Tuple[int, str]] = []
+
+    def on_transition(handle: Any) -> None:
+        if handle.get_comm_state() == CommState.DONE and not done.is_set():
+            ended.append((handle.get_goal_status(), handle.get_goal_status_text()))
+            done.set()
+
+    handle = client.send_goal(ErrorRecoveryGoal(), transition_cb=on_transition)
+    finished = done.wait(max(0.1, result_timeout_s))
+    del handle  # kept alive until here: actionlib tracks goals by weak reference
+    if not finished:
+        return True, None, ""
+    return True, ended[0][0], ended[0][1]

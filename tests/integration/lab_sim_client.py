@@ -33,6 +33,7 @@ from std_srvs.srv import Trigger
 
 from hri_teleop.ros import franka_gripper_msgs as fg
 from hri_teleop.ros import franka_msgs as fm
+from hri_teleop.ros.error_recovery import recover_and_wait
 
 SPECS = {"move": fg.MoveAction, "grasp": fg.GraspAction, "homing": fg.HomingAction, "stop": fg.StopAction}
 
@@ -56,7 +57,7 @@ def main() -> None:
         if not client.wait_for_server(rospy.Duration(20.0)):
             write(event="error", what=f"no {name} server")
             return
-    recovery = actionlib.SimpleActionClient("/franka_control/error_recovery", fm.ErrorRecoveryAction)
+    recovery = actionlib.ActionClient("/franka_control/error_recovery", fm.ErrorRecoveryAction)
     if not recovery.wait_for_server(rospy.Duration(20.0)):
         write(event="error", what="no error_recovery server")
         return
@@ -124,8 +125,8 @@ def main() -> None:
             write(event="called", success=response.success, message=response.message)
         elif "recover_action" in step:
             write(event="sent", id="error_recovery", action="error_recovery")
-            finished = recovery.send_goal_and_wait(fm.ErrorRecoveryGoal(), rospy.Duration(step["recover_action"]))
-            write(event="recovery", status=finished, text=recovery.get_goal_status_text())
+            _found, finished, text = recover_and_wait("/franka_control/error_recovery", 1.0, step["recover_action"])
+            write(event="recovery", status=finished, text=text)
     write(event="finished")
     log.close()
 
