@@ -24,7 +24,7 @@ from hri_teleop.core.yamlfile import read_yaml
 
 __all__ = ["LateError", "Extension", "LatePolicy", "Lateness", "LATE_FILE", "KEYS", "read_late_policy",
            "parse_when", "judge_lateness", "submission_time", "parse_timestamp", "late_line", "duration_text",
-           "ALL_ASSIGNMENTS", "FEEDBACK_PREFIX"]
+           "when_text", "ALL_ASSIGNMENTS", "FEEDBACK_PREFIX"]
 
 #: The default late policy file: beside the course (an nbgrader course's folder, else the submissions folder).
 LATE_FILE = "late.yaml"
@@ -150,18 +150,19 @@ def duration_text(seconds: float) -> str:
     return " ".join(parts)
 
 
-def _when_text(when: datetime, zone: Optional[tzinfo]) -> str:
+def when_text(when: datetime, zone: Optional[tzinfo]) -> str:
+    """``when`` as feedback and report show it: in ``zone`` (the deadline's), to the second."""
     return when.astimezone(zone).isoformat(sep=" ", timespec="seconds")
 
 
 def late_line(lateness: Lateness, max_score: Optional[float], with_assignment: bool = False) -> str:
     """The one line a student's feedback gets: submitted when (from where), how late, the penalty."""
     head = FEEDBACK_PREFIX + (f", {lateness.assignment}" if with_assignment else "") + ": "
-    deadline = _when_text(lateness.deadline, lateness.deadline.tzinfo)
+    deadline = when_text(lateness.deadline, lateness.deadline.tzinfo)
     own = " (your extension)" if lateness.extended else ""
     if lateness.submitted is None:
         return f"{head}submission time unknown ({lateness.problem}); deadline {deadline}{own}; no penalty"
-    submitted = f"submitted {_when_text(lateness.submitted, lateness.deadline.tzinfo)} ({lateness.source})"
+    submitted = f"submitted {when_text(lateness.submitted, lateness.deadline.tzinfo)} ({lateness.source})"
     if not lateness.late:
         return f"{head}{submitted}, on time (deadline {deadline}{own}); no penalty"
     counted = (f"{lateness.days:g} day(s) started" if lateness.days == int(lateness.days)

@@ -14,7 +14,7 @@ from datetime import datetime
 from pathlib import Path
 from typing import List, Sequence
 
-from hri_teleop.grading.batch.late import duration_text
+from hri_teleop.grading.batch.late import duration_text, when_text
 from hri_teleop.grading.batch.lms import write_lms
 from hri_teleop.grading.batch.report_data import (
     ClassResults,
@@ -61,9 +61,8 @@ def _link(where: str) -> str:
 
 def _scores(results: ClassResults, out: Path) -> str:
     panels = distributions(results)
-    bins = [(title, histogram(values, maximum), maximum) for title, values, maximum in panels]
-    score_histogram([(f"{title} (n={len(values)})", b, maximum)
-                     for (title, values, maximum), (_t, b, _m) in zip(panels, bins)], out / SCORES_PNG)
+    score_histogram([(f"{title} (n={len(values)})", histogram(values, maximum), maximum)
+                     for title, values, maximum in panels], out / SCORES_PNG)
     rows = []
     for title, values, maximum in panels:
         stats = score_stats(values)
@@ -121,9 +120,8 @@ def _late(results: ClassResults, extended: Sequence[str]) -> str:
         lt = r.lateness
         zone = lt.deadline.tzinfo
         rows.append([_e(r.student), _e(r.assignment),
-                     _e(lt.submitted.astimezone(zone).isoformat(sep=" ", timespec="seconds")) if lt.submitted
-                     else _e(f"unknown: {lt.problem}"), _e(lt.source),
-                     _e(lt.deadline.isoformat(sep=" ", timespec="seconds")) + (" (extension)" if lt.extended else ""),
+                     _e(when_text(lt.submitted, zone)) if lt.submitted else _e(f"unknown: {lt.problem}"), _e(lt.source),
+                     _e(when_text(lt.deadline, zone)) + (" (extension)" if lt.extended else ""),
                      _e(duration_text(lt.late_s)) if lt.late else "", f"{lt.days:g}", f"{100 * lt.fraction:.0f}%",
                      f"{r.points:g}"])
     unused = unused_extensions(extended, [s.student for s in results.students])

@@ -36,6 +36,12 @@ _OUTPUT_CHARS = 1500
 _ANSI = re.compile(r"\x1b\[[0-9;]*m")
 
 
+def _source(cell: Dict[str, Any]) -> str:
+    """A cell's text (nbformat stores it as one string or as a list of lines)."""
+    source = cell["source"]
+    return "".join(source) if isinstance(source, list) else str(source)
+
+
 def without_solutions(notebook: Dict[str, Any]) -> Dict[str, Any]:
     """``notebook`` (nbformat JSON) with its solution cells' answers and every output removed.
 
@@ -47,7 +53,7 @@ def without_solutions(notebook: Dict[str, Any]) -> Dict[str, Any]:
         cell = dict(cell)
         meta = cell.get("metadata", {}).get("nbgrader", {})
         if meta.get("solution"):
-            text = "".join(cell["source"]) if isinstance(cell["source"], list) else cell["source"]
+            text = _source(cell)
             if _BEGIN in text:
                 kept, inside = [], False
                 for line in text.split("\n"):
@@ -110,7 +116,7 @@ def _autograded_cells(source: Path) -> List[Tuple[str, float, bool]]:
     for cell in _cells(source):
         meta = cell.get("metadata", {}).get("nbgrader", {})
         if meta.get("grade") and not meta.get("solution") and cell.get("cell_type") == "code":
-            text = "".join(cell["source"]) if isinstance(cell["source"], list) else cell["source"]
+            text = _source(cell)
             found.append((str(meta["grade_id"]), float(meta.get("points", 0)), _HIDDEN in text))
     return found
 
