@@ -15,14 +15,11 @@ import numpy as np
 import pinocchio as pin
 
 from hri_teleop.core.joints import (
-    JOINT_ACCELERATION_DISCONTINUITY,
-    JOINT_POSITION_LIMITS_VIOLATION,
-    JOINT_VELOCITY_DISCONTINUITY,
-    JOINT_VELOCITY_LIMITS_VIOLATION,
     PANDA_JOINT_LIMITS,
     READY_POSE_RAD,
     JointLimits,
     JointVector,
+    joint_violations,
 )
 from hri_teleop.hardware.sim.kinematics import PandaKinematics, Vector
 
@@ -46,6 +43,7 @@ class JointMotion:
                  rel_tol: float = 1e-9) -> None:
         self.kinematics = PandaKinematics(limits)
         self.limits = limits
+        self.rel_tol = rel_tol
         self.q: Vector = np.array(start_rad, dtype=float)
         self.velocity: Vector = np.zeros(7)        # what the joints did in the last cycle (rad/s)
         self._commanded: Vector = np.zeros(7)      # the IK of the commanded twist, last accepted cycle
@@ -110,21 +108,7 @@ class JointMotion:
             self.velocity = applied_dq
             self.q = next_q
             return []
-        return self._broken(next_q, commanded_dq, acceleration, jerk)
-
-    def _broken(self, next_q: Vector, dq: Vector, ddq: Vector, dddq: Vector) -> List[JointStep]:
-        """Every broken limit of this cycle, joint by joint (the same tests as the fast path in step)."""
-        found: List[JointStep] = []
-        limits = self.limits
-        for j in range(7):
-            q = float(next_q[j])
-            if not self._low[j] <= q <= self._high[j]:
-                limit = limits.position_min_rad[j] if not q >= self._low[j] else limits.position_max_rad[j]
-                found.append((JOINT_POSITION_LIMITS_VIOLATION, j + 1, q, limit))
-            for error, value, bound, limit in (
-                    (JOINT_VELOCITY_LIMITS_VIOLATION, dq[j], self._v_max[j], limits.velocity_rad_per_s[j]),
-                    (JOINT_VELOCITY_DISCONTINUITY, ddq[j], self._a_max[j], limits.acceleration_rad_per_s2[j]),
-                    (JOINT_ACCELERATION_DISCONTINUITY, dddq[j], self._j_max[j], limits.jerk_rad_per_s3[j])):
-                if not abs(float(value)) <= bound:
-                    found.append((error, j + 1, float(value), limit))
-        return found
+        # the slow path, once per reflex: core.joints' judge names each broken limit (same tests as above)
+        return [(v.error, v.joint, v.value, v.limit)
+                for v in joint_violations(next_q.tolist(), commanded_dq.tolist(), acceleration.tolist(),
+                                          jerk.tolist(), limits=self.limits, rel_tol=self.rel_tol)]
