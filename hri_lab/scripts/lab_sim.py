@@ -31,7 +31,7 @@ from std_msgs.msg import Float32, Float64, Header, Int16, UInt32
 from std_srvs.srv import Trigger, TriggerResponse
 
 from hri_teleop.core.config import DEFAULT_TWIST_TOPIC
-from hri_teleop.core.joints import JOINT_ERRORS, JOINT_NAMES, nearest_limit
+from hri_teleop.core.joints import FINGER_JOINT_NAMES, JOINT_ERRORS, JOINT_NAMES, nearest_limit
 from hri_teleop.core.reflex import explain_reflex
 from hri_teleop.hardware.sim.arm import (
     ACCELERATION_DISCONTINUITY,
@@ -69,7 +69,7 @@ from hri_teleop.ros.params import fail, get_param, package_file, private_params,
 NODE_KEYS = ("config", "scenario", "twist_topic", "gripper_ns", "control_ns", "board", "frame_id", "gripper_rate_hz",
              "state_controller_rate_hz", "state_rate_hz", "status_rate_hz", "object_rate_hz", "loop_period_s",
              "stall_s")
-FINGER_JOINTS = ["panda_finger_joint1", "panda_finger_joint2"]
+FINGER_JOINTS = list(FINGER_JOINT_NAMES)
 #: Every name the arm reports a violation under, in the order ~arm_status lists them.
 ARM_ERRORS = (VELOCITY_LIMITS_VIOLATION, VELOCITY_DISCONTINUITY, ACCELERATION_DISCONTINUITY, NON_FINITE_COMMAND,
               *(error for _what, error in JOINT_ERRORS))

@@ -16,7 +16,7 @@ from hri_teleop.core.checks import is_finite_number
 from hri_teleop.core.errors import HriTeleopError
 
 __all__ = [
-    "JointsError", "JointLimits", "PANDA_JOINT_LIMITS", "JOINT_NAMES", "READY_POSE_RAD", "JointVector",
+    "JointsError", "JointLimits", "PANDA_JOINT_LIMITS", "JOINT_NAMES", "FINGER_JOINT_NAMES", "READY_POSE_RAD", "JointVector",
     "JOINT_POSITION_LIMITS_VIOLATION", "JOINT_VELOCITY_LIMITS_VIOLATION", "JOINT_VELOCITY_DISCONTINUITY",
     "JOINT_ACCELERATION_DISCONTINUITY", "JOINT_ERRORS", "JointViolation", "joint_violations", "LimitDistance",
     "nearest_limit", "WARNING_MARGIN_RAD", "CLEAR_MARGIN_RAD", "WARNING_RUMBLE", "WARNING_PULSE_S",
@@ -27,6 +27,8 @@ JointVector = Tuple[float, float, float, float, float, float, float]
 
 #: The arm's joint names, as franka_state_controller publishes them on ``joint_states``.
 JOINT_NAMES: Tuple[str, ...] = tuple(f"panda_joint{i}" for i in range(1, 8))
+#: The Franka Hand's two finger joints (each moves half the opening), as franka_gripper publishes them.
+FINGER_JOINT_NAMES: Tuple[str, str] = ("panda_finger_joint1", "panda_finger_joint2")
 #: The Panda's "ready" pose (rad): the hand 0.31 m in front of the base, 0.49 m up, pointing down.
 READY_POSE_RAD: JointVector = (0.0, -math.pi / 4, 0.0, -3 * math.pi / 4, 0.0, math.pi / 2, math.pi / 4)
 

@@ -26,7 +26,7 @@ import numpy as np
 import numpy.typing as npt
 
 from hri_teleop.core.errors import HriTeleopError
-from hri_teleop.core.joints import JOINT_NAMES, READY_POSE_RAD
+from hri_teleop.core.joints import FINGER_JOINT_NAMES, JOINT_NAMES, READY_POSE_RAD
 from hri_teleop.core.teleop import GRIPPER_MAX_WIDTH_M
 from hri_teleop.course.notebook_ros import ensure_ros
 from hri_teleop.course.widgets._base import Ticker, WidgetError, message_html, replace_in_cell
@@ -38,7 +38,7 @@ __all__ = ["ArmView", "ArmViewError", "MeshcatServer", "MeshcatWindow", "JOINT_S
 
 JOINT_STATES_TOPIC = "/joint_states"
 #: The Franka Hand's joints in joint_states: each finger moves half of the hand's opening.
-FINGER_JOINTS = ("panda_finger_joint1", "panda_finger_joint2")
+FINGER_JOINTS = FINGER_JOINT_NAMES
 #: Redraws per second at most (live and replay): what the lab's joint_states carry (30 Hz).
 MAX_DRAW_HZ = 30.0
 #: After this long without a joint state the widget says what to start.

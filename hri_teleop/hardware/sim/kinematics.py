@@ -19,7 +19,14 @@ import numpy.typing as npt
 import pinocchio as pin
 
 from hri_teleop.core.errors import HriTeleopError
-from hri_teleop.core.joints import JOINT_NAMES, PANDA_JOINT_LIMITS, READY_POSE_RAD, JointLimits, JointVector
+from hri_teleop.core.joints import (
+    FINGER_JOINT_NAMES,
+    JOINT_NAMES,
+    PANDA_JOINT_LIMITS,
+    READY_POSE_RAD,
+    JointLimits,
+    JointVector,
+)
 
 __all__ = ["KinematicsError", "panda_urdf", "panda_package_dir", "PandaKinematics", "TCP_FRAME", "ELBOW_JOINT"]
 
@@ -61,7 +68,7 @@ def _arm_model() -> Any:
     except (RuntimeError, ValueError) as exc:
         raise KinematicsError(f"pinocchio cannot read the Panda's URDF ({exc}); reinstall example-robot-data "
                               "with `make setup`") from None
-    fingers = [full.getJointId(name) for name in ("panda_finger_joint1", "panda_finger_joint2")]
+    fingers = [full.getJointId(name) for name in FINGER_JOINT_NAMES]
     return pin.buildReducedModel(full, fingers, pin.neutral(full))
 
 
