@@ -112,6 +112,7 @@ def run_lab(
     watchdog = Watchdog(params.input_timeout_s)
     rec = LabRecord(object_name=lab.hand.object.name if lab.hand.object is not None else "")
     force: Optional[Tuple[float, float]] = None  # (mapped, arrival time)
+    stopping = True  # the last tick's: the node's rumble between ticks is silent before its first tick and while stopping
     next_timer = MANAGER_TIMER_S
     next_record = 0.0
     ended_by = "max_duration"
@@ -128,7 +129,7 @@ def run_lab(
             rec.mapped.append((t_sample, value))
             force = (value, t_sample)
             between = motor_rumble(controller.rumble_between_ticks(value, 0.0), joint_warning.rumble(t_sample),
-                                   False, params.feedback, params.rumble_motors)
+                                   stopping, params.feedback, params.rumble_motors)
             request = rumble_requests.update_motors(*between, t_sample)
             if request is not None:
                 pad.rumble_motors(*request)
@@ -146,6 +147,7 @@ def run_lab(
                 state = None
         mapped, age = (force[0], now - force[1]) if force is not None else (None, math.inf)
         cmd = controller.step(state, mapped, age, dt)
+        stopping = cmd.stopping
         joints = lab.arm.joint_positions
         if joints is not None:
             joint_warning.update(joints, now)
