@@ -14,7 +14,6 @@ from typing import Any, Dict, List
 
 from hri_teleop.hardware.sim.grasp_objects import OBJECTS
 from hri_teleop.hardware.sim.virtual_pad import ScriptStep
-from hri_teleop.hardware.sim.world import LAB_ARM_CONFIG
 
 __all__ = ["random_operator", "script_to_yaml_data", "study_operator", "study_scenario", "squeeze_taps"]
 
@@ -176,6 +175,10 @@ def study_scenario(condition: str, seed: int, object_name: str = "egg", *, quick
     world: Dict[str, Any] = {"object": object_name}
     timing: Dict[str, Any] = {}
     if quick:
+        # here, not at the top: the world loads pinocchio (the arm's joints), and ros.trial, so the
+        # notebooks' widgets, import this module; a 3D view is what should pay for pinocchio
+        from hri_teleop.hardware.sim.world import LAB_ARM_CONFIG  # noqa: PLC0415
+
         approach_s = 1.2
         x, y, z = LAB_ARM_CONFIG.start_position_m
         lower_z = round(float(z) - 0.1 * (FULL_APPROACH_S - approach_s), 4)  # the same end after 0.1 m/s
