@@ -24,7 +24,7 @@ from std_msgs.msg import Bool, Float32
 
 from hri_teleop.core.config import load_teleop_config
 from hri_teleop.core.gamepad import GamepadError, PadState, RumbleRequests
-from hri_teleop.core.gamepad.rumble import RUMBLE_CHECK_LEVEL, RUMBLE_CHECK_S, rumble_refused
+from hri_teleop.core.gamepad.rumble import RUMBLE_CHECK_LEVEL, RUMBLE_CHECK_S
 from hri_teleop.core.gamepad.stale import StaleInputWatch
 from hri_teleop.core.joints import (
     CLEAR_MARGIN_RAD,
@@ -49,7 +49,7 @@ from hri_teleop.core.teleop import (
     next_tick_s,
     recovery_refusal,
 )
-from hri_teleop.hardware.gamepad import open_gamepad
+from hri_teleop.hardware.gamepad import check_pad_rumble, open_gamepad
 from hri_teleop.hardware.sim.virtual_pad import (
     RUMBLE_LOG_HEADER,
     RumbleRecord,
@@ -199,13 +199,14 @@ class TeleoperationNode:
         if not (0.0 <= duration_s <= 2.0 and 0.0 < level <= 1.0):
             fail(f"parameters {name}/rumble_check_s {duration_s!r} and rumble_check_level {level!r}: set a time in "
                  "0..2 s (0: no check) and a strength in (0, 1], e.g. 0.2 and 0.5")
-        check = getattr(self.pad, "check_rumble", None)
-        if duration_s == 0.0 or check is None or not self.controller.params.feedback:
-            return  # no check asked, a pad that cannot tell, or a pad that must stay silent (feedback: false)
-        accepted, why = check(level, duration_s)
-        self.rumble_ok_pub.publish(Bool(data=accepted))
-        if not accepted:
-            rospy.logwarn(rumble_refused(getattr(self.pad, "name", "?"), why))
+        if duration_s == 0.0:
+            return  # no check asked
+        refusal = check_pad_rumble(self.pad, self.controller.params.feedback, level, duration_s)
+        if refusal is None:
+            return  # a pad that cannot tell, or a pad that must stay silent (feedback: false)
+        self.rumble_ok_pub.publish(Bool(data=not refusal))
+        if refusal:
+            rospy.logwarn(refusal)
 
     # -- inputs -----------------------------------------------------------------------
     def on_force(self, msg: Float32) -> None:

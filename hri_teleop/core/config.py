@@ -21,7 +21,14 @@ from hri_teleop.core.gamepad import AUTO_LAYOUT, DEFAULT_LAYOUT, PAD_KINDS
 from hri_teleop.core.limits import DEFAULT_LIMITS, AxisLimits, CartesianLimits, LimitsError, TwistLimiter
 from hri_teleop.core.mapping import ADC_MAX_COUNT
 from hri_teleop.core.paths import LAB_CONFIG
-from hri_teleop.core.teleop import RUMBLE_MOTORS, AxisAssignment, TeleopError, TeleopParams
+from hri_teleop.core.teleop import (
+    HANDOUT_BUTTONS,
+    OPTIONAL_BUTTONS,
+    RUMBLE_MOTORS,
+    AxisAssignment,
+    TeleopError,
+    TeleopParams,
+)
 from hri_teleop.core.yamlfile import read_yaml
 
 __all__ = [
@@ -70,9 +77,9 @@ _CHOICE_KEYS = {"rumble_motors": ("rumble_motors", RUMBLE_MOTORS)}
 _BOOL_KEYS = {"feedback": ("feedback", "force feedback: true = the pad rumbles, false = it never does")}
 # ROS graph resource names: optional ~ or /, then segments that start with a letter.
 _ROS_NAME = re.compile(r"^[~/]?[A-Za-z][A-Za-z0-9_]*(/[A-Za-z][A-Za-z0-9_]*)*$")
-_BUTTON_ROLES = {"close": "close_button", "open": "open_button", "toggle": "toggle_button", "quit": "quit_button",
-                 "deadman": "deadman_button", "precision": "precision_button"}
-_OPTIONAL_ROLES = ("deadman", "precision")
+# buttons.<role> -> TeleopParams field: close, open, toggle, quit, then the optional deadman, precision.
+_BUTTON_ROLES = {field[: -len("_button")]: field for field in HANDOUT_BUTTONS + OPTIONAL_BUTTONS}
+_OPTIONAL_ROLES = tuple(role for role, field in _BUTTON_ROLES.items() if field in OPTIONAL_BUTTONS)
 _LIMIT_NAMES = ("velocity", "acceleration", "jerk")
 
 #: Every top-level key the teleop config may have.

@@ -17,6 +17,7 @@ from typing import Optional, Sequence, Tuple
 from hri_teleop.core.checks import is_finite_number
 from hri_teleop.core.errors import HriTeleopError
 from hri_teleop.core.gamepad import AXES, BUTTONS, PadState, normalize_analog_input
+from hri_teleop.core.gamepad.rumble import unit_intensity
 from hri_teleop.core.gamepad.stale import STALE_INPUT_TIMEOUT_S
 from hri_teleop.core.limits import (
     DEFAULT_LIMITS,
@@ -40,6 +41,8 @@ __all__ = [
     "combined_rumble",
     "motor_rumble",
     "RUMBLE_MOTORS",
+    "HANDOUT_BUTTONS",
+    "OPTIONAL_BUTTONS",
     "check_extra_button",
     "recovery_refusal",
     "ButtonPress",
@@ -51,6 +54,8 @@ GRIPPER_MAX_WIDTH_M = 0.08
 _ZERO_TWIST: Twist = (0.0, 0.0, 0.0, 0.0, 0.0, 0.0)
 #: How the pad's two rumble motors are used (TeleopParams.rumble_motors; motor_rumble).
 RUMBLE_MOTORS = ("split", "combined")
+#: The handout's buttons, each always set (TeleopParams fields).
+HANDOUT_BUTTONS = ("close_button", "open_button", "toggle_button", "quit_button")
 #: The buttons a configuration may leave out ("" = none).
 OPTIONAL_BUTTONS = ("deadman_button", "precision_button")
 
@@ -221,15 +226,14 @@ class TeleopParams:
             raise TeleopError(f"rumble_threshold must be in [0, 1] (mapped force), got {p.rumble_threshold!r}; e.g. 0.05")
         if not isinstance(p.assignment, AxisAssignment):
             raise TeleopError(f"assignment must be an AxisAssignment, got {type(p.assignment).__name__}; build one with AxisAssignment(...)")
-        roles = ("close_button", "open_button", "toggle_button", "quit_button")
-        for name in roles:
+        for name in HANDOUT_BUTTONS:
             if getattr(p, name) not in BUTTONS:
                 raise TeleopError(f"{name} must be a positional button name, got {getattr(p, name)!r}; use one of {', '.join(BUTTONS)}")
-        for name in ("deadman_button", "precision_button"):
+        for name in OPTIONAL_BUTTONS:
             if getattr(p, name) and getattr(p, name) not in BUTTONS:
                 raise TeleopError(f"{name} must be empty or a positional button name, got {getattr(p, name)!r}; "
                                   f"use one of {', '.join(BUTTONS)}, e.g. l1")
-        chosen = [getattr(p, name) for name in roles + OPTIONAL_BUTTONS if getattr(p, name)]
+        chosen = [getattr(p, name) for name in HANDOUT_BUTTONS + OPTIONAL_BUTTONS if getattr(p, name)]
         if len(set(chosen)) != len(chosen):
             raise TeleopError(f"close, open, toggle, quit (and deadman, precision) need different buttons, got {chosen}; "
                               "change the buttons")
@@ -417,12 +421,7 @@ def combined_rumble(force_rumble: float, warning_rumble: float, stopping: bool, 
     """
     if stopping or not feedback:
         return 0.0
-    return max(_unit(force_rumble), _unit(warning_rumble))
-
-
-def _unit(value: float) -> float:
-    """A rumble strength clipped to 0..1; anything but a finite number is 0."""
-    return min(1.0, max(0.0, float(value))) if is_finite_number(value) else 0.0
+    return max(unit_intensity(force_rumble), unit_intensity(warning_rumble))
 
 
 def motor_rumble(force_rumble: float, warning_rumble: float, stopping: bool, feedback: bool = True,
@@ -440,7 +439,7 @@ def motor_rumble(force_rumble: float, warning_rumble: float, stopping: bool, fee
         return both, both
     if stopping or not feedback:
         return 0.0, 0.0
-    return _unit(force_rumble), _unit(warning_rumble)
+    return unit_intensity(force_rumble), unit_intensity(warning_rumble)
 
 
 def recovery_refusal(twist: Sequence[float]) -> Optional[str]:
@@ -460,12 +459,12 @@ def recovery_refusal(twist: Sequence[float]) -> Optional[str]:
 
 def check_extra_button(params: TeleopParams, button: str, role: str) -> str:
     """``button`` for a node's own ``role`` (e.g. recover), checked: a positional name that none of the
-    handout's buttons (close, open, toggle, quit, dead-man) already uses."""
+    configured buttons (close, open, toggle, quit, dead-man, precision) already uses."""
     if button not in BUTTONS:
         raise TeleopError(f"{role} must be a positional button name, got {button!r}; use one of {', '.join(BUTTONS)}, "
                           "e.g. start")
-    taken = {getattr(params, name): name[: -len("_button")] for name in
-             ("close_button", "open_button", "toggle_button", "quit_button") + OPTIONAL_BUTTONS if getattr(params, name)}
+    taken = {getattr(params, name): name[: -len("_button")] for name in HANDOUT_BUTTONS + OPTIONAL_BUTTONS
+             if getattr(params, name)}
     if button in taken:
         raise TeleopError(f"{role} {button!r} is already the {taken[button]} button; choose another, e.g. start")
     return button

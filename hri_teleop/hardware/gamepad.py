@@ -5,15 +5,16 @@ from __future__ import annotations
 import os
 import time
 from pathlib import Path
-from typing import Callable, Optional, Union
+from typing import Any, Callable, Optional, Union
 
 from hri_teleop.core.gamepad.interface import PAD_KINDS, Gamepad
 from hri_teleop.core.gamepad.layout import Layout
+from hri_teleop.core.gamepad.rumble import RUMBLE_CHECK_LEVEL, RUMBLE_CHECK_S, rumble_refused
 from hri_teleop.core.gamepad.state import GamepadError
 from hri_teleop.hardware.real.pygame_pad import PygamePad
 from hri_teleop.hardware.sim.virtual_pad import ScriptedPad, VirtualPad
 
-__all__ = ["PAD_KINDS", "PAD_CLOCK_ENV", "open_gamepad"]
+__all__ = ["PAD_KINDS", "PAD_CLOCK_ENV", "open_gamepad", "check_pad_rumble"]
 
 
 #: ``ros``: a virtual pad's script runs on ROS time (rospy.get_time), which follows the grader's
@@ -56,3 +57,17 @@ def open_gamepad(kind: str = "pygame", layout: Union[Layout, str, None] = None, 
         return VirtualPad(layout, clock=clock)
     raise GamepadError("unknown pad kind %r: set pad to 'pygame' (a real gamepad) or 'virtual' "
                        "(no hardware)" % (kind,))
+
+
+def check_pad_rumble(pad: Any, feedback: bool = True, level: float = RUMBLE_CHECK_LEVEL,
+                     duration_s: float = RUMBLE_CHECK_S) -> Optional[str]:
+    """The start check of a pad's rumble: a short rumble now; "" if the pad accepted it, else one line why not.
+
+    None when nothing was checked: a pad that cannot tell (no ``check_rumble``), or ``feedback`` off
+    (Ex. 14's control condition: the pad must stay silent, not even the check).
+    """
+    check = getattr(pad, "check_rumble", None)
+    if check is None or not feedback:
+        return None
+    accepted, why = check(level, duration_s)
+    return "" if accepted else rumble_refused(getattr(pad, "name", "?"), why)

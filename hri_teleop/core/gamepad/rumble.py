@@ -14,7 +14,13 @@ import math
 from dataclasses import dataclass
 from typing import Optional, Tuple
 
+from hri_teleop.core.checks import is_finite_number
 from hri_teleop.core.gamepad.state import GamepadError
+
+
+def unit_intensity(value: object) -> float:
+    """A rumble strength clipped to 0..1; anything but a finite number is 0 (a bad value never shakes the pad)."""
+    return min(1.0, max(0.0, float(value))) if is_finite_number(value, numpy=True) else 0.0
 
 
 @dataclass(frozen=True)
@@ -44,7 +50,7 @@ class RumbleRequests:
 
     def update_motors(self, low: float, high: float, now_s: float) -> Optional[Tuple[float, float, float]]:
         """(low, high, duration_s) for a pad's two motors to send now, or None: the same rule per motor."""
-        values = tuple(min(1.0, max(0.0, float(v))) if math.isfinite(v) else 0.0 for v in (low, high))
+        values = (unit_intensity(low), unit_intensity(high))
         on = max(values) > 0.0
         switched = on != (max(self._sent) > 0.0)
         changed = any(abs(v - s) >= self.policy.change for v, s in zip(values, self._sent))

@@ -26,7 +26,6 @@ from hri_teleop.core.gamepad import (
     check_deadzone,
     normalize_analog_input,
 )
-from hri_teleop.core.gamepad.rumble import RUMBLE_CHECK_LEVEL, RUMBLE_CHECK_S, rumble_refused
 from hri_teleop.core.limits import DEFAULT_LIMITS, CartesianLimits
 from hri_teleop.core.teleop import GRIPPER_MAX_WIDTH_M, Mode, TeleopController, TeleopParams
 from hri_teleop.course.widgets._base import (
@@ -36,7 +35,7 @@ from hri_teleop.course.widgets._base import (
     message_html,
     replace_in_cell,
 )
-from hri_teleop.hardware.gamepad import open_gamepad
+from hri_teleop.hardware.gamepad import check_pad_rumble, open_gamepad
 from hri_teleop.hardware.sim.virtual_pad import VirtualPad
 
 __all__ = ["ControllerSnapshot", "ControllerModel", "stick_dot_xy", "button_roles", "pad_svg", "open_pad",
@@ -210,11 +209,7 @@ def open_pad(source: Any = "auto", layout: Any = None) -> Tuple[Gamepad, str]:
 
 def rumble_cue(pad: Any, feedback: bool = True) -> str:
     """The start check of a real pad's rumble, as the node runs it: '' if accepted (or not checkable), else why."""
-    check = getattr(pad, "check_rumble", None)
-    if check is None or not feedback or isinstance(pad, VirtualPad):
-        return ""
-    accepted, why = check(RUMBLE_CHECK_LEVEL, RUMBLE_CHECK_S)
-    return "" if accepted else rumble_refused(getattr(pad, "name", "?"), why)
+    return check_pad_rumble(pad, feedback) or ""
 
 
 class ControllerView(widgets.VBox):
