@@ -17,24 +17,36 @@ from typing import List, Sequence, Tuple, Union
 from hri_teleop.core.errors import HriTeleopError
 
 __all__ = ["TemplateError", "KINDS", "kind_of", "make_template", "make_answer", "has_markers", "solution_lines",
-           "generate_templates", "GeneratedFile"]
+           "empty_regions", "generate_templates", "GeneratedFile"]
 
 _BEGIN = re.compile(r"^(?P<indent>\s*)(?:#+\s*|<!--\s*(?:###\s*)?)BEGIN SOLUTION\s*(?:-->)?\s*$")
 _END = re.compile(r"^\s*(?:#+\s*|<!--\s*(?:###\s*)?)END SOLUTION\s*(?:-->)?\s*$")
 _ANY_MARKER = re.compile(r"(BEGIN|END) SOLUTION")
 
 
+def _split_regions(text: str) -> Tuple[List[str], List[str]]:
+    """(the lines outside the solution regions, markers included; the lines inside them)."""
+    outside: List[str] = []
+    inside: List[str] = []
+    within = False
+    for line in text.split("\n"):
+        if _BEGIN.match(line) or _END.match(line):
+            within = bool(_BEGIN.match(line))
+            outside.append(line)
+        else:
+            (inside if within else outside).append(line)
+    return outside, inside
+
+
 def solution_lines(text: str) -> List[str]:
     """The lines inside the solution regions of ``text`` (markers left out): what only the answer key has."""
-    lines, inside = [], False
-    for line in text.split("\n"):
-        if _BEGIN.match(line):
-            inside = True
-        elif _END.match(line):
-            inside = False
-        elif inside:
-            lines.append(line)
-    return lines
+    return _split_regions(text)[1]
+
+
+def empty_regions(text: str) -> str:
+    """``text`` with its solution regions' lines removed and the marker lines kept (nbgrader's
+    generate_assignment puts a notebook's stubs back between them)."""
+    return "\n".join(_split_regions(text)[0])
 
 #: File suffix -> language of the hint.
 KINDS = {".py": "python", ".yaml": "yaml", ".yml": "yaml", ".launch": "xml", ".xml": "xml"}

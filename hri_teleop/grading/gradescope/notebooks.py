@@ -19,6 +19,7 @@ from typing import Any, Dict, Iterator, List, Sequence, Tuple
 
 from hri_teleop.grading.batch.assignments import ASSIGNMENTS
 from hri_teleop.grading.batch.nbgrader_batch import autograde_one, nbgrader_job_env
+from hri_teleop.grading.cases.templates import empty_regions, has_markers
 from hri_teleop.grading.results import GradingError
 from hri_teleop.grading.run.jobs import run_job
 from hri_teleop.ros.kernel import install_kernelspec
@@ -31,7 +32,6 @@ COURSE = "course"
 #: nbgrader autograde of one assignment's uploaded notebooks (each cell also has the course's 300 s).
 NOTEBOOKS_TIMEOUT_S = 600.0
 _HIDDEN = "BEGIN HIDDEN TESTS"
-_BEGIN, _END = "BEGIN SOLUTION", "END SOLUTION"  # nbgrader's delimiters: a line holding one
 _OUTPUT_CHARS = 1500
 _ANSI = re.compile(r"\x1b\[[0-9;]*m")
 
@@ -54,17 +54,7 @@ def without_solutions(notebook: Dict[str, Any]) -> Dict[str, Any]:
         meta = cell.get("metadata", {}).get("nbgrader", {})
         if meta.get("solution"):
             text = _source(cell)
-            if _BEGIN in text:
-                kept, inside = [], False
-                for line in text.split("\n"):
-                    if _BEGIN in line or _END in line:
-                        inside = _BEGIN in line
-                        kept.append(line)
-                    elif not inside:
-                        kept.append(line)
-                cell["source"] = "\n".join(kept)
-            else:
-                cell["source"] = ""
+            cell["source"] = empty_regions(text) if has_markers(text) else ""
         if cell.get("cell_type") == "code":
             cell["outputs"], cell["execution_count"] = [], None
         cells.append(cell)
