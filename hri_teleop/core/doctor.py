@@ -10,14 +10,16 @@ from __future__ import annotations
 from dataclasses import dataclass
 from typing import Optional, Sequence
 
+from hri_teleop.core.board_rates import HANDOUT_RATE_HZ, MAX_PERIOD_MS, MIN_PERIOD_MS, RECOMMENDED_RATE_HZ
 from hri_teleop.core.checks import is_calibration_count, is_int
 from hri_teleop.core.modes import LAB
+from hri_teleop.core.traces import TraceError, rate_hz
 
 __all__ = ["OK", "FAIL", "NOTE", "Finding", "exit_code", "master_finding", "robot_finding", "teleop_finding",
            "board_rate_finding", "expected_board_hz", "FSR_SERIAL", "ROSSERIAL", "calibration_finding",
            "pad_finding", "walk_finding", "rumble_finding", "kernel_finding", "governor_finding",
            "HANDOUT_SKETCH_HZ", "LAB_BOARD_HZ", "RATE_TOLERANCE", "CALIBRATION_TOLERANCE", "MIN_PERIOD_MS",
-           "MAX_PERIOD_MS"]
+           "MAX_PERIOD_MS", "measured_rate_hz"]
 
 OK, FAIL, NOTE = "ok", "FAIL", "note"
 #: Between a finding's detail and its fix on the printed line.
@@ -25,9 +27,8 @@ FIX_MARK = "  -> "
 FSR_SERIAL, ROSSERIAL = "fsr_serial", "rosserial"
 #: The rosserial sketch sends a count every 300 ms without serial_node's ~publish_period_ms (the
 #: handout's delay), at that period (5..10000 ms) with it; fsr_serial every 10 ms.
-HANDOUT_SKETCH_HZ = 1 / 0.3
-MIN_PERIOD_MS, MAX_PERIOD_MS = 5, 10000
-LAB_BOARD_HZ = 100.0
+HANDOUT_SKETCH_HZ = HANDOUT_RATE_HZ
+LAB_BOARD_HZ = RECOMMENDED_RATE_HZ
 #: A board counts as sending at its rate within this fraction (USB scheduling, a busy host).
 RATE_TOLERANCE = 0.1
 #: A full press read live may differ this much from /max_sensor_force (parts differ by about 10 %).
@@ -54,6 +55,14 @@ class Finding:
             return None
         detail, _mark, fix = line[24:].partition(FIX_MARK)
         return cls(line[6:23].strip(), status, detail, fix)
+
+
+def measured_rate_hz(times_s: Sequence[float]) -> Optional[float]:
+    """Counts per second between the first and the last arrival (None: fewer than two, or no time between)."""
+    try:
+        return rate_hz([(t, 0.0) for t in times_s])
+    except TraceError:
+        return None
 
 
 def exit_code(findings: Sequence[Finding]) -> int:

@@ -18,7 +18,7 @@ import select
 import sys
 import time
 from pathlib import Path
-from typing import Any, Callable, Dict, Iterator, List, Optional, Sequence, Tuple
+from typing import Any, Callable, Dict, Iterator, List, NamedTuple, Optional, Sequence, Tuple
 
 from hri_teleop.core.config import DEFAULT_TWIST_TOPIC, lab_max_sensor_force
 from hri_teleop.core.doctor import (
@@ -33,6 +33,7 @@ from hri_teleop.core.doctor import (
     governor_finding,
     kernel_finding,
     master_finding,
+    measured_rate_hz,
     robot_finding,
     teleop_finding,
 )
@@ -70,13 +71,25 @@ def check_master(mode: str) -> Tuple[Finding, bool]:
     return master_finding(uri, reachable, mode, private=not uri.rstrip("/").endswith(":11311")), reachable
 
 
+class _RobotSide(NamedTuple):
+    """Who takes the twist (recorders left out), which franka_gripper servers answer, and recovery."""
+
+    listeners: List[str]
+    present: List[str]
+    recovery: bool
+
+    @classmethod
+    def read(cls, publishers: Sequence[Any], subscribers: Sequence[Any]) -> "_RobotSide":
+        listeners = [n for n in _nodes(subscribers, DEFAULT_TWIST_TOPIC) if not n.startswith("/record")]
+        present = [a for a in GRIPPER_ACTIONS if _nodes(publishers, f"/franka_gripper/{a}/status")]
+        return cls(listeners, present, bool(_nodes(publishers, "/franka_control/error_recovery/status")))
+
+
 def check_robot(mode: str) -> Finding:
-    publishers, subscribers = _state()
-    listeners = [n for n in _nodes(subscribers, DEFAULT_TWIST_TOPIC) if not n.startswith("/record")]
-    present = [a for a in GRIPPER_ACTIONS if _nodes(publishers, f"/franka_gripper/{a}/status")]
-    missing = [f"franka_gripper/{a}" for a in GRIPPER_ACTIONS if a not in present]
-    recovery = bool(_nodes(publishers, "/franka_control/error_recovery/status"))
-    return robot_finding(mode, bool(listeners), present, missing, "/lab_sim" in listeners, recovery)
+    side = _RobotSide.read(*_state())
+    missing = [f"franka_gripper/{a}" for a in GRIPPER_ACTIONS if a not in side.present]
+    return robot_finding(mode, bool(side.listeners), side.present, missing, "/lab_sim" in side.listeners,
+                         side.recovery)
 
 
 def check_teleop(mode: str) -> Finding:
@@ -109,9 +122,10 @@ def _init_node() -> None:
 
 def _sim_ready(master: PrivateMaster) -> bool:
     """lab_sim takes the twist and sends /pub_force, and its gripper and recovery servers answer."""
-    return ("/lab_sim" in master.subscribers(DEFAULT_TWIST_TOPIC) and "/lab_sim" in master.publishers("/pub_force")
-            and all(master.publishers(f"/franka_gripper/{a}/status") for a in GRIPPER_ACTIONS)
-            and bool(master.publishers("/franka_control/error_recovery/status")))
+    publishers, subscribers, _services = master.system_state()
+    side = _RobotSide.read(publishers, subscribers)
+    return ("/lab_sim" in side.listeners and "/lab_sim" in _nodes(publishers, "/pub_force")
+            and len(side.present) == len(GRIPPER_ACTIONS) and side.recovery)
 
 
 @contextlib.contextmanager
@@ -167,7 +181,7 @@ def _board_on_master(mode: str, nodes: List[str]) -> Tuple[Finding, List[int]]:
     """The board a node publishes on /pub_force: a simulation (refused in the lab) or a sketch at its rate."""
     kind = next((BOARD_NODES[n] for n in nodes if n in BOARD_NODES), "a node")
     counts, times = _listen_pub_force(LISTEN_S)
-    rate = (len(times) - 1) / (times[-1] - times[0]) if len(times) > 1 and times[-1] > times[0] else None
+    rate = measured_rate_hz(times)
     if kind == "simulation":
         if mode == LAB:
             return Finding("board", FAIL, f"{', '.join(nodes)} simulate the board on the lab's master",

@@ -15,7 +15,7 @@ from typing import Any, Dict, List, Optional
 
 import serial
 
-from hri_teleop.core.doctor import FSR_SERIAL, ROSSERIAL
+from hri_teleop.core.doctor import FSR_SERIAL, ROSSERIAL, measured_rate_hz
 from hri_teleop.core.rosserial_frames import (
     ID_PARAMETER_REQUEST,
     ID_PUBLISHER,
@@ -48,9 +48,7 @@ class BoardReading:
 
     @property
     def rate_hz(self) -> Optional[float]:
-        if len(self.times_s) < 2 or self.times_s[-1] <= self.times_s[0]:
-            return None
-        return (len(self.times_s) - 1) / (self.times_s[-1] - self.times_s[0])
+        return measured_rate_hz(self.times_s)
 
 
 def candidate_ports() -> List[str]:

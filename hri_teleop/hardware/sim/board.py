@@ -12,16 +12,16 @@ import random
 from dataclasses import dataclass
 from typing import Optional
 
+from hri_teleop.core.board_rates import HANDOUT_RATE_HZ, RECOMMENDED_RATE_HZ
 from hri_teleop.core.checks import is_finite_number
 from hri_teleop.core.errors import HriTeleopError
 from hri_teleop.core.mapping import ADC_MAX_COUNT
 
 __all__ = ["BoardError", "BoardConfig", "SensorBoard", "HANDOUT_FIRMWARE_RATE_HZ", "DEFAULT_RATE_HZ"]
 
-#: The handout's sketch publishes once per ``delay(300)``: about 3.3 samples per second.
-HANDOUT_FIRMWARE_RATE_HZ = 1.0 / 0.3
-#: The recommended rate (firmware/ sketches, and the simulation's default).
-DEFAULT_RATE_HZ = 100.0
+#: The handout's sketch (once per ``delay(300)``) and the recommended rate, the simulation's default.
+HANDOUT_FIRMWARE_RATE_HZ = HANDOUT_RATE_HZ
+DEFAULT_RATE_HZ = RECOMMENDED_RATE_HZ
 
 
 class BoardError(HriTeleopError, ValueError):
