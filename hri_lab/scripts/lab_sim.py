@@ -22,7 +22,6 @@ import time
 from typing import Any, Dict, List, Optional, Tuple
 
 import actionlib
-import rosgraph.names
 import rospy
 from diagnostic_msgs.msg import DiagnosticStatus, KeyValue
 from geometry_msgs.msg import PoseStamped, Twist, TwistStamped
@@ -31,7 +30,13 @@ from std_msgs.msg import Float32, Float64, Header, Int16, UInt32
 from std_srvs.srv import Trigger, TriggerResponse
 
 from hri_teleop.core.config import DEFAULT_TWIST_TOPIC
-from hri_teleop.core.joints import FINGER_JOINT_NAMES, JOINT_ERRORS, JOINT_NAMES, nearest_limit
+from hri_teleop.core.joints import (
+    FINGER_JOINT_NAMES,
+    FRANKA_JOINT_STATES_TOPIC,
+    JOINT_ERRORS,
+    JOINT_NAMES,
+    nearest_limit,
+)
 from hri_teleop.core.reflex import explain_reflex
 from hri_teleop.hardware.sim.arm import (
     ACCELERATION_DISCONTINUITY,
@@ -63,7 +68,7 @@ from hri_teleop.hardware.sim.world import LabWorld, ObjectStatus
 from hri_teleop.ros import franka_gripper_msgs as fg
 from hri_teleop.ros import franka_msgs as fm
 from hri_teleop.ros.clock import ClockError, NodeClock
-from hri_teleop.ros.params import fail, get_param, package_file, private_params, run_node
+from hri_teleop.ros.params import fail, get_name_param, get_param, package_file, private_params, run_node
 
 #: Private parameters of the node itself; every other private parameter is a sim.yaml override.
 NODE_KEYS = ("config", "scenario", "twist_topic", "gripper_ns", "control_ns", "board", "frame_id", "gripper_rate_hz",
@@ -125,15 +130,9 @@ class LabSimNode:
         overrides = world_overrides_from_params(private_params(), f"{name} private parameters", NODE_KEYS)
         self.config = load_world_config(config_path, overrides, f"{name} private parameters",
                                         scenario=scenario or None)
-        twist_topic = get_param("~twist_topic", DEFAULT_TWIST_TOPIC, kind=str).strip()
-        gripper_ns = get_param("~gripper_ns", "/franka_gripper", kind=str).strip().rstrip("/")
-        control_ns = get_param("~control_ns", "/franka_control", kind=str).strip().rstrip("/")
-        for param, value, example in (("twist_topic", twist_topic, DEFAULT_TWIST_TOPIC),
-                                      ("gripper_ns", gripper_ns, "/franka_gripper"),
-                                      ("control_ns", control_ns, "/franka_control")):
-            if not value or not rosgraph.names.is_legal_name(value):
-                fail(f"parameter {name}/{param} is {value!r}, not a ROS name; use letters, digits, _ and /, "
-                     f"e.g. {example}")
+        twist_topic = get_name_param("~twist_topic", DEFAULT_TWIST_TOPIC)
+        gripper_ns = get_name_param("~gripper_ns", "/franka_gripper", namespace=True)
+        control_ns = get_name_param("~control_ns", "/franka_control", namespace=True)
         self.board_on = get_param("~board", True, kind=bool)
         self.frame_id = get_param("~frame_id", "panda_link0", kind=str)
         periods = {}
@@ -158,7 +157,7 @@ class LabSimNode:
         self.force_pub = rospy.Publisher("/pub_force", Int16, queue_size=20) if self.board_on else None
         self.joints_pub = rospy.Publisher(f"{gripper_ns}/joint_states", JointState, queue_size=5)
         # franka_state_controller's arm joints and joint_state_publisher's merge of arm and hand.
-        self.arm_joints_pub = (rospy.Publisher("/franka_state_controller/joint_states", JointState, queue_size=5)
+        self.arm_joints_pub = (rospy.Publisher(FRANKA_JOINT_STATES_TOPIC, JointState, queue_size=5)
                                if self.config.arm.joints else None)
         self.all_joints_pub = rospy.Publisher("/joint_states", JointState, queue_size=5)
         self.pose_pub = rospy.Publisher("~ee_pose", PoseStamped, queue_size=5)

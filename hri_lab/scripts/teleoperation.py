@@ -28,6 +28,7 @@ from hri_teleop.core.gamepad.rumble import RUMBLE_CHECK_LEVEL, RUMBLE_CHECK_S
 from hri_teleop.core.gamepad.stale import StaleInputWatch
 from hri_teleop.core.joints import (
     CLEAR_MARGIN_RAD,
+    FRANKA_JOINT_STATES_TOPIC,
     JOINT_STATES_TIMEOUT_S,
     WARNING_MARGIN_RAD,
     WARNING_PULSE_S,
@@ -39,6 +40,7 @@ from hri_teleop.core.joints import (
     positions_by_name,
 )
 from hri_teleop.core.limits import Watchdog
+from hri_teleop.core.reflex import ERROR_RECOVERY_ACTION
 from hri_teleop.core.teleop import (
     ButtonPress,
     TeleopCommand,
@@ -59,7 +61,7 @@ from hri_teleop.hardware.sim.virtual_pad import (
 )
 from hri_teleop.ros.clock import ClockError, NodeClock
 from hri_teleop.ros.error_recovery import ErrorRecoveryRequester
-from hri_teleop.ros.params import fail, get_param, package_file, private_params, run_node
+from hri_teleop.ros.params import fail, get_name_param, get_param, package_file, private_params, run_node
 
 #: Private parameters of this node that are not part of the teleop configuration.
 NODE_ONLY_KEYS = ("config", "pad_script", "pad_index", "stop_timeout_s", "script_wait_s", "rumble_log",
@@ -174,16 +176,9 @@ class TeleoperationNode:
         except TeleopError as exc:
             fail(f"parameter {name}/{exc}")
         self.recover_press = ButtonPress(recover_button)
-        topics = {param: get_param(f"~{param}", default, kind=str).strip() for param, default in
-                  (("joint_states_topic", "/franka_state_controller/joint_states"),
-                   ("error_recovery_action", "/franka_control/error_recovery"))}
-        for param, value in topics.items():
-            if not value or not rosgraph.names.is_legal_name(value):
-                fail(f"parameter {name}/{param} is {value!r}, not a ROS name; use letters, digits, _ and /, "
-                     "e.g. /franka_control/error_recovery")
-        self.recovery = ErrorRecoveryRequester(topics["error_recovery_action"])
-        self.joint_states_sub = rospy.Subscriber(topics["joint_states_topic"], JointState, self.on_joint_states,
-                                                 queue_size=1)
+        joint_states_topic = get_name_param("~joint_states_topic", FRANKA_JOINT_STATES_TOPIC)
+        self.recovery = ErrorRecoveryRequester(get_name_param("~error_recovery_action", ERROR_RECOVERY_ACTION))
+        self.joint_states_sub = rospy.Subscriber(joint_states_topic, JointState, self.on_joint_states, queue_size=1)
         self._check_rumble(name)
         rospy.loginfo(
             "teleoperation at %.0f Hz: pad %s (%s, layout %s: %s), twist on %s, k_trans %.3f m/s, "

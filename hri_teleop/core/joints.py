@@ -16,7 +16,8 @@ from hri_teleop.core.checks import is_finite_number
 from hri_teleop.core.errors import HriTeleopError
 
 __all__ = [
-    "JointsError", "JointLimits", "PANDA_JOINT_LIMITS", "JOINT_NAMES", "FINGER_JOINT_NAMES", "READY_POSE_RAD", "JointVector",
+    "JointsError", "JointLimits", "PANDA_JOINT_LIMITS", "JOINT_NAMES", "FINGER_JOINT_NAMES", "FRANKA_JOINT_STATES_TOPIC",
+    "READY_POSE_RAD", "JointVector",
     "JOINT_POSITION_LIMITS_VIOLATION", "JOINT_VELOCITY_LIMITS_VIOLATION", "JOINT_VELOCITY_DISCONTINUITY",
     "JOINT_ACCELERATION_DISCONTINUITY", "JOINT_ERRORS", "JointViolation", "joint_violations", "LimitDistance",
     "nearest_limit", "WARNING_MARGIN_RAD", "CLEAR_MARGIN_RAD", "WARNING_RUMBLE", "WARNING_PULSE_S",
@@ -27,6 +28,8 @@ JointVector = Tuple[float, float, float, float, float, float, float]
 
 #: The arm's joint names, as franka_state_controller publishes them on ``joint_states``.
 JOINT_NAMES: Tuple[str, ...] = tuple(f"panda_joint{i}" for i in range(1, 8))
+#: Where franka_state_controller publishes the arm's joints (lab_sim at home, the same name).
+FRANKA_JOINT_STATES_TOPIC = "/franka_state_controller/joint_states"
 #: The Franka Hand's two finger joints (each moves half the opening), as franka_gripper publishes them.
 FINGER_JOINT_NAMES: Tuple[str, str] = ("panda_finger_joint1", "panda_finger_joint2")
 #: The Panda's "ready" pose (rad): the hand 0.31 m in front of the base, 0.49 m up, pointing down.

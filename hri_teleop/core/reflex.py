@@ -18,11 +18,13 @@ from hri_teleop.core.joints import (
     JOINT_VELOCITY_LIMITS_VIOLATION,
 )
 
-__all__ = ["ReflexCause", "CARTESIAN_VELOCITY_LIMITS_VIOLATION", "CARTESIAN_VELOCITY_DISCONTINUITY",
+__all__ = ["ERROR_RECOVERY_ACTION", "ReflexCause", "CARTESIAN_VELOCITY_LIMITS_VIOLATION", "CARTESIAN_VELOCITY_DISCONTINUITY",
            "CARTESIAN_ACCELERATION_DISCONTINUITY", "NON_FINITE_COMMAND", "RECOVERY_HINT", "explain_cause",
            "explain_reflex"]
 
 #: ``|v|`` above the Cartesian velocity limit (franka::Errors field).
+#: franka_control's error recovery action (franka_msgs/ErrorRecoveryAction); lab_sim serves it at home.
+ERROR_RECOVERY_ACTION = "/franka_control/error_recovery"
 CARTESIAN_VELOCITY_LIMITS_VIOLATION = "cartesian_motion_generator_velocity_limits_violation"
 #: ``|dv/dt|`` above the acceleration limit: "commanded velocity ... is discontinuous".
 CARTESIAN_VELOCITY_DISCONTINUITY = "cartesian_motion_generator_velocity_discontinuity"

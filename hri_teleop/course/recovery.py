@@ -10,7 +10,7 @@ import math
 from typing import Any, List, Mapping
 
 from hri_teleop.core.modes import LAB
-from hri_teleop.core.reflex import ReflexCause, explain_reflex
+from hri_teleop.core.reflex import ERROR_RECOVERY_ACTION, ReflexCause, explain_reflex
 from hri_teleop.course.errors import CourseError
 from hri_teleop.course.lab_nodes import mode
 from hri_teleop.course.notebook_ros import current_session
@@ -23,7 +23,6 @@ ARM_STATUS_TOPIC = "/lab_sim/arm_status"
 #: franka_state_controller's robot state (franka_msgs/FrankaState) in the lab.
 FRANKA_STATES_TOPIC = "/franka_state_controller/franka_states"
 #: franka_control's error recovery (franka_msgs/ErrorRecoveryAction), served by lab_sim at home.
-ERROR_RECOVERY_ACTION = "/franka_control/error_recovery"
 
 
 def _ros() -> Any:

@@ -13,6 +13,7 @@ import sys
 from pathlib import Path
 from typing import Any, Callable, Dict, Iterable, NoReturn, Optional, Tuple, Union
 
+import rosgraph.names
 import rospkg
 import rospy
 
@@ -80,6 +81,18 @@ def get_param(name: str, default: Any = _MISSING, *, kind: Optional[Kind] = None
     value = rospy.get_param(name)
     if kind is not None:
         value = check_kind(rospy.resolve_name(name), value, kind, fix)
+    return value
+
+
+def get_name_param(name: str, default: str, *, namespace: bool = False) -> str:
+    """The string parameter ``name`` (``~x``) as a ROS graph name: stripped, and with ``namespace`` its
+    trailing ``/`` dropped; not a legal name -> :class:`ParamError` naming it and ``default`` as the example."""
+    value = str(get_param(name, default, kind=str)).strip()
+    if namespace:
+        value = value.rstrip("/")
+    if not value or not rosgraph.names.is_legal_name(value):
+        raise ParamError(f"parameter {rospy.resolve_name(name)} is {value!r}, not a ROS name; use letters, digits, "
+                         f"_ and /, e.g. {default}")
     return value
 
 
