@@ -61,6 +61,7 @@ from hri_teleop.hardware.sim.virtual_pad import (
 )
 from hri_teleop.ros.clock import ClockError, NodeClock
 from hri_teleop.ros.error_recovery import ErrorRecoveryRequester
+from hri_teleop.ros.joy import joy_message
 from hri_teleop.ros.params import fail, get_name_param, get_param, package_file, private_params, run_node
 
 #: Private parameters of this node that are not part of the teleop configuration.
@@ -354,10 +355,7 @@ class TeleoperationNode:
                           self.joint_warning.timeout_s)
 
     def _publish_joy(self, state: Any) -> None:
-        axes, buttons = self.pad.layout.raw_from_state(state)
-        msg = Joy(axes=[float(a) for a in axes], buttons=[int(b) for b in buttons])
-        msg.header.stamp = rospy.Time.now()
-        self.joy_pub.publish(msg)
+        self.joy_pub.publish(joy_message(self.pad.layout, state))
 
     def _motors(self, force_rumble: float, now: float, stopping: bool) -> Tuple[float, float]:
         """(low, high) motor strengths: force and joint warning apart or combined (~rumble_motors)."""

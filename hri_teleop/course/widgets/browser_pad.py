@@ -102,7 +102,9 @@ class BrowserPad(anywidget.AnyWidget):
         from sensor_msgs.msg import Joy  # noqa: PLC0415 - as rospy
         from std_msgs.msg import Float32  # noqa: PLC0415 - as rospy
 
-        self._joy_class = Joy
+        from hri_teleop.ros.joy import joy_message  # noqa: PLC0415 - as rospy
+
+        self._joy_message = joy_message
         self._joy_pub = rospy.Publisher(f"{node}/virtual_joy", Joy, queue_size=1, tcp_nodelay=True)
         self._rumble_sub = rospy.Subscriber(f"{node}/rumble", Float32, self.on_rumble, queue_size=1,
                                             tcp_nodelay=True)
@@ -133,10 +135,7 @@ class BrowserPad(anywidget.AnyWidget):
             problem = self.input.problem(now)
             reading = self.input.reading
         if self._joy_pub is not None:
-            axes, buttons = self.layout_.raw_from_state(state)
-            msg = self._joy_class(axes=[float(a) for a in axes], buttons=[int(b) for b in buttons])
-            msg.header.stamp = self._now_stamp()
-            self._joy_pub.publish(msg)
+            self._joy_pub.publish(self._joy_message(self.layout_, state))
             self.published += 1
             if now - self._listeners_checked_s >= LISTENER_CHECK_S:
                 self._listeners_checked_s = now
@@ -156,11 +155,6 @@ class BrowserPad(anywidget.AnyWidget):
                       + ("on the pad and on screen" if reading.haptics else "on screen only (the browser cannot "
                          "rumble this pad)"))
         return state
-
-    def _now_stamp(self) -> Any:
-        import rospy  # noqa: PLC0415 - loaded already: a publisher exists
-
-        return rospy.Time.now()
 
     def _send_rumble(self, now: float) -> None:
         latest = self._rumble_in
