@@ -16,11 +16,12 @@ from std_msgs.msg import Int16
 from hri_teleop.core.mapping import ADC_MAX_COUNT
 from hri_teleop.hardware.sim.sensor_profile import FSR_SENSOR_RATE_HZ, press_profile_count
 from hri_teleop.ros.clock import ClockError, NodeClock
-from hri_teleop.ros.params import fail, get_param, run_node
+from hri_teleop.ros.params import fail, get_param, refuse_beside_hardware, run_node
 
 
 def main() -> int:
     rospy.init_node("FSR_sensor")
+    refuse_beside_hardware("the simulated board FSR_sensor.py")
     rate_hz = get_param("~rate_hz", FSR_SENSOR_RATE_HZ, kind=float, fix="set it to a rate in Hz, e.g. _rate_hz:=10")
     max_value = get_param("~max_value", ADC_MAX_COUNT, kind=int,
                           fix=f"set it to an ADC count in 1..{ADC_MAX_COUNT}, e.g. _max_value:=1023")

@@ -68,7 +68,15 @@ from hri_teleop.hardware.sim.world import LabWorld, ObjectStatus
 from hri_teleop.ros import franka_gripper_msgs as fg
 from hri_teleop.ros import franka_msgs as fm
 from hri_teleop.ros.clock import ClockError, NodeClock
-from hri_teleop.ros.params import fail, get_name_param, get_param, package_file, private_params, run_node
+from hri_teleop.ros.params import (
+    fail,
+    get_name_param,
+    get_param,
+    package_file,
+    private_params,
+    refuse_beside_hardware,
+    run_node,
+)
 
 #: Private parameters of the node itself; every other private parameter is a sim.yaml override.
 NODE_KEYS = ("config", "scenario", "twist_topic", "gripper_ns", "control_ns", "board", "frame_id", "gripper_rate_hz",
@@ -537,6 +545,7 @@ class LabSimNode:
 
 def main() -> int:
     rospy.init_node("lab_sim")
+    refuse_beside_hardware("the simulated Franka lab_sim.py")
     node = LabSimNode()
     return node.run()
 

@@ -1,41 +1,53 @@
 """What the lab notebooks start -- the simulated robot, board and pipeline -- mode by mode.
 
-At home (and under grading) these start the simulation on the notebook's master and wait
-until it is connected, so a scripted pad never plays to nobody. In the lab
-(``HRI_MODE=lab``, :mod:`hri_teleop.core.modes`) or next to real hardware they start nothing
-and say so in one line: the real Panda, board and pipeline are already there.
+At home (and under grading) these start the simulation on the notebook's own master and wait
+until it is connected, so a scripted pad never plays to nobody. On any other master (the lab
+PC's, :mod:`hri_teleop.course.master_mode`) or next to real hardware they start nothing and
+say so in one line: the real Panda, board and pipeline are already there.
 """
 
 from __future__ import annotations
 
-import os
 import time
 from pathlib import Path
 from typing import Any, Dict, List, Optional, Union
 
 from hri_teleop.core.config import DEFAULT_TWIST_TOPIC, LAB_TELEOP_CONFIG, lab_max_sensor_force
-from hri_teleop.core.modes import HARDWARE_NODES, LAB, mode_from_env, pad_params, simulation_refusal
+from hri_teleop.core.joints import FRANKA_JOINT_STATES_TOPIC, JOINT_NAMES
+from hri_teleop.core.modes import LAB, Start
+from hri_teleop.core.modes import default_pad as mode_default_pad
+from hri_teleop.core.modes import pad_params as mode_pad_params
 from hri_teleop.course.errors import CourseError
+from hri_teleop.course.master_mode import NotStarted, master_mode, start_refusal
 from hri_teleop.course.nodes import STUDENT_PACKAGE, launch, run_provided_node, run_student_node
 from hri_teleop.grading.run.workspace import REFERENCE_PACKAGE
-from hri_teleop.ros.master_api import master_call, running_nodes
+from hri_teleop.ros.master_api import master_call
 
 __all__ = ["mode", "start_robot", "start_board", "start_pipeline", "wait_for_subscriber", "hand_z_m",
-           "pad_params"]
+           "pad_params", "default_pad"]
 
 #: lab_sim's end-effector pose (geometry_msgs/PoseStamped), the simulated robot's answer.
 EE_POSE_TOPIC = "/lab_sim/ee_pose"
 
 
 def mode() -> str:
-    """This kernel's mode (``HRI_MODE``; grading under nbgrader; home otherwise)."""
-    return mode_from_env(os.environ)
+    """This kernel's mode, decided from its master: ``lab`` on any master this kernel did not
+    start; on its own, ``grading`` under nbgrader, else ``home`` (``HRI_MODE=lab`` for care there too)."""
+    return master_mode().mode
+
+
+def default_pad() -> str:
+    """The pad a notebook's node reads unless the student picks one: the real one in the lab."""
+    return mode_default_pad(mode())
+
+
+def pad_params(pad: str, script: Union[str, Path, None] = None) -> Dict[str, Any]:
+    """The node's pad parameters in this kernel's mode (under grading the script plays)."""
+    return mode_pad_params(pad, script, mode())
 
 
 def _refusal(what: str) -> Optional[str]:
-    current = mode()
-    hardware = [] if current == LAB else running_nodes(among=list(HARDWARE_NODES))
-    return simulation_refusal(current, what, hardware)
+    return start_refusal([Start(what, simulated=True)])
 
 
 def _topic_nodes(topic: str, publishers: bool) -> List[List[str]]:
@@ -69,11 +81,11 @@ def _wait_until_up(process: Any, topic: str, publishers: bool, node: str, timeou
 
 
 def start_robot(timeout_s: float = 60.0, **params: Any) -> Any:
-    """The simulated Franka (``lab_sim.py``), up and listening to the velocity command; None in the lab."""
-    refusal = _refusal("robot (lab_sim)")
+    """The simulated Franka (``lab_sim.py``), up and listening to the velocity command; in the lab a NotStarted that says why."""
+    refusal = _refusal("the simulated Franka (lab_sim.py)")
     if refusal:
-        print(refusal + "; the real Panda follows your node once franka_control runs")
-        return None
+        print(refusal)
+        return NotStarted(refusal)
     robot = run_provided_node("lab_sim.py", **params)
     _wait_until_up(robot, DEFAULT_TWIST_TOPIC, False, "/lab_sim", timeout_s)
     _wait_until_up(robot, EE_POSE_TOPIC, True, "/lab_sim", timeout_s)
@@ -81,11 +93,11 @@ def start_robot(timeout_s: float = 60.0, **params: Any) -> Any:
 
 
 def start_board(timeout_s: float = 60.0, **params: Any) -> Any:
-    """The simulated FSR board (``FSR_sensor.py`` on ``/pub_force``); None in the lab."""
-    refusal = _refusal("board (FSR_sensor.py)")
+    """The simulated FSR board (``FSR_sensor.py`` on ``/pub_force``); in the lab a NotStarted that says why."""
+    refusal = _refusal("the simulated board (FSR_sensor.py)")
     if refusal:
-        print(refusal + "; the Arduino's serial_node publishes /pub_force")
-        return None
+        print(refusal)
+        return NotStarted(refusal)
     board = run_provided_node("FSR_sensor.py", **params)
     _wait_until_up(board, "/pub_force", True, "/FSR_sensor", timeout_s)
     return board
@@ -139,16 +151,16 @@ def lab_launch_file() -> Path:
 
 
 def start_pipeline(timeout_s: float = 60.0, package: Union[str, Path] = STUDENT_PACKAGE, **args: Any) -> Any:
-    """The pipeline without hardware; None in the lab, where it runs.
+    """The pipeline without hardware; in the lab, where it runs, a NotStarted that says why.
 
     The lab's ``teleoperation.launch robot:=false arduino:=false pad:=virtual`` where it is
     installed; in the student bundle the same nodes started one by one, with the student's
     own ``mapping_node.py`` and ``teleoperation.py`` from ``package``.
     """
-    refusal = _refusal("pipeline (teleoperation.launch without hardware)")
+    refusal = _refusal("the pipeline without hardware (a simulated board and a scripted pad)")
     if refusal:
-        print(refusal + "; look at the lab's running pipeline instead")
-        return None
+        print(refusal)
+        return NotStarted(refusal)
     if lab_launch_file().is_file():
         settings = {"robot": "false", "arduino": "false", "pad": "virtual", **args}
         pipeline = launch("hri_lab", "teleoperation.launch", **settings)
@@ -166,16 +178,24 @@ def start_pipeline(timeout_s: float = 60.0, package: Union[str, Path] = STUDENT_
 
 
 def hand_z_m(timeout_s: float = 10.0) -> float:
-    """The simulated hand's height (m) from ``lab_sim``'s pose; the check of Ex. 10 reads it."""
-    if mode() == LAB:
-        raise CourseError("lab mode: this check reads the simulated robot; it is judged when your notebook is "
-                          "graded, in the lab look at the real hand")
-    import rospy  # noqa: PLC0415 - ROS only in the cell that reads the pose
-    from geometry_msgs.msg import PoseStamped  # noqa: PLC0415
+    """The hand's height (m) above the robot's base, from franka_state_controller's joint states.
+
+    The same topic at home (``lab_sim``) and in the lab (the real Panda), through the arm's
+    forward kinematics, so the check of Ex. 10 reads the robot the student drove.
+    """
+    import rospy  # noqa: PLC0415 - ROS only in the cell that reads the joints
+    from sensor_msgs.msg import JointState  # noqa: PLC0415
+
+    from hri_teleop.hardware.sim.kinematics import PandaKinematics  # noqa: PLC0415 - pinocchio loads slowly
 
     try:
-        pose = rospy.wait_for_message(EE_POSE_TOPIC, PoseStamped, timeout=timeout_s)
+        state = rospy.wait_for_message(FRANKA_JOINT_STATES_TOPIC, JointState, timeout=timeout_s)
     except rospy.ROSException:
-        raise CourseError(f"no pose on {EE_POSE_TOPIC} within {timeout_s:.0f} s: run the start cell "
-                          "(the simulated robot) first") from None
-    return float(pose.pose.position.z)
+        where = "franka_control runs?" if mode() == LAB else "run the start cell (the simulated robot) first"
+        raise CourseError(f"no joint states on {FRANKA_JOINT_STATES_TOPIC} within {timeout_s:.0f} s: "
+                          f"{where}") from None
+    positions = dict(zip(state.name, state.position))
+    missing = [name for name in JOINT_NAMES if name not in positions]
+    if missing:
+        raise CourseError(f"{FRANKA_JOINT_STATES_TOPIC} has no {', '.join(missing)}: is it the Panda's?")
+    return float(PandaKinematics().position([positions[name] for name in JOINT_NAMES])[2])

@@ -16,8 +16,10 @@ from dataclasses import dataclass, field
 from typing import Any, List, Optional
 
 from hri_teleop.core.errors import HriTeleopError
-from hri_teleop.core.modes import LAB, ModeError, mode_from_env
-from hri_teleop.ros.master import MasterError, PrivateMaster, interrupt_nodes, stop_all
+from hri_teleop.core.modes import LAB, ModeError, ignored_setting, mode_from_env
+from hri_teleop.core.modes import describe as describe_mode
+from hri_teleop.course.master_mode import master_mode
+from hri_teleop.ros.master import OWN_MASTER_ENV, MasterError, PrivateMaster, interrupt_nodes, stop_all
 from hri_teleop.ros.master_api import master_reachable, master_uri
 
 __all__ = ["NotebookRosError", "NO_ROSPY_MESSAGE", "RosSession", "ensure_ros", "current_session"]
@@ -56,7 +58,8 @@ class RosSession:
         if self.started_master:
             return (f"ROS ({self.mode} mode): node {self.node_name} on a private roscore at {self.master_uri} (it "
                     f"stops with the kernel); in a terminal: export ROS_MASTER_URI={self.master_uri}")
-        return f"ROS ({self.mode} mode): node {self.node_name} on the master at {self.master_uri}"
+        return (f"ROS: node {self.node_name} on the master at {self.master_uri}, not started by this notebook; "
+                f"{describe_mode(self.mode, own_master=False)}")
 
 
 _SESSION: Optional[RosSession] = None
@@ -120,7 +123,7 @@ def _start(node_name: str, anonymous: bool, start_master: bool, timeout_s: float
     rospy = _import_rospy()
     if rospy.core.is_initialized():
         # Somebody (a student's cell) already called rospy.init_node: use that node.
-        return RosSession(True, master_uri=master_uri(), node_name=rospy.get_name(), mode=mode)
+        return RosSession(True, master_uri=master_uri(), node_name=rospy.get_name(), mode=master_mode().mode)
     uri = master_uri()
     master = None
     if not master_reachable(uri):
@@ -138,6 +141,7 @@ def _start(node_name: str, anonymous: bool, start_master: bool, timeout_s: float
             raise NotebookRosError(f"could not start a private roscore: {exc}") from None
         uri = master.uri
         os.environ["ROS_MASTER_URI"] = uri
+        os.environ[OWN_MASTER_ENV] = master.env[OWN_MASTER_ENV]  # this kernel's children know it is its own
         os.environ.setdefault("ROS_LOG_DIR", master.env["ROS_LOG_DIR"])
     if not (os.environ.get("ROS_HOSTNAME") or os.environ.get("ROS_IP")):
         os.environ["ROS_HOSTNAME"] = "127.0.0.1"  # as tools/env.sh: works without a resolvable hostname
@@ -147,8 +151,12 @@ def _start(node_name: str, anonymous: bool, start_master: bool, timeout_s: float
         if master is not None:
             _stop_master(master)
         raise NotebookRosError(f"rospy.init_node({node_name!r}) failed: {exc}".replace("\n", " ")) from None
+    state = master_mode(uri)
+    note = ignored_setting(os.environ, state.own)
+    if note:
+        print(note)
     session = RosSession(True, master_uri=uri, node_name=rospy.get_name(), started_master=master is not None,
-                         mode=mode, _master=master)
+                         mode=state.mode, _master=master)
     if master is not None:
         finalizer = weakref.finalize(session, _stop_master, master)
         finalizer.atexit = False  # at exit _shutdown_at_exit stops it, after rospy's last log line

@@ -37,10 +37,10 @@ from hri_teleop.core.doctor import (
     robot_finding,
     teleop_finding,
 )
-from hri_teleop.core.modes import HOME, LAB, ModeError, mode_from_env
+from hri_teleop.core.modes import HOME, LAB, ModeError, decide_mode, mode_from_env
 from hri_teleop.hardware.real.board_probe import candidate_ports, probe_port
 from hri_teleop.ros.doctor_pad import pad_findings
-from hri_teleop.ros.master import MasterError, PrivateMaster
+from hri_teleop.ros.master import MasterError, PrivateMaster, started_here
 from hri_teleop.ros.master_api import MasterApiError, master_call, master_reachable, master_uri, running_nodes
 
 __all__ = ["GRIPPER_ACTIONS", "BOARD_NODES", "check_master", "check_robot", "check_teleop", "check_board",
@@ -68,7 +68,7 @@ def _nodes(section: Sequence[Any], topic: str) -> List[str]:
 def check_master(mode: str) -> Tuple[Finding, bool]:
     uri = master_uri()
     reachable = master_reachable(uri)
-    return master_finding(uri, reachable, mode, private=not uri.rstrip("/").endswith(":11311")), reachable
+    return master_finding(uri, reachable, mode, private=reachable and started_here(uri)), reachable
 
 
 class _RobotSide(NamedTuple):
@@ -265,7 +265,11 @@ def run_checks(walk: bool = False, ask: Callable[[str], str] = input, say: Calla
         finding = Finding("mode", FAIL, str(exc), "export HRI_MODE=home (or lab on the lab PCs)")
         say(finding.line())
         return [finding]
-    if simulate and mode == HOME and not master_reachable(master_uri()):
+    uri = master_uri()
+    reachable = master_reachable(uri)
+    if reachable:
+        mode = decide_mode(os.environ, started_here(uri))  # a master this process's owner did not start: the lab's
+    if simulate and mode == HOME and not reachable:
         try:
             with home_simulation(say):
                 return _run_checks(mode, walk, ask, say, ports, skip)

@@ -25,6 +25,7 @@ from typing import Any, Callable, Dict, List, Mapping, Optional, Sequence, Set, 
 
 from hri_teleop.core.errors import HriTeleopError
 from hri_teleop.core.paths import REPO
+from hri_teleop.ros.master_api import MasterApiError, master_call
 
 
 class MasterError(HriTeleopError, RuntimeError):
@@ -36,6 +37,44 @@ Registrations = List[Tuple[str, List[str]]]
 
 _LIVE: "Set[ManagedProcess]" = set()
 _HOOKED: List[bool] = []
+#: Set for the processes a PrivateMaster's owner starts: "URI PID" of the master (its rosmaster's pid).
+OWN_MASTER_ENV = "HRI_OWN_MASTER"
+#: The masters this process started (URI -> its roscore): :func:`started_here` asks it.
+_OWN_MASTERS: "Dict[str, ManagedProcess]" = {}
+
+
+def _uri_key(uri: str) -> str:
+    """``http://localhost:N/`` and ``http://127.0.0.1:N`` name the same master."""
+    rest = uri.strip().rstrip("/")
+    rest = rest[len("http://"):] if rest.startswith("http://") else rest
+    host, _, port = rest.rpartition(":")
+    return f"{'127.0.0.1' if host in ('localhost', '127.0.0.1', '') else host}:{port}"
+
+
+def started_here(uri: str, env: Optional[Mapping[str, str]] = None, timeout_s: float = 1.0) -> bool:
+    """True when the master at ``uri`` is a roscore this process, or the process that started
+    this one (``$HRI_OWN_MASTER``, set by :class:`PrivateMaster` for its children), started.
+
+    Asked of the master itself: its pid must be the one recorded at its start, so a port
+    taken over by somebody else's master, or a copied setting, is not ours.
+    """
+    key = _uri_key(uri)
+    core = _OWN_MASTERS.get(key)
+    if core is not None and not core.running:
+        core = None
+    if core is None:
+        mark = (os.environ if env is None else env).get(OWN_MASTER_ENV, "").split()
+        if len(mark) != 2 or _uri_key(mark[0]) != key or not mark[1].isdigit():
+            return False
+        expected = int(mark[1])
+    try:
+        pid = master_call("getPid", uri=uri, timeout_s=timeout_s)
+    except MasterApiError:
+        return False
+    if core is None:
+        return bool(pid == expected)
+    root = core.popen.pid
+    return pid == root or pid in descendants(root)
 
 
 def stop_all() -> None:
@@ -363,6 +402,8 @@ class PrivateMaster:
                         break
                     raise MasterError(f"roscore on port {self.port} exited: {output[-400:]}")
                 if self.is_online() and self.node_names() and "/rosout" in self.node_names():
+                    _OWN_MASTERS[_uri_key(self.uri)] = self.core
+                    self.env[OWN_MASTER_ENV] = f"{self.uri} {self.master_pid()}"
                     return self
                 time.sleep(0.1)
             else:
@@ -387,6 +428,7 @@ class PrivateMaster:
             child.stop()
         self.children.clear()
         if self.core is not None:
+            _OWN_MASTERS.pop(_uri_key(self.uri), None)
             if quick:
                 self.core.kill()
             else:
@@ -404,6 +446,10 @@ class PrivateMaster:
     # -- talking to the master -----------------------------------------------------------
     def _proxy(self) -> Any:  # XML-RPC answers are untyped lists
         return xmlrpc.client.ServerProxy(self.uri)
+
+    def master_pid(self) -> int:
+        """The pid of the rosmaster answering at this URI."""
+        return int(master_call("getPid", uri=self.uri))
 
     def is_online(self) -> bool:
         try:

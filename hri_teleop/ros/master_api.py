@@ -12,10 +12,12 @@ from typing import Any, List, Optional
 
 from hri_teleop.core.errors import HriTeleopError
 
-__all__ = ["DEFAULT_MASTER_URI", "MasterApiError", "master_uri", "master_call", "running_nodes", "master_reachable"]
+__all__ = ["DEFAULT_MASTER_URI", "NO_MASTER_URI", "MasterApiError", "master_uri", "master_call", "running_nodes", "master_reachable"]
 
 #: Where ROS looks when ROS_MASTER_URI is unset.
 DEFAULT_MASTER_URI = "http://localhost:11311/"
+#: A master URI nothing answers at: a kernel given it starts a private roscore of its own.
+NO_MASTER_URI = "http://127.0.0.1:1/"
 _CALLER_ID = "/hri_notebook_probe"
 
 

@@ -19,6 +19,9 @@ import rospy
 
 from hri_teleop.core.checks import is_finite_number, is_int
 from hri_teleop.core.errors import HriTeleopError
+from hri_teleop.core.modes import HARDWARE_NODES
+from hri_teleop.ros.master import started_here
+from hri_teleop.ros.master_api import MasterApiError, master_uri, running_nodes
 
 _MISSING = object()
 
@@ -112,6 +115,27 @@ def fail(message: str, exit_code: int = EXIT_BAD_INPUT) -> NoReturn:
     """
     _log_fatal(message)
     raise NodeExit(exit_code)
+
+
+def refuse_beside_hardware(what: str) -> None:
+    """End this simulated node with one fatal line when its master runs real hardware it did not start.
+
+    The notebooks never start a simulation on the lab's master; this is the node's own guard
+    for a command typed there by hand (``roslaunch hri_lab teleoperation.launch sim:=true``).
+    Masters the toolkit started (demos, tests, the grader: ``$HRI_OWN_MASTER``) are not refused.
+    """
+    uri = master_uri()
+    if started_here(uri):
+        return
+    try:
+        hardware = running_nodes(among=list(HARDWARE_NODES), uri=uri)
+    except MasterApiError:
+        return
+    hardware = [name for name in hardware if name != rospy.get_name()]
+    if hardware:
+        fail(f"refused to start {what}: this master runs real hardware ({', '.join(hardware)}); a simulation "
+             "beside it would publish on the real robot's and board's topics. Run it on a master of its own "
+             "(at home: roscore in a fresh terminal, or make demo)")
 
 
 def _log_fatal(message: str) -> None:

@@ -41,6 +41,7 @@ from hri_teleop.core.experiment.sidecar import (
     write_sidecar,
 )
 from hri_teleop.core.experiment.tlx import SUBSCALES, TlxRatings, optional_tlx, store_tlx
+from hri_teleop.core.modes import LAB, NODE_DEFAULT_PAD, Start, start_refusal
 from hri_teleop.core.run_record import LabRecord
 from hri_teleop.hardware.sim.grasp_objects import OBJECTS
 from hri_teleop.hardware.sim.operators import study_scenario
@@ -172,6 +173,11 @@ def record_trial(meta: TrialMeta, folder: Union[str, Path], *, sim: bool = True,
 
     def run(on: PrivateMaster) -> Tuple[LabRecord, Any, Any]:
         if isinstance(on, RunningMaster):
+            start = Start(f"trial {meta.label} (teleoperation.launch {' '.join(f'{k}:={v}' for k, v in args.items())})",
+                          simulated=sim, pad=str(args.get("pad", NODE_DEFAULT_PAD)))
+            refusal = start_refusal(LAB, start, [], own_master=False)
+            if refusal:
+                raise MasterError(refusal)
             _refuse_running_launch(on, args)
             session_calibration = _param(on, "/max_sensor_force")
             if "max_sensor_force" not in args and is_calibration_count(session_calibration):

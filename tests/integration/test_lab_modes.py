@@ -1,15 +1,22 @@
-"""The notebooks' starts on a real roscore: the simulation at home, nothing simulated in the lab
-or next to real hardware, never a second node of a running name."""
+"""The notebooks' starts on a real roscore: the simulation at home, nothing simulated or scripted
+on a master the kernel did not start (the lab's) or next to real hardware, never a second node of a
+running name."""
 
 from __future__ import annotations
 
 import sys
+from pathlib import Path
 
 import pytest
 
 from hri_teleop.course import lab, lab_nodes
 from hri_teleop.course.errors import CourseError
-from hri_teleop.ros.master_api import running_nodes
+from hri_teleop.course.master_mode import NotStarted, master_mode
+from hri_teleop.ros.master import OWN_MASTER_ENV, ManagedProcess, free_port
+from hri_teleop.ros.master_api import master_reachable, running_nodes
+
+REPO = Path(__file__).resolve().parents[2]
+ANSWER_KEY = REPO / "solutions" / "hri_lab"
 
 pytestmark = pytest.mark.ros
 
@@ -25,6 +32,30 @@ def kernel(ros_master, monkeypatch):
     monkeypatch.delenv("NBGRADER_EXECUTION", raising=False)
     yield ros_master
     lab.stop()
+
+
+@pytest.fixture
+def foreign_master(tmp_path, monkeypatch, ros_env):
+    """A roscore this process did not start (as the lab PC's is), and this process as a kernel on it."""
+    port = free_port()
+    uri = f"http://127.0.0.1:{port}/"
+    env = dict(ros_env, ROS_MASTER_URI=uri, ROS_HOSTNAME="127.0.0.1", ROS_LOG_DIR=str(tmp_path / "log"),
+               ROS_HOME=str(tmp_path / "home"))
+    core = ManagedProcess(["roscore", "-p", str(port)], env, tmp_path / "roscore.log", is_master=True)
+    try:
+        for _ in range(400):
+            if master_reachable(uri) and "/rosout" in running_nodes(among=["/rosout"], uri=uri):
+                break
+            assert core.running, core.output()
+            core.wait(0.05)
+        for key in ("ROS_MASTER_URI", "ROS_HOSTNAME", "ROS_LOG_DIR", "ROS_HOME"):
+            monkeypatch.setenv(key, env[key])
+        for key in ("HRI_MODE", "NBGRADER_EXECUTION", OWN_MASTER_ENV):
+            monkeypatch.delenv(key, raising=False)
+        yield uri
+    finally:
+        lab.stop()
+        core.stop()
 
 
 def _spin_node(master, name):
@@ -44,21 +75,69 @@ def test_at_home_the_board_starts_once_and_a_second_start_of_its_name_is_refused
 
 def test_in_lab_mode_no_simulated_robot_or_board_starts_and_one_line_says_so(kernel, monkeypatch, capsys):
     monkeypatch.setenv("HRI_MODE", "lab")
-    assert lab_nodes.start_board() is None
-    assert lab_nodes.start_robot() is None
-    assert lab_nodes.start_pipeline() is None
+    refused = [lab_nodes.start_board(), lab_nodes.start_robot(), lab_nodes.start_pipeline()]
+    assert all(isinstance(r, NotStarted) and not r and not r.running for r in refused)
     lines = capsys.readouterr().out.strip().splitlines()
-    assert len(lines) == 3 and all(line.startswith("lab mode: no simulated") for line in lines)
+    assert len(lines) == 3 and all(line.startswith("refused to start the") and "HRI_MODE=lab" in line
+                                   for line in lines)
+    assert [r.output().strip() for r in refused] == lines
     assert running_nodes(among=["/FSR_sensor", "/lab_sim"]) == []
-    with pytest.raises(CourseError, match="^lab mode: this check reads the simulated robot"):
-        lab_nodes.hand_z_m()
 
 
 def test_at_home_next_to_a_real_board_nothing_simulated_starts(kernel, capsys):
     _spin_node(kernel, "serial_node")
-    assert lab_nodes.start_board() is None
+    assert not lab_nodes.start_board()
     assert "this master runs real hardware (/serial_node)" in capsys.readouterr().out
     assert running_nodes(among=["/FSR_sensor"]) == []
+
+
+def test_the_kernels_own_master_is_home_and_another_is_the_lab(kernel, foreign_master):
+    assert master_mode(kernel.uri).own and master_mode(kernel.uri).mode == "home"
+    assert not master_mode(foreign_master).own and master_mode(foreign_master).mode == "lab"
+    assert lab.mode() == "lab" and lab.default_pad() == "pygame"
+
+
+@pytest.mark.parametrize("hri_mode", [None, "home", "grading"])
+def test_on_a_master_the_kernel_did_not_start_nothing_simulated_or_scripted_starts(foreign_master, monkeypatch,
+                                                                                   capsys, hri_mode):
+    if hri_mode:
+        monkeypatch.setenv("HRI_MODE", hri_mode)
+    drive = ANSWER_KEY / "scripts" / "teleoperation.py"
+    refused = {
+        "board": lab_nodes.start_board(),
+        "robot": lab_nodes.start_robot(),
+        "pipeline": lab_nodes.start_pipeline(package=ANSWER_KEY),
+        "FSR_sensor.py": lab.run_provided("FSR_sensor.py"),
+        "lab_sim.py": lab.run_provided("lab_sim.py"),
+        "scripted teleoperation": lab.run_student(drive, "teleoperation", pad="virtual", pad_script="/tmp/x.yaml"),
+        "browser-pad teleoperation": lab.run_student(drive, "teleoperation", pad="virtual"),
+        "sensor.launch": lab.launch_student("sensor.launch", package=ANSWER_KEY),
+    }
+    lines = capsys.readouterr().out.strip().splitlines()
+    assert {k: type(v).__name__ for k, v in refused.items()} == {k: "NotStarted" for k in refused}
+    refusals = [line for line in lines if line.startswith("refused to start")]
+    assert len(refusals) == len(refused), lines
+    assert all("not started by this process" in line for line in refusals)
+    assert running_nodes(among=["/FSR_sensor", "/lab_sim", "/teleoperation", "/mapping_node"]) == []
+
+
+def test_on_the_labs_master_a_node_with_the_real_pad_starts(foreign_master, capsys):
+    node = lab.run_student(ANSWER_KEY / "scripts" / "mapping_node.py")
+    assert not isinstance(node, NotStarted) and "refused" not in capsys.readouterr().out
+    teleop = lab.run_student(ANSWER_KEY / "scripts" / "teleoperation.py", "teleoperation", **lab.pad_params("pygame"))
+    assert not isinstance(teleop, NotStarted)
+
+
+def test_the_hand_height_comes_from_the_arms_joint_states(kernel):
+    robot = lab_nodes.start_robot(object="none")
+    assert robot.running
+    from hri_teleop.course import sim
+
+    reader = kernel.run([sys.executable, "-c", "from hri_teleop.course import ensure_ros, lab; "
+                         "ensure_ros(quiet=True); print('z_m', lab.hand_z_m())"], "hand_reader")
+    assert reader.wait(60) == 0, reader.output()
+    z_m = float(reader.output().split("z_m")[-1])
+    assert z_m == pytest.approx(sim.ARM.start_position_m[2], abs=0.002)
 
 
 def test_a_killed_nodes_stale_registration_does_not_block_a_restart(kernel):

@@ -352,7 +352,8 @@ def _judge_toggle(case: TeleopPartsCase, exp: List[ExpectedTick], got: List[Part
     if not isinstance(value, bool):
         hint = "self.rotation_mode must stay True or False"
     elif all(g.rotation_mode is False for g in got):
-        hint = "toggle_mode() must switch self.rotation_mode: self.rotation_mode = not self.rotation_mode"
+        hint = ("toggle_mode() never changed self.rotation_mode: each call must switch it from translation to "
+                "rotation mode and back")
     else:
         hint = "switch once per press of triangle: toggle_mode() is called once for each JOYBUTTONDOWN"
     message = (f"{_case_where(case, i)}: after {presses} press(es) of triangle rotation_mode should be "

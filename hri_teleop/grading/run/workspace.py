@@ -189,7 +189,7 @@ def _copy_package(root: Path, target: Path) -> None:
 
 def prepare_workspace(submission: Union[str, Path], session_dir: Path, uid: Optional[int] = None,
                       single_file: Optional[Path] = None, single_key: str = "",
-                      reference: Sequence[str] = ()) -> Workspace:
+                      reference: Sequence[str] = (), standins: bool = True) -> Workspace:
     """Copy the student's package into ``session_dir/ws/hri_lab``, with the lab's provided files.
 
     ``single_file``/``single_key``: grade exactly this file as that deliverable (the
@@ -197,7 +197,8 @@ def prepare_workspace(submission: Union[str, Path], session_dir: Path, uid: Opti
     exercises' deliverables the run needs (a launch file starts mapping_node.py, loads
     robot_params.yaml): the lab's own versions are put in their place, so that a file is
     judged on its own, the same alone as in its package, and a mistake in another
-    exercise costs points there only.
+    exercise costs points there only. ``standins``: the grader's franka_control and
+    rosserial_python (False in the lab, where the real packages must be found).
     """
     root = find_package_root(single_file or submission)
     ws = session_dir / "ws"
@@ -239,8 +240,9 @@ def prepare_workspace(submission: Union[str, Path], session_dir: Path, uid: Opti
             shutil.copyfile(source, package / sub)
     for script in (package / "scripts").glob("*.py") if (package / "scripts").is_dir() else []:
         script.chmod(0o755)
-    _fake_franka_control(ws)
-    _fake_rosserial_python(ws)
+    if standins:
+        _fake_franka_control(ws)
+        _fake_rosserial_python(ws)
     _ros_intro_alias(ws, package)
     space.grader_dir.mkdir(parents=True, exist_ok=True)
     _open_up(session_dir, package, uid)
