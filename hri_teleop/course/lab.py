@@ -13,6 +13,7 @@ from hri_teleop.course.lab_nodes import (
     hand_z_m,
     mode,
     pad_params,
+    start_application,
     start_board,
     start_pipeline,
     start_robot,
@@ -26,5 +27,5 @@ from hri_teleop.course.recovery import recover, reflex
 from hri_teleop.ros.master import PrivateMaster as private_master
 
 __all__ = ["stop", "run_provided", "run_student", "rosrun", "launch_student", "wait_for_publisher", "start_robot",
-           "start_board", "start_pipeline", "pad_params", "default_pad", "mode", "hand_z_m", "max_sensor_force", "private_master",
+           "start_board", "start_pipeline", "start_application", "pad_params", "default_pad", "mode", "hand_z_m", "max_sensor_force", "private_master",
            "reflex", "recover"]

@@ -19,12 +19,12 @@ from hri_teleop.core.modes import default_pad as mode_default_pad
 from hri_teleop.core.modes import pad_params as mode_pad_params
 from hri_teleop.course.errors import CourseError
 from hri_teleop.course.master_mode import NotStarted, master_mode, start_refusal
-from hri_teleop.course.nodes import STUDENT_PACKAGE, launch, run_provided_node, run_student_node
+from hri_teleop.course.nodes import STUDENT_PACKAGE, launch, launch_student, run_provided_node, run_student_node
 from hri_teleop.grading.run.workspace import REFERENCE_PACKAGE
 from hri_teleop.ros.master_api import master_call
 
 __all__ = ["mode", "start_robot", "start_board", "start_pipeline", "wait_for_subscriber", "hand_z_m",
-           "pad_params", "default_pad"]
+           "pad_params", "default_pad", "start_application"]
 
 #: lab_sim's end-effector pose (geometry_msgs/PoseStamped), the simulated robot's answer.
 EE_POSE_TOPIC = "/lab_sim/ee_pose"
@@ -143,6 +143,19 @@ def _home_pipeline(package: Path) -> NodeGroup:
             process.stop()
         raise
     return NodeGroup(processes)
+
+
+def start_application(feedback: bool = True, package: Union[str, Path] = STUDENT_PACKAGE) -> Any:
+    """Ex. 14 in the lab: the student's own ``teleoperation.launch`` on the lab's master, the
+    condition given to their node as ``/teleoperation/feedback`` (their launch file needs no
+    argument for it). At home it starts nothing: the lock-step simulation is Ex. 14's home path."""
+    if mode() != LAB:
+        reason = ("not started: at home no robot and no board run here, the simulated lab below stands in; in the "
+                  "lab this cell starts your teleoperation.launch")
+        print(reason)
+        return NotStarted(reason)
+    master_call("setParam", "/teleoperation/feedback", bool(feedback))
+    return launch_student("teleoperation.launch", package)
 
 
 def lab_launch_file() -> Path:

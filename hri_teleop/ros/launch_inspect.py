@@ -16,7 +16,7 @@ from typing import Any, Dict, List, Mapping, Optional, Sequence
 
 from hri_teleop.core.errors import HriTeleopError
 
-__all__ = ["LaunchInspectError", "LaunchedNode", "launched_nodes", "main"]
+__all__ = ["LaunchInspectError", "LaunchedNode", "launched_nodes", "declared_args", "main"]
 
 
 class LaunchInspectError(HriTeleopError, RuntimeError):
@@ -66,6 +66,26 @@ def launched_nodes(where: Sequence[str], env: Mapping[str, str], timeout_s: floa
         raise LaunchInspectError(f"roslaunch cannot read {' '.join(where)}: {lines[-1] if lines else proc.returncode}"
                                  "; fix the launch file (or its arguments) first")
     return [LaunchedNode(**item) for item in json.loads(proc.stdout)]
+
+
+def declared_args(where: Sequence[str], env: Mapping[str, str], timeout_s: float = 60.0) -> List[str]:
+    """The ``<arg>`` names a launch file declares (``roslaunch --ros-args``): a student's file may
+    declare none of the lab's (``feedback``, ``max_sensor_force``), and roslaunch refuses an unused one."""
+    try:
+        proc = subprocess.run(["roslaunch", "--ros-args", *where], env=dict(env), capture_output=True, text=True,
+                              timeout=timeout_s)
+    except (OSError, subprocess.TimeoutExpired) as exc:
+        raise LaunchInspectError(f"roslaunch --ros-args {' '.join(where)} failed ({type(exc).__name__}): "
+                                 "source the toolkit's env.sh (ROS on PATH) and try again") from None
+    if proc.returncode != 0:
+        lines = [line.strip() for line in (proc.stderr + proc.stdout).splitlines() if line.strip()]
+        raise LaunchInspectError(f"roslaunch cannot read {' '.join(where)}: {lines[-1] if lines else proc.returncode}"
+                                 "; fix the launch file first")
+    names = []
+    for line in proc.stdout.splitlines():
+        if line.startswith("  ") and ":" in line:
+            names.append(line.strip().split(":")[0].split(" (default")[0].strip())
+    return names
 
 
 def main(argv: Optional[Sequence[str]] = None) -> int:

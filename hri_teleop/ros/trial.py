@@ -47,6 +47,7 @@ from hri_teleop.hardware.sim.grasp_objects import OBJECTS
 from hri_teleop.hardware.sim.operators import study_scenario
 from hri_teleop.plots.study import save_result_figure
 from hri_teleop.ros.bags import BagError
+from hri_teleop.ros.launch_inspect import LaunchInspectError, declared_args
 from hri_teleop.ros.master import MasterError, PrivateMaster, RunningMaster, run_reporting
 from hri_teleop.ros.teleop_demo import DEFAULT_TIMEOUT_S, record_from_bag, record_teleop_launch
 
@@ -108,6 +109,25 @@ def _refuse_running_launch(master: PrivateMaster, args: Mapping[str, object]) ->
         raise MasterError(f"{', '.join(clash)} already running on {master.uri}: stop that launch first (Ctrl-C in "
                           f"its terminal); the trial starts teleoperation.launch itself, feedback:={args['feedback']}"
                           f"{hint}")
+
+
+#: Launch arguments the lab's file declares and a student's file need not: the node's parameter, or
+#: the master's, carries them instead.
+_OPTIONAL_ARGS = ("feedback", "max_sensor_force")
+
+
+def _fit_to_launch_file(master: PrivateMaster, args: Dict[str, object]) -> None:
+    """The condition as the node's ``~feedback`` parameter, set before the launch, so that a
+    student's own teleoperation.launch (Ex. 12-13, no ``<arg>`` of the lab's) records a trial too;
+    the optional arguments it does not declare are left out (roslaunch refuses an unused one)."""
+    master.set_param("/teleoperation/feedback", str(args.get("feedback", "true")).lower() == "true")
+    try:
+        declared = declared_args(["hri_lab", "teleoperation.launch"], master.env)
+    except LaunchInspectError as exc:
+        raise MasterError(str(exc)) from None
+    for name in _OPTIONAL_ARGS:
+        if name in args and name not in declared:
+            del args[name]
 
 
 def _param(master: PrivateMaster, name: str) -> Any:
@@ -182,6 +202,7 @@ def record_trial(meta: TrialMeta, folder: Union[str, Path], *, sim: bool = True,
             session_calibration = _param(on, "/max_sensor_force")
             if "max_sensor_force" not in args and is_calibration_count(session_calibration):
                 args["max_sensor_force"] = int(session_calibration)  # keep the session's Ex. 11 value
+        _fit_to_launch_file(on, args)
         progress(f"{meta.label}: recording on {on.uri} to {bag}")
         try:
             record = record_teleop_launch(on, bag, args, timeout_s, progress)

@@ -26,7 +26,9 @@ Run it:
 Parameters (private, with their defaults): ~rate 50.0 (Hz), ~k_trans 0.1 (m/s at full
 stick), ~k_rot 0.3 (rad/s at full stick), ~k_gripper 0.04 (m/s), ~deadzone 0.1,
 ~pad pygame|virtual, ~layout dualshock4|dualsense|xbox, ~pad_script "" (virtual pad only),
-~wait_for_robot_s 5.0 (s: how long the pad waits for the robot to listen before it starts).
+~wait_for_robot_s 5.0 (s: how long the pad waits for the robot to listen before it starts),
+~feedback true (false: the pad never rumbles, Ex. 14's condition without feedback; set it
+before the node starts: rosparam set /teleoperation/feedback false).
 """
 
 import signal
@@ -73,6 +75,7 @@ class Teleoperation:
         self.force = 0.0                            # latest value on /force_mapped, 0..1
         self.force_time = None                      # when it arrived (ROS time, rospy.get_time())
         self.rumble = 0.0                           # vibration intensity 0..1
+        self.feedback = True                        # False: the pad never rumbles (Ex. 14's other condition)
 
     # -- the gamepad ------------------------------------------------------------------
     def handle_event(self, event):
@@ -200,7 +203,7 @@ class Teleoperation:
     def send(self):
         """Rumble the pad, then publish the velocity (ramped by the limiter) and the width."""
         fresh = self.force_time is not None and rospy.get_time() - self.force_time <= FORCE_TIMEOUT
-        rumble = self.rumble if fresh else 0.0
+        rumble = self.rumble if fresh and self.feedback else 0.0
         self.pad.rumble(rumble, 0.0)
         self.rumble_pub.publish(Float32(rumble))
         self.publish(self.limiter.step(self.cartesian_velocity, 1.0 / self.rate))
@@ -259,6 +262,7 @@ def main():
     rospy.init_node("teleoperation")
     ### END SOLUTION
     node = Teleoperation(**read_parameters())
+    node.feedback = bool(rospy.get_param("~feedback", True))  # Ex. 14: false, the condition without feedback
     node.open_pad(rospy.get_param("~pad", "pygame"), rospy.get_param("~layout", "dualshock4"),
                   rospy.get_param("~pad_script", ""))
     node.connect()
