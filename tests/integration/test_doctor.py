@@ -16,7 +16,7 @@ from fake_rosserial_board import FakeRosserialBoard
 from test_firmware_hil import firmware  # noqa: F401 - the fixture that builds the firmware
 
 from hri_teleop.hardware.sim.simavr_board import SimulatedUno, force_profile, write_profile
-from hri_teleop.ros.master import free_port
+from hri_teleop.ros.master import OWN_MASTER_ENV, free_port
 from hri_teleop.ros.master_api import master_reachable
 
 REPO = Path(__file__).resolve().parents[2]
@@ -84,19 +84,27 @@ def test_in_lab_mode_without_a_master_it_fails_fast_and_starts_nothing(ros_env):
 
 
 @pytest.mark.ros
-def test_in_lab_mode_a_simulation_on_the_master_fails_robot_and_board_and_at_home_passes(ros_master, ros_env):
-    launch = ros_master.roslaunch("hri_lab", "teleoperation.launch", {"sim": "true", "scenario": ""})
+def test_in_lab_mode_a_simulation_on_the_master_fails_robot_and_board_and_at_home_passes(ros_master, ros_env,
+                                                                                         tmp_path):
+    idle = tmp_path / "idle.yaml"  # the virtual pad waits for an hour: the node runs through every doctor run
+    idle.write_text('[{"t": 3600.0, "tap": "west", "hold": 0.1}]\n')
+    launch = ros_master.roslaunch("hri_lab", "teleoperation.launch", {"sim": "true", "pad_script": str(idle)})
     ros_master.wait_for(lambda: "/lab_sim" in ros_master.publishers("/pub_force") or not launch.running, 30,
                         "lab_sim")
     assert launch.running, launch.output()
-    proc = _doctor(_env(ros_env, "lab", ros_master.uri), "--no-sim")
+    unset = _env(ros_env, "lab", ros_master.uri)
+    del unset["HRI_MODE"]  # as on a lab PC where nobody set anything: a master the doctor did not start is the lab's
+    proc = _doctor(unset, "--no-sim")
     out = proc.stdout
     assert proc.returncode == 1, out
     assert "lab_sim runs on the lab's master" in _line(out, "robot")
     assert _line(out, "board").startswith("FAIL") and "simulate the board" in _line(out, "board")
-    assert "private roscore" in _line(out, "ROS master")
+    assert _line(out, "ROS master").startswith("ok") and "lab mode" in _line(out, "ROS master")
     assert _line(out, "teleoperation").startswith("note") and "virtual pad" in _line(out, "teleoperation")
-    at_home = _doctor(_env(ros_env, "home", ros_master.uri), "--no-sim").stdout  # the same master, at home
+    own = {OWN_MASTER_ENV: ros_master.env[OWN_MASTER_ENV]}  # the doctor as a child of the master's owner
+    in_lab_mode = _doctor(dict(_env(ros_env, "lab", ros_master.uri), **own), "--no-sim").stdout
+    assert "private roscore" in _line(in_lab_mode, "ROS master") and _line(in_lab_mode, "ROS master").startswith("FAIL")
+    at_home = _doctor(dict(_env(ros_env, "home", ros_master.uri), **own), "--no-sim").stdout  # its own master, at home
     assert _line(at_home, "teleoperation") == "ok    teleoperation     running with the virtual pad; rumble accepted"
     assert _line(at_home, "robot").startswith("ok"), at_home
     launch.stop()

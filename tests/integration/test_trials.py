@@ -78,6 +78,19 @@ def test_recording_on_the_lab_master_without_one_running_says_how_to_start_it(tm
     assert not (tmp_path / "trials").exists() or not list((tmp_path / "trials").iterdir())
 
 
+@pytest.mark.parametrize("more", [["--sim"], ["--pad", "virtual"]])
+def test_on_the_lab_master_a_simulated_or_scripted_trial_is_refused_before_anything_starts(ros_master, tmp_path,
+                                                                                         capsys, more):
+    before = ros_master.node_names()
+    args = [a for a in _record_args(tmp_path, "--master-uri", ros_master.uri) if a != "--sim"] + more
+    assert main(args) == 1
+    err = capsys.readouterr().err.strip()
+    assert len(err.splitlines()) == 1 and err.startswith("trial: refused to start trial P01 trial 1"), err
+    assert "not started by this process" in err
+    assert ros_master.node_names() == before
+    assert not (tmp_path / "trials").exists() or not list((tmp_path / "trials").glob("*.bag"))
+
+
 def test_on_the_lab_master_a_running_teleoperation_is_refused_and_left_alone(ros_master, tmp_path, capsys,
                                                                             monkeypatch):
     """The condition is applied by launching teleoperation itself; a node of that name already there would be
@@ -88,7 +101,8 @@ def test_on_the_lab_master_a_running_teleoperation_is_refused_and_left_alone(ros
     before = ros_master.node_names()
     for key in ("ROS_LOG_DIR", "ROS_HOME"):
         monkeypatch.setenv(key, ros_master.env[key])
-    assert main(_record_args(tmp_path, "--master-uri", ros_master.uri)) == 1
+    real_pad = [a for a in _record_args(tmp_path, "--master-uri", ros_master.uri) if a != "--sim"]
+    assert main(real_pad + ["-a", "robot:=false"]) == 1
     err = capsys.readouterr().err.strip()
     assert len(err.splitlines()) == 1, err
     assert f"/teleoperation already running on {ros_master.uri}: stop that launch first" in err
