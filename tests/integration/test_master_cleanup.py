@@ -111,7 +111,7 @@ import sys
 from hri_teleop.course.notebook_ros import ensure_ros
 from hri_teleop.course.nodes import _start
 ros = ensure_ros(quiet=True)
-node = _start([sys.executable, "-c", sys.argv[1], sys.argv[2]], "counter")
+node = _start([sys.executable, "-c", sys.argv[1], sys.argv[2]], "counter", [])
 while "ready" not in node.output():
     pass
 import subprocess, time
