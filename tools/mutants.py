@@ -104,13 +104,14 @@ def work_pyproject(mutmut: Dict[str, object], table: Dict[str, List[str]], pytes
 
 
 def prepare(work: Path, text: str) -> None:
-    """A fresh copy of what the unit tests need: the package, the tests, the scope plugin."""
+    """A fresh copy of what the unit tests need: the package, its lab config, the tests, the scope plugin."""
     if work.exists():
         shutil.rmtree(work)
     work.mkdir(parents=True)
     ignore = shutil.ignore_patterns("__pycache__", "*.pyc", ".hypothesis", ".pytest_cache")
     shutil.copytree(ROOT / "hri_teleop", work / "hri_teleop", ignore=ignore)
     shutil.copytree(ROOT / "tests", work / "tests", ignore=ignore)
+    shutil.copytree(ROOT / "hri_lab", work / "hri_lab", ignore=ignore)  # the lab's config the package reads
     (work / "tools").mkdir()
     shutil.copy2(ROOT / "tools" / "mutants_scope.py", work / "tools" / "mutants_scope.py")
     (work / "pyproject.toml").write_text(text, encoding="utf-8")
