@@ -15,6 +15,7 @@ from hri_teleop.grading.batch.late import (
     LatePolicy,
     judge_lateness,
     late_line,
+    parse_timestamp,
     parse_when,
     read_late_policy,
     submission_time,
@@ -90,6 +91,68 @@ def test_lateness_survives_its_json_form():
                                   "2026-12-01 23:59 Europe/Berlin"])
 def test_deadlines_and_timestamps_name_their_time_zone(text):
     assert parse_when(text) == DEADLINE
+
+
+UTC = timezone.utc
+
+
+@pytest.mark.parametrize("text", ["2026-07-01 23:59 CEST", "2026-07-01 23:59 Europe/Berlin", "2026-07-01 23:59 +02:00",
+                                  "2026-07-01T23:59:00+02:00", "2026-07-01 21:59 UTC"])
+def test_a_summer_deadline_in_berlin_is_central_european_summer_time_two_hours_ahead_of_utc(text):
+    assert parse_when(text) == datetime(2026, 7, 1, 21, 59, tzinfo=UTC)
+
+
+# Python 3.8's datetime.fromisoformat (the lab PCs) takes no space before an offset: there every
+# "date time offset" goes through late.py's own zone reading; on 3.11 only a form ISO 8601 does not know
+# does (two spaces), so both are here.
+@pytest.mark.parametrize("text", ["2026-12-01 18:59 -05:00", "2026-12-01 18:59 -0500", "2026-12-01T18:59:00-05:00",
+                                  "2026-12-01 18:59  -05:00", "2026-12-01 18:59:00  -0500",
+                                  "2026-12-01 18:59 EST", "2026-12-01 15:59 PST", "2026-12-01 17:59 CST"])
+def test_a_time_with_a_negative_utc_offset_is_that_many_hours_behind_utc(text):
+    assert parse_when(text) == datetime(2026, 12, 1, 23, 59, tzinfo=UTC)
+
+
+@pytest.mark.parametrize("text, hours, minutes", [("2026-12-01 23:59 +05:30", 5, 30), ("2026-12-01 23:59 -03:30", -3, -30),
+                                                  ("2026-12-01 23:59 +0545", 5, 45), ("2026-12-01 23:59  +05:30", 5, 30),
+                                                  ("2026-12-01 23:59  -03:30", -3, -30)])
+def test_an_offset_counts_its_minutes_with_the_sign_of_its_hours(text, hours, minutes):
+    assert parse_when(text).utcoffset() == timedelta(hours=hours, minutes=minutes)
+
+
+def test_a_summer_deadline_is_judged_in_summer_time(tmp_path):
+    path = tmp_path / "late.yaml"
+    path.write_text('deadline: "2026-07-01 23:59 Europe/Berlin"\nper_day: 10%\n')
+    policy = read_late_policy(path)
+    assert judge_lateness(policy, "alice", "lab", datetime(2026, 7, 1, 21, 59, tzinfo=UTC)).late_s == 0.0
+    late = judge_lateness(policy, "alice", "lab", datetime(2026, 7, 1, 21, 59, 1, tzinfo=UTC))
+    assert (late.late_s, late.days, late.fraction) == (1.0, 1.0, 0.1)  # one second into summer time's next day
+
+
+@pytest.mark.parametrize("stamp", ["2026-12-01 22:59:00.000000", "2026-12-01 22:59:00", "2026-12-01T22:59:00"])
+def test_a_timestamp_without_a_zone_is_read_as_utc_as_nbgrader_writes_it(tmp_path, stamp):
+    (tmp_path / "timestamp.txt").write_text(stamp + "\n")
+    assert parse_timestamp(tmp_path / "timestamp.txt") == datetime(2026, 12, 1, 22, 59, tzinfo=UTC) == DEADLINE
+    assert submission_time(tmp_path) == (DEADLINE, "timestamp.txt", "")
+
+
+def test_of_two_timestamps_the_later_one_is_the_submission_time(tmp_path):
+    # "a" sorts first and holds the later time: neither the first nor the last file wins, the later time does.
+    for folder, stamp in (("a", "2026-12-02 10:00:00 UTC"), ("b", "2026-12-01 09:00:00 UTC"),
+                          ("c", "2026-12-01 22:00:00 -05:00")):
+        (tmp_path / folder).mkdir()
+        (tmp_path / folder / "timestamp.txt").write_text(stamp)
+    assert submission_time(tmp_path) == (datetime(2026, 12, 2, 10, tzinfo=UTC), "timestamp.txt", "")
+    (tmp_path / "c" / "timestamp.txt").write_text("2026-12-02 05:00:01 -05:00")  # 10:00:01 UTC: later still
+    assert submission_time(tmp_path)[0] == datetime(2026, 12, 2, 10, 0, 1, tzinfo=UTC)
+    (tmp_path / "b" / "timestamp.txt").write_text("not a time")  # an unreadable one does not hide the others
+    assert submission_time(tmp_path)[0] == datetime(2026, 12, 2, 10, 0, 1, tzinfo=UTC)
+
+
+def test_the_newest_file_time_wins_when_there_is_no_timestamp(tmp_path):
+    for name, mtime in (("a.py", 1_700_000_500), ("b.py", 1_700_000_000), ("c.py", 1_600_000_000)):
+        (tmp_path / name).write_text("x")
+        os.utime(tmp_path / name, (mtime, mtime))
+    assert submission_time(tmp_path) == (datetime.fromtimestamp(1_700_000_500, UTC), "file times", "")
 
 
 def test_late_yaml_is_read_with_zones_percentages_and_extensions(tmp_path):
