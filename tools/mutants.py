@@ -4,7 +4,9 @@ mutmut 3 writes its mutants into a ``mutants/`` folder beside the code it is run
 in a copy of the checkout (``out/mutants/work``), so the working tree is the same before and after.
 Each mutant is judged by the unit tests of its own module (tools/mutants_scope.py). At the end it
 prints, per module, how many mutants mutmut made and how many survived, and each survivor as
-``file:line: old -> new``; the same goes to out/mutants/survivors.txt and summary.json.
+``file:line: old -> new``; the same goes to out/mutants/survivors.txt and summary.json. Survivors that
+only changed a message's text (an "XX" added, a changed case) are counted apart and listed in
+out/mutants/survivors-text.txt.
 docs/testing.md explains the scope, the numbers of the last full run and the equivalent mutants.
 
     python tools/mutants.py [--only hri_teleop/core/joints.py ...] [--jobs N] [--out out/mutants]
@@ -196,6 +198,24 @@ def describe(diff: str, source: str, name: str) -> Tuple[int, str]:
     return line, f"{' '.join(old)}  ->  {' '.join(new)}" if old or new else "(no diff)"
 
 
+STRING = re.compile(r"""[rbuf]*("[^"\\]*(?:\\.[^"\\]*)*"|'[^'\\]*(?:\\.[^'\\]*)*')""", re.IGNORECASE)
+
+
+def is_text_change(change: str) -> bool:
+    """True when a mutation changed only what is inside string literals (a message's words or case).
+
+    The toolkit's messages are one line naming the cause and the fix; their tests check the words
+    that matter, not every letter, so an "XX" added or a changed case is no rule changed.
+    A literal without a space ("max", "ok", "started", a key or a status compared somewhere) is a name,
+    not a message: changing it can change a rule, so it stays a survivor.
+    """
+    old, _, new = change.partition("  ->  ")
+    if old == new or STRING.sub('""', old) != STRING.sub('""', new):
+        return False
+    changed = set(STRING.findall(old)) - set(STRING.findall(new))
+    return bool(changed) and all(re.search(r"\s", literal[1:-1]) for literal in changed)
+
+
 def mutmut_command() -> Path:
     found = shutil.which("mutmut", path=str(Path(sys.executable).parent)) or shutil.which("mutmut")
     if not found:
@@ -239,36 +259,46 @@ def main(argv: Optional[Sequence[str]] = None) -> int:
 def report(work: Path, out: Path, scope: Sequence[str]) -> int:
     counts: Dict[str, Counter] = {m: Counter() for m in scope}
     survivors: List[str] = []
+    texts: List[str] = []
     no_tests: List[str] = []
     for module, name, status in results(work):
-        counts.setdefault(module, Counter())[status] += 1
         if status not in ("survived", "no tests"):
+            counts.setdefault(module, Counter())[status] += 1
             continue
         source = (work / module).read_text(encoding="utf-8")
         line, change = describe(mutant_diff(work, name, module), source, name)
-        (survivors if status == "survived" else no_tests).append(f"{module}:{line}: {change}    [{name}]")
+        entry = f"{module}:{line}: {change}    [{name}]"
+        if status == "no tests":
+            no_tests.append(entry)
+        elif is_text_change(change):
+            texts.append(entry)
+            status = "survived (text)"
+        else:
+            survivors.append(entry)
+        counts.setdefault(module, Counter())[status] += 1
+    columns = ("killed", "survived", "survived (text)", "no tests")
     print()
-    print(f"{'module':<44} {'mutants':>7} {'killed':>6} {'survived':>8} {'no tests':>8} {'other':>5}")
+    print(f"{'module':<40} {'mutants':>7} {'killed':>6} {'survived':>8} {'text':>5} {'no tests':>8} {'other':>5}")
     total: Counter = Counter()
-    for module in sorted(counts):
-        c = counts[module]
-        total.update(c)
+    for module in sorted(counts) + ["all"]:
+        c = total if module == "all" else counts[module]
+        if module != "all":
+            total.update(c)
         made = sum(c.values())
-        other = made - c["killed"] - c["survived"] - c["no tests"]
-        print(f"{module:<44} {made:>7} {c['killed']:>6} {c['survived']:>8} {c['no tests']:>8} {other:>5}")
-    made = sum(total.values())
-    print(f"{'all':<44} {made:>7} {total['killed']:>6} {total['survived']:>8} {total['no tests']:>8} "
-          f"{made - total['killed'] - total['survived'] - total['no tests']:>5}")
+        other = made - sum(c[k] for k in columns)
+        print(f"{module:<40} {made:>7} {c['killed']:>6} {c['survived']:>8} {c['survived (text)']:>5} "
+              f"{c['no tests']:>8} {other:>5}")
     print()
     print(f"survivors ({len(survivors)}): file:line: the mutation    [mutmut's name; `mutmut show NAME` in {work}]")
     for line in survivors:
         print(f"  {line}")
     out.mkdir(parents=True, exist_ok=True)
-    (out / "survivors.txt").write_text("".join(s + "\n" for s in survivors), encoding="utf-8")
-    (out / "no-tests.txt").write_text("".join(s + "\n" for s in no_tests), encoding="utf-8")
+    for name, lines in (("survivors.txt", survivors), ("survivors-text.txt", texts), ("no-tests.txt", no_tests)):
+        (out / name).write_text("".join(s + "\n" for s in lines), encoding="utf-8")
     (out / "summary.json").write_text(json.dumps({m: dict(c) for m, c in sorted(counts.items())}, indent=1) + "\n",
                                       encoding="utf-8")
-    print(f"mutants: {len(no_tests)} mutant(s) no test of their module reaches: {out / 'no-tests.txt'}")
+    print(f"mutants: {len(texts)} survivor(s) changed only a message's text ({out / 'survivors-text.txt'}); "
+          f"{len(no_tests)} mutant(s) no test of their module reaches ({out / 'no-tests.txt'})")
     return 0
 
 
