@@ -13,6 +13,7 @@ from hri_teleop.grading.batch.late import (
     LateError,
     Lateness,
     LatePolicy,
+    duration_text,
     judge_lateness,
     late_line,
     parse_timestamp,
@@ -78,6 +79,43 @@ def test_the_feedback_line_says_when_how_late_and_the_penalty():
     assert "\n" not in line
     on_time = late_line(judge_lateness(_policy(), "alice", "lab", DEADLINE, "file times"), 10)
     assert on_time.endswith("on time (deadline 2026-12-01 23:59:00+01:00); no penalty") and "(file times)" in on_time
+
+
+@pytest.mark.parametrize("seconds, text", [(59, "59 s"), (59.6, "1 min"), (60, "1 min"), (61, "1 min"), (119, "1 min"),
+                                           (120, "2 min"), (3600, "1 h"), (3660, "1 h 1 min"), (86399, "23 h 59 min"),
+                                           (86400, "1 d"), (86460, "1 d 1 min"), (90061, "1 d 1 h 1 min")])
+def test_a_duration_reads_in_days_hours_and_minutes_and_under_a_minute_in_seconds(seconds, text):
+    assert duration_text(seconds) == text
+
+
+def test_the_feedback_line_names_the_assignment_and_the_extension_only_when_asked():
+    got = judge_lateness(_policy(extensions={"alice": {ALL_ASSIGNMENTS: Extension(days=1)}}), "alice", "lab",
+                         DEADLINE + DAY + S, "timestamp.txt")
+    line = late_line(got, None)
+    assert line.startswith("late policy: submitted ") and "(your extension)" in line
+    assert line.endswith("1 s after the deadline 2026-12-02 23:59:00+01:00 (your extension): 1 day(s) started, "
+                         "penalty 10% of the points")
+    plain = late_line(judge_lateness(_policy(), "bob", "lab", DEADLINE + S, "timestamp.txt"), 10)
+    assert "(your extension)" not in plain and plain.startswith("late policy: ")
+    pro_rata = judge_lateness(_policy(count="fraction"), "bob", "lab", DEADLINE + DAY / 2, "file times")
+    assert "0.50 day(s), penalty 5% of 10 points = 0.5" in late_line(pro_rata, 10)
+
+
+def test_every_field_of_a_lateness_survives_its_json_form():
+    got = judge_lateness(_policy(extensions={"alice": {ALL_ASSIGNMENTS: Extension(days=1)}}), "alice", "lab",
+                         DEADLINE + DAY + S, "timestamp.txt")
+    assert got.extended and Lateness.from_dict(got.to_dict()) == got
+    unknown = judge_lateness(_policy(), "bob", "lab", None, problem="no files in x")
+    assert unknown.to_dict()["submitted"] is None and Lateness.from_dict(unknown.to_dict()) == unknown
+    assert Lateness.from_dict(unknown.to_dict()).problem == "no files in x"
+    minimal = {k: v for k, v in got.to_dict().items() if k not in ("source", "extended", "problem")}
+    assert (Lateness.from_dict(minimal).source, Lateness.from_dict(minimal).extended,
+            Lateness.from_dict(minimal).problem) == ("", False, "")
+
+
+def test_points_taken_are_rounded_to_a_millionth():
+    third = judge_lateness(_policy(count="fraction", per_day=1.0, cap=1.0), "a", "lab", DEADLINE + DAY / 3)
+    assert third.points(10) == 3.333333
 
 
 def test_lateness_survives_its_json_form():

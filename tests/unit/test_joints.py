@@ -21,6 +21,7 @@ from hri_teleop.core.joints import (
     JointLimits,
     JointLimitWatch,
     JointsError,
+    JointViolation,
     joint_violations,
     nearest_limit,
 )
@@ -94,6 +95,21 @@ def test_a_position_on_its_limit_passes_and_past_it_names_the_limit_it_passed():
     assert (found.error, found.joint, found.value, found.limit) == (JOINT_POSITION_LIMITS_VIOLATION, 7, 2.8974, 2.8973)
     (low,) = joint_violations(_with(3, -3.0719, READY_POSE_RAD), ZERO7, ZERO7, ZERO7)
     assert (low.joint, low.limit) == (4, -3.0718)
+
+
+@pytest.mark.parametrize("velocity, broken", [(2.175, False), (2.1750000021, False),  # the limit, a billionth above
+                                             (2.17500002175, True), (2.18, True)])   # a hundred-millionth above
+def test_a_derivative_passes_up_to_a_billionth_above_its_limit_by_default(velocity, broken):
+    found = joint_violations(READY_POSE_RAD, _with(0, velocity), ZERO7, ZERO7)
+    assert bool(found) is broken
+    if broken:
+        assert found == [JointViolation(0.0, JOINT_VELOCITY_LIMITS_VIOLATION, 1, velocity, 2.175)]
+
+
+def test_a_position_exactly_on_its_min_limit_passes_and_a_violation_carries_its_time():
+    assert joint_violations(_with(3, -3.0718, READY_POSE_RAD), ZERO7, ZERO7, ZERO7) == []
+    (found,) = joint_violations(_with(3, -3.0719, READY_POSE_RAD), ZERO7, ZERO7, ZERO7, time_s=1.25)
+    assert found == JointViolation(1.25, JOINT_POSITION_LIMITS_VIOLATION, 4, -3.0719, -3.0718)
 
 
 def test_nan_breaks_every_limit_it_meets():
