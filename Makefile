@@ -40,6 +40,15 @@ test: setup
 bench: setup
 	@$(ENV) $(PY) -m benchmarks $(subst $(comma), ,$(BENCH)) --out out/bench $(if $(JOBS),--jobs $(JOBS))
 
+# Mutation testing (docs/testing.md): mutmut over hri_teleop/core/ and the late policy, on a copy of the
+# checkout in out/mutants/work (the working tree is left as it was), each mutant judged by the unit tests
+# of its own module; prints the mutants per module and every survivor as file:line: old -> new.
+# MODULES=hri_teleop/core/joints.py,... mutates only those; JOBS=n mutants at once (default: the cores).
+# Not part of `make test` (a full run takes tens of minutes).
+.PHONY: mutants
+mutants: setup
+	@$(ENV) $(PY) tools/mutants.py $(if $(MODULES),--only $(subst $(comma), ,$(MODULES))) $(if $(JOBS),--jobs $(JOBS))
+
 # catkin_lint on the lab package, ruff on the whole checkout (notebooks too), mypy --strict on the
 # package (pyproject.toml's [tool.ruff] and [tool.mypy]); `make test` runs all three too.
 lint: setup

@@ -13,8 +13,10 @@ from hri_teleop.grading.batch.late import (
     LateError,
     Lateness,
     LatePolicy,
+    duration_text,
     judge_lateness,
     late_line,
+    parse_timestamp,
     parse_when,
     read_late_policy,
     submission_time,
@@ -79,6 +81,43 @@ def test_the_feedback_line_says_when_how_late_and_the_penalty():
     assert on_time.endswith("on time (deadline 2026-12-01 23:59:00+01:00); no penalty") and "(file times)" in on_time
 
 
+@pytest.mark.parametrize("seconds, text", [(59, "59 s"), (59.6, "1 min"), (60, "1 min"), (61, "1 min"), (119, "1 min"),
+                                           (120, "2 min"), (3600, "1 h"), (3660, "1 h 1 min"), (86399, "23 h 59 min"),
+                                           (86400, "1 d"), (86460, "1 d 1 min"), (90061, "1 d 1 h 1 min")])
+def test_a_duration_reads_in_days_hours_and_minutes_and_under_a_minute_in_seconds(seconds, text):
+    assert duration_text(seconds) == text
+
+
+def test_the_feedback_line_names_the_assignment_and_the_extension_only_when_asked():
+    got = judge_lateness(_policy(extensions={"alice": {ALL_ASSIGNMENTS: Extension(days=1)}}), "alice", "lab",
+                         DEADLINE + DAY + S, "timestamp.txt")
+    line = late_line(got, None)
+    assert line.startswith("late policy: submitted ") and "(your extension)" in line
+    assert line.endswith("1 s after the deadline 2026-12-02 23:59:00+01:00 (your extension): 1 day(s) started, "
+                         "penalty 10% of the points")
+    plain = late_line(judge_lateness(_policy(), "bob", "lab", DEADLINE + S, "timestamp.txt"), 10)
+    assert "(your extension)" not in plain and plain.startswith("late policy: ")
+    pro_rata = judge_lateness(_policy(count="fraction"), "bob", "lab", DEADLINE + DAY / 2, "file times")
+    assert "0.50 day(s), penalty 5% of 10 points = 0.5" in late_line(pro_rata, 10)
+
+
+def test_every_field_of_a_lateness_survives_its_json_form():
+    got = judge_lateness(_policy(extensions={"alice": {ALL_ASSIGNMENTS: Extension(days=1)}}), "alice", "lab",
+                         DEADLINE + DAY + S, "timestamp.txt")
+    assert got.extended and Lateness.from_dict(got.to_dict()) == got
+    unknown = judge_lateness(_policy(), "bob", "lab", None, problem="no files in x")
+    assert unknown.to_dict()["submitted"] is None and Lateness.from_dict(unknown.to_dict()) == unknown
+    assert Lateness.from_dict(unknown.to_dict()).problem == "no files in x"
+    minimal = {k: v for k, v in got.to_dict().items() if k not in ("source", "extended", "problem")}
+    assert (Lateness.from_dict(minimal).source, Lateness.from_dict(minimal).extended,
+            Lateness.from_dict(minimal).problem) == ("", False, "")
+
+
+def test_points_taken_are_rounded_to_a_millionth():
+    third = judge_lateness(_policy(count="fraction", per_day=1.0, cap=1.0), "a", "lab", DEADLINE + DAY / 3)
+    assert third.points(10) == 3.333333
+
+
 def test_lateness_survives_its_json_form():
     got = judge_lateness(_policy(), "alice", "lab", DEADLINE + S, "timestamp.txt")
     assert Lateness.from_dict(got.to_dict()) == got
@@ -90,6 +129,68 @@ def test_lateness_survives_its_json_form():
                                   "2026-12-01 23:59 Europe/Berlin"])
 def test_deadlines_and_timestamps_name_their_time_zone(text):
     assert parse_when(text) == DEADLINE
+
+
+UTC = timezone.utc
+
+
+@pytest.mark.parametrize("text", ["2026-07-01 23:59 CEST", "2026-07-01 23:59 Europe/Berlin", "2026-07-01 23:59 +02:00",
+                                  "2026-07-01T23:59:00+02:00", "2026-07-01 21:59 UTC"])
+def test_a_summer_deadline_in_berlin_is_central_european_summer_time_two_hours_ahead_of_utc(text):
+    assert parse_when(text) == datetime(2026, 7, 1, 21, 59, tzinfo=UTC)
+
+
+# Python 3.8's datetime.fromisoformat (the lab PCs) takes no space before an offset: there every
+# "date time offset" goes through late.py's own zone reading; on 3.11 only a form ISO 8601 does not know
+# does (two spaces), so both are here.
+@pytest.mark.parametrize("text", ["2026-12-01 18:59 -05:00", "2026-12-01 18:59 -0500", "2026-12-01T18:59:00-05:00",
+                                  "2026-12-01 18:59  -05:00", "2026-12-01 18:59:00  -0500",
+                                  "2026-12-01 18:59 EST", "2026-12-01 15:59 PST", "2026-12-01 17:59 CST"])
+def test_a_time_with_a_negative_utc_offset_is_that_many_hours_behind_utc(text):
+    assert parse_when(text) == datetime(2026, 12, 1, 23, 59, tzinfo=UTC)
+
+
+@pytest.mark.parametrize("text, hours, minutes", [("2026-12-01 23:59 +05:30", 5, 30), ("2026-12-01 23:59 -03:30", -3, -30),
+                                                  ("2026-12-01 23:59 +0545", 5, 45), ("2026-12-01 23:59  +05:30", 5, 30),
+                                                  ("2026-12-01 23:59  -03:30", -3, -30)])
+def test_an_offset_counts_its_minutes_with_the_sign_of_its_hours(text, hours, minutes):
+    assert parse_when(text).utcoffset() == timedelta(hours=hours, minutes=minutes)
+
+
+def test_a_summer_deadline_is_judged_in_summer_time(tmp_path):
+    path = tmp_path / "late.yaml"
+    path.write_text('deadline: "2026-07-01 23:59 Europe/Berlin"\nper_day: 10%\n')
+    policy = read_late_policy(path)
+    assert judge_lateness(policy, "alice", "lab", datetime(2026, 7, 1, 21, 59, tzinfo=UTC)).late_s == 0.0
+    late = judge_lateness(policy, "alice", "lab", datetime(2026, 7, 1, 21, 59, 1, tzinfo=UTC))
+    assert (late.late_s, late.days, late.fraction) == (1.0, 1.0, 0.1)  # one second into summer time's next day
+
+
+@pytest.mark.parametrize("stamp", ["2026-12-01 22:59:00.000000", "2026-12-01 22:59:00", "2026-12-01T22:59:00"])
+def test_a_timestamp_without_a_zone_is_read_as_utc_as_nbgrader_writes_it(tmp_path, stamp):
+    (tmp_path / "timestamp.txt").write_text(stamp + "\n")
+    assert parse_timestamp(tmp_path / "timestamp.txt") == datetime(2026, 12, 1, 22, 59, tzinfo=UTC) == DEADLINE
+    assert submission_time(tmp_path) == (DEADLINE, "timestamp.txt", "")
+
+
+def test_of_two_timestamps_the_later_one_is_the_submission_time(tmp_path):
+    # "a" sorts first and holds the later time: neither the first nor the last file wins, the later time does.
+    for folder, stamp in (("a", "2026-12-02 10:00:00 UTC"), ("b", "2026-12-01 09:00:00 UTC"),
+                          ("c", "2026-12-01 22:00:00 -05:00")):
+        (tmp_path / folder).mkdir()
+        (tmp_path / folder / "timestamp.txt").write_text(stamp)
+    assert submission_time(tmp_path) == (datetime(2026, 12, 2, 10, tzinfo=UTC), "timestamp.txt", "")
+    (tmp_path / "c" / "timestamp.txt").write_text("2026-12-02 05:00:01 -05:00")  # 10:00:01 UTC: later still
+    assert submission_time(tmp_path)[0] == datetime(2026, 12, 2, 10, 0, 1, tzinfo=UTC)
+    (tmp_path / "b" / "timestamp.txt").write_text("not a time")  # an unreadable one does not hide the others
+    assert submission_time(tmp_path)[0] == datetime(2026, 12, 2, 10, 0, 1, tzinfo=UTC)
+
+
+def test_the_newest_file_time_wins_when_there_is_no_timestamp(tmp_path):
+    for name, mtime in (("a.py", 1_700_000_500), ("b.py", 1_700_000_000), ("c.py", 1_600_000_000)):
+        (tmp_path / name).write_text("x")
+        os.utime(tmp_path / name, (mtime, mtime))
+    assert submission_time(tmp_path) == (datetime.fromtimestamp(1_700_000_500, UTC), "file times", "")
 
 
 def test_late_yaml_is_read_with_zones_percentages_and_extensions(tmp_path):

@@ -109,6 +109,41 @@ def test_board_rate_within_the_tolerance_is_ok(fraction: float, status: str) -> 
     assert board_rate_finding("/dev/ttyACM0", ROSSERIAL, 100.0 * fraction, 200, 100.0).status == status
 
 
+@pytest.mark.parametrize("rate_hz, status", [(89.9, FAIL), (90.0, OK), (90.1, OK),
+                                             (109.9, OK), (110.0, OK), (110.1, FAIL)])
+def test_a_board_expected_at_100_hz_is_ok_from_90_to_110_hz(rate_hz: float, status: str) -> None:
+    assert board_rate_finding("/dev/ttyACM0", FSR_SERIAL, rate_hz, 200, 100.0).status == status
+
+
+@pytest.mark.parametrize("rate_hz, status", [(44.9, FAIL), (45.0, OK), (55.0, OK), (55.1, FAIL)])
+def test_a_board_expected_at_50_hz_is_ok_from_45_to_55_hz(rate_hz: float, status: str) -> None:
+    assert board_rate_finding("/dev/ttyACM0", ROSSERIAL, rate_hz, 200, 50.0).status == status
+
+
+def test_the_board_line_names_the_port_the_sketch_and_both_rates() -> None:
+    bad = board_rate_finding("/dev/ttyACM1", ROSSERIAL, 3.0, 12, 100.0)
+    assert bad.detail == "/dev/ttyACM1: rosserial at 3.0 Hz, expected 100.0 Hz" and "re-upload" in bad.fix
+    good = board_rate_finding("/dev/ttyACM1", FSR_SERIAL, 99.5, 200, 100.0)
+    assert good.detail == "/dev/ttyACM1: fsr_serial at 99.5 Hz (200 counts)" and good.fix == ""
+
+
+@pytest.mark.parametrize("banner_period_us, hz", [(10000, 100.0), (20000, 50.0), (1, 1e6), (0, 100.0), (-5, 100.0),
+                                                  ("10000", 100.0), (None, 100.0)])
+def test_fsr_serial_is_expected_at_its_banners_period_else_at_100_hz(banner_period_us: object, hz: float) -> None:
+    assert expected_board_hz(FSR_SERIAL, banner_period_us=banner_period_us) == hz
+
+
+@pytest.mark.parametrize("period_ms, hz", [(4, 1000 / 300), (5, 200.0), (6, 1000 / 6), (9999, 1000 / 9999),
+                                           (10000, 0.1), (10001, 1000 / 300), (300, 1000 / 300)])
+def test_rosserial_is_expected_at_its_period_from_5_to_10000_ms_else_every_300_ms(period_ms: int, hz: float) -> None:
+    assert expected_board_hz(ROSSERIAL, period_param_ms=period_ms) == hz
+
+
+@pytest.mark.parametrize("live_max, status", [(594, FAIL), (595, OK), (596, OK), (804, OK), (805, OK), (806, FAIL)])
+def test_a_full_press_of_a_700_count_calibration_reads_595_to_805(live_max: int, status: str) -> None:
+    assert calibration_finding(700, live_max, True).status == status
+
+
 def test_a_board_that_sent_fewer_than_two_counts_fails() -> None:
     assert board_rate_finding("/dev/ttyACM0", FSR_SERIAL, None, 0, 100.0).status == FAIL
     assert board_rate_finding("/dev/ttyACM0", FSR_SERIAL, 100.0, 1, 100.0).status == FAIL

@@ -2,11 +2,13 @@
 
 from __future__ import annotations
 
+import numpy as np
 import pytest
 from hypothesis import given, settings
 from hypothesis import strategies as st
 
 from hri_teleop.core.gamepad import GamepadError, RumblePolicy, RumbleRequests
+from hri_teleop.core.gamepad.rumble import unit_intensity
 
 
 def test_switching_on_and_off_is_sent_at_once():
@@ -43,3 +45,65 @@ def test_at_50_hz_a_steady_on_pad_is_refreshed_before_its_request_runs_out(inten
 def test_a_bad_policy_is_refused():
     with pytest.raises(GamepadError):
         RumblePolicy(refresh_s=1.0, hold_s=0.5)
+
+
+# The default policy asks for a new request when a motor's intensity changed by 0.02 or more. The
+# levels start at 0.02 (on) so that the differences are exact in floating point: 0.04 - 0.02 == 0.02.
+@pytest.mark.parametrize("level, sent", [(0.039, False), (0.04, True), (0.041, True),
+                                         (0.001, False), (0.0, True)])  # 0.0: switched off, at once
+def test_a_change_of_0_02_or_more_is_sent_at_once_a_smaller_one_waits(level, sent):
+    r = RumbleRequests()
+    assert r.update(0.02, 0.0) == (0.02, 0.5)
+    assert (r.update(level, 0.02) is not None) is sent
+
+
+@pytest.mark.parametrize("level, sent", [(0.021, False), (0.02, True), (0.019, True)])
+def test_a_drop_of_0_02_or_more_is_sent_at_once(level, sent):
+    r = RumbleRequests()
+    r.update(0.04, 0.0)
+    assert (r.update(level, 0.02) is not None) is sent
+
+
+def test_a_faint_rumble_switching_on_or_off_is_sent_though_it_changed_less_than_0_02():
+    r = RumbleRequests()
+    assert r.update(0.01, 0.0) == (0.01, 0.5)
+    assert r.update(0.0, 0.02) == (0.0, 0.0)  # the stop: never a pad left buzzing
+    assert r.update(0.0, 0.04) is None
+    assert r.update_motors(0.0, 0.01, 0.06) == (0.0, 0.01, 0.5)
+    assert r.update_motors(0.0, 0.0, 0.08) == (0.0, 0.0, 0.0)
+
+
+@pytest.mark.parametrize("after_s, sent", [(0.249, False), (0.25, True), (0.251, True)])
+def test_a_steady_rumble_is_refreshed_every_0_25_s(after_s, sent):
+    r = RumbleRequests()
+    r.update(0.5, 0.0)
+    assert (r.update(0.5, after_s) == (0.5, 0.5)) is sent
+
+
+def test_a_one_level_request_is_the_same_on_both_motors():
+    r = RumbleRequests()
+    assert r.update(0.5, 0.0) == (0.5, 0.5)
+    assert r.update_motors(0.5, 0.5, 0.02) is None  # both motors already got 0.5
+    assert r.update_motors(0.5, 0.0, 0.04) == (0.5, 0.0, 0.5)
+
+
+@pytest.mark.parametrize("value, intensity", [(0.5, 0.5), (1.5, 1.0), (-0.5, 0.0), (1.0, 1.0), (0.0, 0.0),
+                                              (float("nan"), 0.0), (float("inf"), 0.0), (float("-inf"), 0.0),
+                                              ("0.5", 0.0), (None, 0.0), (True, 0.0),
+                                              (np.float32(0.5), 0.5), (np.int64(1), 1.0)])
+def test_a_rumble_strength_is_clipped_to_0_1_and_anything_but_a_finite_number_is_0(value, intensity):
+    assert unit_intensity(value) == intensity
+
+
+@pytest.mark.parametrize("kwargs", [dict(change=0.001), dict(change=1.0), dict(refresh_s=0.001),
+                                    dict(refresh_s=0.499, hold_s=0.5), dict(refresh_s=0.25, hold_s=0.5)])
+def test_a_policy_at_the_edge_of_its_ranges_is_accepted(kwargs):
+    assert RumblePolicy(**kwargs)
+
+
+@pytest.mark.parametrize("kwargs", [dict(change=0.0), dict(change=1.001), dict(refresh_s=0.0),
+                                    dict(refresh_s=0.5, hold_s=0.5), dict(hold_s=float("inf")),
+                                    dict(change=float("nan"))])
+def test_a_policy_just_outside_its_ranges_is_refused(kwargs):
+    with pytest.raises(GamepadError, match="0 < change <= 1 and 0 < refresh_s < hold_s"):
+        RumblePolicy(**kwargs)

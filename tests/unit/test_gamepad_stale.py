@@ -123,3 +123,60 @@ def test_pad_check_measures_the_longest_identical_run_of_a_held_stick(monkeypatc
         assert pad_check.main(["--layout", "dualshock4", "--stale", "--seconds", "0.3", "--rate", "200"]) == 0
         longest_s = float(capsys.readouterr().out.splitlines()[-1].split(": ")[1].split()[0])
         assert (longest_s > 0.2) if frozen else (longest_s < 0.05), longest_s
+
+
+@pytest.mark.parametrize("value", [-0.5, -1.0])
+def test_a_stick_frozen_in_a_negative_direction_is_stale_too(value):
+    watch = StaleInputWatch(TIMEOUT_S, DEADZONE)
+    assert not watch.update(held(value), 0.0)
+    assert not watch.update(held(value), 1.0)
+    assert watch.update(held(value), 1.001)
+
+
+@pytest.mark.parametrize("value, counts_as_held", [(-0.099, False), (-0.1, False), (-0.101, True),
+                                                   (0.099, False), (0.1, False), (0.101, True)])
+def test_a_stick_counts_as_held_only_beyond_the_dead_zone_either_way(value, counts_as_held):
+    watch = StaleInputWatch(1.0, 0.1)
+    watch.update(held(value), 0.0)
+    assert watch.update(held(value), 1.5) is counts_as_held
+    assert watch.frozen_s(1.5) == (1.5 if counts_as_held else 0.0)
+
+
+@pytest.mark.parametrize("frozen_for_s, stale", [(0.999, False), (1.0, False), (1.001, True)])
+def test_the_default_watch_calls_a_held_stick_stale_after_1_s(frozen_for_s, stale):
+    watch = StaleInputWatch()  # the defaults: 1 s, no dead zone
+    watch.update(held(0.05), 0.0)  # a small deflection counts as held without a dead zone
+    assert watch.update(held(0.05), frozen_for_s) is stale and watch.stale is stale
+
+
+def test_a_fresh_watch_is_not_stale_and_has_seen_nothing_frozen():
+    watch = StaleInputWatch(TIMEOUT_S, DEADZONE)
+    assert watch.stale is False and watch.frozen_s(5.0) == 0.0
+
+
+def test_a_resting_reading_counts_no_frozen_time_however_long_ago():
+    watch = StaleInputWatch(TIMEOUT_S, DEADZONE)
+    watch.update(PadState.neutral(), 0.0)
+    watch.update(PadState.neutral(), 3.0)
+    assert watch.frozen_s(10.0) == 0.0 and watch.stale is False
+
+
+def test_a_lost_pad_forgets_the_stale_state():
+    watch = StaleInputWatch(TIMEOUT_S, DEADZONE)
+    run(watch, [held()] * 60)
+    assert watch.stale
+    watch.update(None, 1.3)
+    assert watch.stale is False and watch.frozen_s(2.0) == 0.0
+    assert not watch.update(held(), 1.4)  # held again: the count starts anew
+    assert not watch.update(held(), 2.4) and watch.update(held(), 2.401)
+
+
+@pytest.mark.parametrize("kwargs", [dict(deadzone=0.0), dict(deadzone=0.999), dict(timeout_s=0.0)])
+def test_settings_at_the_edge_of_their_range_are_accepted(kwargs):
+    StaleInputWatch(**kwargs)
+
+
+@pytest.mark.parametrize("kwargs", [dict(deadzone=-0.001), dict(deadzone=1.0), dict(timeout_s=-0.001)])
+def test_settings_just_outside_their_range_are_refused(kwargs):
+    with pytest.raises(GamepadError):
+        StaleInputWatch(**kwargs)

@@ -21,6 +21,7 @@ from hri_teleop.core.joints import (
     JointLimits,
     JointLimitWatch,
     JointsError,
+    JointViolation,
     joint_violations,
     nearest_limit,
 )
@@ -96,6 +97,21 @@ def test_a_position_on_its_limit_passes_and_past_it_names_the_limit_it_passed():
     assert (low.joint, low.limit) == (4, -3.0718)
 
 
+@pytest.mark.parametrize("velocity, broken", [(2.175, False), (2.1750000021, False),  # the limit, a billionth above
+                                             (2.17500002175, True), (2.18, True)])   # a hundred-millionth above
+def test_a_derivative_passes_up_to_a_billionth_above_its_limit_by_default(velocity, broken):
+    found = joint_violations(READY_POSE_RAD, _with(0, velocity), ZERO7, ZERO7)
+    assert bool(found) is broken
+    if broken:
+        assert found == [JointViolation(0.0, JOINT_VELOCITY_LIMITS_VIOLATION, 1, velocity, 2.175)]
+
+
+def test_a_position_exactly_on_its_min_limit_passes_and_a_violation_carries_its_time():
+    assert joint_violations(_with(3, -3.0718, READY_POSE_RAD), ZERO7, ZERO7, ZERO7) == []
+    (found,) = joint_violations(_with(3, -3.0719, READY_POSE_RAD), ZERO7, ZERO7, ZERO7, time_s=1.25)
+    assert found == JointViolation(1.25, JOINT_POSITION_LIMITS_VIOLATION, 4, -3.0719, -3.0718)
+
+
 def test_nan_breaks_every_limit_it_meets():
     found = joint_violations(_with(0, math.nan, READY_POSE_RAD), _with(1, math.nan), ZERO7, ZERO7)
     assert {(v.error, v.joint) for v in found} == {(JOINT_POSITION_LIMITS_VIOLATION, 1),
@@ -128,6 +144,65 @@ def test_the_warning_starts_inside_its_margin_once_and_ends_only_past_the_clear_
     watch.update(_with(6, limit - 0.1501, READY_POSE_RAD))
     assert watch.warning is None
     assert watch.update(_with(6, limit - 0.09, READY_POSE_RAD)) is not None  # a new approach warns again
+
+
+# Joint 4's max limit is -0.0698 rad; these positions put it exactly this far from it in floating point
+# (-0.0698 - -0.1698 == 0.1), every other joint at least 1.5 rad from its limits.
+def _joint4_at(q4: float) -> tuple:
+    return (0.0, 0.0, 0.0, q4, 0.0, 1.5, 0.0)
+
+
+@pytest.mark.parametrize("q4, margin, warns", [
+    (-0.1688, 0.099, True),   # just inside the 0.1 rad margin: warns
+    (-0.1698, 0.1, False),    # exactly at it: not yet (the margin is "closer than")
+    (-0.1708, 0.101, False),  # just outside
+])
+def test_the_warning_starts_only_closer_than_0_1_rad_to_a_limit(q4, margin, warns):
+    assert nearest_limit(_joint4_at(q4)).margin_rad == margin
+    watch = JointLimitWatch()
+    started = watch.update(_joint4_at(q4))
+    assert (started is not None, watch.warning is not None) == (warns, warns)
+    if warns:
+        assert (started.joint, started.side, started.margin_rad) == (4, "max", margin)
+
+
+@pytest.mark.parametrize("q4, margin, cleared", [
+    (-0.2188, 0.149, False),               # still inside the 0.15 rad clear margin: the warning holds
+    (-0.21980000000000002, 0.15000000000000002, False),  # exactly at it (1.5 x 0.1 in floating point): holds
+    (-0.2208, 0.151, True),                # past it: the warning ends
+])
+def test_a_warning_ends_only_farther_than_0_15_rad_from_every_limit(q4, margin, cleared):
+    watch = JointLimitWatch()
+    assert watch.update(_joint4_at(-0.1688)) is not None
+    assert nearest_limit(_joint4_at(q4)).margin_rad == margin
+    assert watch.update(_joint4_at(q4)) is None  # never a second start while it lasts
+    assert (watch.warning is None) == cleared
+    if not cleared:
+        assert watch.warning is not None and watch.warning.margin_rad == margin  # follows the joint
+
+
+def test_a_warning_that_holds_follows_the_joint_and_a_clear_one_needs_a_new_approach():
+    watch = JointLimitWatch()
+    watch.update(_joint4_at(-0.1688))
+    watch.update(_joint4_at(-0.1598))
+    assert watch.warning is not None and watch.warning.margin_rad == pytest.approx(0.09)
+    watch.update(_joint4_at(-0.2208))
+    assert watch.warning is None
+    assert watch.update(_joint4_at(-0.1708)) is None  # 0.101 rad: between the margins, no new warning
+    assert watch.update(_joint4_at(-0.1688)) is not None
+
+
+def test_a_watch_with_its_own_margins_judges_at_them():
+    watch = JointLimitWatch(warn_margin_rad=0.25, clear_margin_rad=0.5)
+    # joint 4 at -0.31980000000000003: 0.25 rad from its max in floating point (-0.3198 is 0.24999999999999997).
+    assert nearest_limit(_joint4_at(-0.31980000000000003)).margin_rad == 0.25
+    assert watch.update(_joint4_at(-0.31980000000000003)) is None
+    assert watch.update(_joint4_at(-0.3188)) is not None
+    watch.update(_joint4_at(-0.5698))  # 0.5 rad: at the clear margin, holds
+    assert watch.warning is not None
+    watch.update(_joint4_at(-0.5708))
+    assert watch.warning is None
+    assert JointLimitWatch(warn_margin_rad=0.1, clear_margin_rad=0.1).clear_margin_rad == 0.1  # equal margins: fine
 
 
 def test_the_warning_pulses_while_it_lasts_and_is_silent_otherwise():

@@ -12,7 +12,7 @@ import math
 from typing import List, Sequence, Tuple
 
 import pytest
-from hypothesis import given, settings
+from hypothesis import example, given, settings
 from hypothesis import strategies as st
 
 from hri_teleop.core.limits import (
@@ -202,11 +202,25 @@ def test_reset_and_properties():
 # --- properties --------------------------------------------------------------------------
 
 
+# Examples at the thresholds, run on every run whatever the random draws: full-stick reversals that
+# saturate every limit, at the smallest and the largest time step, and targets that are not numbers.
+SATURATING = [((3.0, -3.0, 3.0, 3.0, -3.0, 3.0), 0.02)] * 30 + [((-3.0, 3.0, -3.0, -3.0, 3.0, -3.0), 0.02)] * 30
+UNIT_LIMITS = CartesianLimits(AxisLimits(1.0, 50.0, 2500.0), AxisLimits(1.0, 50.0, 2500.0))  # above the Panda's
+EDGE_LIMITS = CartesianLimits(AxisLimits(1.0, 12.5, 6250.0), AxisLimits(2.5, 25.0, 12500.0))  # rotation: the Panda's
+
+
 @settings(max_examples=150, deadline=None)
 @given(
     limits=any_limits,
     steps=st.lists(st.tuples(target, dt_any), min_size=1, max_size=60),
 )
+@example(limits=DEFAULT_LIMITS, steps=SATURATING)
+@example(limits=PANDA_LIMITS, steps=SATURATING)
+@example(limits=PANDA_LIMITS, steps=[((1.7, 0.0, 0.0, 2.5, 0.0, 0.0), 0.1)] * 5 + [((-1.7, 0.0, 0.0, -2.5, 0.0, 0.0), 0.1)] * 5)
+@example(limits=DEFAULT_LIMITS, steps=[((3.0,) * 6, 1e-3)] * 60)
+@example(limits=EDGE_LIMITS, steps=[((1.0, 0.0, 0.0, 2.5, 0.0, 0.0), 0.02)] * 20 + [((0.0,) * 6, 0.02)] * 20)
+@example(limits=DEFAULT_LIMITS, steps=[((math.nan, math.inf, -math.inf, 1e308, -1e308, 0.0), 0.02)] * 10
+         + [((3.0,) * 6, 0.02)] * 10 + [((math.nan,) * 6, 0.02)] * 10)
 def test_any_target_sequence_stays_within_the_limits(limits, steps):
     limiter = TwistLimiter(limits)
     targets = [t for t, _ in steps]
@@ -222,6 +236,11 @@ def test_any_target_sequence_stays_within_the_limits(limits, steps):
     period=st.integers(min_value=1, max_value=15),
     dt=dt_any,
 )
+@example(limits=DEFAULT_LIMITS, level=5.0, period=1, dt=0.02)
+@example(limits=DEFAULT_LIMITS, level=0.25, period=15, dt=0.1)  # at the translation velocity limit
+@example(limits=PANDA_LIMITS, level=5.0, period=1, dt=1e-3)
+@example(limits=PANDA_LIMITS, level=1.7, period=7, dt=0.1)
+@example(limits=EDGE_LIMITS, level=2.5, period=2, dt=0.02)  # the rotation at the Panda's velocity limit
 def test_bang_bang_targets_stay_within_the_limits(limits, level, period, dt):
     # The hardest input for a velocity limit: full reversals, held for random times.
     limiter = TwistLimiter(limits)
@@ -257,6 +276,10 @@ def settle_bound_s(limits: CartesianLimits, dt: float) -> float:
     goal=st.tuples(*([st.floats(min_value=-3.0, max_value=3.0)] * 6)),
     dt=st.floats(min_value=0.005, max_value=0.05),
 )
+@example(limits=DEFAULT_LIMITS, prefix=[], goal=(0.25, 0.0, 0.0, 0.5, 0.0, 0.0), dt=0.02)  # at the velocity limits
+@example(limits=DEFAULT_LIMITS, prefix=[], goal=(0.3, 0.0, 0.0, -0.6, 0.0, 0.0), dt=0.02)  # beyond: scaled down
+@example(limits=DEFAULT_LIMITS, prefix=[(-3.0,) * 6] * 20, goal=(0.0,) * 6, dt=0.005)  # to rest from a reversal
+@example(limits=PANDA_LIMITS, prefix=[(3.0,) * 6] * 5, goal=(-3.0, 0.0, 0.0, 0.0, 0.0, 3.0), dt=0.05)
 def test_a_constant_target_is_reached_in_bounded_time_and_held(limits, prefix, goal, dt):
     limiter = TwistLimiter(limits)
     outputs = run(limiter, prefix, [dt] * len(prefix))
@@ -294,6 +317,15 @@ def test_a_constant_target_is_reached_in_bounded_time_and_held(limits, prefix, g
     scale=st.sampled_from([1.0, 1e-2, 1e-4, 1e-6]),
     dt=dt_any,
 )
+# Exactly at each bound from rest (1.0 m/s, 1.0 / 0.02 = 50.0 m/s^2, 50.0 / 0.02 = 2500.0 m/s^3): within; a
+# millionth above: not. The same for the rotation, and a stop at the bound (jerk -2500.0).
+@example(limits=UNIT_LIMITS, raw=[(1.0, 0.0, 0.0, 0.0, 0.0, 0.0)], scale=1.0, dt=0.02)
+@example(limits=UNIT_LIMITS, raw=[(1.000001, 0.0, 0.0, 0.0, 0.0, 0.0)], scale=1.0, dt=0.02)
+@example(limits=UNIT_LIMITS, raw=[(0.0, 0.0, 0.0, 0.0, 0.0, 1.0)], scale=1.0, dt=0.02)
+@example(limits=UNIT_LIMITS, raw=[(0.0, 0.0, 0.0, 0.0, 0.0, -1.000001)], scale=1.0, dt=0.02)
+@example(limits=UNIT_LIMITS, raw=[(1.0, 0.0, 0.0, 0.0, 0.0, 0.0), (1.0, 0.0, 0.0, 0.0, 0.0, 0.0)], scale=1.0, dt=0.02)
+@example(limits=UNIT_LIMITS, raw=[(0.6, 0.8, 0.0, 0.0, 0.0, 0.0)], scale=1.0, dt=0.02)
+@example(limits=DEFAULT_LIMITS, raw=[(3.0,) * 6], scale=1e-6, dt=0.1)
 def test_limit_violations_agrees_with_the_independent_check(limits, raw, scale, dt):
     # Arbitrary sequences, some inside, most outside: the library checker and this file's agree.
     twists = [tuple(c * scale for c in t) for t in raw]

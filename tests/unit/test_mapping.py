@@ -6,7 +6,7 @@ import math
 
 import numpy as np
 import pytest
-from hypothesis import given, settings
+from hypothesis import example, given, settings
 from hypothesis import strategies as st
 
 from hri_teleop.core.mapping import ADC_MAX_COUNT, MappingError, map_force, validate_max_sensor_force
@@ -46,6 +46,16 @@ def test_nan_count_maps_to_no_force():
 
 @SETTINGS
 @given(count=st.integers(), maximum=valid_max)
+@example(count=0, maximum=700)
+@example(count=-1, maximum=700)
+@example(count=699, maximum=700)
+@example(count=700, maximum=700)
+@example(count=701, maximum=700)
+@example(count=1023, maximum=1023)
+@example(count=1024, maximum=1)
+@example(count=700, maximum=699.5)
+@example(count=10 ** 400, maximum=700)
+@example(count=-(10 ** 400), maximum=700)
 def test_any_int_count_maps_into_unit_interval(count, maximum):
     result = map_force(count, maximum)
     assert isinstance(result, float)
@@ -54,6 +64,12 @@ def test_any_int_count_maps_into_unit_interval(count, maximum):
 
 @SETTINGS
 @given(a=st.integers(-2000, 3000), b=st.integers(-2000, 3000), maximum=valid_max)
+@example(a=-1, b=0, maximum=700)
+@example(a=0, b=1, maximum=700)
+@example(a=699, b=700, maximum=700)
+@example(a=700, b=701, maximum=700)
+@example(a=1, b=2, maximum=1)
+@example(a=699, b=700, maximum=699.5)
 def test_map_force_is_monotonic(a, b, maximum):
     if a <= b:
         assert map_force(a, maximum) <= map_force(b, maximum)

@@ -275,6 +275,53 @@ def test_rumble_stops_when_quitting():
     assert c.step(pad(pressed=["west"]), 0.8, 0.0, DT).rumble == 0.0
 
 
+@pytest.mark.parametrize("force, expected", [(0.009, 0.0), (0.01, 0.0), (0.011, 0.011)])
+def test_the_pad_rumbles_only_above_the_default_threshold_of_0_01(force, expected):
+    c = TeleopController(TeleopParams())
+    assert c.step(pad(), force, 0.0, DT).rumble == expected
+    assert c.rumble_for(force, 0.0) == expected
+
+
+@pytest.mark.parametrize("age, expected", [(0.99, 0.5), (1.0, 0.5), (1.01, 0.0)])
+def test_a_force_older_than_1_s_gives_no_rumble(age, expected):
+    assert TeleopController(TeleopParams()).rumble_for(0.5, age) == expected
+
+
+def test_a_force_between_ticks_rumbles_like_at_a_tick_once_the_node_runs():
+    c = TeleopController(TeleopParams())
+    assert c.rumble_between_ticks(0.8, 0.0) == 0.0  # before the first tick: a node not yet running is silent
+    c.step(pad(), None, 0.0, DT)
+    assert c.rumble_between_ticks(0.8, 0.0) == 0.8
+    assert c.rumble_between_ticks(0.01, 0.0) == 0.0 and c.rumble_between_ticks(0.011, 0.0) == 0.011  # threshold
+    assert c.rumble_between_ticks(0.8, 1.01) == 0.0 and c.rumble_between_ticks(None, 0.0) == 0.0  # stale, none
+    assert c.rumble_between_ticks(1.7, 0.0) == 1.0
+
+
+@pytest.mark.parametrize("lost", [None, pad(connected=False)])
+def test_no_rumble_between_ticks_while_stopping_for_a_lost_pad_until_it_is_back(lost):
+    c = TeleopController(TeleopParams())
+    c.step(pad(), 0.8, 0.0, DT)
+    c.step(lost, 0.8, 0.0, DT)
+    assert c.rumble_between_ticks(0.8, 0.0) == 0.0
+    c.step(pad(), 0.8, 0.0, DT)
+    assert c.rumble_between_ticks(0.8, 0.0) == 0.8
+
+
+def test_no_rumble_between_ticks_after_quitting():
+    c = TeleopController(TeleopParams())
+    c.step(pad(), 0.8, 0.0, DT)
+    c.step(pad(pressed=["west"]), 0.8, 0.0, DT)
+    assert c.rumble_between_ticks(0.8, 0.0) == 0.0
+    c.step(pad(), 0.8, 0.0, DT)  # quitting is for good
+    assert c.rumble_between_ticks(0.8, 0.0) == 0.0
+
+
+def test_with_feedback_off_nothing_rumbles_between_ticks_either():
+    c = TeleopController(TeleopParams(feedback=False))
+    c.step(pad(), 0.8, 0.0, DT)
+    assert c.rumble_between_ticks(0.8, 0.0) == 0.0
+
+
 # --- properties ---------------------------------------------------------------------------
 
 stick = st.floats(min_value=-1.0, max_value=1.0)
