@@ -129,6 +129,8 @@ class RosserialHost:
                 return
             publisher.publish(msg)
             self._count("published", publisher.resolved_name)
+            if self.counts is not None and isinstance(getattr(msg, "data", None), (int, float)):
+                self.counts.set("last_data", {publisher.resolved_name: msg.data})
         elif topic_id != ID_TX_STOP:
             rospy.logwarn_throttle(5.0, "frame on unknown topic id %d: ask the board for its topics again" % topic_id)
 

@@ -13,7 +13,7 @@ import sys
 import time
 import xmlrpc.client
 from pathlib import Path
-from typing import Any, Dict, List, Mapping, Optional
+from typing import Any, Dict, List, Mapping, Optional, Sequence
 
 from hri_teleop.core.config import DEFAULT_TWIST_TOPIC
 from hri_teleop.core.rosserial_frames import ROSSERIAL_BAUD
@@ -136,8 +136,9 @@ class LabTwin:
         return self.master
 
     def _lookup(self, node: str) -> Optional[str]:
+        proxy: Any = xmlrpc.client.ServerProxy(self._master().uri)  # XML-RPC answers are untyped lists
         try:
-            code, _msg, uri = xmlrpc.client.ServerProxy(self._master().uri).lookupNode("/lab_twin_probe", node)
+            code, _msg, uri = proxy.lookupNode("/hri_probe", node)
         except (OSError, xmlrpc.client.Error):
             return None
         return str(uri) if code == 1 else None
@@ -190,6 +191,12 @@ class LabTwin:
         if wait:
             master.wait_for(lambda: self.report().activated is bool(activated), ACK_TIMEOUT_S,
                             f"franka_control to take ~activated {str(activated).lower()}")
+
+    def run(self, argv: Sequence[str], name: str, extra_env: Optional[Mapping[str, str]] = None) -> ManagedProcess:
+        """Start a process (a student's node, a launch) with :attr:`env`; it is stopped with the twin."""
+        env = self.env
+        env.update(extra_env or {})
+        return self._master().run(argv, name, extra_env=env)
 
     def started(self) -> List[ManagedProcess]:
         """Every process the twin ever started (the master's included), for leak checks."""
