@@ -1,4 +1,4 @@
-"""franka_gripper's four actions on the simulated hand: goal messages in, terminal states out.
+"""The four actions of franka_gripper on the simulated hand: goal messages in, terminal states out.
 
 lab_sim and the lab twin's /franka_gripper serve the same actions with the same hand
 (:class:`hri_teleop.hardware.sim.hand.HandSim`): a goal becomes the hand's command here, and a

@@ -1,5 +1,8 @@
-"""The lab twin: a master that looks like the lab PC's (franka_control, franka_gripper, joint_state_publisher,
-serial_node and a rosserial board on a pty) and counts what reaches it; docs/lab-day.md."""
+"""The lab twin: a master that looks like the lab PC's and counts what reaches it.
+
+franka_control, franka_gripper, joint_state_publisher and serial_node with a rosserial board on a
+pty, under the lab's names; docs/lab-day.md, "Before the first session: rehearse on the lab twin".
+"""
 
 from __future__ import annotations
 

@@ -1,12 +1,10 @@
 """The lab twin's Arduino: the rosserial sketch's stand-in on a pty, with a piston a person or a test presses.
 
-Not a ROS node (the Arduino is none): a process that opens a pseudo-terminal, runs
-:class:`hri_teleop.hardware.sim.rosserial_board.SketchBoard` on it and writes what it did to
-``board.json`` in the twin's folder (the pty's path first, for serial_node's ``~port``). A press is
-asked for by replacing ``piston.json`` there with ``{"seq": n, "count": 700, "hold_s": 2}``
+Not a ROS node (the Arduino is none): ``python -m hri_teleop.ros.lab_twin.board FOLDER`` runs
+:class:`hri_teleop.hardware.sim.rosserial_board.SketchBoard` on a pseudo-terminal and writes what it
+did to ``FOLDER/board.json`` (the pty's path first, for serial_node's ``~port``). A press is asked
+for by replacing ``FOLDER/piston.json`` with ``{"seq": n, "count": 700, "hold_s": 2}``
 (:func:`request_press`): each new ``seq`` is one press.
-
-    python -m hri_teleop.ros.lab_twin.board FOLDER
 """
 
 from __future__ import annotations
