@@ -151,7 +151,7 @@ def test_gripper_manager_sends_goals_the_twin_counts(lab_twin):
 
 def test_the_board_publishes_through_serial_node_at_the_period_it_asks_for_and_a_press_shows(lab_twin):
     first = wait_report(lab_twin, lambda r: r.board_samples_sent >= 100, "100 counts from the board")
-    assert first.board_period_ms == 10 and first.board["param_answered"] is True
+    assert first.board_period_ms == 10 and first.board["period_from_param"] is True
     assert first.nodes["/serial_node"]["param_answers"] == {"~publish_period_ms": 1}
     assert first.pub_force_publishers == ["/serial_node"]
     rate = first.board_rate_hz
@@ -170,7 +170,7 @@ def test_the_sketch_keeps_the_handouts_300_ms_unless_serial_node_has_the_paramet
                                                                                   answered):
     with LabTwin(tmp_path / "twin", publish_period_ms=period_ms) as twin:
         report = wait_report(twin, lambda r: r.board_samples_sent >= 8, "8 counts from the board")
-        assert (report.board_period_ms, report.board["param_answered"]) == (expected_ms, answered)
+        assert (report.board_period_ms, report.board["period_from_param"]) == (expected_ms, answered)
         rate = report.board_rate_hz
         assert rate is not None and abs(rate - 1000.0 / expected_ms) <= 0.1 * 1000.0 / expected_ms
     assert not [p.argv for p in twin.started() if p.anything_left]

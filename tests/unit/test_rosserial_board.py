@@ -83,7 +83,7 @@ def test_the_period_comes_from_the_parameter_and_the_first_count_comes_at_once()
     said = run(board, 0.0, 1.0, answer=ParamAnswer(ints=(20,)))
     assert decode_param_request(said[0].payload) == "~publish_period_ms"
     assert decode_log(said[1].payload) == ("info", "period from ~publish_period_ms")
-    assert board.stats.period_ms == 20 and board.stats.param_answered
+    assert board.stats.period_ms == 20 and board.stats.period_from_param
     assert counts(said) == [REST_COUNT] * 50  # 1 s at 20 ms, from t = 0
 
 

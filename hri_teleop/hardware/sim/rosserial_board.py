@@ -33,6 +33,7 @@ from hri_teleop.core.rosserial_frames import (
     FrameReader,
     TopicInfo,
     decode_param_answer,
+    decode_time,
     encode_int16,
     encode_log,
     encode_param_request,
@@ -117,7 +118,9 @@ class BoardStats:
     announced: int = 0
     time_requests: int = 0
     time_answers: int = 0
-    param_answered: bool = False
+    last_time: Optional[Tuple[int, int]] = None  # (sec, nsec) of the host's last time answer
+    param_answers: int = 0  # answers to ~publish_period_ms, with a value or without
+    period_from_param: bool = False  # the period in use came from the parameter
     period_ms: int = 0
     samples_sent: int = 0
     first_sample_s: Optional[float] = None
@@ -163,11 +166,16 @@ class SketchBoard:
             return frame(ID_PUBLISHER, encode_topic_info(info)) + frame(ID_TIME, b"")
         if message.topic_id == ID_TIME:
             self.stats.time_answers += 1
+            try:
+                self.stats.last_time = decode_time(message.payload)
+            except ValueError:
+                pass
             self._last_sync_answer_s = now_s
             self._connected = True
             return b""
         if message.topic_id == ID_PARAMETER_REQUEST and self._param_asked_s is not None:
             self._param_asked_s = None
+            self.stats.param_answers += 1
             return self._configure(now_s, self._period_from(message.payload))
         if message.topic_id == ID_TX_STOP:
             self._connected = self._configured = False
@@ -186,7 +194,7 @@ class SketchBoard:
     def _configure(self, now_s: float, found: Tuple[Optional[int], bool]) -> bytes:
         value, good = found
         self._configured = True
-        self.stats.param_answered = value is not None
+        self.stats.period_from_param = good
         period_ms = value if good and value is not None else int(HANDOUT_PERIOD_S * 1000)
         self.stats.period_ms = period_ms
         self._period_s = period_ms / 1000.0
