@@ -21,7 +21,7 @@ from hri_teleop.hardware.sim.rosserial_board import FULL_PRESS_COUNT
 from hri_teleop.ros.lab_twin.board import COUNTS_NODE, request_press
 from hri_teleop.ros.lab_twin.counts import TWIN_DIR_ENV, counts_path, read_json
 from hri_teleop.ros.lab_twin.report import NODES, TwinReport, read_report
-from hri_teleop.ros.master import ManagedProcess, MasterError, PrivateMaster, lab_shell_env
+from hri_teleop.ros.master import ManagedProcess, MasterError, PrivateMaster, lab_shell_env, stop_side_by_side
 
 __all__ = ["LabTwin", "MODULES", "DEFAULT_PUBLISH_PERIOD_MS", "START_TIMEOUT_S"]
 
@@ -88,8 +88,10 @@ class LabTwin:
         return self
 
     def stop(self) -> None:
-        """Stop every process the twin started, then its master; the counts stay in the folder."""
+        """Stop every process the twin started (side by side: each takes about 1 s), then its master;
+        the counts stay in the folder."""
         if self.master is not None:
+            stop_side_by_side(list(self.master.children))
             self.master.stop()
 
     def __enter__(self) -> "LabTwin":
