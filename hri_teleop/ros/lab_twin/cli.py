@@ -14,7 +14,7 @@ import signal
 import sys
 import threading
 from pathlib import Path
-from typing import Callable, List, Optional, TextIO
+from typing import Callable, List, Optional, Set, TextIO
 
 from hri_teleop.core.errors import HriTeleopError
 from hri_teleop.core.paths import REPO
@@ -24,6 +24,8 @@ from hri_teleop.ros.master import run_reporting
 
 __all__ = ["COMMANDS", "handle", "main"]
 
+#: How often the twin's nodes are checked for being replaced or stopped from outside (s).
+WATCH_PERIOD_S = 1.0
 COMMANDS = ("press COUNT [HOLD_S]  press the piston (a full press: press 700 2)",
             "activate | deactivate  release or engage the robot's user stop (~activated)",
             "report                 what reached the twin so far",
@@ -78,10 +80,15 @@ def _run(args: argparse.Namespace, stdin: TextIO) -> int:
             # End of standard input (CI, a closed pipe): keep running until interrupted.
 
         threading.Thread(target=read_commands, name="commands", daemon=True).start()
-        while not done.wait(1.0):
-            if twin.report().stopped:
-                print(f"twin: stopped from outside: {', '.join(twin.report().stopped)}", flush=True)
-                break
+        said: Set[str] = set()
+        while not done.wait(WATCH_PERIOD_S):
+            report = twin.report()
+            news = [f"{node} replaced by another node of that name" for node in report.replaced] + [
+                f"{node} stopped" for node in report.stopped]
+            for news_line in news:
+                if news_line not in said:
+                    said.add(news_line)
+                    print(f"twin: {news_line} (the rest keeps running; Ctrl-C stops it)", flush=True)
     return 0
 
 
