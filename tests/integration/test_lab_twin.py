@@ -50,6 +50,14 @@ def wait_report(twin: LabTwin, condition, what: str, timeout_s: float = WAIT_S) 
     return found[-1]
 
 
+def assert_board_rate(report: TwinReport, period_ms: int) -> None:
+    """The counts over the board's own window of send times: never more than the period allows (no
+    bursts), and most of them (a board starved by a busy machine skips, as the sketch does, never catches up)."""
+    rate = report.board_rate_hz
+    expected = 1000.0 / period_ms
+    assert rate is not None and 0.8 * expected <= rate <= 1.01 * expected, report.board
+
+
 def standin_env(tmp_path: Path, steps) -> dict:
     """The environment that makes pygame in a node's process report the stand-in pad playing ``steps``."""
     script = tmp_path / "pad.yaml"
@@ -154,8 +162,7 @@ def test_the_board_publishes_through_serial_node_at_the_period_it_asks_for_and_a
     assert first.board_period_ms == 10 and first.board["period_from_param"] is True
     assert first.nodes["/serial_node"]["param_answers"] == {"~publish_period_ms": 1}
     assert first.pub_force_publishers == ["/serial_node"]
-    rate = first.board_rate_hz
-    assert rate is not None and 90.0 <= rate <= 101.0, first.board  # by the board's own send times
+    assert_board_rate(first, 10)
     # Every count the board sent reaches /pub_force through serial_node.
     wait_report(lab_twin, lambda r: r.pub_force_published >= first.board_samples_sent, "serial_node to catch up")
     assert lab_twin.report().board_last_count < 50  # the piston at rest
@@ -171,8 +178,7 @@ def test_the_sketch_keeps_the_handouts_300_ms_unless_serial_node_has_the_paramet
     with LabTwin(tmp_path / "twin", publish_period_ms=period_ms) as twin:
         report = wait_report(twin, lambda r: r.board_samples_sent >= 8, "8 counts from the board")
         assert (report.board_period_ms, report.board["period_from_param"]) == (expected_ms, answered)
-        rate = report.board_rate_hz
-        assert rate is not None and abs(rate - 1000.0 / expected_ms) <= 0.1 * 1000.0 / expected_ms
+        assert_board_rate(report, expected_ms)
     assert not [p.argv for p in twin.started() if p.anything_left]
 
 
