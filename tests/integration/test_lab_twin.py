@@ -106,6 +106,8 @@ def test_the_twin_has_exactly_the_labs_nodes_and_their_interfaces(lab_twin, tmp_
     report = wait_report(lab_twin, lambda r: r.error_recoveries == 1 and sum(r.gripper_goals.values()) == 4,
                          "the twin to count the goals")
     assert report.gripper_goals == {"homing": 1, "move": 1, "grasp": 1, "stop": 1}
+    assert report.pids == {**{node: lab_twin.processes[node].popen.pid for node in NODES},
+                           "board": lab_twin.board.popen.pid}  # each node says its own pid
 
     echo = lab_twin.run(["rostopic", "echo", "-n", "1", "/joint_states/name"], "echo")
     assert echo.wait(WAIT_S) == 0, echo.output()
@@ -125,6 +127,8 @@ def test_a_person_at_a_pygame_pad_moves_the_twins_arm(lab_twin, tmp_path):
     assert report.arm_position_m is not None and start.arm_position_m is not None
     assert report.arm_position_m[0] > start.arm_position_m[0] + 0.005  # stick forward: +x
     assert report.ignored_twists == 0
+    joints = "joint_positions_rad"
+    assert report.nodes["/franka_control"][joints] != start.nodes["/franka_control"][joints]  # the joints moved too
     output = node.output()
     assert "pad pygame (Sony Interactive Entertainment Wireless Controller, layout dualshock4" in output, output
     node.stop()
