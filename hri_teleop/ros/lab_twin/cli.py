@@ -56,10 +56,10 @@ def handle(twin: LabTwin, line: str, say: Callable[[str], None] = print) -> None
                 say(f"twin: {text}")
         else:
             say(f"twin: unknown command {words[0]!r}; type help")
+    except HriTeleopError as exc:  # before ValueError: a press the board refuses is one (BoardStandInError)
+        say(f"twin: {exc}")
     except ValueError:
         say(f"twin: {line.strip()!r}: give numbers, e.g. press 700 2")
-    except HriTeleopError as exc:
-        say(f"twin: {exc}")
 
 
 def _block(twin: LabTwin) -> List[str]:
