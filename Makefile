@@ -8,7 +8,7 @@ export SDL_VIDEODRIVER ?= dummy
 export SDL_AUDIODRIVER ?= dummy
 export PYGAME_HIDE_SUPPORT_PROMPT := 1
 
-.PHONY: setup demo doctor demo-sensor test lint clean bench
+.PHONY: setup demo doctor demo-sensor lab-twin test lint clean bench
 
 setup:
 	@bash tools/setup.sh
@@ -26,6 +26,13 @@ doctor: setup
 # Only the sensor stage (handout Ex. 6): sensor.launch with the simulated press profile.
 demo-sensor: setup
 	@$(ENV) $(PY) -m hri_teleop.ros.sensor_demo
+
+# The lab twin (docs/lab-day.md, "Before the first session"): a master that looks like the lab PC's
+# (franka_control, franka_gripper, joint_state_publisher, serial_node with a rosserial board on a pty)
+# and counts what reaches it. Prints the URI to export; takes press 700 2, activate, deactivate, report
+# on standard input; Ctrl-C stops everything. LAB_TWIN_ARGS="--deactivated --publish-period-ms 300".
+lab-twin: setup
+	@$(ENV) $(PY) -m hri_teleop.ros.lab_twin $(LAB_TWIN_ARGS)
 
 # TEST_JOBS test workers (default 2, one per core of the CI machine; TEST_JOBS=0 runs in
 # one process), each test file on one worker.

@@ -46,3 +46,24 @@ def ros_master(tmp_path):
         master.stop()
         left = [" ".join(p.argv) for p in master.started if p.anything_left]
         assert not left, f"still running after the test: {left}"
+
+
+@pytest.fixture
+def lab_twin(tmp_path):
+    """A lab twin (hri_teleop.ros.lab_twin) on its own master, private to this test, stopped afterwards.
+
+    The twin is started with the robot activated and serial_node's ~publish_period_ms 10; a test that
+    needs another start builds its own ``LabTwin``. Asserts that nothing the twin started is left running.
+    """
+    if shutil.which("roscore") is None:
+        pytest.fail("roscore not found: run 'make setup' (installs ROS 1) or source tools/env.sh")
+    from hri_teleop.ros.lab_twin import LabTwin
+
+    twin = LabTwin(tmp_path / "twin", base_env=_ros_env())
+    twin.start()
+    try:
+        yield twin
+    finally:
+        twin.stop()
+        left = [" ".join(p.argv) for p in twin.started() if p.anything_left]
+        assert not left, f"still running after the test: {left}"

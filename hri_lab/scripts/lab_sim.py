@@ -54,20 +54,12 @@ from hri_teleop.hardware.sim.config import (
     load_world_config,
     world_overrides_from_params,
 )
-from hri_teleop.hardware.sim.gripper_goals import (
-    Command,
-    GoalRecord,
-    GoalStatus,
-    GraspCommand,
-    HomingCommand,
-    MoveCommand,
-    StopCommand,
-)
+from hri_teleop.hardware.sim.gripper_goals import GoalRecord
 from hri_teleop.hardware.sim.hand_params import HandSimError
 from hri_teleop.hardware.sim.world import LabWorld, ObjectStatus
-from hri_teleop.ros import franka_gripper_msgs as fg
 from hri_teleop.ros import franka_msgs as fm
 from hri_teleop.ros.clock import ClockError, NodeClock
+from hri_teleop.ros.gripper_actions import ACTIONS, command_from_goal, end_goal
 from hri_teleop.ros.params import (
     fail,
     get_name_param,
@@ -86,15 +78,6 @@ FINGER_JOINTS = list(FINGER_JOINT_NAMES)
 #: Every name the arm reports a violation under, in the order ~arm_status lists them.
 ARM_ERRORS = (VELOCITY_LIMITS_VIOLATION, VELOCITY_DISCONTINUITY, ACCELERATION_DISCONTINUITY, NON_FINITE_COMMAND,
               *(error for _what, error in JOINT_ERRORS))
-#: action name -> (action spec, result class)
-ACTIONS: Dict[str, Tuple[type, type]] = {
-    "move": (fg.MoveAction, fg.MoveResult),
-    "grasp": (fg.GraspAction, fg.GraspResult),
-    "homing": (fg.HomingAction, fg.HomingResult),
-    "stop": (fg.StopAction, fg.StopResult),
-}
-
-
 def default_config_path() -> str:
     """hri_lab/config/sim.yaml of the package this script belongs to ('' if not found)."""
     found = package_file("config/sim.yaml", __file__)
@@ -102,18 +85,6 @@ def default_config_path() -> str:
         in_checkout = default_sim_yaml()
         found = str(in_checkout) if in_checkout is not None else ""
     return found
-
-
-def command_from_goal(action: str, goal: Any) -> Command:
-    """A franka_gripper goal message as the simulated hand's command (units as the fields': m, m/s, N)."""
-    if action == "move":
-        return MoveCommand(width_m=goal.width, speed_m_per_s=goal.speed)
-    if action == "grasp":
-        return GraspCommand(width_m=goal.width, speed_m_per_s=goal.speed, force_n=goal.force,
-                            epsilon_inner_m=goal.epsilon.inner, epsilon_outer_m=goal.epsilon.outer)
-    if action == "homing":
-        return HomingCommand()
-    return StopCommand()
 
 
 class _Goal:
@@ -432,20 +403,14 @@ class LabSimNode:
     def _report(self, goal: _Goal) -> None:
         """A finished hand goal -> its actionlib terminal state, with success/error as the hand says."""
         record = goal.record
-        _spec, result_cls = ACTIONS[goal.action]
-        result = result_cls(success=record.success, error=record.error)
-        text = record.detail
-        if record.status == GoalStatus.SUCCEEDED:
-            goal.handle.set_succeeded(result, text)
-            if not record.success:
-                rospy.logwarn("gripper %s goal %d ended without success: %s", goal.action, record.goal_id, text)
-        elif record.status == GoalStatus.ABORTED:
-            goal.handle.set_aborted(result, text)
+        ended = end_goal(goal.action, goal.handle, record)
+        if ended == "succeeded" and not record.success:
+            rospy.logwarn("gripper %s goal %d ended without success: %s", goal.action, record.goal_id, record.detail)
+        elif ended == "aborted":
             rospy.logwarn("gripper %s goal %d aborted: %s%s", goal.action, record.goal_id, record.error,
-                          f" ({text})" if text else "")
-        else:  # PREEMPTED: by a newer goal, or an actionlib cancel
-            goal.handle.set_canceled(result, text)
-            rospy.logdebug("gripper %s goal %d preempted: %s", goal.action, record.goal_id, text)
+                          f" ({record.detail})" if record.detail else "")
+        elif ended == "preempted":
+            rospy.logdebug("gripper %s goal %d preempted: %s", goal.action, record.goal_id, record.detail)
 
     def _publish_joint_states(self, stamp: rospy.Time, q: Optional[Tuple[float, ...]], dq: Optional[Tuple[float, ...]],
                               width: float, finger_v: Tuple[float, float]) -> None:

@@ -1,9 +1,9 @@
-"""The frames of rosserial's serial protocol, parsed without I/O, enough to ask a board for its topics and count them.
+"""The frames of rosserial's serial protocol and the few messages a force board and its host exchange, without I/O.
 
-The handout's sketch speaks rosserial (57600 baud). ``make doctor`` checks such a board without
-serial_node: it sends rosserial's topic request, reads the TopicInfo the board answers with, and
-counts its ``/pub_force`` frames. Frame: 0xff 0xfe, length (2 bytes LE), length checksum, topic id
-(2 bytes LE), payload, checksum over topic id and payload.
+The handout's sketch speaks rosserial (57600 baud). ``make doctor`` asks such a board for its topics
+and counts its ``/pub_force`` frames; the lab twin's serial_node and board speak both sides of it.
+Frame: 0xff 0xfe, length (2 bytes LE), length checksum, topic id (2 bytes LE), payload, checksum
+over topic id and payload. Messages are ROS 1 serialized (little-endian, strings length-prefixed).
 """
 
 from __future__ import annotations
@@ -12,8 +12,11 @@ import struct
 from dataclasses import dataclass
 from typing import List, Tuple
 
-__all__ = ["ROSSERIAL_BAUD", "TOPIC_REQUEST", "ID_PUBLISHER", "ID_TIME", "ID_PARAMETER_REQUEST", "NO_PARAMETER", "Frame", "TopicInfo", "FrameReader", "frame",
-           "decode_topic_info"]
+__all__ = ["ROSSERIAL_BAUD", "TOPIC_REQUEST", "ID_PUBLISHER", "ID_SUBSCRIBER", "ID_TIME", "ID_PARAMETER_REQUEST",
+           "ID_LOG", "ID_TX_STOP", "NO_PARAMETER", "INT16_MD5", "Frame", "TopicInfo", "ParamAnswer", "FrameReader",
+           "frame", "decode_topic_info", "encode_topic_info", "encode_time", "decode_time", "encode_param_request",
+           "decode_param_request", "encode_param_answer", "decode_param_answer", "encode_int16", "decode_int16",
+           "decode_log", "encode_log", "LOG_LEVELS"]
 
 #: rosserial_arduino's default baud rate.
 ROSSERIAL_BAUD = 57600
@@ -21,6 +24,16 @@ ROSSERIAL_BAUD = 57600
 ID_PUBLISHER = 0
 #: Topic id of time: the board's request (empty) and the host's answer (sec, nsec as uint32).
 ID_TIME = 10
+#: Topic id of a TopicInfo for a subscriber.
+ID_SUBSCRIBER = 1
+#: Topic id of a log line from the board (rosserial_msgs/Log: level, text).
+ID_LOG = 7
+#: Topic id the host sends when it stops (the board then waits for a new topic request).
+ID_TX_STOP = 11
+#: rosserial_msgs/Log's levels by number, as rospy names them.
+LOG_LEVELS = {0: "debug", 1: "info", 2: "warn", 3: "error", 4: "fatal"}
+#: std_msgs/Int16's MD5 sum: the TopicInfo a board announces /pub_force with.
+INT16_MD5 = "8524586e34fbd7cb1c08c5f5f1ca0e57"
 #: Topic id of a parameter request (the board's getParam) and of the host's answer.
 ID_PARAMETER_REQUEST = 6
 #: An answer with no value (rosserial_msgs/RequestParamResponse: no ints, floats or strings):
@@ -113,3 +126,106 @@ def decode_topic_info(payload: bytes) -> TopicInfo:
     except struct.error as exc:
         raise ValueError(f"a TopicInfo cut short ({len(payload)} bytes): {exc}") from None
     return TopicInfo(topic_id, name, kind, md5, buffer_size)
+
+
+def _text(value: str) -> bytes:
+    data = value.encode("utf-8")
+    return struct.pack("<I", len(data)) + data
+
+
+def encode_topic_info(info: TopicInfo) -> bytes:
+    """A TopicInfo's bytes, as the board's negotiateTopics sends them (the inverse of decode_topic_info)."""
+    return (struct.pack("<H", info.topic_id) + _text(info.topic_name) + _text(info.message_type)
+            + _text(info.md5sum) + struct.pack("<i", info.buffer_size))
+
+
+def encode_time(sec: int, nsec: int) -> bytes:
+    """std_msgs/Time: the host's answer to the board's time request."""
+    return struct.pack("<II", sec, nsec)
+
+
+def decode_time(payload: bytes) -> Tuple[int, int]:
+    """(sec, nsec) of a time answer (ValueError when cut short)."""
+    try:
+        sec, nsec = struct.unpack_from("<II", payload, 0)
+    except struct.error as exc:
+        raise ValueError(f"a time cut short ({len(payload)} bytes): {exc}") from None
+    return int(sec), int(nsec)
+
+
+def encode_param_request(name: str) -> bytes:
+    """rosserial_msgs/RequestParamRequest: the board's getParam of ``name``."""
+    return _text(name)
+
+
+def decode_param_request(payload: bytes) -> str:
+    """The parameter name a board asks for (ValueError when cut short)."""
+    try:
+        name, _at = _string(payload, 0)
+    except struct.error as exc:
+        raise ValueError(f"a parameter request cut short ({len(payload)} bytes): {exc}") from None
+    return name
+
+
+@dataclass(frozen=True)
+class ParamAnswer:
+    """rosserial_msgs/RequestParamResponse: a parameter's value as ints, floats or strings (all empty: none)."""
+
+    ints: Tuple[int, ...] = ()
+    floats: Tuple[float, ...] = ()
+    strings: Tuple[str, ...] = ()
+
+
+def encode_param_answer(answer: ParamAnswer) -> bytes:
+    """The host's answer to a parameter request; ``ParamAnswer()`` is :data:`NO_PARAMETER`."""
+    out = struct.pack("<I", len(answer.ints)) + b"".join(struct.pack("<i", v) for v in answer.ints)
+    out += struct.pack("<I", len(answer.floats)) + b"".join(struct.pack("<f", v) for v in answer.floats)
+    return out + struct.pack("<I", len(answer.strings)) + b"".join(_text(v) for v in answer.strings)
+
+
+def decode_param_answer(payload: bytes) -> ParamAnswer:
+    """A parameter answer's values (ValueError when cut short)."""
+    try:
+        count = struct.unpack_from("<I", payload, 0)[0]
+        ints = struct.unpack_from(f"<{count}i", payload, 4)
+        at = 4 + 4 * count
+        count = struct.unpack_from("<I", payload, at)[0]
+        floats = struct.unpack_from(f"<{count}f", payload, at + 4)
+        at += 4 + 4 * count
+        count = struct.unpack_from("<I", payload, at)[0]
+        at += 4
+        strings = []
+        for _ in range(count):
+            text, at = _string(payload, at)
+            strings.append(text)
+    except struct.error as exc:
+        raise ValueError(f"a parameter answer cut short ({len(payload)} bytes): {exc}") from None
+    return ParamAnswer(tuple(int(v) for v in ints), tuple(float(v) for v in floats), tuple(strings))
+
+
+def encode_int16(value: int) -> bytes:
+    """std_msgs/Int16: the board's count on /pub_force."""
+    return struct.pack("<h", value)
+
+
+def decode_int16(payload: bytes) -> int:
+    """A count from an Int16 frame (ValueError unless exactly 2 bytes)."""
+    if len(payload) != 2:
+        raise ValueError(f"an Int16 is 2 bytes, got {len(payload)}")
+    return int(struct.unpack("<h", payload)[0])
+
+
+def decode_log(payload: bytes) -> Tuple[str, str]:
+    """(level name, text) of a rosserial_msgs/Log from the board (ValueError when cut short)."""
+    if not payload:
+        raise ValueError("an empty log message")
+    try:
+        text, _at = _string(payload, 1)
+    except struct.error as exc:
+        raise ValueError(f"a log message cut short ({len(payload)} bytes): {exc}") from None
+    return LOG_LEVELS.get(payload[0], str(payload[0])), text
+
+
+def encode_log(level: int, text: str) -> bytes:
+    """rosserial_msgs/Log: a board's loginfo/logwarn line (level as in :data:`LOG_LEVELS`)."""
+    return bytes([level]) + _text(text)

@@ -12,7 +12,7 @@ rosbag stamps with, so the test can line events up with recorded topics). Steps:
   {"sleep": 0.5}
   {"mark": "name"}                   a timestamp for the test
   {"twists": [[vx, vy, vz, wx, wy, wz], ...], "rate_hz": 100}   published one per period
-  {"call": "recover"}                the node's ~recover (std_srvs/Trigger)
+  {"call": "recover"}                the node's ~recover (std_srvs/Trigger); ``~sim`` "" : none (the lab twin)
   {"recover_action": 10}             franka_control's error_recovery action, waiting this long for its result
 
 Every goal's terminal state is logged as {"event": "result", "id", "status", "success", "error"}; an
@@ -62,8 +62,10 @@ def main() -> None:
         write(event="error", what="no error_recovery server")
         return
     twist_pub = rospy.Publisher("/cartesian_velocity_controller/cmd_vel", Twist, queue_size=100)
-    rospy.wait_for_service(f"{sim}/recover", 20.0)
-    recover = rospy.ServiceProxy(f"{sim}/recover", Trigger)
+    recover = None
+    if sim:  # "" : franka_control itself (the lab twin), which has no ~recover service
+        rospy.wait_for_service(f"{sim}/recover", 20.0)
+        recover = rospy.ServiceProxy(f"{sim}/recover", Trigger)
     deadline = time.monotonic() + 10.0
     while twist_pub.get_num_connections() == 0 and time.monotonic() < deadline:
         time.sleep(0.01)
@@ -121,6 +123,7 @@ def main() -> None:
                 sent.append([time.time()] + list(values))
             write(event="twists", sent=sent)
         elif "call" in step:
+            assert recover is not None, "a ~recover call needs ~sim"
             response = recover()
             write(event="called", success=response.success, message=response.message)
         elif "recover_action" in step:

@@ -111,14 +111,14 @@ def test_in_lab_mode_a_simulation_on_the_master_fails_robot_and_board_and_at_hom
 
 
 def test_a_rosserial_board_on_a_port_is_found_by_its_topics_at_the_handouts_rate(ros_env):
-    with FakeRosserialBoard(period_s=0.3, count=17) as board:
+    with FakeRosserialBoard(count=17) as board:
         proc = _doctor(_env(ros_env, "home"), "--no-sim", "--port", board.port)
-        answered = list(board.time_answers), board.param_answered
+        answered = board.stats.last_time, board.stats.param_answers
     line = _line(proc.stdout, "board")
     print(f"\n{line}")
     assert re.match(rf"ok\s+board\s+{re.escape(board.port)}: rosserial at 3\.\d Hz", line), proc.stdout + proc.stderr
     assert "pub_force (std_msgs/Int16)" in line
-    assert answered[0] and len(answered[0][0]) == 8 and answered[1], "the probe must answer time and parameter"
+    assert answered[0] is not None and answered[0][0] > 0 and answered[1] >= 1, "the probe must answer time and parameter"
 
 
 def test_a_port_where_no_sketch_answers_fails_with_the_fix(ros_env):

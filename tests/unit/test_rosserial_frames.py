@@ -66,3 +66,44 @@ def test_a_cut_topic_info_is_a_value_error_naming_its_size() -> None:
     payload = _topic_info(125, "pub_force", "std_msgs/Int16", "x", 280)
     with pytest.raises(ValueError, match="cut short"):
         decode_topic_info(payload[:-3])
+
+
+# ------------------------------------------------------------------ the messages the lab twin's host and board exchange
+
+def test_the_messages_a_host_and_a_board_exchange_read_back_as_written() -> None:
+    from hri_teleop.core.rosserial_frames import (
+        INT16_MD5,
+        ParamAnswer,
+        TopicInfo,
+        decode_int16,
+        decode_log,
+        decode_param_answer,
+        decode_param_request,
+        decode_time,
+        encode_int16,
+        encode_log,
+        encode_param_answer,
+        encode_param_request,
+        encode_time,
+        encode_topic_info,
+    )
+
+    info = TopicInfo(125, "pub_force", "std_msgs/Int16", INT16_MD5, 150)
+    assert decode_topic_info(encode_topic_info(info)) == info
+    assert encode_topic_info(info) == _topic_info(125, "pub_force", "std_msgs/Int16", INT16_MD5, 150)
+    assert decode_time(encode_time(1700000000, 999)) == (1700000000, 999)
+    assert decode_param_request(encode_param_request("~publish_period_ms")) == "~publish_period_ms"
+    answer = ParamAnswer(ints=(10,), floats=(0.5,), strings=("a", "bc"))
+    assert decode_param_answer(encode_param_answer(answer)) == answer
+    assert encode_param_answer(ParamAnswer()) == bytes(12)  # no value: NO_PARAMETER's bytes
+    assert decode_int16(encode_int16(-700)) == -700
+    assert decode_log(encode_log(2, "no ~publish_period_ms")) == ("warn", "no ~publish_period_ms")
+
+
+def test_cut_messages_are_value_errors_not_crashes() -> None:
+    from hri_teleop.core.rosserial_frames import decode_int16, decode_log, decode_param_answer, decode_time
+
+    for decode, payload in ((decode_time, b"\x01"), (decode_param_answer, b"\x02\x00\x00\x00\x01"),
+                            (decode_int16, b"\x01\x02\x03"), (decode_log, b""), (decode_log, b"\x01\x09\x00")):
+        with pytest.raises(ValueError):
+            decode(payload)

@@ -1,0 +1,104 @@
+"""``make lab-twin``: the lab twin in the foreground for a lab engineer's rehearsal.
+
+Prints one block (the nodes, the master URI to export, the board's pty, how to stop), then takes
+commands on standard input -- ``press 700 2``, ``activate``, ``deactivate``, ``report``, ``help`` --
+until Ctrl-C; with no standard input (CI) it runs until interrupted. Ctrl-C stops all it started.
+
+    python -m hri_teleop.ros.lab_twin [--folder DIR] [--publish-period-ms N] [--deactivated]
+"""
+
+from __future__ import annotations
+
+import argparse
+import signal
+import sys
+import threading
+from pathlib import Path
+from typing import Callable, List, Optional, Set, TextIO
+
+from hri_teleop.core.errors import HriTeleopError
+from hri_teleop.core.paths import REPO
+from hri_teleop.hardware.sim.rosserial_board import FULL_PRESS_COUNT
+from hri_teleop.ros.lab_twin.twin import DEFAULT_PUBLISH_PERIOD_MS, LabTwin
+from hri_teleop.ros.master import run_reporting
+
+__all__ = ["COMMANDS", "handle", "main"]
+
+#: How often the twin's nodes are checked for being replaced or stopped from outside (s).
+WATCH_PERIOD_S = 1.0
+COMMANDS = ("press COUNT [HOLD_S]  press the piston (a full press: press 700 2)",
+            "activate | deactivate  release or engage the robot's user stop (~activated)",
+            "report                 what reached the twin so far",
+            "help                   this list")
+
+
+def handle(twin: LabTwin, line: str, say: Callable[[str], None] = print) -> None:
+    """One command from standard input; a wrong one is one line saying what to type."""
+    words = line.split()
+    if not words:
+        return
+    command, args = words[0].lower(), words[1:]
+    try:
+        if command == "press":
+            count = int(args[0]) if args else FULL_PRESS_COUNT
+            hold_s = float(args[1]) if len(args) > 1 else 2.0
+            twin.press(count, hold_s)
+            say(f"twin: piston pressed to {count} for {hold_s:g} s")
+        elif command in ("activate", "deactivate"):
+            twin.set_activated(command == "activate")
+            say("twin: the robot is activated" if command == "activate"
+                else "twin: user stop engaged: twists are counted, the arm stays")
+        elif command == "report":
+            for text in twin.report().lines():
+                say(f"twin: {text}")
+        elif command == "help":
+            for text in COMMANDS:
+                say(f"twin: {text}")
+        else:
+            say(f"twin: unknown command {words[0]!r}; type help")
+    except HriTeleopError as exc:  # before ValueError: a press the board refuses is one (BoardStandInError)
+        say(f"twin: {exc}")
+    except ValueError:
+        say(f"twin: {line.strip()!r}: give numbers, e.g. press 700 2")
+
+
+def _block(twin: LabTwin) -> List[str]:
+    rule = "-" * 78
+    return ([rule, "lab twin: a master that looks like the lab PC's (docs/lab-day.md)"] + twin.describe()
+            + ["stop     Ctrl-C stops everything it started",
+               "type     press 700 2 | activate | deactivate | report | help", rule])
+
+
+def _run(args: argparse.Namespace, stdin: TextIO) -> int:
+    with LabTwin(args.folder, activated=not args.deactivated, publish_period_ms=args.publish_period_ms) as twin:
+        print("\n".join(_block(twin)), flush=True)
+        done = threading.Event()
+
+        def read_commands() -> None:
+            for line in stdin:
+                handle(twin, line, lambda text: print(text, flush=True))
+            # End of standard input (CI, a closed pipe): keep running until interrupted.
+
+        threading.Thread(target=read_commands, name="commands", daemon=True).start()
+        said: Set[str] = set()
+        while not done.wait(WATCH_PERIOD_S):
+            report = twin.report()
+            news = [f"{node} replaced by another node of that name" for node in report.replaced] + [
+                f"{node} stopped" for node in report.stopped]
+            for news_line in news:
+                if news_line not in said:
+                    said.add(news_line)
+                    print(f"twin: {news_line} (the rest keeps running; Ctrl-C stops it)", flush=True)
+    return 0
+
+
+def main(argv: Optional[List[str]] = None) -> int:
+    parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    parser.add_argument("--folder", type=Path, default=REPO / "out" / "lab-twin",
+                        help="where the counts and logs go (default: out/lab-twin)")
+    parser.add_argument("--publish-period-ms", type=int, default=DEFAULT_PUBLISH_PERIOD_MS,
+                        help="serial_node's ~publish_period_ms (default %(default)s, as teleoperation.launch)")
+    parser.add_argument("--deactivated", action="store_true", help="start with the robot's user stop engaged")
+    args = parser.parse_args(argv)
+    signal.signal(signal.SIGTERM, signal.default_int_handler)  # a kill stops all it started, as Ctrl-C does
+    return run_reporting(lambda: _run(args, sys.stdin), "lab-twin")
