@@ -5,7 +5,7 @@ here in one place. The bundle is the released notebooks and templates, a ``READM
 ``Makefile`` (``make setup``, ``make lab``, ``make check``), and ``toolkit/``: a copy of this
 project without instructor material -- no answer key, no tests, no benchmarks, and the lab's
 ``hri_lab`` without the files students write (:data:`LAB_DELIVERABLES`). Only the handout's
-provided nodes and sketch, the simulation and the configuration the notebooks read remain.
+provided nodes and sketch, the simulation, the trials' analysis and what the notebooks read remain.
 """
 
 from __future__ import annotations
@@ -36,7 +36,7 @@ BUNDLE_FILES = REPO / "notebooks" / "bundle"
 
 #: what of this project the student's toolkit holds (relative to the project root)
 TOOLKIT_FILES = ("pyproject.toml", "hri_teleop", "hri_lab", "grading/traces", "tools/setup.sh", "tools/env.sh",
-                 "tools/kernel.sh", "docs", "firmware/arduino_code_force_node")
+                 "tools/kernel.sh", "docs", "firmware/arduino_code_force_node", "notebooks/experiment")
 #: the lab's completed deliverables (and the CMakeLists whose lines are Ex. 9's answer): instructors only
 LAB_DELIVERABLES = ("hri_lab/scripts/mapping_node.py", "hri_lab/scripts/teleoperation.py",
                     "hri_lab/launch/sensor.launch", "hri_lab/launch/teleoperation.launch",
