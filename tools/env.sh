@@ -11,6 +11,29 @@ case ":${ROS_PACKAGE_PATH:-}:" in
   *":$_hri_root/hri_lab:"*) ;;
   *) export ROS_PACKAGE_PATH="$_hri_root/hri_lab${ROS_PACKAGE_PATH:+:$ROS_PACKAGE_PATH}" ;;
 esac
+# The student bundle: sourced in an assignment folder beside this toolkit (task4/preparation or
+# task4/lab, which hold the student's hri_lab/package.xml), the student's package goes first, so
+# `rosrun hri_lab mapping_node.py` and `roslaunch hri_lab sensor.launch` find the student's files
+# (the toolkit's hri_lab lacks them). HRI_STUDENT_PACKAGE remembers it, so sourcing again in the
+# other folder swaps it; tools/kernel.sh sets HRI_ENV_TOOLKIT_FIRST (the notebooks start the
+# toolkit's nodes themselves). Never in the project's checkout, which has no toolkit/ around it.
+_hri_student=""
+if [ -z "${HRI_ENV_TOOLKIT_FIRST:-}" ] && [ -f "$PWD/hri_lab/package.xml" ] && [ -d "$PWD/../toolkit" ] &&
+   [ "$(cd "$PWD/../toolkit" && pwd -P)" = "$(cd "$_hri_root" && pwd -P)" ]; then
+  _hri_student="$(cd "$PWD/hri_lab" && pwd -P)"
+fi
+if [ -n "$_hri_student" ] || [ -n "${HRI_STUDENT_PACKAGE:-}" ]; then
+  _hri_rest="$(printf '%s' "${ROS_PACKAGE_PATH:-}" | tr ':' '\n' |
+    grep -vxF -e "" -e "${_hri_student:-}" -e "${HRI_STUDENT_PACKAGE:-}" | paste -sd: -)"
+  if [ -n "$_hri_student" ]; then
+    export ROS_PACKAGE_PATH="$_hri_student${_hri_rest:+:$_hri_rest}" HRI_STUDENT_PACKAGE="$_hri_student"
+  else
+    export ROS_PACKAGE_PATH="$_hri_rest"
+    unset HRI_STUDENT_PACKAGE
+  fi
+  unset _hri_rest
+fi
+unset _hri_student
 # Debian installs ROS package manifests under /usr/share.
 if [ -z "${ROS_DISTRO:-}" ]; then
   case ":$ROS_PACKAGE_PATH:" in *":/usr/share:"*) ;; *) export ROS_PACKAGE_PATH="$ROS_PACKAGE_PATH:/usr/share" ;; esac

@@ -6,8 +6,9 @@
 // tests/unit/test_firmware_host.py compiles this logic with g++ and checks it.
 //
 // The handout's listing (Ex. 1), corrected:
-//   * it read into an undeclared `fsrReading` and published `fsr_analog_reading`, which
-//     stayed 0: here the reading is declared where it is taken and that value is published;
+//   * its line 27 does not compile (the course's Ex. 1 asks which name is wrong, so the
+//     student bundle ships this file): here the reading is declared where it is taken and
+//     that value is published;
 //   * it published every delay(300) ms, about 3 counts a second, too slow for haptic
 //     feedback: the period now comes from the ROS parameter ~publish_period_ms, read once
 //     the board has connected to rosserial_python's serial_node (so it resolves to

@@ -125,7 +125,7 @@ def _parse_xml(text: str, source: str, fix: str) -> None:
 def set_in_launch(text: str, value: int, source: str = "<launch>") -> Tuple[str, List[ParamEdit]]:
     """``text`` with the calibration value set, and the edits made.
 
-    The value set is a ``<param name="max_sensor_force" value="700"/>`` that sets the global
+    The value set is a ``<param name="max_sensor_force" value="..."/>`` that sets the global
     parameter (outside ``<node>`` and namespaced ``<group>``, or named ``/max_sensor_force``);
     if its value is ``$(arg X)``, the default (or value) of ``<arg name="X" .../>`` changes
     instead. Without such a param, ``<arg name="max_sensor_force" default="..."/>`` is used.

@@ -5,12 +5,13 @@ here in one place. The bundle is the released notebooks and templates, a ``READM
 ``Makefile`` (``make setup``, ``make lab``, ``make check``), and ``toolkit/``: a copy of this
 project without instructor material -- no answer key, no tests, no benchmarks, and the lab's
 ``hri_lab`` without the files students write (:data:`LAB_DELIVERABLES`). Only the handout's
-provided nodes, the simulation and the configuration the notebooks read remain.
+provided nodes and sketch, the simulation, the trials' analysis and what the notebooks read remain.
 """
 
 from __future__ import annotations
 
 import json
+import re
 import shutil
 import tarfile
 from pathlib import Path
@@ -27,7 +28,7 @@ from hri_teleop.grading.cases.templates import (
 
 __all__ = ["TOOLKIT_FILES", "LAB_DELIVERABLES", "INSTRUCTOR_ONLY", "BUNDLE_FILES", "build_toolkit",
            "assemble_bundle", "pack_bundle", "deliverable_copies", "toolkit_leaks", "answer_files", "solution_texts",
-           "bundle_leaks", "read_notebook"]
+           "bundle_leaks", "distinctive", "read_notebook"]
 
 PathLike = Union[str, Path]
 #: the bundle's own README.md and Makefile (committed; copied into the bundle's top folder)
@@ -35,7 +36,7 @@ BUNDLE_FILES = REPO / "notebooks" / "bundle"
 
 #: what of this project the student's toolkit holds (relative to the project root)
 TOOLKIT_FILES = ("pyproject.toml", "hri_teleop", "hri_lab", "grading/traces", "tools/setup.sh", "tools/env.sh",
-                 "tools/kernel.sh", "docs")
+                 "tools/kernel.sh", "docs", "firmware/arduino_code_force_node", "notebooks/experiment")
 #: the lab's completed deliverables (and the CMakeLists whose lines are Ex. 9's answer): instructors only
 LAB_DELIVERABLES = ("hri_lab/scripts/mapping_node.py", "hri_lab/scripts/teleoperation.py",
                     "hri_lab/launch/sensor.launch", "hri_lab/launch/teleoperation.launch",
@@ -45,6 +46,11 @@ INSTRUCTOR_ONLY = ("benchmarks", "docs/instructors.md", "docs/grading-internals.
                    "hri_teleop/grading/gradescope")  # it ships the course notebooks' hidden tests
 #: Region lines shorter than this (``else:``, ``}``) are too common to prove a leak.
 _MIN_LEAK_CHARS = 8
+#: A region line found *inside* a longer line (a hint's string, a docstring) leaks when it is at
+#: least this long and looks like code (see :func:`distinctive`): a path or a command alone
+#: (``scripts/teleoperation.py``, ``!rostopic type /pub_force``) is named by the handout too.
+_MIN_EMBEDDED_CHARS = 24
+_CODE_MARK = re.compile(r"[=(){}\[\]<>]")
 _IGNORE = shutil.ignore_patterns("__pycache__", "*.pyc", "*.egg-info", ".ipynb_checkpoints", "catkin_ws")
 
 
@@ -183,11 +189,25 @@ def _bundle_lines(path: Path) -> List[str]:
     return path.read_text(encoding="utf-8", errors="replace").split("\n")
 
 
+def distinctive(line: str) -> bool:
+    """True for a region line that proves a leak wherever it appears, even inside a longer line:
+    at least 24 characters, with code's marks (an ``=``, brackets, a tag), no solution marker."""
+    stripped = line.strip()
+    return len(stripped) >= _MIN_EMBEDDED_CHARS and bool(_CODE_MARK.search(stripped)) and not has_markers(stripped)
+
+
+def _shipped_files(bundle: Path) -> List[Path]:
+    """Every file under ``bundle`` but an installed virtual environment's (third-party packages)."""
+    return sorted(p for p in bundle.rglob("*") if p.is_file() and ".venv" not in p.relative_to(bundle).parts)
+
+
 def bundle_leaks(bundle: PathLike, texts: Optional[Dict[str, List[str]]] = None) -> List[str]:
     """Every place where the student bundle holds a solution marker or a line from inside a solution region.
 
     A line leaks when a line of a bundle file (or of a notebook cell), stripped, equals it;
-    lines shorter than 8 characters (``else:``, ``})``) are too common to tell.
+    lines shorter than 8 characters (``else:``, ``})``) are too common to tell. A
+    :func:`distinctive` line also leaks anywhere inside a line (a grader hint's string that
+    quotes the answer). A ``.venv`` folder (an installed toolkit's packages) is not scanned.
     """
     texts = solution_texts() if texts is None else texts
     needles: Dict[str, str] = {}
@@ -196,12 +216,18 @@ def bundle_leaks(bundle: PathLike, texts: Optional[Dict[str, List[str]]] = None)
             stripped = line.strip()
             if len(stripped) >= _MIN_LEAK_CHARS and not has_markers(stripped):
                 needles.setdefault(stripped, where)
+    embedded = {needle: where for needle, where in needles.items() if distinctive(needle)}
     problems = []
-    for path in sorted(p for p in Path(bundle).rglob("*") if p.is_file()):
+    for path in _shipped_files(Path(bundle)):
         lines = _bundle_lines(path)
         if any(has_markers(line) for line in lines):
             problems.append(f"{path}: holds a solution marker")
-        for line in dict.fromkeys(line.strip() for line in lines):
+        whole = dict.fromkeys(line.strip() for line in lines)
+        for line in whole:
             if line in needles:
                 problems.append(f"{path}: holds solution text {line!r} (from {needles[line]})")
+        text = "\n".join(lines)
+        for needle, where in embedded.items():
+            if needle not in whole and needle in text:
+                problems.append(f"{path}: holds solution text {needle!r} inside a longer line (from {where})")
     return problems

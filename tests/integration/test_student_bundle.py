@@ -3,10 +3,13 @@ with `make check`. It holds no answer; the answer key copied into its files gets
 
 from __future__ import annotations
 
+import contextlib
+import glob
 import json
 import os
 import re
 import shutil
+import signal
 import subprocess
 import tarfile
 import tempfile
@@ -19,6 +22,7 @@ from hri_teleop.course.bundle import (
     LAB_DELIVERABLES,
     answer_files,
     assemble_bundle,
+    distinctive,
     pack_bundle,
     toolkit_leaks,
 )
@@ -26,7 +30,7 @@ from hri_teleop.course.nodes import STUDENT_PACKAGE
 from hri_teleop.course.release import prepare_course_copy, solution_texts
 from hri_teleop.grading.batch.assignments import ASSIGNMENTS
 from hri_teleop.grading.cases.templates import make_answer
-from hri_teleop.ros.master import free_port
+from hri_teleop.ros.master import ManagedProcess, MasterError, RunningMaster, descendants, free_port
 
 pytestmark = pytest.mark.ros
 
@@ -205,3 +209,218 @@ def test_make_doctor_checks_the_simulated_lab_from_the_bundle_alone(installed):
     assert done.returncode == 0, done.stdout[-3000:] + done.stderr[-3000:]
     assert re.search(r"^ok\s+robot\s+the simulation \(lab_sim\)", done.stdout, re.M), done.stdout
     assert re.search(r"^ok\s+board\s+the simulated board", done.stdout, re.M), done.stdout
+
+
+# -- what the notebooks and the README name ------------------------------------------------------
+
+_BACKTICKED = re.compile(r"`([^`\s]+)`")
+_FILE_SUFFIX = re.compile(r"\.(py|launch|yaml|yml|ipynb|md|txt|xml|ino|h|cpp|png|sh|bag|csv|json)$")
+#: Named by a notebook but made later, not shipped: by the build cells, or by the student.
+MADE_LATER = {
+    "catkin_ws/": "the build cells of ex09 and ex12_13 (build_workspace) make it",
+    "hri_lab/scripts/teleoperation_remapped.py": "Ex. 10 has the student write this copy",
+}
+
+
+def _markdown(notebook: Path) -> str:
+    cells = json.loads(notebook.read_text(encoding="utf-8"))["cells"]
+    return "\n".join("".join(c["source"]) if isinstance(c["source"], list) else c["source"]
+                     for c in cells if c["cell_type"] == "markdown")
+
+
+def _named_paths(text: str) -> list:
+    """Files and folders named in backticks: relative, with a file suffix or a trailing slash
+    (not topics, message types, commands or URLs)."""
+    return [t for t in _BACKTICKED.findall(text) if "/" in t and not t.startswith(("/", "$", "~", "!", "http"))
+            and (t.endswith("/") or _FILE_SUFFIX.search(t))]
+
+
+def test_every_file_or_folder_a_notebook_names_is_in_the_bundle(unpacked):
+    checked, missing = [], []
+    for notebook in sorted(unpacked.glob("*/*.ipynb")):
+        bases = (notebook.parent, notebook.parent / STUDENT_PACKAGE, unpacked, unpacked / "toolkit")
+        for named in _named_paths(_markdown(notebook)):
+            checked.append(named)
+            if named not in MADE_LATER and not any(glob.glob(str(base / named)) for base in bases):
+                missing.append(f"{notebook.relative_to(unpacked)}: `{named}`")
+    assert "toolkit/firmware/arduino_code_force_node/" in checked and len(checked) >= 10, checked
+    assert missing == []
+
+
+def _make_targets_named(text: str) -> set:
+    """`make X` in backticks, and code lines that start with make X."""
+    return set(re.findall(r"`make ([\w-]+)", text)) | set(re.findall(r"^\s*make ([\w-]+)", text, re.M))
+
+
+def test_every_make_target_the_notebooks_and_the_readme_name_is_in_the_bundles_makefile(unpacked):
+    targets = set(re.findall(r"^([\w-]+):", (unpacked / "Makefile").read_text(), re.M))
+    named = {}
+    for source in [unpacked / "README.md", *sorted(unpacked.glob("*/*.ipynb"))]:
+        text = _markdown(source) if source.suffix == ".ipynb" else source.read_text(encoding="utf-8")
+        for target in _make_targets_named(text):
+            named.setdefault(target, source.name)
+    assert {"setup", "lab", "check", "doctor"} <= set(named), named
+    assert {t: where for t, where in named.items() if t not in targets} == {}
+
+
+def test_the_leak_check_finds_a_solution_line_inside_a_string_of_the_toolkit(unpacked, course, tmp_path):
+    texts = solution_texts(SOLUTIONS, course)
+    line = next(line.strip() for where, lines in texts.items() if where.endswith("mapping_node.py")
+                for line in lines if distinctive(line))
+    bundle = tmp_path / "task4"
+    shutil.copytree(unpacked, bundle, symlinks=True)
+    (bundle / "toolkit" / "hri_teleop" / "grading" / "judge" / "hint.py").write_text(f"HINT = 'write {line} here'\n")
+    leaks = toolkit_leaks(bundle, texts, answer_files())
+    assert [leak for leak in leaks if "hint.py" in leak and "inside a longer line" in leak], leaks
+
+
+# -- the README's terminal workflow, line by line ------------------------------------------------
+
+#: Lines that keep running: started in the background, then judged by what appears on the master.
+_LONG_RUNNING = ("roscore", "rosrun", "roslaunch")
+#: The handout's commands the README's section "In a terminal" must give (as a line or its start).
+HANDOUT_LINES = ("cd preparation && source ../toolkit/tools/env.sh", "roscore", "rosrun hri_lab FSR_sensor.py",
+                 "rosparam set /max_sensor_force 700", "rosrun hri_lab mapping_node.py",
+                 "roslaunch hri_lab sensor.launch", "cd lab && source ../toolkit/tools/env.sh",
+                 "cd catkin_ws && catkin_make && source devel/setup.bash", "rosrun hri_lab teleoperation.py",
+                 "roslaunch hri_lab teleoperation.launch")
+_TWIST = "/cartesian_velocity_controller/cmd_vel"
+
+
+def _terminal_blocks(readme: str) -> list:
+    """(subsection, [lines]) of each code block in the README's section "In a terminal", in order."""
+    section = readme.split("\n## In a terminal\n", 1)[1].split("\n## ", 1)[0]
+    blocks, current, subsection = [], None, ""
+    for line in section.splitlines():
+        if line.startswith("### "):
+            subsection = line[4:].strip()
+        elif line.startswith("```"):
+            if current is None:
+                current = []
+            else:
+                blocks.append((subsection, [x for x in current if x.strip() and not x.strip().startswith("#")]))
+                current = None
+        elif current is not None:
+            current.append(line)
+    return blocks
+
+
+def _command(line: str) -> str:
+    return re.sub(r"\s+#.*$", "", line).strip()
+
+
+class _Shell:
+    """One terminal's state -- its folder and environment -- carried from line to line."""
+
+    MARK = "__hri_terminal_state__"
+
+    def __init__(self, cwd: Path, env: dict) -> None:
+        self.cwd, self.env = cwd, dict(env)
+
+    def run(self, line: str, timeout_s: float = 900) -> str:
+        script = f'{line}\n__status=$?\nprintf "\\n%s\\n" {self.MARK}; pwd; env -0; exit $__status\n'
+        done = subprocess.run(["bash", "-c", script], cwd=self.cwd, env=self.env, capture_output=True,
+                              timeout=timeout_s, stdin=subprocess.DEVNULL)
+        out = done.stdout.decode(errors="replace")
+        assert done.returncode == 0 and self.MARK in out, \
+            f"`{line}` in {self.cwd}: exit {done.returncode}\n{out[-3000:]}\n{done.stderr.decode(errors='replace')[-3000:]}"
+        printed, state = out.rsplit(f"\n{self.MARK}\n", 1)
+        folder, _, variables = state.partition("\n")
+        self.cwd = Path(folder)
+        self.env = dict(item.split("=", 1) for item in variables.split("\0") if "=" in item)
+        return printed
+
+
+def _expect(command: str, master, started: list):
+    """(what, condition) a long-running line of the README must bring about on the master."""
+    def publishes(node: str, topic: str, *inputs: str):
+        return lambda: node in master.publishers(topic) and all(master.connections(node, t) > 0 for t in inputs)
+
+    if command.startswith("roscore"):
+        return "the master to answer", master.is_online
+    if command == "rosrun hri_lab FSR_sensor.py":
+        return "/FSR_sensor to publish /pub_force", publishes("/FSR_sensor", "/pub_force")
+    if command == "rosrun hri_lab mapping_node.py":
+        return ("/mapping_node to publish /force_mapped, fed by /pub_force",
+                publishes("/mapping_node", "/force_mapped", "/pub_force"))
+    if command == "roslaunch hri_lab sensor.launch":
+        replaced = [p for c, p in started if c in ("rosrun hri_lab FSR_sensor.py", "rosrun hri_lab mapping_node.py")]
+        launched = publishes("/mapping_node", "/force_mapped", "/pub_force")
+        return ("the launch's FSR_sensor and mapping_node (replacing the rosrun ones) to connect",
+                lambda: launched() and "/FSR_sensor" in master.publishers("/pub_force")
+                and not any(p.running for p in replaced))
+    if command.startswith("rosrun hri_lab teleoperation.py"):
+        return ("/teleoperation to publish the twist, fed by /force_mapped",
+                publishes("/teleoperation", _TWIST, "/force_mapped"))
+    pytest.fail(f"the README runs `{command}`, which this test does not know: say here what it must start")
+
+
+def _lab_only(shell: _Shell, command: str, bundle: Path) -> None:
+    """The lab's roslaunch at home: it finds the student's launch file, then stops at the lab's packages."""
+    found = shell.run("rospack find hri_lab").strip().splitlines()[-1]
+    assert Path(found).resolve() == (bundle / "lab" / STUDENT_PACKAGE).resolve(), found
+    assert command == "roslaunch hri_lab teleoperation.launch", command
+    if subprocess.run(["bash", "-c", "rospack find franka_control"], env=shell.env, capture_output=True).returncode:
+        done = subprocess.run(["bash", "-c", command], cwd=shell.cwd, env=shell.env, capture_output=True, text=True,
+                              timeout=120, stdin=subprocess.DEVNULL)
+        assert done.returncode != 0 and "franka_control" in done.stdout + done.stderr, done.stdout + done.stderr
+
+
+def test_the_readmes_terminal_lines_work_as_written(installed, course, home, tmp_path):
+    bundle = _copy(installed, home, "terminal")
+    _copy_answer_key(bundle, course)
+    blocks = _terminal_blocks((bundle / "README.md").read_text(encoding="utf-8"))
+    commands = [_command(line) for _sub, lines in blocks for line in lines]
+    assert [h for h in HANDOUT_LINES if not any(c.startswith(h) for c in commands)] == []
+    lab_block = [_command(line) for sub, lines in blocks if sub == "In the lab" for line in lines]
+    assert "roscore" not in lab_block and any("ROS_MASTER_URI" in c for c in lab_block), lab_block
+
+    port = free_port()
+    uri = f"http://127.0.0.1:{port}/"
+    env = _student_env()
+    env.update({"ROS_MASTER_URI": uri, "ROS_HOME": str(tmp_path / "ros_home"), "ROS_LOG_DIR": str(tmp_path / "log")})
+    master = RunningMaster(uri, base_env=env, work_dir=tmp_path / "master")
+    started: list = []
+    try:
+        for subsection, lines in blocks:
+            shell = _Shell(bundle, env)
+            for line in lines:
+                command = _command(line)
+                if not command.startswith(_LONG_RUNNING):
+                    shell.run(line)
+                elif subsection == "In the lab":
+                    _lab_only(shell, command, bundle)
+                else:
+                    run = re.sub(r"^roscore\b", f"roscore -p {port}", line)  # a private master, never 11311
+                    proc = ManagedProcess(["bash", "-c", run], shell.env, tmp_path / f"line{len(started)}.log",
+                                          cwd=shell.cwd)
+                    started.append((command, proc))
+                    what, condition = _expect(command, master, started)
+                    try:
+                        master.wait_for(lambda c=condition, p=proc: c() or not p.running, 120, what)
+                    except MasterError:
+                        pytest.fail(f"`{line}`: timed out waiting for {what}\n{proc.output()[-3000:]}")
+                    assert proc.running, f"`{line}` ended:\n{proc.output()[-3000:]}"
+            if subsection == "" and lines:  # the first block: the shell of an assignment folder
+                found = shell.run("rospack find hri_lab").strip().splitlines()[-1]
+                assert Path(found) == (bundle / "preparation" / STUDENT_PACKAGE).resolve(), found
+    finally:
+        family = [pid for _c, p in started for pid in descendants(p.popen.pid)]
+        for _c, proc in reversed(started):
+            proc.stop()
+        for pid in family:
+            with contextlib.suppress(ProcessLookupError):
+                os.kill(pid, signal.SIGKILL)
+    assert [c for c, p in started if p.anything_left] == []
+
+
+def test_make_doctor_from_a_shell_sourced_in_an_assignment_still_finds_the_toolkits_simulation(installed):
+    env = _student_env()
+    env.update({"HRI_MODE": "home", "ROS_MASTER_URI": f"http://127.0.0.1:{free_port()}/"})  # nobody there
+    script = ("cd preparation && source ../toolkit/tools/env.sh && rospack find hri_lab && "
+              "cd .. && make --no-print-directory doctor")
+    done = subprocess.run(["bash", "-c", script], cwd=installed, capture_output=True, text=True, timeout=300, env=env,
+                          stdin=subprocess.DEVNULL)
+    assert done.returncode == 0, done.stdout[-3000:] + done.stderr[-3000:]
+    assert done.stdout.splitlines()[0] == str((installed / "preparation" / STUDENT_PACKAGE).resolve()), done.stdout
+    assert re.search(r"^ok\s+robot\s+the simulation \(lab_sim\)", done.stdout, re.M), done.stdout

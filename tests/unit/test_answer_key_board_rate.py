@@ -28,3 +28,14 @@ def test_the_lab_launch_default_period_is_10_ms_too():
     tree = ET.parse(ROOT / "hri_lab" / "launch" / "teleoperation.launch")
     args = {a.get("name"): a.get("default") for a in tree.iter("arg")}
     assert args.get("publish_period_ms") == "10"
+
+
+def test_the_students_template_describes_the_parameter_but_not_the_answer_line():
+    from hri_teleop.grading.cases.templates import make_template
+
+    source = ROOT / "solutions" / "hri_lab" / "launch" / "teleoperation.launch"
+    template = make_template(source.read_text(encoding="utf-8"), "xml", str(source))
+    header = template.split("<launch>")[0]
+    for words in ("publish_period_ms", "an int", "300 ms", "3.3 counts a second", "10 gives 100"):
+        assert words in header, words
+    assert "<param" not in template and "serial_node.py" not in template

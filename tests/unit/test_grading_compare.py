@@ -223,6 +223,48 @@ def test_each_teleoperation_launch_mistake_fails_its_part_only(drop_node, params
     assert list(failed) == [compare.TELEOP_LAUNCH[key][0]] and words in failed[compare.TELEOP_LAUNCH[key][0]]
 
 
+def _serial_note(params):
+    parts = {p.name: p for p in compare.compare_teleop_launch(_launch(TELEOP_NODES, params))}
+    serial = parts[compare.TELEOP_LAUNCH["serial"][0]]
+    assert serial.passed and sum(p.points for p in parts.values()) == sum(v[1] for k, v in compare.TELEOP_LAUNCH.items()
+                                                                         if k != "sim")
+    return serial.note
+
+
+def test_a_launch_without_publish_period_ms_is_told_the_board_sends_every_300_ms_at_no_cost():
+    note = _serial_note(TELEOP_PARAMS)
+    assert "every 300 ms, 3.3 Hz" in note and "publish_period_ms to 10 for 100 Hz" in note
+
+
+def test_a_launch_with_publish_period_ms_10_is_told_the_board_sends_100_hz():
+    note = _serial_note({**TELEOP_PARAMS, "/serial_node/publish_period_ms": 10})
+    assert note == "the board sends every 10 ms, 100 Hz (serial_node's publish_period_ms)"
+
+
+def test_another_usable_publish_period_says_its_rate_and_the_labs():
+    note = _serial_note({**TELEOP_PARAMS, "/serial_node/publish_period_ms": 20})
+    assert "every 20 ms, 50 Hz" in note and "10 ms gives the 100 Hz" in note
+
+
+@pytest.mark.parametrize("value, words", [
+    ("10", "'10' (str)"),      # type="string": rosserial answers with a string the sketch cannot take
+    (10.0, "10.0 (float)"),
+    (2, "2, which"),            # below the sketch's 5 ms
+    (20000, "20000, which"),
+])
+def test_a_bad_publish_period_ms_is_named_with_the_300_ms_the_board_keeps(value, words):
+    note = _serial_note({**TELEOP_PARAMS, "/serial_node/publish_period_ms": value})
+    assert words in note and "it sends every 300 ms, 3.3 Hz" in note and "5..10000" in note
+
+
+def test_the_board_rate_note_follows_the_serial_node_s_own_name_and_keeps_the_port_note():
+    nodes = [("arduino", "rosserial_python", "serial_node.py")] + TELEOP_NODES[1:]
+    params = {**TELEOP_PARAMS, "/arduino/port": "/dev/ttyACM1", "/arduino/publish_period_ms": 10}
+    parts = {p.name: p for p in compare.compare_teleop_launch(_launch(nodes, params))}
+    assert parts[compare.TELEOP_LAUNCH["serial"][0]].note == "port is /dev/ttyACM1; the board sends every 10 ms, 100 Hz " \
+                                                             "(serial_node's publish_period_ms)"
+
+
 def _sim_observation(**changes):
     """What the grader records when the answer key's teleoperation.launch runs in simulation."""
     twist = "/cartesian_velocity_controller/cmd_vel"

@@ -19,6 +19,7 @@ from hri_teleop.grading.judge.compare_common import (
     process_hints,
 )
 from hri_teleop.grading.judge.compare_launch import (
+    board_rate_note,
     check_max_param,
     compare_graph,
     compare_sensor_launch,
@@ -37,5 +38,5 @@ __all__ = [
     "TOLERANCE", "MAPPING", "TELEOP", "SENSOR_LAUNCH", "TELEOP_LAUNCH", "GRAPH",
     "process_hints", "compare_mapping", "compare_teleop_parts", "compare_teleop_node",
     "compare_sensor_launch", "compare_teleop_launch", "compare_teleop_launch_sim", "compare_graph",
-    "check_max_param", "nodes_by_script", "explain_process", "teleop_node_name",
+    "check_max_param", "board_rate_note", "nodes_by_script", "explain_process", "teleop_node_name",
 ]

@@ -8,6 +8,8 @@ import re
 from pathlib import Path
 from typing import Any, Dict, Iterable, List, Mapping, Optional, Sequence, Set, Tuple
 
+from hri_teleop.core.board_rates import HANDOUT_PERIOD_S, MAX_PERIOD_MS, MIN_PERIOD_MS, RECOMMENDED_RATE_HZ
+from hri_teleop.core.checks import is_int
 from hri_teleop.core.config import DEFAULT_TWIST_TOPIC
 from hri_teleop.core.gripper import width_from_joint_positions_m
 from hri_teleop.core.mapping import ADC_MAX_COUNT
@@ -135,6 +137,34 @@ def compare_sensor_launch(parsed: LaunchParseResult, observation: Optional[Senso
     return parts
 
 
+def _hz(rate_hz: float) -> str:
+    return f"{rate_hz:.1f}".rstrip("0").rstrip(".")
+
+
+def board_rate_note(period_ms: object) -> str:
+    """What serial_node's ``~publish_period_ms`` (None: not set) makes the lab's rosserial sketch send.
+
+    A note, never points: the handout's Ex. 12 f) asks for the port only, and the parameter is
+    read by the lab's corrected sketch (firmware/arduino_code_force_node), so the serial part's
+    2 points and every total stay as they were; the feedback says what the file gives the board.
+    """
+    handout_ms = round(HANDOUT_PERIOD_S * 1000)
+    recommended_ms = round(1000 / RECOMMENDED_RATE_HZ)
+    fix = (f"set serial_node's publish_period_ms to {recommended_ms} for {_hz(RECOMMENDED_RATE_HZ)} Hz "
+           "(an int parameter of its node; no points depend on it)")
+    handout = f"every {handout_ms} ms, {_hz(1 / HANDOUT_PERIOD_S)} Hz"
+    if period_ms is None:
+        return f"the board sends {handout} (the handout's delay({handout_ms}), publish_period_ms not set): {fix}"
+    if not is_int(period_ms) or not MIN_PERIOD_MS <= period_ms <= MAX_PERIOD_MS:
+        kind = "" if is_int(period_ms) else f" ({type(period_ms).__name__})"
+        return (f"serial_node's publish_period_ms is {period_ms!r}{kind}, which the board ignores (it takes an int "
+                f"in {MIN_PERIOD_MS}..{MAX_PERIOD_MS} ms): it sends {handout}; {fix}")
+    note = f"the board sends every {period_ms} ms, {_hz(1000 / period_ms)} Hz (serial_node's publish_period_ms)"
+    if period_ms != recommended_ms:
+        note += f"; {recommended_ms} ms gives the {_hz(RECOMMENDED_RATE_HZ)} Hz the lab uses"
+    return note
+
+
 def compare_teleop_launch(parsed: LaunchParseResult, parse_facts: Optional[ProcessFacts] = None) -> List[Part]:
     """teleoperation.launch as roslaunch's loader sees it (with a stand-in franka_control)."""
     T = TELEOP_LAUNCH
@@ -166,7 +196,9 @@ def compare_teleop_launch(parsed: LaunchParseResult, parse_facts: Optional[Proce
             parts.append(_part(T, "serial", False, f"{key} is {port!r}; it must be the Arduino's serial port, the "
                                                    "string /dev/ttyACM0"))
         else:
-            parts.append(_part(T, "serial", True, note="" if port == "/dev/ttyACM0" else f"port is {port}"))
+            port_note = "" if port == "/dev/ttyACM0" else f"port is {port}"
+            rate_note = board_rate_note(params.get(f"{serial[0].full_name}/publish_period_ms"))
+            parts.append(_part(T, "serial", True, note="; ".join(n for n in (port_note, rate_note) if n)))
     ok, message = check_max_param(params)
     parts.append(_part(T, "param", ok, message))
     included = FRANKA_MARKER_PARAM in params
