@@ -24,7 +24,7 @@ __all__ = ["PygamePad", "NO_GAMEPAD_MESSAGE", "SDL_DEFAULTS", "import_pygame"]
 _log = logging.getLogger("hri_teleop.hardware.real.pygame_pad")
 
 NO_GAMEPAD_MESSAGE = ("no gamepad found: plug in a gamepad (check `ls /dev/input/js*`) "
-                      "or start with pad:=virtual")
+                      "or start with the virtual pad (pad:=virtual in roslaunch, _pad:=virtual in rosrun)")
 
 #: Environment defaults set (only where unset) before pygame/SDL initialises.
 SDL_DEFAULTS = (
@@ -48,7 +48,7 @@ def import_pygame() -> Any:
         import pygame  # noqa: PLC0415 - deliberately lazy: only real pads need pygame
     except ImportError:
         raise GamepadError("pygame is not installed: run `make setup` (or `pip install 'pygame>=2.1'`), "
-                           "or start with pad:=virtual") from None
+                           "or start with the virtual pad (pad:=virtual in roslaunch, _pad:=virtual in rosrun)") from None
     try:
         if not pygame.display.get_init():
             try:
@@ -60,7 +60,7 @@ def import_pygame() -> Any:
         pygame.joystick.init()
     except pygame.error as exc:
         raise GamepadError("SDL could not start its event queue (%s): unset SDL_VIDEODRIVER or set "
-                           "it to dummy, or start with pad:=virtual" % exc) from None
+                           "it to dummy, or start with the virtual pad (pad:=virtual in roslaunch, _pad:=virtual in rosrun)" % exc) from None
     return pygame
 
 
@@ -134,7 +134,7 @@ class PygamePad:
             joystick.init()
         except RuntimeError as exc:  # pygame.error
             raise GamepadError("cannot open gamepad %d (%s): check read/write access to "
-                               "/dev/input/event* (`ls -l /dev/input/`) or start with pad:=virtual"
+                               "/dev/input/event* (`ls -l /dev/input/`) or start with the virtual pad (pad:=virtual in roslaunch, _pad:=virtual in rosrun)"
                                % (index, exc)) from None
         return joystick
 
