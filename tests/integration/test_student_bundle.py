@@ -14,6 +14,7 @@ import subprocess
 import tarfile
 import tempfile
 from pathlib import Path
+from typing import Dict, Optional
 
 import pytest
 
@@ -139,8 +140,9 @@ def _student_env() -> dict:
     return env
 
 
-def _make(bundle: Path, *args: str, timeout: float) -> subprocess.CompletedProcess:
-    env = _student_env()
+def _make(bundle: Path, *args: str, timeout: float, extra_env: Optional[Dict[str, str]] = None
+          ) -> subprocess.CompletedProcess:
+    env = dict(_student_env(), **(extra_env or {}))
     return subprocess.run(["make", "-C", str(bundle), *args], capture_output=True, text=True, timeout=timeout,
                           env=env, stdin=subprocess.DEVNULL)
 
@@ -183,13 +185,22 @@ def test_untouched_the_bundle_scores_zero(installed, home):
     assert len(scores) == 3 and all(got == 0 for got, _most in scores.values()), done.stdout
 
 
-def test_with_the_answer_key_copied_in_the_bundle_gets_full_marks(installed, course, home):
+def test_with_the_answer_key_copied_in_the_bundle_gets_full_marks_even_run_on_the_lab_pcs_master(
+        installed, course, home, lab_twin):
+    """On the lab PC (here its twin: ROS_MASTER_URI points at it, nothing else set) make check still
+    grades on private masters: Ex. 10's scripted pad and simulated robot never reach the real ones."""
     bundle = _copy(installed, home, "answers")
     _copy_answer_key(bundle, course)
-    done = _make(bundle, "check", f"ONLY={CHECKED}", timeout=1200)
+    on_the_lab_pc = {"ROS_MASTER_URI": lab_twin.master_uri, "HRI_OWN_MASTER": ""}
+    done = _make(bundle, "check", f"ONLY={CHECKED},ex10", timeout=1200, extra_env=on_the_lab_pc)
     assert done.returncode == 0, done.stdout[-3000:] + done.stderr[-3000:]
+    assert f"check: grading on private masters (ROS_MASTER_URI={lab_twin.master_uri} is not used)" in done.stdout
     scores = _points(done.stdout)
-    assert len(scores) == 3 and all(got == most > 0 for got, most in scores.values()), done.stdout
+    assert len(scores) == 4 and all(got == most > 0 for got, most in scores.values()), done.stdout
+    report = lab_twin.report()
+    assert report.nonzero_twists == 0 and sum(report.gripper_goals.values()) == 0, report.lines()
+    assert report.pub_force_publishers == ["/serial_node"], report.lines()
+    assert report.replaced == [] and report.stopped == [], report.lines()
 
 
 def test_make_lab_serves_the_bundle_with_the_toolkits_kernel(installed):
