@@ -17,6 +17,7 @@ from hri_teleop.course.lab_nodes import (
     start_board,
     start_pipeline,
     start_robot,
+    wait_for_quit,
 )
 from hri_teleop.course.nodes import launch_student, wait_for_publisher
 from hri_teleop.course.nodes import rosrun_student as rosrun
@@ -27,5 +28,5 @@ from hri_teleop.course.recovery import recover, reflex
 from hri_teleop.ros.master import PrivateMaster as private_master
 
 __all__ = ["stop", "run_provided", "run_student", "rosrun", "launch_student", "wait_for_publisher", "start_robot",
-           "start_board", "start_pipeline", "start_application", "pad_params", "default_pad", "mode", "hand_z_m", "max_sensor_force", "private_master",
+           "start_board", "start_pipeline", "start_application", "wait_for_quit", "pad_params", "default_pad", "mode", "hand_z_m", "max_sensor_force", "private_master",
            "reflex", "recover"]

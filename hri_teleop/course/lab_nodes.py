@@ -21,10 +21,10 @@ from hri_teleop.course.errors import CourseError
 from hri_teleop.course.master_mode import NotStarted, master_mode, start_refusal
 from hri_teleop.course.nodes import STUDENT_PACKAGE, launch, launch_student, run_provided_node, run_student_node
 from hri_teleop.grading.run.workspace import REFERENCE_PACKAGE
-from hri_teleop.ros.master_api import master_call
+from hri_teleop.ros.master_api import master_call, running_nodes
 
 __all__ = ["mode", "start_robot", "start_board", "start_pipeline", "wait_for_subscriber", "hand_z_m",
-           "pad_params", "default_pad", "start_application"]
+           "pad_params", "default_pad", "start_application", "wait_for_quit"]
 
 #: lab_sim's end-effector pose (geometry_msgs/PoseStamped), the simulated robot's answer.
 EE_POSE_TOPIC = "/lab_sim/ee_pose"
@@ -155,7 +155,24 @@ def start_application(feedback: bool = True, package: Union[str, Path] = STUDENT
         print(reason)
         return NotStarted(reason)
     master_call("setParam", "/teleoperation/feedback", bool(feedback))
-    return launch_student("teleoperation.launch", package)
+    try:
+        return launch_student("teleoperation.launch", package)
+    except CourseError as exc:  # a name already running (franka_control from Ex. 10's terminal), a broken file
+        print(f"not started: {exc}")
+        return NotStarted(f"not started: {exc}")
+
+
+def wait_for_quit(timeout_s: float = 600.0, node: str = "/teleoperation") -> bool:
+    """Wait until the teleoperation node has quit (square on the pad), at most ``timeout_s``.
+
+    True when it is gone (at once when none runs, as at home); the other nodes keep running.
+    """
+    deadline = time.monotonic() + timeout_s
+    while running_nodes(among=[node]):
+        if time.monotonic() > deadline:
+            return False
+        time.sleep(0.2)
+    return True
 
 
 def lab_launch_file() -> Path:
