@@ -6,6 +6,10 @@ publisher for each topic the board announces, answers time requests with ROS tim
 requests from its private namespace (``~publish_period_ms``; a missing one is left unanswered, as
 rosserial_python does), logs the board's log lines and publishes what the board sends. Counts:
 frames, messages per topic, time and parameter answers.
+
+Run from the twin's installed ``rosserial_python`` (``scripts/serial_node.py``, which a student's
+launch file starts with ``~port /dev/ttyACM0``), :data:`TWIN_BOARD_PORT_ENV` names the twin's board:
+that pty is opened whatever ``~port`` says, and one log line says so.
 """
 
 from __future__ import annotations
@@ -37,7 +41,7 @@ from hri_teleop.core.rosserial_frames import (
     encode_time,
     frame,
 )
-from hri_teleop.ros.lab_twin.counts import CountsFile
+from hri_teleop.ros.lab_twin.counts import TWIN_BOARD_PORT_ENV, CountsFile
 from hri_teleop.ros.params import fail, get_param, run_node
 
 __all__ = ["RosserialHost", "param_answer", "main", "SYNC_TIMEOUT_S"]
@@ -200,6 +204,10 @@ def main() -> int:
     if baud not in _BAUDS:
         fail(f"parameter {rospy.get_name()}/baud is {baud!r}; use {ROSSERIAL_BAUD} (the sketch's)")
     timeout_s = get_param("~timeout", SYNC_TIMEOUT_S, kind=float)
+    board = os.environ.get(TWIN_BOARD_PORT_ENV, "").strip()
+    if board:
+        rospy.loginfo("lab twin: ~port %s is the twin's board at %s", port, board)
+        port = board
     fd = open_port(port, baud)
     counts = CountsFile.from_env(rospy.get_name())
     host = RosserialHost(fd, counts, timeout_s)
