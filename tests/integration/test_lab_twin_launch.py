@@ -12,7 +12,11 @@ Nothing here times a duration: each step waits for the graph or the counts.
 from __future__ import annotations
 
 import os
+import queue
+import signal
+import subprocess
 import sys
+import threading
 from pathlib import Path
 from typing import List
 
@@ -23,6 +27,7 @@ from hri_teleop.grading.run.workspace import prepare_workspace, ros_package_path
 from hri_teleop.ros.lab_twin import NODES, LabTwin, TwinReport
 from hri_teleop.ros.lab_twin.counts import counts_path, read_json
 from hri_teleop.ros.launch_inspect import launched_nodes
+from hri_teleop.ros.master import ManagedProcess
 
 pytestmark = pytest.mark.ros
 
@@ -192,3 +197,42 @@ def test_a_launch_by_hand_over_the_running_twins_robot_replaces_it_and_the_count
     robot.stop()
     gone = lab_twin.report()
     assert gone.launched == [] and gone.missing == robot_nodes
+
+
+def test_make_lab_twin_bare_says_what_to_export_and_each_node_a_launch_brings_up(tmp_path, ros_env):
+    folder = tmp_path / "rehearsal"
+    proc = subprocess.Popen([sys.executable, "-m", "hri_teleop.ros.lab_twin", "--bare", "--folder", str(folder)],
+                            env=ros_env, stdin=subprocess.DEVNULL, stdout=subprocess.PIPE, stderr=subprocess.STDOUT,
+                            text=True, cwd=REPO, start_new_session=True)
+    lines: "queue.Queue[str]" = queue.Queue()
+    threading.Thread(target=lambda: [lines.put(line) for line in proc.stdout], daemon=True).start()
+
+    def read_until(*texts: str) -> List[str]:
+        """Lines until each of ``texts`` was in one (a hang guard, never a measured time)."""
+        seen: List[str] = []
+        while not all(any(text in line for line in seen) for text in texts):
+            seen.append(lines.get(timeout=WAIT_S * 2))
+        return seen
+
+    launch = None
+    try:
+        block = read_until("press 700 2 | activate")
+        assert any(line.startswith("nodes    none yet (bare)") for line in block), block
+        exports = dict(line.split("export ", 1)[1].split()[0].split("=", 1) for line in block if "export " in line)
+        env = dict(ros_env, ROS_MASTER_URI=exports["ROS_MASTER_URI"], ROS_HOSTNAME="127.0.0.1",
+                   ROS_LOG_DIR=str(tmp_path / "log"), ROS_HOME=str(tmp_path / "home"),
+                   ROS_PACKAGE_PATH=exports["ROS_PACKAGE_PATH"].replace("$ROS_PACKAGE_PATH", ros_env["ROS_PACKAGE_PATH"]))
+        launch = ManagedProcess(["roslaunch", "--wait", "franka_control", "franka_control_cartesian_velocity.launch",
+                                 "load_gripper:=false"], env, tmp_path / "launch.log")
+        said = "".join(read_until(*[f"{node} runs from the twin's installed packages"
+                                    for node in ("/franka_control", "/joint_state_publisher")]))
+        assert "/franka_gripper" not in said and "replaced" not in said, said
+        launch.stop()
+        proc.send_signal(signal.SIGINT)
+        assert proc.wait(timeout=WAIT_S) == 130
+    finally:
+        if launch is not None:
+            launch.stop()
+        if proc.poll() is None:
+            os.killpg(proc.pid, signal.SIGKILL)
+            proc.wait()

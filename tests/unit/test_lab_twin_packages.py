@@ -18,7 +18,13 @@ from hri_teleop.ros.lab_twin.counts import (
     write_activated,
     write_json_atomic,
 )
-from hri_teleop.ros.lab_twin.packages import CARTESIAN_VELOCITY_LAUNCH, EXECUTABLES, ROBOT_IP, write_packages
+from hri_teleop.ros.lab_twin.packages import (
+    CARTESIAN_VELOCITY_LAUNCH,
+    EXECUTABLES,
+    ROBOT_IP,
+    found_elsewhere,
+    write_packages,
+)
 from hri_teleop.ros.lab_twin.report import NODES, read_report
 
 PORT = "/dev/pts/7"
@@ -101,3 +107,12 @@ def test_the_report_tells_nodes_a_launch_started_from_the_twins_own_replaced_one
     assert (over.launched, over.replaced, over.stopped) == (["/franka_control"], ["/franka_control"],
                                                             ["/franka_control"])
     assert news(over)[0].startswith("/franka_control replaced by another node of that name")
+
+
+def test_a_real_franka_control_earlier_on_the_path_is_named(tmp_path: Path) -> None:
+    root = write_packages(tmp_path / "packages", tmp_path / "counts", PORT, sys.executable)
+    assert found_elsewhere(root, str(root)) == []
+    real = tmp_path / "opt" / "franka_control"
+    real.mkdir(parents=True)
+    (real / "package.xml").write_text((root / "franka_control" / "package.xml").read_text())
+    assert found_elsewhere(root, f"{tmp_path / 'opt'}:{root}") == [f"franka_control at {real}"]
