@@ -65,9 +65,7 @@ _LAUNCH = """<?xml version="1.0"?>
         output="screen">
     <param name="robot_ip" value="$(arg robot_ip)"/>
   </node>
-  <node name="joint_state_publisher" pkg="franka_control" type="joint_state_publisher" output="screen">
-    <param name="rate" value="30"/>
-  </node>
+  <node name="joint_state_publisher" pkg="franka_control" type="joint_state_publisher" output="screen"/>
 </launch>
 """
 
