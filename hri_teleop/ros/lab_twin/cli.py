@@ -1,11 +1,9 @@
 """``make lab-twin``: the lab twin in the foreground for a lab engineer's rehearsal.
 
-Prints one block (the nodes, the master URI to export, the board's pty, how to stop), then takes
-commands on standard input -- ``press 700 2``, ``activate``, ``deactivate``, ``report``, ``help`` --
-until Ctrl-C; with no standard input (CI) it runs until interrupted. Ctrl-C stops all it started.
-``--bare``: only the master and the board, as the lab PC before anybody launched anything; a
-launch of the twin's installed packages (a student's teleoperation.launch) brings the nodes up,
-and each coming and going is one line.
+Prints one block (the nodes, what to export, the board's pty, how to stop), then takes commands on
+standard input -- ``press 700 2``, ``activate``, ``deactivate``, ``report``, ``help`` -- until Ctrl-C
+(without standard input it runs until interrupted), and says in one line each node that comes up
+from the twin's packages, is replaced or stops. Ctrl-C stops all it started.
 
     python -m hri_teleop.ros.lab_twin [--folder DIR] [--publish-period-ms N] [--deactivated] [--bare]
 """

@@ -1,14 +1,9 @@
 """What a lab twin node counts, written atomically to a JSON file in the twin's folder.
 
-The twin must look like the lab on the ROS graph, so its nodes say what reached them through
-files, never topics: each node keeps its counts here and a writer thread replaces
-``<folder>/<node>.json`` (write to a temporary file, then rename) soon after any change, and once
-more when the node stops. The folder comes from the environment (:data:`TWIN_DIR_ENV`).
-
-A node of the same name started later (a launch of the twin's installed packages over the twin's
-own node) takes the file over: an older process never writes over a newer one's counts, not even
-its last ones. The robot's user stop lives in the folder too (:data:`ACTIVATION_FILE`), so
-whichever franka_control runs reads it.
+The twin must look like the lab on the ROS graph, so its nodes say what reached them through files,
+never topics: ``<folder>/<node>.json``, replaced (temporary file, then rename) soon after any change
+and once more when the node stops; the folder comes from :data:`TWIN_DIR_ENV`. A later process of
+the same node takes the file over. The robot's user stop lives there too (:data:`ACTIVATION_FILE`).
 """
 
 from __future__ import annotations

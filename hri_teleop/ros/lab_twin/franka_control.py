@@ -1,13 +1,10 @@
 """The lab twin's ``/franka_control``: the Panda's Cartesian velocity controller, error recovery and state controller.
 
-In franka_ros one node, franka_control, runs the controllers: it takes the velocity command (the
-controller's ``cmd_vel``), serves ``/franka_control/error_recovery`` and publishes the seven joints on
-``/franka_state_controller/joint_states``. Here the project's simulated arm
-(:class:`hri_teleop.hardware.sim.arm.SimArm`, as lab_sim runs it) moves under the commands.
-The robot's user stop lives in the twin's folder (``activation.json``, :func:`LabTwin.set_activated
-<hri_teleop.ros.lab_twin.twin.LabTwin.set_activated>`), so it holds for whichever franka_control runs,
-the twin's own or one a launch started later: engaged, commands are received and counted, the arm
-stays. Counts: twists, non-zero twists, error recoveries (:mod:`hri_teleop.ros.lab_twin.counts`).
+As franka_ros's franka_control it takes the velocity command (``cmd_vel``), serves
+``/franka_control/error_recovery`` and publishes the seven joints; the project's simulated arm
+(:class:`hri_teleop.hardware.sim.arm.SimArm`, as lab_sim runs it) moves under the commands. With the
+user stop engaged in the twin's folder (whichever franka_control runs reads it) commands are
+counted and the arm stays. Counts: twists, non-zero twists, error recoveries.
 """
 
 from __future__ import annotations

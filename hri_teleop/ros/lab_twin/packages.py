@@ -1,15 +1,10 @@
 """The lab PC's installed ``franka_control`` and ``rosserial_python``, as the lab twin carries them.
 
-On the lab PC franka_ros and rosserial_python are installed ROS packages: a student's
-``teleoperation.launch`` (the handout *Task 4: Teleoperation*, Ex. 12-13) starts ``rosserial_python``'s
-``serial_node.py`` with ``~port /dev/ttyACM0`` and includes
-``$(find franka_control)/launch/franka_control_cartesian_velocity.launch``. Debian has neither, so
-:func:`write_packages` writes both into the twin's folder at each start. Their executables run the
-twin's own nodes with absolute paths baked in (this interpreter, this checkout, this twin's counts
-folder and board), so whatever a launch starts from them reports into this twin's counts, and
-``serial_node.py`` opens this twin's board whatever ``~port`` says. :attr:`LabTwin.env
-<hri_teleop.ros.lab_twin.twin.LabTwin.env>` puts the folder last on ``ROS_PACKAGE_PATH``, as an
-installed ROS would be.
+A student's teleoperation.launch (the handout *Task 4: Teleoperation*, Ex. 12-13) starts
+``rosserial_python/serial_node.py`` and includes franka_control's ``franka_control_cartesian_velocity.launch``;
+Debian has neither. :func:`write_packages` writes both into the twin's folder at each start, their
+executables running the twin's nodes with this twin's paths baked in (interpreter, checkout, counts
+folder, board); ``LabTwin.env`` puts them last on ``ROS_PACKAGE_PATH``, as an installed ROS.
 """
 
 from __future__ import annotations

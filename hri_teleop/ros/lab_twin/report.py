@@ -1,16 +1,9 @@
 """What reached the lab twin: its nodes' counts files read into one typed record.
 
-:class:`TwinReport` is what a test or a rehearsal asks: twists (and non-zero ones) the robot
-received, gripper goals per action, error recoveries, the board's counts on ``/pub_force``, who
-publishes ``/pub_force`` on the master, and where each of the lab's nodes comes from:
-
-- ``replaced``: a node the twin itself started whose name another node took over (the master's
-  ``lookupNode`` no longer gives the twin process's URI); ``stopped``: such a node's process is gone.
-  Only the twin's own nodes are ever replaced or stopped.
-- ``launched``: a node running from the twin's installed packages (a launch or ``rosrun`` of
-  ``franka_control`` or ``rosserial_python``), reporting into the same counts. On a bare twin a
-  student's launch makes these; over a running twin's node it is both replaced and launched.
-- ``missing``: a lab node that is not on the master (a bare twin before anybody launched anything).
+:class:`TwinReport` is what a test or a rehearsal asks: twists the robot received, gripper goals,
+error recoveries, the board's counts on ``/pub_force`` and who publishes it, and where each lab node
+comes from: the twin's own ``replaced`` (another node took its name) or ``stopped``, ``launched``
+from the twin's installed packages (never called replaced), or ``missing`` from the master.
 """
 
 from __future__ import annotations
@@ -47,7 +40,15 @@ def _vector(data: Mapping[str, Any], key: str) -> Optional[Tuple[float, ...]]:
 
 @dataclass(frozen=True)
 class TwinReport:
-    """The twin's counts at one moment (each node's raw counts in ``nodes``, the board's in ``board``)."""
+    """The twin's counts at one moment (each node's raw counts in ``nodes``, the board's in ``board``).
+
+    Where the lab's nodes come from: ``replaced`` names a node the twin itself started whose name
+    another node took (the master's ``lookupNode`` no longer gives the twin process's URI),
+    ``stopped`` one whose process is gone -- only the twin's own nodes are ever either. ``launched``
+    names a node running from the twin's installed packages (a launch or ``rosrun``), counting into
+    the same files: on a bare twin a student's launch makes these; over a running twin's node it is
+    both replaced and launched. ``missing``: a lab node no running process registered on the master.
+    """
 
     twists: int = 0
     nonzero_twists: int = 0

@@ -1,15 +1,10 @@
 """The lab twin's ``/serial_node``: the host side of rosserial, as rosserial_python's serial_node.py speaks it.
 
-It opens ``~port`` (the board's pty) like a serial port at ``~baud``, asks the board for its topics
-(and again when the board stays silent for ``~timeout`` s, rosserial's "lost sync"), creates a
-publisher for each topic the board announces, answers time requests with ROS time and parameter
-requests from its private namespace (``~publish_period_ms``; a missing one is left unanswered, as
-rosserial_python does), logs the board's log lines and publishes what the board sends. Counts:
-frames, messages per topic, time and parameter answers.
-
-Run from the twin's installed ``rosserial_python`` (``scripts/serial_node.py``, which a student's
-launch file starts with ``~port /dev/ttyACM0``), :data:`TWIN_BOARD_PORT_ENV` names the twin's board:
-that pty is opened whatever ``~port`` says, and one log line says so.
+It opens ``~port`` (the board's pty; run from the twin's installed serial_node.py, the twin's board
+whatever ``~port`` says) at ``~baud``, asks the board for its topics (again after ``~timeout`` s of
+silence), publishes what it sends, answers time and parameter requests (a missing one unanswered,
+as rosserial_python does) and logs its log lines. Counts: frames, messages per topic, time and
+parameter answers.
 """
 
 from __future__ import annotations

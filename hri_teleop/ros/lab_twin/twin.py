@@ -1,13 +1,10 @@
 """The lab twin: a private master that looks to every notebook and node like the lab PC's, and counts what reaches it.
 
-:class:`LabTwin` starts a roscore on a free port (never 11311), the board on a pty, and the lab's
-nodes under the lab's names -- ``/franka_control``, ``/franka_gripper``, ``/joint_state_publisher``,
-``/serial_node`` -- nothing else on the graph. It also carries the lab PC's installed
-``franka_control`` and ``rosserial_python`` (:mod:`hri_teleop.ros.lab_twin.packages`), so a
-student's ``teleoperation.launch`` runs on it; ``nodes_running=False`` is the lab PC before
-anybody launched anything (only the master and the board). ``env`` is what a kernel or ``make
-check`` would get; ``report()`` what reached the hardware; ``press`` and ``set_activated`` play
-the person at the piston and at the robot's user stop. docs/lab-day.md, "Before the first session".
+:class:`LabTwin` starts a roscore on a free port (never 11311), the board on a pty and the lab's
+nodes under the lab's names -- nothing else on the graph -- and carries the lab PC's installed
+franka_control and rosserial_python, so a student's launch runs on it (``nodes_running=False``: the
+lab PC before anybody launched anything). ``env`` is what a kernel gets; ``report()`` what reached
+the hardware; ``press``/``set_activated`` play the person at the piston and at the user stop.
 """
 
 from __future__ import annotations
