@@ -29,8 +29,10 @@ demo-sensor: setup
 
 # The lab twin (docs/lab-day.md, "Before the first session"): a master that looks like the lab PC's
 # (franka_control, franka_gripper, joint_state_publisher, serial_node with a rosserial board on a pty)
-# and counts what reaches it. Prints the URI to export; takes press 700 2, activate, deactivate, report
-# on standard input; Ctrl-C stops everything. LAB_TWIN_ARGS="--deactivated --publish-period-ms 300".
+# and counts what reaches it, with the lab PC's installed franka_control and rosserial_python so a
+# student's teleoperation.launch runs on it. Prints the URI and package path to export; takes press 700 2,
+# activate, deactivate, report on standard input; Ctrl-C stops everything.
+# LAB_TWIN_ARGS="--deactivated --publish-period-ms 300", or "--bare": only the master and the board.
 lab-twin: setup
 	@$(ENV) $(PY) -m hri_teleop.ros.lab_twin $(LAB_TWIN_ARGS)
 

@@ -1,10 +1,11 @@
 """``make lab-twin``: the lab twin in the foreground for a lab engineer's rehearsal.
 
-Prints one block (the nodes, the master URI to export, the board's pty, how to stop), then takes
-commands on standard input -- ``press 700 2``, ``activate``, ``deactivate``, ``report``, ``help`` --
-until Ctrl-C; with no standard input (CI) it runs until interrupted. Ctrl-C stops all it started.
+Prints one block (the nodes, what to export, the board's pty, how to stop), then takes commands on
+standard input -- ``press 700 2``, ``activate``, ``deactivate``, ``report``, ``help`` -- until Ctrl-C
+(without standard input it runs until interrupted), and says in one line each node that comes up
+from the twin's packages, is replaced or stops. Ctrl-C stops all it started.
 
-    python -m hri_teleop.ros.lab_twin [--folder DIR] [--publish-period-ms N] [--deactivated]
+    python -m hri_teleop.ros.lab_twin [--folder DIR] [--publish-period-ms N] [--deactivated] [--bare]
 """
 
 from __future__ import annotations
@@ -19,15 +20,16 @@ from typing import Callable, List, Optional, Set, TextIO
 from hri_teleop.core.errors import HriTeleopError
 from hri_teleop.core.paths import REPO
 from hri_teleop.hardware.sim.rosserial_board import FULL_PRESS_COUNT
+from hri_teleop.ros.lab_twin.report import TwinReport
 from hri_teleop.ros.lab_twin.twin import DEFAULT_PUBLISH_PERIOD_MS, LabTwin
 from hri_teleop.ros.master import run_reporting
 
-__all__ = ["COMMANDS", "handle", "main"]
+__all__ = ["COMMANDS", "handle", "news", "main"]
 
 #: How often the twin's nodes are checked for being replaced or stopped from outside (s).
 WATCH_PERIOD_S = 1.0
 COMMANDS = ("press COUNT [HOLD_S]  press the piston (a full press: press 700 2)",
-            "activate | deactivate  release or engage the robot's user stop (~activated)",
+            "activate | deactivate  release or engage the robot's user stop (for any franka_control)",
             "report                 what reached the twin so far",
             "help                   this list")
 
@@ -69,8 +71,19 @@ def _block(twin: LabTwin) -> List[str]:
                "type     press 700 2 | activate | deactivate | report | help", rule])
 
 
+def news(report: TwinReport) -> List[str]:
+    """What a person watching the twin should hear about its nodes now (each line once: the caller
+    keeps what it said): a twin node replaced or stopped, a node of the installed packages running."""
+    return ([f"{node} replaced by another node of that name (the rest keeps running; Ctrl-C stops it)"
+             for node in report.replaced]
+            + [f"{node} stopped (the rest keeps running; Ctrl-C stops it)" for node in report.stopped]
+            + [f"{node} runs from the twin's installed packages (pid {report.pids.get(node, '?')})"
+               for node in report.launched])
+
+
 def _run(args: argparse.Namespace, stdin: TextIO) -> int:
-    with LabTwin(args.folder, activated=not args.deactivated, publish_period_ms=args.publish_period_ms) as twin:
+    with LabTwin(args.folder, activated=not args.deactivated, publish_period_ms=args.publish_period_ms,
+                 nodes_running=not args.bare) as twin:
         print("\n".join(_block(twin)), flush=True)
         done = threading.Event()
 
@@ -82,13 +95,10 @@ def _run(args: argparse.Namespace, stdin: TextIO) -> int:
         threading.Thread(target=read_commands, name="commands", daemon=True).start()
         said: Set[str] = set()
         while not done.wait(WATCH_PERIOD_S):
-            report = twin.report()
-            news = [f"{node} replaced by another node of that name" for node in report.replaced] + [
-                f"{node} stopped" for node in report.stopped]
-            for news_line in news:
+            for news_line in news(twin.report()):
                 if news_line not in said:
                     said.add(news_line)
-                    print(f"twin: {news_line} (the rest keeps running; Ctrl-C stops it)", flush=True)
+                    print(f"twin: {news_line}", flush=True)
     return 0
 
 
@@ -99,6 +109,8 @@ def main(argv: Optional[List[str]] = None) -> int:
     parser.add_argument("--publish-period-ms", type=int, default=DEFAULT_PUBLISH_PERIOD_MS,
                         help="serial_node's ~publish_period_ms (default %(default)s, as teleoperation.launch)")
     parser.add_argument("--deactivated", action="store_true", help="start with the robot's user stop engaged")
+    parser.add_argument("--bare", action="store_true",
+                        help="only the master and the board: the nodes come up when a launch starts them")
     args = parser.parse_args(argv)
     signal.signal(signal.SIGTERM, signal.default_int_handler)  # a kill stops all it started, as Ctrl-C does
     return run_reporting(lambda: _run(args, sys.stdin), "lab-twin")

@@ -1,11 +1,10 @@
 """The lab twin's ``/franka_control``: the Panda's Cartesian velocity controller, error recovery and state controller.
 
-In franka_ros one node, franka_control, runs the controllers: it takes the velocity command (the
-controller's ``cmd_vel``), serves ``/franka_control/error_recovery`` and publishes the seven joints on
-``/franka_state_controller/joint_states``. Here the project's simulated arm
-(:class:`hri_teleop.hardware.sim.arm.SimArm`, as lab_sim runs it) moves under the commands.
-``~activated`` false is the robot's user stop engaged: commands are received and counted, the arm
-stays. Counts: twists, non-zero twists, error recoveries (:mod:`hri_teleop.ros.lab_twin.counts`).
+As franka_ros's franka_control it takes the velocity command (``cmd_vel``), serves
+``/franka_control/error_recovery`` and publishes the seven joints; the project's simulated arm
+(:class:`hri_teleop.hardware.sim.arm.SimArm`, as lab_sim runs it) moves under the commands. With the
+user stop engaged in the twin's folder (whichever franka_control runs reads it) commands are
+counted and the arm stays. Counts: twists, non-zero twists, error recoveries.
 """
 
 from __future__ import annotations
@@ -16,6 +15,7 @@ os.environ.setdefault("OPENBLAS_NUM_THREADS", "1")  # before numpy: the arm's 7 
 
 import threading
 import time
+from pathlib import Path
 from typing import Any, Optional
 
 import actionlib
@@ -30,7 +30,7 @@ from hri_teleop.core.reflex import ERROR_RECOVERY_ACTION
 from hri_teleop.hardware.sim.arm import SimArm
 from hri_teleop.hardware.sim.world import LAB_ARM_CONFIG
 from hri_teleop.ros import franka_msgs as fm
-from hri_teleop.ros.lab_twin.counts import CountsFile
+from hri_teleop.ros.lab_twin.counts import TWIN_DIR_ENV, CountsFile, read_activated
 from hri_teleop.ros.params import fail, get_param, run_node
 
 __all__ = ["FrankaControlTwin", "main", "STATE_RATE_HZ", "LOOP_PERIOD_S", "ACTIVATED_POLL_S"]
@@ -39,7 +39,7 @@ __all__ = ["FrankaControlTwin", "main", "STATE_RATE_HZ", "LOOP_PERIOD_S", "ACTIV
 STATE_RATE_HZ = 30.0
 #: How often the arm is run up to the present (s); it steps its 1 ms cycles in between.
 LOOP_PERIOD_S = 0.002
-#: How often ~activated is read again (s).
+#: How often the user stop's state is read again (s).
 ACTIVATED_POLL_S = 0.1
 #: How often the arm's position goes to the counts file while it moves (s).
 POSITION_PERIOD_S = 0.1
@@ -56,11 +56,14 @@ class FrankaControlTwin:
                  f"e.g. {STATE_RATE_HZ:g}")
         self._lock = threading.Lock()
         self._t0 = time.monotonic()
+        self.folder = os.environ.get(TWIN_DIR_ENV, "").strip()
         self.arm = SimArm(LAB_ARM_CONFIG, start_time_s=0.0)
         self.activated = self._read_activated()
         self._record("activated", self.activated)
         self._record("position_m", list(self.arm.position_m))
         self._record("start_position_m", list(self.arm.position_m))
+        if self.arm.joint_positions is not None:  # the counts are complete before the first command
+            self._record("joint_positions_rad", [round(v, 6) for v in self.arm.joint_positions])
         self.joints_pub = rospy.Publisher(FRANKA_JOINT_STATES_TOPIC, JointState, queue_size=5)
         self.recovery_server = actionlib.ActionServer(ERROR_RECOVERY_ACTION, fm.ErrorRecoveryAction,
                                                       self._on_error_recovery, auto_start=False)
@@ -69,7 +72,7 @@ class FrankaControlTwin:
                                           tcp_nodelay=True)
         rospy.loginfo("franka_control: Cartesian velocity commands on %s, error recovery on %s, joint states on %s "
                       "(%s)", DEFAULT_TWIST_TOPIC, ERROR_RECOVERY_ACTION, FRANKA_JOINT_STATES_TOPIC,
-                      "activated" if self.activated else "user stop engaged (~activated false): the arm stays")
+                      "activated" if self.activated else "user stop engaged: the arm stays")
 
     def _record(self, key: str, value: Any) -> None:
         if self.counts is not None:
@@ -80,9 +83,16 @@ class FrankaControlTwin:
             self.counts.add(key)
 
     def _read_activated(self) -> bool:
-        value = rospy.get_param("~activated", True)
+        """The user stop in the twin's folder (outside a twin: activated)."""
+        if not self.folder:
+            return True
+        try:
+            value = read_activated(Path(self.folder))
+        except (OSError, ValueError) as exc:  # a file a person broke: keep the arm still
+            value = exc
         if not isinstance(value, bool):
-            rospy.logwarn_throttle(10.0, "~activated is %r: set true or false; keeping the arm still" % (value,))
+            rospy.logwarn_throttle(10.0, "the user stop's state in %s is %r: LabTwin.set_activated (or the twin's "
+                                   "activate command) rewrites it; keeping the arm still" % (self.folder, value))
             return False
         return value
 

@@ -1,9 +1,9 @@
 """What reached the lab twin: its nodes' counts files read into one typed record.
 
-:class:`TwinReport` is what a test or a rehearsal asks: twists (and non-zero ones) the robot
-received, gripper goals per action, error recoveries, the board's counts on ``/pub_force``, who
-publishes ``/pub_force`` on the master, and which twin nodes were replaced (the master's
-``lookupNode`` no longer gives the twin process's URI) or stopped (the process is gone).
+:class:`TwinReport` is what a test or a rehearsal asks: twists the robot received, gripper goals,
+error recoveries, the board's counts on ``/pub_force`` and who publishes it, and where each lab node
+comes from: the twin's own ``replaced`` (another node took its name) or ``stopped``, ``launched``
+from the twin's installed packages (never called replaced), or ``missing`` from the master.
 """
 
 from __future__ import annotations
@@ -40,7 +40,15 @@ def _vector(data: Mapping[str, Any], key: str) -> Optional[Tuple[float, ...]]:
 
 @dataclass(frozen=True)
 class TwinReport:
-    """The twin's counts at one moment (each node's raw counts in ``nodes``, the board's in ``board``)."""
+    """The twin's counts at one moment (each node's raw counts in ``nodes``, the board's in ``board``).
+
+    Where the lab's nodes come from: ``replaced`` names a node the twin itself started whose name
+    another node took (the master's ``lookupNode`` no longer gives the twin process's URI),
+    ``stopped`` one whose process is gone -- only the twin's own nodes are ever either. ``launched``
+    names a node running from the twin's installed packages (a launch or ``rosrun``), counting into
+    the same files: on a bare twin a student's launch makes these; over a running twin's node it is
+    both replaced and launched. ``missing``: a lab node no running process registered on the master.
+    """
 
     twists: int = 0
     nonzero_twists: int = 0
@@ -62,6 +70,8 @@ class TwinReport:
     pids: Dict[str, int] = field(default_factory=dict)
     replaced: List[str] = field(default_factory=list)
     stopped: List[str] = field(default_factory=list)
+    launched: List[str] = field(default_factory=list)
+    missing: List[str] = field(default_factory=list)
     nodes: Dict[str, Dict[str, Any]] = field(default_factory=dict)
     board: Dict[str, Any] = field(default_factory=dict)
 
@@ -92,14 +102,19 @@ class TwinReport:
             f"gripper  goals: {goals}; width {self.gripper_width_m or 0.0:.4f} m",
             f"board    {self.pub_force_published} counts on /pub_force by {', '.join(self.pub_force_publishers) or 'nobody'}"
             f" (every {self.board_period_ms} ms, last {self.board_last_count}, {self.board_presses} presses)",
-            f"nodes    replaced: {', '.join(self.replaced) or 'none'}; stopped: {', '.join(self.stopped) or 'none'}",
+            f"nodes    replaced: {', '.join(self.replaced) or 'none'}; stopped: {', '.join(self.stopped) or 'none'}; "
+            f"from the installed packages (a launch): {', '.join(self.launched) or 'none'}; "
+            f"not on the master: {', '.join(self.missing) or 'none'}",
         ]
 
 
 def read_report(folder: Path, pub_force_publishers: Sequence[str], replaced: Sequence[str],
-                stopped: Sequence[str]) -> TwinReport:
-    """The counts files in ``folder`` with what the caller found on the master and of the processes."""
+                stopped: Sequence[str], registered: Sequence[str] = NODES) -> TwinReport:
+    """The counts files in ``folder`` with what the caller found on the master (the lab nodes
+    ``registered`` there) and of the twin's own processes."""
     nodes = {name: read_json(counts_path(folder, name)) for name in NODES}
+    launched = [name for name in NODES if name in registered and nodes[name].get("package")
+                and not nodes[name].get("stopped")]
     board = read_json(counts_path(folder, BOARD))
     control, gripper = nodes["/franka_control"], nodes["/franka_gripper"]
     width = gripper.get("width_m")
@@ -117,4 +132,5 @@ def read_report(folder: Path, pub_force_publishers: Sequence[str], replaced: Seq
         board_port=str(board.get("port", "")),
         pub_force_publishers=list(pub_force_publishers),
         pids={name: _int(data, "pid") for name, data in {**nodes, BOARD: board}.items() if data},
-        replaced=list(replaced), stopped=list(stopped), nodes=nodes, board=board)
+        replaced=list(replaced), stopped=list(stopped), launched=launched,
+        missing=[name for name in NODES if name not in registered], nodes=nodes, board=board)

@@ -1,11 +1,10 @@
 """The lab twin's ``/serial_node``: the host side of rosserial, as rosserial_python's serial_node.py speaks it.
 
-It opens ``~port`` (the board's pty) like a serial port at ``~baud``, asks the board for its topics
-(and again when the board stays silent for ``~timeout`` s, rosserial's "lost sync"), creates a
-publisher for each topic the board announces, answers time requests with ROS time and parameter
-requests from its private namespace (``~publish_period_ms``; a missing one is left unanswered, as
-rosserial_python does), logs the board's log lines and publishes what the board sends. Counts:
-frames, messages per topic, time and parameter answers.
+It opens ``~port`` (the board's pty; run from the twin's installed serial_node.py, the twin's board
+whatever ``~port`` says) at ``~baud``, asks the board for its topics (again after ``~timeout`` s of
+silence), publishes what it sends, answers time and parameter requests (a missing one unanswered,
+as rosserial_python does) and logs its log lines. Counts: frames, messages per topic, time and
+parameter answers.
 """
 
 from __future__ import annotations
@@ -37,7 +36,7 @@ from hri_teleop.core.rosserial_frames import (
     encode_time,
     frame,
 )
-from hri_teleop.ros.lab_twin.counts import CountsFile
+from hri_teleop.ros.lab_twin.counts import TWIN_BOARD_PORT_ENV, CountsFile
 from hri_teleop.ros.params import fail, get_param, run_node
 
 __all__ = ["RosserialHost", "param_answer", "main", "SYNC_TIMEOUT_S"]
@@ -200,6 +199,10 @@ def main() -> int:
     if baud not in _BAUDS:
         fail(f"parameter {rospy.get_name()}/baud is {baud!r}; use {ROSSERIAL_BAUD} (the sketch's)")
     timeout_s = get_param("~timeout", SYNC_TIMEOUT_S, kind=float)
+    board = os.environ.get(TWIN_BOARD_PORT_ENV, "").strip()
+    if board:
+        rospy.loginfo("lab twin: ~port %s is the twin's board at %s", port, board)
+        port = board
     fd = open_port(port, baud)
     counts = CountsFile.from_env(rospy.get_name())
     host = RosserialHost(fd, counts, timeout_s)
