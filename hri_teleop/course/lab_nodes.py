@@ -162,12 +162,19 @@ def start_application(feedback: bool = True, package: Union[str, Path] = STUDENT
         return NotStarted(f"not started: {exc}")
 
 
-def wait_for_quit(timeout_s: float = 600.0, node: str = "/teleoperation") -> bool:
-    """Wait until the teleoperation node has quit (square on the pad), at most ``timeout_s``.
+def wait_for_quit(app: Any, timeout_s: float = 600.0, node: str = "/teleoperation") -> bool:
+    """Wait until the teleoperation node ``app`` started has come up and quit (square on the pad).
 
-    True when it is gone (at once when none runs, as at home); the other nodes keep running.
+    True when it quit within ``timeout_s``; at once when ``app`` was not started (at home, a
+    refused start); False when the launch ended without the node or the time ran out.
     """
+    if not app:
+        return True
     deadline = time.monotonic() + timeout_s
+    while not running_nodes(among=[node]):  # the launch brings it up first
+        if not app.running or time.monotonic() > deadline:
+            return False
+        time.sleep(0.2)
     while running_nodes(among=[node]):
         if time.monotonic() > deadline:
             return False

@@ -12,6 +12,8 @@ import json
 import os
 import subprocess
 import sys
+import threading
+import time
 from concurrent.futures import ThreadPoolExecutor
 from pathlib import Path
 from typing import Dict, List
@@ -147,3 +149,53 @@ def test_with_a_person_at_the_labs_pad_the_students_node_drives_the_real_robot(c
     assert twin.report().nonzero_twists > after.nonzero_twists, twin.report().lines()
     assert ex09["grades"]["ex9_node"][0] == ex09["grades"]["ex9_node"][1]
     assert twin.report().replaced == [] and twin.report().pub_force_publishers == ["/serial_node"]
+
+
+#: Ex. 14's person: tries the sticks while the robot is not activated, waits for the rumble of a full
+#: press of the piston, then drives the (by then activated) robot down and quits.
+EX14_PERSON = [{"t": 1.0, "axis": "right_y", "value": -0.5}, {"t": 2.0, "axis": "right_y", "value": 0.0},
+               {"t": 2.5, "axis": "right_y", "value": -0.5, "when": "rumble", "above": 0.5, "max_wait": 300},
+               {"t": 4.0, "axis": "right_y", "value": 0.0}, {"t": 4.5, "tap": "west", "hold": 0.1}]
+
+
+def test_ex14_in_the_lab_the_students_launch_file_runs_first_without_then_with_the_robot(course, tmp_path):
+    """Ex. 14 as the handout has it, from the notebook: the student's own teleoperation.launch on the lab PC
+    (a bare twin: nothing launched yet, the robot not activated), the pad tried in vain, the piston pressed
+    and felt, the robot activated, the egg's place reached; no scripted node, the student's launch only."""
+    twin = LabTwin(tmp_path / "twin", nodes_running=False, activated=False)
+    twin.start()
+    done = threading.Event()
+    during = []
+
+    def person() -> None:  # at the robot and the piston: each act waits for the one before
+        while not done.is_set() and twin.report().ignored_twists == 0:
+            time.sleep(0.2)
+        if not done.is_set():
+            during.append(twin.report())  # the student's launch is up
+            twin.set_activated(True)
+            twin.press(700, 3.0)
+
+    helper = threading.Thread(target=person, daemon=True)
+    try:
+        script = tmp_path / "person.yaml"
+        script.write_text(yaml.safe_dump({"steps": EX14_PERSON}))
+        path = os.environ.get("PYTHONPATH", "")
+        env = _kernel_env(twin, PYTHONPATH=f"{STANDIN}:{REPO}" + (f":{path}" if path else ""),
+                          HRI_PAD_STANDIN_SCRIPT=str(script), HRI_PAD_STANDIN_LOG=str(tmp_path / "pad.log"))
+        helper.start()
+        result = _run(course / "source" / "lab" / "ex14_force_feedback.ipynb", env, tmp_path / "ex14.json")
+        report = twin.report()
+    finally:
+        done.set()
+        helper.join(30)
+        twin.stop()
+    lab_cells = {c["grade_id"]: c for c in result["cells"] if c["grade_id"].startswith("lab_")}
+    assert all(not c["error"] for c in lab_cells.values()), lab_cells
+    assert "your node quit: True" in lab_cells["lab_wait"]["stdout"], lab_cells
+    # Started by the student's launch from the lab PC's installed packages (stopped again by lab.stop()).
+    assert during and {"/franka_control", "/franka_gripper", "/serial_node"} <= set(during[0].launched), json.dumps(
+        [report.lines(), lab_cells], indent=1)
+    assert report.ignored_twists > 0, report.lines()  # the sticks while the robot was not activated
+    assert report.board_presses >= 1 and report.arm_moved_m > 0.03, report.lines()
+    assert during[0].pub_force_publishers == ["/serial_node"], during[0].lines()
+
