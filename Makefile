@@ -73,10 +73,11 @@ grade: setup
 
 # Gradescope (grading/README.md, section Gradescope): out/gradescope/autograder.zip with setup.sh and
 # run_autograder at its root, for a programming assignment on Gradescope's Ubuntu 22.04 base image.
-# CHECKS=a,b grades some of the checks (default: all), OUT=dir writes it elsewhere.
+# CHECKS=a,b grades some of the checks (default: all), OUT=dir writes it elsewhere; UNSANDBOXED=1 grades
+# uploaded notebooks with the grader's rights where Gradescope's container cannot run bubblewrap.
 .PHONY: gradescope
 gradescope: setup
-	@$(ENV) $(PY) -m hri_teleop.grading.gradescope build --out $(or $(OUT),out/gradescope) $(if $(CHECKS),--checks $(CHECKS))
+	@$(ENV) $(PY) -m hri_teleop.grading.gradescope build --out $(or $(OUT),out/gradescope) $(if $(CHECKS),--checks $(CHECKS)) $(if $(filter-out 0,$(UNSANDBOXED)),--unsandboxed)
 
 # Firmware (firmware/README.md): both Arduino sketches for the Uno with Debian's AVR
 # toolchain (flash and RAM use against 32 KB / 2 KB), and the simulated Uno (simavr) the

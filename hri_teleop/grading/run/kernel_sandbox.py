@@ -169,6 +169,8 @@ def _homes(env: Mapping[str, str]) -> List[str]:
 def _rules(policy: KernelPolicy, env: Mapping[str, str], uid: Optional[int]) -> List[Tuple[str, str]]:
     exe = os.path.realpath(sys.executable)
     shown = [str(REPO), sys.prefix, sys.base_prefix, os.path.dirname(os.path.dirname(exe))]
+    # the kernel's Python is this one (.pth files included); python -m puts the folder it runs in first
+    shown += [p for p in sys.path if os.path.isabs(p) and os.path.realpath(p) != os.path.realpath(os.getcwd())]
     shown += _search_path_entries(env)
     inside = [str(REPO / name) for name in REPO_HIDDEN] + list(policy.hidden)
     rules = mount_rules([*HIDDEN_ROOTS, *_homes(env)], [os.path.realpath(p) for p in shown],
