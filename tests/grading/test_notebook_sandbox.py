@@ -299,7 +299,7 @@ def test_without_bubblewrap_make_grade_refuses_unless_unsandboxed_and_then_says_
 
 
 def test_mount_rules_decide_each_folder_by_the_deepest_rule_above_it():
-    from hri_teleop.grading.run.kernel_sandbox import mount_rules
+    from hri_teleop.grading.run.kernel_box import mount_rules
 
     rules = mount_rules(["/home", "/tmp", "/home/prof"], ["/home/prof/hri", "/home", "/home/prof/.venv", "/usr"],
                         ["/home/prof/hri/solutions", "/tmp/course", "/home/prof/hri/notebooks/submitted"])

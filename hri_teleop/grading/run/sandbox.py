@@ -21,6 +21,7 @@ from pathlib import Path
 from typing import Callable, Dict, List, Mapping, Optional, Sequence, TextIO
 
 from hri_teleop.core.errors import HriTeleopError
+from hri_teleop.grading.run.kernel_box import UID_BASE, uid_process_count
 
 __all__ = ["SandboxError", "Limits", "DEFAULT_LIMITS", "sandbox_mode", "bwrap_problem", "session_argv",
            "StudentProcess", "student_uid", "student_environment", "OUTPUT_CAP_BYTES", "describe_exit",
@@ -29,7 +30,6 @@ __all__ = ["SandboxError", "Limits", "DEFAULT_LIMITS", "sandbox_mode", "bwrap_pr
 #: Largest output (stdout + stderr, and any one file) a student process may write.
 OUTPUT_CAP_BYTES = 2 * 1024 * 1024
 _MODE_ENV = "HRI_GRADE_SANDBOX"
-_UID_BASE = 200000  # student uids: 200000 + the grading process' pid (unique while it lives)
 
 
 class SandboxError(HriTeleopError, RuntimeError):
@@ -119,7 +119,7 @@ def student_uid() -> Optional[int]:
     """An unprivileged uid for this grading process' student code, or None when not root."""
     if os.geteuid() != 0:
         return None
-    return _UID_BASE + os.getpid()
+    return UID_BASE + os.getpid()
 
 
 def session_argv(argv: Sequence[str], session_dir: Path, readonly_extra: Sequence[Path] = ()) -> List[str]:
@@ -164,24 +164,6 @@ _ENV_PREFIXES = ("ROS", "LC_")
 def student_environment(env: Mapping[str, str]) -> Dict[str, str]:
     """Only what ROS and Python need: the grader's other variables (tokens, keys) stay with it."""
     return {k: v for k, v in env.items() if k in _ENV_KEYS or k.startswith(_ENV_PREFIXES)}
-
-
-def uid_process_count(uid: int) -> int:
-    """Live processes and threads of ``uid`` (zombies left to a slow init do not count)."""
-    count = 0
-    for entry in os.listdir("/proc"):
-        if entry.isdigit():
-            try:
-                if os.stat(f"/proc/{entry}").st_uid != uid:
-                    continue
-                with open(f"/proc/{entry}/stat", "rb") as fh:
-                    state = fh.read().rsplit(b")", 1)[1].split()[0]
-                if state in (b"Z", b"X"):
-                    continue
-                count += len(os.listdir(f"/proc/{entry}/task"))
-            except (OSError, IndexError):
-                continue
-    return count
 
 
 def _preexec(limits: Limits, uid: Optional[int], nproc: int) -> Callable[[], None]:
