@@ -1,8 +1,8 @@
 """The kernel sandbox's launcher: one Jupyter kernel started in a bubblewrap box, and the box's rules.
 
 Jupyter starts it in place of the kernel (:mod:`hri_teleop.grading.run.kernel_sandbox` says how and
-why). It imports nothing of the grader, whose package takes half a second to import: it is loaded
-from its file, and every notebook's kernel pays only for the box (grading/README.md, "Notebooks'
+why). It imports nothing of the grader's package, which takes half a second to import: it is loaded
+from its file, so every notebook's kernel pays only for its box (grading/README.md, "Notebooks'
 kernels"). The box's user writes the submission's copy in; Jupyter reaches the sockets via /proc.
 """
 
@@ -23,10 +23,11 @@ from typing import Any, Dict, List, Mapping, Optional, Sequence, Tuple
 
 from hri_teleop.core.errors import HriTeleopError
 from hri_teleop.core.paths import REPO
+from hri_teleop.ros.master import STUDENT_UID_BASE, uid_process_count
 
-__all__ = ["POLICY_ENV", "SCRATCH_BYTES", "PROCESSES", "CHANNEL", "CHECK_RESULTS", "HIDDEN_ROOTS", "ERROR_MARK", "UID_BASE",
+__all__ = ["POLICY_ENV", "SCRATCH_BYTES", "PROCESSES", "CHANNEL", "CHECK_RESULTS", "HIDDEN_ROOTS", "ERROR_MARK",
            "KernelBoxError", "KernelPolicy", "Box", "mount_rules", "kernel_environment", "box_uid",
-           "uid_process_count", "launch", "main"]
+           "launch", "main"]
 
 #: Set (to a :class:`KernelPolicy` as JSON) in the environment of nbgrader's autograde: its kernels are boxed.
 POLICY_ENV = "HRI_KERNEL_SANDBOX"
@@ -49,8 +50,6 @@ REPO_HIDDEN = ("solutions", "notebooks", "out")
 ERROR_MARK = "kernel sandbox: "
 _READY_TIMEOUT_S = 20.0     # bwrap sets up the box in milliseconds; this only guards a hang
 _POLL_S = 0.005
-#: Student code as root runs under uid UID_BASE + the pid of the process that owns it (unique while it lives).
-UID_BASE = 200000
 _PR_SET_PDEATHSIG = 1
 _SOCKETS = ("shell_port", "iopub_port", "stdin_port", "control_port", "hb_port")
 # The kernel's environment: what Python, ROS, Jupyter's kernel and the notebooks read; never the grader's tokens.
@@ -69,25 +68,7 @@ class KernelBoxError(HriTeleopError, RuntimeError):
 
 def box_uid() -> Optional[int]:
     """As root: an unprivileged uid for what this process starts; None otherwise."""
-    return UID_BASE + os.getpid() if os.geteuid() == 0 else None
-
-
-def uid_process_count(uid: int) -> int:
-    """Live processes and threads of ``uid`` (zombies left to a slow init do not count)."""
-    count = 0
-    for entry in os.listdir("/proc"):
-        if entry.isdigit():
-            try:
-                if os.stat(f"/proc/{entry}").st_uid != uid:
-                    continue
-                with open(f"/proc/{entry}/stat", "rb") as fh:
-                    state = fh.read().rsplit(b")", 1)[1].split()[0]
-                if state in (b"Z", b"X"):
-                    continue
-                count += len(os.listdir(f"/proc/{entry}/task"))
-            except (OSError, IndexError):
-                continue
-    return count
+    return STUDENT_UID_BASE + os.getpid() if os.geteuid() == 0 else None
 
 
 @dataclass(frozen=True)

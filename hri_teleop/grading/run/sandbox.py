@@ -21,11 +21,10 @@ from pathlib import Path
 from typing import Callable, Dict, List, Mapping, Optional, Sequence, TextIO
 
 from hri_teleop.core.errors import HriTeleopError
-from hri_teleop.grading.run.kernel_box import UID_BASE, uid_process_count
+from hri_teleop.ros.master import STUDENT_UID_BASE, uid_process_count
 
 __all__ = ["SandboxError", "Limits", "DEFAULT_LIMITS", "sandbox_mode", "bwrap_problem", "session_argv",
-           "StudentProcess", "student_uid", "student_environment", "OUTPUT_CAP_BYTES", "describe_exit",
-           "uid_process_count"]
+           "StudentProcess", "student_uid", "student_environment", "OUTPUT_CAP_BYTES", "describe_exit"]
 
 #: Largest output (stdout + stderr, and any one file) a student process may write.
 OUTPUT_CAP_BYTES = 2 * 1024 * 1024
@@ -119,7 +118,7 @@ def student_uid() -> Optional[int]:
     """An unprivileged uid for this grading process' student code, or None when not root."""
     if os.geteuid() != 0:
         return None
-    return UID_BASE + os.getpid()
+    return STUDENT_UID_BASE + os.getpid()
 
 
 def session_argv(argv: Sequence[str], session_dir: Path, readonly_extra: Sequence[Path] = ()) -> List[str]:
