@@ -18,7 +18,7 @@ import sys
 import tempfile
 import threading
 import time
-from dataclasses import asdict, dataclass
+from dataclasses import asdict, dataclass, replace
 from pathlib import Path
 from typing import Any, Callable, Dict, List, Mapping, Optional, Sequence, Tuple
 
@@ -50,7 +50,7 @@ from hri_teleop.grading.run.kernel_sandbox import (
     ERROR_MARK,
     POLICY_ENV,
     KernelPolicy,
-    kernel_sandbox_problem,
+    kernel_sandbox,
 )
 from hri_teleop.grading.run.sandbox import bwrap_problem, sandbox_mode
 from hri_teleop.ros.kernel import install_kernelspec, ipc_kernel_argv
@@ -304,8 +304,7 @@ def _autograde_in(course: _Course, student: str, assignment: str, out: Path, tim
     if results_dir is not None:
         env[reuse.READ_ENV] = str(results_dir)
     if sandbox is not None:  # the box holds a copy of this submission's results, where the kernel reads them
-        policy = KernelPolicy(sandbox.hidden, str(results_dir or ""), sandbox.scratch_bytes, sandbox.processes)
-        env[POLICY_ENV] = policy.to_json()
+        env[POLICY_ENV] = replace(sandbox, check_results=str(results_dir or "")).to_json()
         if results_dir is not None:
             env[reuse.READ_ENV] = CHECK_RESULTS
     # Each notebook's kernel starts while the one before runs (hri_teleop.grading.batch.spare_kernels).
@@ -344,8 +343,7 @@ def autograde_one(course_root: Path, student: str, assignment: str, out: Path, t
     course = _open_course(course_root, course_root / "submitted", [assignment])
     out.mkdir(parents=True, exist_ok=True)
     if sandbox is not None:
-        sandbox = KernelPolicy((*sandbox.hidden, str(course.root), str(out)), "", sandbox.scratch_bytes,
-                               sandbox.processes)
+        sandbox = replace(sandbox, hidden=(*sandbox.hidden, str(course.root), str(out)))
     return _autograde(course, student, assignment, out, timeout_s, threading.Lock(), progress, None, sandbox)
 
 
@@ -411,9 +409,8 @@ def grade_course(course: Path, submitted: Path, out: Path, jobs: Optional[int] =
     check_policy(policy, assignments)
     nb = _open_course(course, submitted, assignments)
     # The kernels see neither the course (other students, the gradebook, the answers) nor OUT.
-    sandbox = None if unsandboxed else KernelPolicy((str(course), str(out)))
-    require_sandbox(kernel_sandbox_problem(sandbox) if sandbox is not None else "", unsandboxed,
-                    "the students' notebooks")
+    sandbox, problem = (None, "") if unsandboxed else kernel_sandbox(KernelPolicy((str(course), str(out))))
+    require_sandbox(problem, unsandboxed, "the students' notebooks")
     if sandbox is None:
         progress(unsandboxed_line("the students' notebooks" + (" and files" if bwrap_problem() else "")))
     install_kernelspec()  # the notebooks' kernel "hri-teleop" (.venv's Python in the lab's shell)

@@ -22,7 +22,7 @@ from hri_teleop.grading.batch.nbgrader_batch import autograde_one, nbgrader_job_
 from hri_teleop.grading.cases.templates import empty_regions, has_markers
 from hri_teleop.grading.results import GradingError
 from hri_teleop.grading.run.jobs import run_job
-from hri_teleop.grading.run.kernel_sandbox import KernelPolicy, kernel_sandbox_problem
+from hri_teleop.grading.run.kernel_sandbox import KernelPolicy, kernel_sandbox
 from hri_teleop.ros.kernel import install_kernelspec
 
 __all__ = ["COURSE", "NOTEBOOKS_TIMEOUT_S", "NotebookTests", "course_members", "without_solutions",
@@ -210,7 +210,9 @@ def grade_notebooks(notebooks: Sequence[Path], package: Path, shipped: Path, wor
     if chosen:
         install_kernelspec()  # the notebooks' kernel "hri-teleop", as make grade installs it
         _alembic_on_path(work)
-    refused = kernel_sandbox_problem(sandbox) if chosen and sandbox is not None else ""
+    refused = ""
+    if chosen and sandbox is not None:
+        sandbox, refused = kernel_sandbox(sandbox)
     if refused:
         refused = (f"the autograder cannot sandbox the notebooks' code here ({refused}); the instructor can "
                    "rebuild it with make gradescope UNSANDBOXED=1 to grade them with the grader's rights")

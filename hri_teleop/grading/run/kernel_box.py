@@ -75,23 +75,27 @@ def box_uid() -> Optional[int]:
 class KernelPolicy:
     """What one submission's kernels get: ``hidden`` folders of the instructor's (the course, OUT; added to
     :data:`HIDDEN_ROOTS`), ``check_results`` the host folder of this submission's stored check results
-    (copied into the box), the scratch quota and the process limit."""
+    (copied into the box), the scratch quota and the process limit. ``own_proc`` False: the box shows the
+    machine's /proc instead of mounting its own (in a container that forbids the mount: Gradescope's)."""
 
     hidden: Tuple[str, ...] = ()
     check_results: str = ""
     scratch_bytes: int = SCRATCH_BYTES
     processes: int = PROCESSES
+    own_proc: bool = True
 
     def to_json(self) -> str:
         return json.dumps({"hidden": list(self.hidden), "check_results": self.check_results,
-                           "scratch_bytes": self.scratch_bytes, "processes": self.processes})
+                           "scratch_bytes": self.scratch_bytes, "processes": self.processes,
+                           "own_proc": self.own_proc})
 
     @staticmethod
     def from_json(text: str) -> "KernelPolicy":
         try:
             data = json.loads(text)
             return KernelPolicy(tuple(str(p) for p in data.get("hidden", ())), str(data.get("check_results", "")),
-                                int(data.get("scratch_bytes", SCRATCH_BYTES)), int(data.get("processes", PROCESSES)))
+                                int(data.get("scratch_bytes", SCRATCH_BYTES)), int(data.get("processes", PROCESSES)),
+                                data.get("own_proc", True) is not False)
         except (ValueError, TypeError, AttributeError) as exc:
             raise KernelBoxError(f"{POLICY_ENV}: not a kernel sandbox policy ({exc}); make grade sets it, unset it") \
                 from None
@@ -201,7 +205,9 @@ def _bwrap_argv(exe: str, rules: Sequence[Tuple[str, str]], cwd: str, policy: Ke
                 info_fd: int, block_fd: int) -> List[str]:
     argv = [exe, "--unshare-user", "--unshare-pid", "--unshare-net", "--unshare-ipc", "--unshare-uts",
             "--unshare-cgroup-try", "--die-with-parent", "--cap-drop", "ALL",
-            "--ro-bind", "/", "/", "--dev", "/dev", "--proc", "/proc", "--size", str(SHM_BYTES), "--tmpfs", "/dev/shm"]
+            "--ro-bind", "/", "/", "--dev", "/dev", *(["--proc", "/proc"] if policy.own_proc else
+                                                     ["--ro-bind", "/proc", "/proc"]),
+            "--size", str(SHM_BYTES), "--tmpfs", "/dev/shm"]
     for kind, path in rules:
         argv += ["--tmpfs", path] if kind == "hide" else ["--ro-bind", path, path]
     for mount_point in (cwd, CHANNEL):
@@ -273,7 +279,8 @@ def _write_tree(tree: _Tree, target: str) -> None:
 class Box:
     """One bubblewrap box being set up: started blocked, filled from outside, then let run."""
 
-    def __init__(self, command: Sequence[str], cwd: str, policy: KernelPolicy, env: Mapping[str, str]) -> None:
+    def __init__(self, command: Sequence[str], cwd: str, policy: KernelPolicy, env: Mapping[str, str],
+                 stderr: Optional[int] = None) -> None:
         exe = shutil.which("bwrap", path=env.get("PATH"))
         if exe is None:
             raise KernelBoxError(f"{ERROR_MARK}bubblewrap (bwrap) is not installed; apt-get install bubblewrap")
@@ -303,7 +310,7 @@ class Box:
 
         try:
             self.process = subprocess.Popen(argv, env=self.env, cwd="/", pass_fds=(info_w, block_r),
-                                            preexec_fn=limits, close_fds=True)
+                                            preexec_fn=limits, close_fds=True, stderr=stderr)
         finally:
             os.close(info_w)
             os.close(block_r)
