@@ -298,6 +298,18 @@ def test_without_bubblewrap_make_grade_refuses_unless_unsandboxed_and_then_says_
     assert (home / "owned").read_text() == "owned"  # what the flag means: the notebook had the grader's rights
 
 
+def test_a_folder_of_packages_is_refused_too_without_bubblewrap(tmp_path):
+    """make grade on plain student folders (no notebooks) refuses the same way, before grading anything."""
+    _answer_key(tmp_path / "submissions" / "dan")
+    base = grader_env()
+    env = dict(base, PATH=f"{_no_bwrap(tmp_path)}:{base['PATH']}")
+    code, lines, stderr = _make_grade(tmp_path / "submissions", tmp_path / "grades", env, timeout_s=120)
+    ours = [line for line in stderr.splitlines() if not line.startswith("make")]
+    assert code != 0 and len(ours) == 1, stderr
+    assert ours[0].startswith("hri-grade: bubblewrap cannot sandbox the students' files here"), stderr
+    assert "UNSANDBOXED=1" in ours[0] and not (tmp_path / "grades" / "grades.csv").exists(), stderr
+
+
 def test_mount_rules_decide_each_folder_by_the_deepest_rule_above_it():
     from hri_teleop.grading.run.kernel_box import mount_rules
 
