@@ -78,6 +78,8 @@ clean:
 # STUDENT=id regrades one student (the others' rows kept), LATE=late.yaml the late policy;
 # OUT also gets report.html (the class report) and lms.csv (grading/README.md); REPORT=1
 # grades nothing and writes those again (after grading by hand, or a changed late.yaml).
+# Student code runs in bubblewrap; where it cannot, make grade refuses unless UNSANDBOXED=1
+# (the notebooks' kernels then run with the grader's rights; the output and report.html say so first).
 traces: setup
 	@$(ENV) $(PY) -m hri_teleop.grading.cli traces
 
@@ -85,14 +87,15 @@ templates: setup
 	@$(ENV) $(PY) -m hri_teleop.grading.cli templates
 
 grade: setup
-	@$(ENV) $(PY) -m hri_teleop.grading.cli batch $(or $(DIR),notebooks/submitted) --out $(or $(OUT),out/grades) $(if $(JOBS),--jobs $(JOBS)) $(if $(TIMEOUT),--timeout $(TIMEOUT)) $(if $(CHECKS),--checks $(CHECKS)) $(if $(STUDENT),--student $(STUDENT)) $(if $(LATE),--late $(LATE)) $(if $(filter-out 0,$(REPORT)),--report-only)
+	@$(ENV) $(PY) -m hri_teleop.grading.cli batch $(or $(DIR),notebooks/submitted) --out $(or $(OUT),out/grades) $(if $(JOBS),--jobs $(JOBS)) $(if $(TIMEOUT),--timeout $(TIMEOUT)) $(if $(CHECKS),--checks $(CHECKS)) $(if $(STUDENT),--student $(STUDENT)) $(if $(LATE),--late $(LATE)) $(if $(filter-out 0,$(REPORT)),--report-only) $(if $(filter-out 0,$(UNSANDBOXED)),--unsandboxed)
 
 # Gradescope (grading/README.md, section Gradescope): out/gradescope/autograder.zip with setup.sh and
 # run_autograder at its root, for a programming assignment on Gradescope's Ubuntu 22.04 base image.
-# CHECKS=a,b grades some of the checks (default: all), OUT=dir writes it elsewhere.
+# CHECKS=a,b grades some of the checks (default: all), OUT=dir writes it elsewhere; UNSANDBOXED=1 grades
+# uploaded notebooks with the grader's rights where Gradescope's container cannot run bubblewrap.
 .PHONY: gradescope
 gradescope: setup
-	@$(ENV) $(PY) -m hri_teleop.grading.gradescope build --out $(or $(OUT),out/gradescope) $(if $(CHECKS),--checks $(CHECKS))
+	@$(ENV) $(PY) -m hri_teleop.grading.gradescope build --out $(or $(OUT),out/gradescope) $(if $(CHECKS),--checks $(CHECKS)) $(if $(filter-out 0,$(UNSANDBOXED)),--unsandboxed)
 
 # Firmware (firmware/README.md): both Arduino sketches for the Uno with Debian's AVR
 # toolchain (flash and RAM use against 32 KB / 2 KB), and the simulated Uno (simavr) the

@@ -66,6 +66,9 @@ def _parser() -> argparse.ArgumentParser:
                         "and nbgrader's gradebook (after grading by hand, or a changed late.yaml)")
     b.add_argument("--late", default=None, help="the late policy (default: late.yaml beside the course or in the "
                    "submissions folder, when there is one; format in grading/README.md)")
+    b.add_argument("--unsandboxed", action="store_true",
+                   help="grade where bubblewrap cannot run, and run the notebooks' kernels with the grader's rights "
+                        "(without it make grade refuses there); the output and report.html say so first")
     t = sub.add_parser("traces", help="write the public reference traces")
     t.add_argument("--out", default=None, help="folder (default: grading/traces)")
     m = sub.add_parser("templates", help="write the student templates generated from solutions/")
@@ -118,9 +121,10 @@ def main(argv: Optional[List[str]] = None) -> int:
                 return refresh_folders(folder, Path(args.out), late=late)
             if layout is not None:  # an nbgrader course: nbgrader's autograde beside the files' checks
                 return grade_course(layout[0], layout[1], Path(args.out), jobs=args.jobs, checks=checks,
-                                    timeout_s=args.timeout, student=args.student, late=late)
+                                    timeout_s=args.timeout, student=args.student, late=late,
+                                    unsandboxed=args.unsandboxed)
             return grade_all(folder, Path(args.out), jobs=args.jobs, checks=checks, timeout_s=args.timeout,
-                             student=args.student, late=late)
+                             student=args.student, late=late, unsandboxed=args.unsandboxed)
         if args.json:  # stdout is the results' JSON: the sandbox note, if any, goes beside it
             sandbox_mode(stream=sys.stderr)
         if not Path(args.path).expanduser().exists():

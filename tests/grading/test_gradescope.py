@@ -143,7 +143,8 @@ def _cases(work: Path) -> Dict[str, dict]:
     """name -> the upload folder and the checks graded (None: the zip's, i.e. all).
 
     The answer key's upload also holds the instructor's NOTEBOOK (every answer in it); the
-    template's the released NOTEBOOK, untouched, and a notebook that is not the course's.
+    template's the released NOTEBOOK, untouched, and a notebook that is not the course's;
+    params_robot_mass_int's the instructor's NOTEBOOK with a cell reaching for the autograder's files.
     """
     generate_templates(SOLUTIONS, work / "template" / "hri_lab", not_executable=STUDENT_MAKES_EXECUTABLE)
     cases = {
@@ -164,7 +165,28 @@ def _cases(work: Path) -> Dict[str, dict]:
             layout(package, upload)
         checks = sorted({expectation(name)["check"], "robot-params", "graph"})
         cases[name] = {"upload": upload, "checks": ",".join(checks)}
+    _hostile_notebook(work / "params_robot_mass_int" / "upload" / NOTEBOOK)
     return cases
+
+
+#: What the hostile notebook's extra cell reaches for: the course (its hidden tests), the upload, the results.
+_REACHED_FOR = ("/autograder/source/course", "/autograder/submission", "/autograder/results/results.json")
+
+
+def _hostile_notebook(target: Path) -> None:
+    """The instructor's NOTEBOOK plus a cell that reads the autograder's course and upload and writes its results."""
+    nb = json.loads((COURSE_DIR / "source" / "preparation" / NOTEBOOK).read_text())
+    code = ("import os\n"
+            f"for path in {_REACHED_FOR[:2]!r}:\n"
+            "    try:\n        print(path, 'holds', sorted(os.listdir(path)))\n"
+            "    except OSError as exc:\n        print(path, 'refused:', exc)\n"
+            "try:\n"
+            f"    open({_REACHED_FOR[2]!r}, 'w').write('{{\"score\": 1000, \"tests\": []}}')\n"
+            "    print('results written')\n"
+            "except OSError as exc:\n    print('results refused:', exc)\n")
+    nb["cells"].append({"cell_type": "code", "execution_count": None, "metadata": {}, "outputs": [],
+                        "source": "# reaches for the autograder\n" + code})
+    target.write_text(json.dumps(nb))
 
 
 @pytest.fixture(scope="module")
@@ -231,7 +253,8 @@ def test_a_typical_mistake_is_partial_and_fails_exactly_its_parts(graded, name):
     for key in _NODE_ALSO_FAILS.get(name, ()):
         assert failed[names[key]]["visibility"] == "after_published"
     assert 0 < payload["score"] < sum(t["max_score"] for t in payload["tests"])
-    assert {t["name"].split(":")[0] for t in payload["tests"]} == {exp["check"], "robot-params", "graph"}
+    assert {t["name"].split(":")[0] for t in payload["tests"] if not t["name"].startswith("preparation/")} \
+        == {exp["check"], "robot-params", "graph"}
 
 
 def test_messy_uploads_are_found_and_the_student_is_told_where(graded):
@@ -269,3 +292,23 @@ def test_an_untouched_released_notebook_gets_zero_and_other_notebooks_are_named_
     assert all(t["score"] == 0 and "fill them in" in t["output"] and "Error" in t["output"] for t in tests), payload.get("output")
     assert "ignored Untitled.ipynb: not notebooks of the course" in payload["output"]
     assert not [t for t in payload["tests"] if "Untitled" in t["name"]]
+
+
+def test_an_uploaded_notebook_runs_in_the_sandbox_and_keeps_its_points(graded, autograder):
+    """The kernel sees neither the autograder's course (hidden tests) nor the upload or results folder, and
+    the notebook's answers still get full marks."""
+    payload, _ = graded["params_robot_mass_int"]
+    tests = _notebook_tests(payload)
+    assert [t["max_score"] for t in tests] == _autograded_points()
+    assert all(t["score"] == t["max_score"] for t in tests), payload.get("output")
+    assert "without the sandbox" not in payload["output"]
+    box_tmp = autograder[0] / "boxes" / "params_robot_mass_int" / "tmp"
+    autograded = sorted(box_tmp.glob(f"hri-gradescope-*/notebooks/course/autograded/*/preparation/{NOTEBOOK}"))
+    assert len(autograded) == 1, autograded
+    cell = [c for c in json.loads(autograded[0].read_text())["cells"]
+            if "".join(c["source"]).startswith("# reaches for the autograder")]
+    printed = "".join("".join(o.get("text", "")) for o in cell[0]["outputs"])
+    course, upload, results = _REACHED_FOR
+    assert f"{course} holds []" in printed, printed  # an empty folder stands where the hidden tests are
+    assert f"{upload} refused: [Errno 2] No such file or directory" in printed, printed
+    assert "results refused: [Errno 2] No such file or directory" in printed, printed

@@ -3,7 +3,8 @@
 An endless loop, a fork bomb, 100 MB of output, sys.exit at import and a write outside the
 student's folder, graded by `hri-grade batch` two at a time next to a good submission: every
 grade is recorded, the good one gets full marks, nothing is written outside, nothing is left
-running. Then the same without bubblewrap (HRI_GRADE_SANDBOX=none).
+running. Then the same without bubblewrap (HRI_GRADE_SANDBOX=none, which batch grades only when told
+to: --unsandboxed).
 """
 
 from __future__ import annotations
@@ -98,7 +99,8 @@ def test_without_bubblewrap_the_grader_says_so_once_and_still_contains_them(tmp_
     names = ["good", "sys_exit_at_import", "huge_output"]
     _submissions(tmp_path / "submitted", outside, names)
     proc = hri_grade("batch", str(tmp_path / "submitted"), "--out", str(tmp_path / "grades"), "--jobs", "2",
-                     "--checks", "mapping-node", env=grader_env(HRI_GRADE_SANDBOX="none"), timeout=300)
+                     "--checks", "mapping-node", "--unsandboxed", env=grader_env(HRI_GRADE_SANDBOX="none"),
+                     timeout=300)
     assert proc.returncode == 0, proc.stdout + proc.stderr
     assert proc.stdout.count("without bubblewrap") == 1, proc.stdout
     assert "without bubblewrap" not in proc.stderr, "notes go to stdout (nbgrader scores stderr as a failure)"

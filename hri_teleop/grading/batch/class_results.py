@@ -138,7 +138,7 @@ def _folder_student(out: Path, entry: Dict[str, Any]) -> StudentRecord:
     score = AssignmentScore(FILES_ONLY, float(entry["score"]) if graded else None, maximum,
                             _penalty(late, FILES_ONLY, maximum) if graded else 0.0)
     job = Job(student, FILES_ONLY, status, float(entry.get("seconds", 0.0)), str(entry.get("message", "")),
-              f"{student}/grader.log")
+              f"{student}/grader.log", bool(entry.get("sandboxed", True)))
     parts = tuple(_parts_of(out / student / "results.json")) if graded else ()  # none stale from a run before
     return StudentRecord(student, status, (score,), (job,), (job.message,) if not graded else (), parts, late)
 
@@ -157,7 +157,8 @@ def _course_student(out: Path, entry: Dict[str, Any], assignments: Sequence[str]
             j = by_key.get((assignment, kind))
             if j is not None:
                 jobs.append(Job(student, label, str(j["status"]), float(j.get("seconds", 0.0)),
-                                str(j.get("message", "")), f"{student}/{assignment}/{log}"))
+                                str(j.get("message", "")), f"{student}/{assignment}/{log}",
+                                bool(j.get("sandboxed", True))))
         nb = by_key.get((assignment, "notebooks"))
         if nb is None:
             continue  # not handed in

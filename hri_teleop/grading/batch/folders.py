@@ -15,7 +15,7 @@ import json
 import os
 import sys
 import time
-from dataclasses import asdict, dataclass
+from dataclasses import asdict, dataclass, replace
 from pathlib import Path
 from typing import Dict, List, Optional, Sequence, Tuple
 
@@ -34,10 +34,10 @@ from hri_teleop.grading.run.jobs import (
     run_all,
     run_job,
 )
-from hri_teleop.grading.run.sandbox import sandbox_mode
+from hri_teleop.grading.run.sandbox import bwrap_problem, sandbox_mode
 
 __all__ = ["BatchError", "Outcome", "submissions_in", "select_student", "grade_one", "live_graph_cache", "course_layout", "grade_all",
-           "refresh_folders"]
+           "refresh_folders", "require_sandbox", "unsandboxed_line"]
 
 PER_SUBMISSION_TIMEOUT_S = 600.0    # hri-grade submission: one student's files
 
@@ -56,6 +56,22 @@ class Outcome:
     status: str          # "graded" | "not graded"
     seconds: float
     message: str = ""
+    sandboxed: bool = True   # the student's processes ran in bubblewrap
+
+
+def require_sandbox(problem: str, unsandboxed: bool, what: str) -> None:
+    """BatchError (one line) when ``what`` (the students' notebooks, files) cannot be sandboxed here
+    (``problem`` says why) and the instructor did not ask to grade without (``unsandboxed``)."""
+    if problem and not unsandboxed:
+        raise BatchError(f"bubblewrap cannot sandbox {what} here ({problem}); install bubblewrap and allow user "
+                         "namespaces (grading/README.md, Sandbox), or grade with the grader's rights: "
+                         "make grade UNSANDBOXED=1 (hri-grade batch --unsandboxed)")
+
+
+def unsandboxed_line(what: str) -> str:
+    """make grade's first line when ``what`` runs without the sandbox."""
+    return (f"UNSANDBOXED (make grade UNSANDBOXED=1): {what} run with the grader's rights: they can read the "
+            "instructor's files, write outside their folder and reach the network")
 
 
 def submissions_in(folder: Path) -> List[Path]:
@@ -157,13 +173,14 @@ def course_layout(folder: Path) -> Optional[Tuple[Path, Path]]:
 
 def grade_all(folder: Path, out: Path, jobs: Optional[int] = None, checks: Optional[Sequence[str]] = None,
               progress: Progress = print_line, timeout_s: Optional[float] = None, student: Optional[str] = None,
-              late: Optional[Path] = None) -> int:
+              late: Optional[Path] = None, unsandboxed: bool = False) -> int:
     """Grade every student's files in ``folder`` (a subfolder each) into ``out``; 0 when all were graded,
     2 if any could not be. An nbgrader course (:func:`course_layout`) goes to
     :func:`hri_teleop.grading.batch.nbgrader_batch.grade_course` instead (``hri-grade batch`` decides).
 
     ``student``: grade that one only, keeping everyone else's rows in OUT; ``late``: the late policy
-    (default: ``folder``/late.yaml when there is one). Then :func:`~hri_teleop.grading.batch.finish.finish`.
+    (default: ``folder``/late.yaml when there is one); ``unsandboxed``: grade even where bubblewrap cannot
+    run (:func:`require_sandbox`). Then :func:`~hri_teleop.grading.batch.finish.finish`.
     """
     folder = Path(folder)
     policy = find_late_policy(late, folder)
@@ -172,6 +189,10 @@ def grade_all(folder: Path, out: Path, jobs: Optional[int] = None, checks: Optio
     only = select_student([s.name for s in subs], student, folder)
     if only is not None:
         subs = [s for s in subs if s.name == only]
+    problem = bwrap_problem()
+    require_sandbox(problem, unsandboxed, "the students' files")
+    if problem:
+        progress(unsandboxed_line("the students' files"))
     out.mkdir(parents=True, exist_ok=True)
     jobs = job_count(jobs)
     limit = timeout_s or PER_SUBMISSION_TIMEOUT_S
@@ -185,6 +206,7 @@ def grade_all(folder: Path, out: Path, jobs: Optional[int] = None, checks: Optio
     def done(name: str, outcome: Optional[Outcome], exc: Optional[BaseException]) -> None:
         if outcome is None:  # a bug of ours, recorded; the others go on
             outcome = Outcome(name, 0.0, 0.0, "not graded", 0.0, f"{type(exc).__name__}: {exc}")
+        outcome = replace(outcome, sandboxed=not problem)
         outcomes[name] = outcome
         line = f"[{len(outcomes):>{width}}/{len(subs)}] {outcome.student:<24} "
         line += (f"{outcome.score:g}/{outcome.max_score:g}" if outcome.status == "graded"

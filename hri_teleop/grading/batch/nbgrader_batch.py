@@ -18,7 +18,7 @@ import sys
 import tempfile
 import threading
 import time
-from dataclasses import asdict, dataclass
+from dataclasses import asdict, dataclass, replace
 from pathlib import Path
 from typing import Any, Callable, Dict, List, Mapping, Optional, Sequence, Tuple
 
@@ -35,15 +35,24 @@ from hri_teleop.grading.batch.folders import (
     course_layout,
     grade_one,
     live_graph_cache,
+    require_sandbox,
     select_student,
     submissions_in,
+    unsandboxed_line,
 )
 from hri_teleop.grading.batch.report_data import FILES_JOB
 from hri_teleop.grading.batch.spare_kernels import PROVISIONER, PROVISIONER_ENV, SPARES_ENV
 from hri_teleop.grading.judge import reuse
 from hri_teleop.grading.results import CheckResult, feedback_text, gradescope_json
 from hri_teleop.grading.run.jobs import Progress, job_count, print_line, run_all, run_job
-from hri_teleop.grading.run.sandbox import sandbox_mode
+from hri_teleop.grading.run.kernel_sandbox import (
+    CHECK_RESULTS,
+    ERROR_MARK,
+    POLICY_ENV,
+    KernelPolicy,
+    kernel_sandbox,
+)
+from hri_teleop.grading.run.sandbox import bwrap_problem, sandbox_mode
 from hri_teleop.ros.kernel import install_kernelspec, ipc_kernel_argv
 
 __all__ = ["BatchError", "JobOutcome", "course_layout", "course_submissions", "grade_course", "refresh_course",
@@ -70,6 +79,7 @@ class JobOutcome:
     seconds: float
     message: str = ""
     needs_manual_grade: bool = False
+    sandboxed: bool = True   # the student's code ran in bubblewrap (the kernels; the files' processes)
 
     @property
     def label(self) -> str:
@@ -191,6 +201,9 @@ def _failure_reason(log: Path) -> str:
     """The cause of a failed nbgrader run from its log: the exception, and the notebook it ran."""
     text = log.read_text(errors="replace") if log.is_file() else ""
     lines = text.splitlines()
+    boxed = [line.split(ERROR_MARK, 1)[1].strip() for line in lines if ERROR_MARK in line]
+    if boxed:  # the kernel's sandbox could not start: that is why, whatever nbgrader made of it
+        return f"the notebook's kernel could not start in its sandbox: {boxed[-1]}"[:300]
     cause = ""
     starts = [i for i, line in enumerate(lines) if "Traceback (most recent call last):" in line]
     if starts:  # the last line of the last traceback nbgrader logged: the exception
@@ -259,34 +272,41 @@ def _retry_cause(log_text: str) -> str:
 
 
 def _autograde(course: _Course, student: str, assignment: str, out: Path, timeout_s: float,
-               db_lock: threading.Lock, progress: Progress, results_dir: Optional[Path] = None) -> JobOutcome:
+               db_lock: threading.Lock, progress: Progress, results_dir: Optional[Path] = None,
+               sandbox: Optional[KernelPolicy] = None) -> JobOutcome:
     folder = course.submitted / student / assignment
     links = _outside_links(folder)
     if links:
         _forget_outputs(course, student, assignment)
         return JobOutcome(student, assignment, "notebooks", 0.0, 0.0, "not graded", 0.0,
                           f"{links[0]} links outside the submission (nbgrader would copy that file into the "
-                          "feedback); the student must hand in the file itself")
+                          "feedback); the student must hand in the file itself", sandboxed=sandbox is not None)
     sockets = Path(tempfile.mkdtemp(prefix="hri-kernel-"))  # the kernels' Unix sockets (no TCP port race)
     try:
         return _autograde_in(course, student, assignment, out, timeout_s, db_lock, progress,
                              course.nbgrader_argv("autograde", assignment, "--student", student, "--force",
-                                                  *ipc_kernel_argv(sockets)), results_dir)
+                                                  *ipc_kernel_argv(sockets)), results_dir, sandbox)
     finally:
         shutil.rmtree(sockets, ignore_errors=True)
 
 
 def _autograde_in(course: _Course, student: str, assignment: str, out: Path, timeout_s: float,
                   db_lock: threading.Lock, progress: Progress, argv: List[str],
-                  results_dir: Optional[Path] = None) -> JobOutcome:
+                  results_dir: Optional[Path] = None, sandbox: Optional[KernelPolicy] = None) -> JobOutcome:
     """``results_dir``: the files jobs' check results, which the notebooks' check cells of the
-    same package take instead of running the check again (:mod:`hri_teleop.grading.judge.reuse`)."""
+    same package take instead of running the check again (:mod:`hri_teleop.grading.judge.reuse`).
+    ``sandbox``: the kernels start in the kernel sandbox (None: with the grader's rights)."""
     log = out / "autograde.log"
     seconds = 0.0
     env = nbgrader_job_env()
     env.pop(reuse.WRITE_ENV, None)
+    env.pop(POLICY_ENV, None)
     if results_dir is not None:
         env[reuse.READ_ENV] = str(results_dir)
+    if sandbox is not None:  # the box holds a copy of this submission's results, where the kernel reads them
+        env[POLICY_ENV] = replace(sandbox, check_results=str(results_dir or "")).to_json()
+        if results_dir is not None:
+            env[reuse.READ_ENV] = CHECK_RESULTS
     # Each notebook's kernel starts while the one before runs (hri_teleop.grading.batch.spare_kernels).
     env[PROVISIONER_ENV] = PROVISIONER
     env[SPARES_ENV] = str(max(0, len(list((course.root / "source" / assignment).glob("*.ipynb"))) - 1))
@@ -298,10 +318,11 @@ def _autograde_in(course: _Course, student: str, assignment: str, out: Path, tim
             notebook = _last_notebook(log.read_text(errors="replace"))
             return JobOutcome(student, assignment, "notebooks", 0.0, 0.0, "not graded", seconds,
                               f"nbgrader autograde took longer than {timeout_s:.0f} s (stopped"
-                              + (f" in {notebook})" if notebook else ")"))
+                              + (f" in {notebook})" if notebook else ")"), sandboxed=sandbox is not None)
         if run.returncode == 0:
             score, maximum, manual = _submission_score(course, db_lock, student, assignment)
-            return JobOutcome(student, assignment, "notebooks", score, maximum, "graded", seconds, "", manual)
+            return JobOutcome(student, assignment, "notebooks", score, maximum, "graded", seconds, "", manual,
+                              sandboxed=sandbox is not None)
         cause = _retry_cause(log.read_text(errors="replace"))
         if cause and attempt < _DB_ATTEMPTS:
             shutil.copy(log, log.with_name(f"autograde.attempt{attempt}.log"))
@@ -310,22 +331,27 @@ def _autograde_in(course: _Course, student: str, assignment: str, out: Path, tim
             continue
         break
     _forget_outputs(course, student, assignment)
-    return JobOutcome(student, assignment, "notebooks", 0.0, 0.0, "not graded", seconds, _failure_reason(log))
+    return JobOutcome(student, assignment, "notebooks", 0.0, 0.0, "not graded", seconds, _failure_reason(log),
+                      sandboxed=sandbox is not None)
 
 
 def autograde_one(course_root: Path, student: str, assignment: str, out: Path, timeout_s: float,
-                  progress: Progress = print_line) -> JobOutcome:
+                  progress: Progress = print_line, sandbox: Optional[KernelPolicy] = None) -> JobOutcome:
     """nbgrader autograde of one student's one assignment in the course folder ``course_root`` (its
-    ``submitted/<student>/<assignment>/`` and gradebook), as make grade runs it (the Gradescope autograder)."""
+    ``submitted/<student>/<assignment>/`` and gradebook), as make grade runs it (the Gradescope autograder).
+    ``sandbox``: the kernels' sandbox (the course folder is hidden from them too); None: none."""
     course = _open_course(course_root, course_root / "submitted", [assignment])
     out.mkdir(parents=True, exist_ok=True)
-    return _autograde(course, student, assignment, out, timeout_s, threading.Lock(), progress)
+    if sandbox is not None:
+        sandbox = replace(sandbox, hidden=(*sandbox.hidden, str(course.root), str(out)))
+    return _autograde(course, student, assignment, out, timeout_s, threading.Lock(), progress, None, sandbox)
 
 
 def _grade_files(course: _Course, student: str, assignment: str, out: Path, checks: Sequence[str],
                  graph_cache: Optional[Path], timeout_s: float, results_dir: Optional[Path] = None) -> JobOutcome:
     o = grade_one(course.submitted / student / assignment, out, graph_cache, checks, timeout_s, results_dir)
-    return JobOutcome(student, assignment, "files", o.score, o.max_score, o.status, o.seconds, o.message)
+    return JobOutcome(student, assignment, "files", o.score, o.max_score, o.status, o.seconds, o.message,
+                      sandboxed=not bwrap_problem())
 
 
 def _generate_feedback(course: _Course, assignment: str, out: Path,
@@ -363,13 +389,15 @@ def _fmt(value: Optional[float]) -> str:
 def grade_course(course: Path, submitted: Path, out: Path, jobs: Optional[int] = None,
                  checks: Optional[Sequence[str]] = None, progress: Progress = print_line,
                  timeout_s: Optional[float] = None, student: Optional[str] = None,
-                 late: Optional[Path] = None) -> int:
+                 late: Optional[Path] = None, unsandboxed: bool = False) -> int:
     """nbgrader autograde + generate_feedback of every submission of the course, and hri-grade on its files.
 
     ``checks`` limits the files' checks (each assignment gets those of its own among
     them); ``timeout_s`` limits each (student, assignment) job. 0 when everything was
     graded, 2 when anything could not be (the reason is in grades.csv). ``student``: that
-    one only (everyone else's rows kept); ``late``: the late policy (default: the course's late.yaml).
+    one only (everyone else's rows kept); ``late``: the late policy (default: the course's late.yaml);
+    ``unsandboxed``: the notebooks' kernels run with the grader's rights (else in the kernel sandbox, and
+    BatchError where it cannot run).
     """
     course, submitted, out = Path(course).resolve(), Path(submitted).resolve(), Path(out).resolve()
     policy = find_late_policy(late, course)
@@ -380,6 +408,11 @@ def grade_course(course: Path, submitted: Path, out: Path, jobs: Optional[int] =
     assignments = _assignment_order(sorted({a for _s, a in pairs}))
     check_policy(policy, assignments)
     nb = _open_course(course, submitted, assignments)
+    # The kernels see neither the course (other students, the gradebook, the answers) nor OUT.
+    sandbox, problem = (None, "") if unsandboxed else kernel_sandbox(KernelPolicy((str(course), str(out))))
+    require_sandbox(problem, unsandboxed, "the students' notebooks")
+    if sandbox is None:
+        progress(unsandboxed_line("the students' notebooks" + (" and files" if bwrap_problem() else "")))
     install_kernelspec()  # the notebooks' kernel "hri-teleop" (.venv's Python in the lab's shell)
     out.mkdir(parents=True, exist_ok=True)
     jobs = job_count(jobs)
@@ -395,7 +428,7 @@ def grade_course(course: Path, submitted: Path, out: Path, jobs: Optional[int] =
     # The files first: each check result they store is taken by the notebooks' check cells of the
     # same package instead of running the check a second time. Then the notebooks, the lab's
     # (longest) first.
-    results_dir = out / ".check-results"
+    results_dir = out / ".check-results"  # <student>/<assignment>/: a box gets its submission's only
     shutil.rmtree(results_dir, ignore_errors=True)  # results of this run only, never an older grader's
     order = {a: i for i, a in enumerate(reversed(assignments))}
     tasks: List[Tuple[str, Callable[[], JobOutcome]]] = []
@@ -403,11 +436,12 @@ def grade_course(course: Path, submitted: Path, out: Path, jobs: Optional[int] =
         if files_checks[assignment]:
             tasks.append((f"{student}\0{assignment}\0files",
                           functools.partial(_grade_files, nb, student, assignment, out / student / assignment,
-                                            files_checks[assignment], graph_cache, files_limit, results_dir)))
+                                            files_checks[assignment], graph_cache, files_limit,
+                                            results_dir / student / assignment)))
     for student, assignment in sorted(pairs, key=lambda p: (order[p[1]], p[0])):
         tasks.append((f"{student}\0{assignment}\0notebooks",
                       functools.partial(_autograde, nb, student, assignment, out / student / assignment, notebook_limit,
-                                        db_lock, progress, results_dir)))
+                                        db_lock, progress, results_dir / student / assignment, sandbox)))
     progress(f"autograding {len(pairs)} submission(s) of {len(students)} student(s) in {course} with nbgrader "
              f"({', '.join(assignments)}), and their {FILES_JOB} files; {jobs} at once")
     started = time.monotonic()

@@ -30,7 +30,7 @@ from hri_teleop.grading.batch.report_data import (
 from hri_teleop.grading.run.jobs import Progress, print_line
 from hri_teleop.plots.grades import pass_rate_chart, score_histogram
 
-__all__ = ["REPORT", "LMS", "SCORES_PNG", "ITEMS_PNG", "write_report", "write_class_outputs"]
+__all__ = ["REPORT", "LMS", "SCORES_PNG", "ITEMS_PNG", "write_report", "write_class_outputs", "unsandboxed_note"]
 
 REPORT, LMS = "report.html", "lms.csv"
 SCORES_PNG, ITEMS_PNG = "report-scores.png", "report-items.png"
@@ -132,10 +132,24 @@ def _late(results: ClassResults, extended: Sequence[str]) -> str:
     return f"<h2>Late submissions ({len(rows)})</h2><p>Policy: {_e(results.late_policy)}.</p>{note}{body}"
 
 
+def unsandboxed_note(results: ClassResults) -> str:
+    """The report's first line when some student's code ran without the sandbox (make grade UNSANDBOXED=1)."""
+    jobs = [j for s in results.students for j in s.jobs if not j.sandboxed]
+    if not jobs:
+        return ""
+    students = sorted({j.student for j in jobs})
+    shown = ", ".join(students[:10]) + (f" and {len(students) - 10} more" if len(students) > 10 else "")
+    return (f"UNSANDBOXED: the code of {len(students)} student(s) ran with the grader's rights, without "
+            f"bubblewrap (make grade UNSANDBOXED=1): {shown} ({', '.join(sorted({j.label for j in jobs}))}). It could "
+            "read and write the instructor's files and reach the network; regrade where the sandbox runs to be sure.")
+
+
 def write_report(out: Path, results: ClassResults, extended: Sequence[str] = (), title: str = "") -> Path:
-    """OUT/report.html and its PNG figures from ``results``."""
+    """OUT/report.html and its PNG figures from ``results``; its first line says when code ran unsandboxed."""
     graded = sum(s.graded for s in results.students)
-    head = (f"<h1>{_e(title or 'make grade: class report')}</h1><p>{len(results.students)} student(s), "
+    note = unsandboxed_note(results)
+    warning = f'<p style="border:2px solid #c00;padding:.5em"><strong>{_e(note)}</strong></p>' if note else ""
+    head = warning + (f"<h1>{_e(title or 'make grade: class report')}</h1><p>{len(results.students)} student(s), "
             f"{graded} graded, {len(results.students) - graded} not; "
             f"{'nbgrader course' if results.mode == 'course' else 'student folders'}"
             f" ({_e(', '.join(results.assignments))}); written {datetime.now().isoformat(sep=' ', timespec='seconds')}."

@@ -36,6 +36,7 @@ class Job:
     seconds: float
     message: str = ""
     log: str = ""        # where to look, relative to OUT
+    sandboxed: bool = True  # the student's code ran in bubblewrap (make grade UNSANDBOXED=1: not)
 
 
 @dataclass(frozen=True)

@@ -4,7 +4,8 @@ nbgrader runs a submission's notebooks one after another and waits for each new 
 (0.7 s here). With this provisioner, starting a kernel also starts a spare with the same command,
 folder and environment for the next notebook (grading/README.md). Only over Unix sockets: a spare's
 socket files have a path of their own, so it never takes sockets another kernel was given;
-``SPARES_ENV`` says how many spares this process may start, so none is left idle.
+``SPARES_ENV`` says how many spares this process may start. With ``POLICY_ENV`` set, every kernel
+starts in the kernel sandbox (:mod:`hri_teleop.grading.run.kernel_sandbox`).
 """
 
 from __future__ import annotations
@@ -22,6 +23,9 @@ from jupyter_client.connect import KernelConnectionInfo, write_connection_file
 from jupyter_client.launcher import launch_kernel
 from jupyter_client.provisioning.local_provisioner import LocalProvisioner
 
+from hri_teleop.grading.run.kernel_sandbox import POLICY_ENV, boxed_command
+from hri_teleop.grading.run.sandbox import SandboxError
+
 __all__ = ["PROVISIONER", "PROVISIONER_ENV", "SPARES_ENV", "SpareProvisioner", "spares_left", "stop_spare"]
 
 #: The provisioner's entry-point name (pyproject.toml) and Jupyter's variable that picks it for
@@ -30,6 +34,17 @@ PROVISIONER = "hri-spare-kernels"
 PROVISIONER_ENV = "JUPYTER_DEFAULT_PROVISIONER_NAME"
 #: How many spare kernels this process may start (unset or 0: none; the manager then works as Jupyter's).
 SPARES_ENV = "HRI_SPARE_KERNELS"
+
+
+def _boxed(cmd: List[str], connection_file: str, transport: str) -> List[str]:
+    """``cmd`` in the kernel sandbox when make grade asks for it (:data:`POLICY_ENV` set), else as it is."""
+    policy = os.environ.get(POLICY_ENV, "")
+    if not policy:
+        return cmd
+    if transport != "ipc":
+        raise SandboxError(f"{POLICY_ENV} is set but the kernel's transport is {transport!r}: the sandboxed kernel "
+                           "is reached over Unix sockets; pass --KernelManager.transport=ipc (make grade does)")
+    return boxed_command(cmd, connection_file, policy)
 
 
 @dataclass
@@ -157,7 +172,7 @@ def _start(km: Any, template: List[Optional[str]], popen_kwargs: Dict[str, Any])
         key=key, signature_scheme=km.session.signature_scheme, kernel_name=km.kernel_name)
     # bytes, as the kernel manager keeps it (its session.key); jupyter_client's TypedDict says str
     info["key"] = key  # type: ignore[typeddict-item]
-    cmd = [fname if arg is None else arg for arg in template]
+    cmd = _boxed([fname if arg is None else arg for arg in template], fname, "ipc")
     process = launch_kernel(cmd, **_copy(popen_kwargs))  # it adds to the environment it is given
     with _lock:
         _spare = _Spare(process, fname, info, template, popen_kwargs)
@@ -170,13 +185,15 @@ class SpareProvisioner(LocalProvisioner):
 
     async def launch_kernel(self, cmd: List[str], **kwargs: Any) -> KernelConnectionInfo:
         km = self.parent
-        if km is None:  # no kernel manager to start a spare for
+        if km is None:  # no kernel manager to start a spare for (nor a connection file to box)
+            if os.environ.get(POLICY_ENV):
+                raise SandboxError(f"{POLICY_ENV} is set but the kernel has no manager: it cannot be sandboxed")
             return await super().launch_kernel(cmd, **kwargs)
         template = _template(cmd, km.connection_file)
         popen_kwargs = _copy(self._scrub_kwargs(kwargs))
         spare = _take(template, popen_kwargs)
         if spare is None:
-            info = await super().launch_kernel(cmd, **kwargs)
+            info = await super().launch_kernel(_boxed(cmd, km.connection_file, km.transport), **kwargs)
         else:
             self.process = spare.process
             self.pid = spare.process.pid

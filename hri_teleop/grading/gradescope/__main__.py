@@ -21,14 +21,17 @@ def main(argv: Optional[List[str]] = None) -> int:
     b.add_argument("--out", default=str(OUT / "gradescope"), help="folder (default: out/gradescope)")
     b.add_argument("--checks", default="", help=f"comma-separated checks this assignment grades (default: all: "
                                                 f"{','.join(CHECKS)})")
+    b.add_argument("--unsandboxed", action="store_true",
+                   help="grade uploaded notebooks with the grader's rights (where bubblewrap cannot run there)")
     args = parser.parse_args(argv)
     checks = [c.strip() for c in args.checks.split(",") if c.strip()] or list(CHECKS)
     try:
-        target = build_zip(Path(args.out), checks)
+        target = build_zip(Path(args.out), checks, unsandboxed=args.unsandboxed)
     except (GradingError, OSError) as exc:
         print(f"make gradescope: {exc}", file=sys.stderr)
         return 2
-    print(f"{target} ({target.stat().st_size / 2**20:.1f} MB; checks: {', '.join(checks)}); upload it as the "
+    print(f"{target} ({target.stat().st_size / 2**20:.1f} MB; checks: {', '.join(checks)}"
+          + ("; notebooks UNSANDBOXED" if args.unsandboxed else "") + "); upload it as the "
           "assignment's autograder on Gradescope (grading/README.md, Gradescope)")
     return 0
 

@@ -55,8 +55,10 @@ def _add_bytes(zf: zipfile.ZipFile, data: bytes, name: str, mode: int = 0o644) -
     zf.writestr(info, data)
 
 
-def build_zip(out_dir: Path, checks: Sequence[str] = tuple(CHECKS), repo: Path = REPO) -> Path:
-    """Write ``out_dir/autograder.zip`` for an assignment grading ``checks``; its path."""
+def build_zip(out_dir: Path, checks: Sequence[str] = tuple(CHECKS), repo: Path = REPO,
+              unsandboxed: bool = False) -> Path:
+    """Write ``out_dir/autograder.zip`` for an assignment grading ``checks``; its path. ``unsandboxed``: its
+    run_autograder grades uploaded notebooks with the grader's rights where bubblewrap cannot run."""
     unknown = [c for c in checks if c not in CHECKS]
     if unknown or not checks:
         raise GradingError(f"unknown or no checks {unknown}; use some of {', '.join(CHECKS)}")
@@ -68,7 +70,7 @@ def build_zip(out_dir: Path, checks: Sequence[str] = tuple(CHECKS), repo: Path =
             _add(zf, _FILES / script, script)
         config = zipfile.ZipInfo(CONFIG_NAME, date_time=(2020, 1, 1, 0, 0, 0))
         config.external_attr = 0o100644 << 16
-        zf.writestr(config, json.dumps(Config(tuple(checks)).to_json(), indent=2) + "\n")
+        zf.writestr(config, json.dumps(Config(tuple(checks), unsandboxed=unsandboxed).to_json(), indent=2) + "\n")
         for source, name in zip_members(repo):
             _add(zf, source, name)
             names.append(name)

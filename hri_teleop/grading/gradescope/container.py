@@ -26,6 +26,7 @@ from hri_teleop.grading.gradescope.report import Unjudged, results_payload
 from hri_teleop.grading.judge.checks import CHECKS
 from hri_teleop.grading.results import CheckResult, GradingError
 from hri_teleop.grading.run.jobs import run_job
+from hri_teleop.grading.run.kernel_sandbox import KernelPolicy
 
 __all__ = ["CONFIG_NAME", "CHECKS_ENV", "Config", "load_config", "load_config_checks", "seed_from_metadata", "grade_upload", "main"]
 
@@ -46,10 +47,12 @@ class Config:
     submission_timeout_s: float = SUBMISSION_TIMEOUT_S
     check_timeout_s: float = CHECK_TIMEOUT_S
     notebooks_timeout_s: float = NOTEBOOKS_TIMEOUT_S
+    unsandboxed: bool = False   # the notebooks' kernels run with the grader's rights (make gradescope UNSANDBOXED=1)
 
     def to_json(self) -> Dict[str, Any]:
         return {"checks": list(self.checks), "submission_timeout_s": self.submission_timeout_s,
-                "check_timeout_s": self.check_timeout_s, "notebooks_timeout_s": self.notebooks_timeout_s}
+                "check_timeout_s": self.check_timeout_s, "notebooks_timeout_s": self.notebooks_timeout_s,
+                "unsandboxed": self.unsandboxed}
 
 
 def load_config(path: Path) -> Config:
@@ -61,7 +64,7 @@ def load_config(path: Path) -> Config:
         checks = tuple(data.get("checks", CHECKS))
         config = Config(checks, float(data.get("submission_timeout_s", SUBMISSION_TIMEOUT_S)),
                         float(data.get("check_timeout_s", CHECK_TIMEOUT_S)),
-                        float(data.get("notebooks_timeout_s", NOTEBOOKS_TIMEOUT_S)))
+                        float(data.get("notebooks_timeout_s", NOTEBOOKS_TIMEOUT_S)), data.get("unsandboxed") is True)
     except (ValueError, TypeError, AttributeError) as exc:
         raise GradingError(f"{path}: not a valid autograder config ({exc}); rebuild it with make gradescope") from exc
     load_config_checks(config, str(path))
@@ -111,13 +114,13 @@ def _hri_grade(package: Path, out: Path, checks: Sequence[str], seed: Optional[i
 
 
 def _notebooks(notebooks: Sequence[Path], package: Path, course: Optional[Path], work: Path,
-               timeout_s: float, seed: Optional[int]) -> NotebookTests:
+               timeout_s: float, seed: Optional[int], sandbox: Optional[KernelPolicy]) -> NotebookTests:
     """The course's notebooks of the upload graded; a failure of the grader is a "not judged" line, never a crash."""
     if not notebooks or course is None or not course.is_dir():
         return NotebookTests()
     try:
         student = "student" if seed is None else f"student-{seed}"  # the check cells' seed: one per student
-        return grade_notebooks(notebooks, package, course, work / "notebooks", timeout_s, student)
+        return grade_notebooks(notebooks, package, course, work / "notebooks", timeout_s, student, sandbox)
     except Exception as exc:  # noqa: BLE001 - whatever stops nbgrader, the files' grades must still be written
         print(f"run_autograder: grading the notebooks failed: {type(exc).__name__}: {exc}", flush=True)
         names = ", ".join(p.name for p in notebooks[:6]) + (" ..." if len(notebooks) > 6 else "")
@@ -125,10 +128,11 @@ def _notebooks(notebooks: Sequence[Path], package: Path, course: Optional[Path],
 
 
 def grade_upload(submission: Path, work: Path, config: Config, seed: Optional[int] = None,
-                 course: Optional[Path] = None) -> Dict[str, Any]:
+                 course: Optional[Path] = None, hidden: Sequence[Path] = ()) -> Dict[str, Any]:
     """results.json's content for the upload in ``submission`` (scratch files under ``work``).
 
-    ``course``: the zip's course folder; the upload's notebooks of that course are graded too.
+    ``course``: the zip's course folder; the upload's notebooks of that course are graded too, in the
+    kernel sandbox unless ``config.unsandboxed``, which hides ``hidden`` (/autograder) besides the course.
     """
     started = time.monotonic()
     upload = find_upload(submission, work)
@@ -144,7 +148,9 @@ def grade_upload(submission: Path, work: Path, config: Config, seed: Optional[in
             results += one
             if reason is not None:
                 unjudged.append(Unjudged(check, reason))
-    graded = _notebooks(upload.notebooks, upload.hri_lab, course, work, config.notebooks_timeout_s, seed)
+    sandbox = None if config.unsandboxed else KernelPolicy(tuple(str(p) for p in (*hidden, work, submission)
+                                                                  if p is not None) + ((str(course),) if course else ()))
+    graded = _notebooks(upload.notebooks, upload.hri_lab, course, work, config.notebooks_timeout_s, seed, sandbox)
     return results_payload(results, unjudged, notes + graded.notes, time.monotonic() - started, order=config.checks,
                            notebook_tests=graded.tests, notebooks_unjudged=graded.unjudged)
 
@@ -165,7 +171,7 @@ def main(argv: Optional[Sequence[str]] = None) -> int:
         seed = seed_from_metadata(root / "submission_metadata.json")
         if seed is None:  # not on Gradescope (a local try): one fixed seed, not one per scratch folder
             seed = seed_for(root / "submission")
-        payload = grade_upload(root / "submission", work, config, seed, root / "source" / COURSE)
+        payload = grade_upload(root / "submission", work, config, seed, root / "source" / COURSE, hidden=(root,))
     except GradingError as exc:  # an upload that cannot be opened: one line for the student
         payload = {"score": 0.0, "tests": [], "visibility": "visible", "stdout_visibility": "hidden",
                    "output": f"Not graded: {exc}"}

@@ -15,13 +15,14 @@ import shutil
 import sys
 from dataclasses import dataclass, field
 from pathlib import Path
-from typing import Any, Dict, Iterator, List, Sequence, Tuple
+from typing import Any, Dict, Iterator, List, Optional, Sequence, Tuple
 
 from hri_teleop.grading.batch.assignments import ASSIGNMENTS
 from hri_teleop.grading.batch.nbgrader_batch import autograde_one, nbgrader_job_env
 from hri_teleop.grading.cases.templates import empty_regions, has_markers
 from hri_teleop.grading.results import GradingError
 from hri_teleop.grading.run.jobs import run_job
+from hri_teleop.grading.run.kernel_sandbox import KernelPolicy, kernel_sandbox
 from hri_teleop.ros.kernel import install_kernelspec
 
 __all__ = ["COURSE", "NOTEBOOKS_TIMEOUT_S", "NotebookTests", "course_members", "without_solutions",
@@ -184,11 +185,13 @@ def _generate(course: Path, assignment: str, log: Path) -> str:
 
 
 def grade_notebooks(notebooks: Sequence[Path], package: Path, shipped: Path, work: Path,
-                    timeout_s: float = NOTEBOOKS_TIMEOUT_S, student: str = "student") -> NotebookTests:
+                    timeout_s: float = NOTEBOOKS_TIMEOUT_S, student: str = "student",
+                    sandbox: Optional[KernelPolicy] = None) -> NotebookTests:
     """Autograde the course's notebooks among ``notebooks`` beside ``package`` (the course in ``shipped``).
 
     ``student`` names the submission's folder, whose last parts seed the check cells' hidden inputs
-    (:func:`hri_teleop.grading.cases.inputs.seed_for`): one per student, as on make grade.
+    (:func:`hri_teleop.grading.cases.inputs.seed_for`): one per student, as on make grade. ``sandbox``:
+    the kernels' (None: the grader's rights); where it cannot run, the notebooks are not judged.
     """
     result = NotebookTests()
     known = course_notebooks(shipped)
@@ -207,6 +210,14 @@ def grade_notebooks(notebooks: Sequence[Path], package: Path, shipped: Path, wor
     if chosen:
         install_kernelspec()  # the notebooks' kernel "hri-teleop", as make grade installs it
         _alembic_on_path(work)
+    refused = ""
+    if chosen and sandbox is not None:
+        sandbox, refused = kernel_sandbox(sandbox)
+    if refused:
+        refused = (f"the autograder cannot sandbox the notebooks' code here ({refused}); the instructor can "
+                   "rebuild it with make gradescope UNSANDBOXED=1 to grade them with the grader's rights")
+    elif chosen and sandbox is None:
+        result.notes.append("the notebooks ran without the sandbox (the autograder was built with UNSANDBOXED=1)")
     for assignment in ASSIGNMENTS:
         mine = {stem: path for stem, path in chosen.items() if known[stem] == assignment}
         if not mine:
@@ -216,7 +227,7 @@ def grade_notebooks(notebooks: Sequence[Path], package: Path, shipped: Path, wor
         course.mkdir(parents=True)
         shutil.copy(shipped / "nbgrader_config.py", course)
         shutil.copytree(shipped / "source" / assignment, course / "source" / assignment)
-        why = _generate(course, assignment, work / f"generate-{assignment}.log")
+        why = refused or _generate(course, assignment, work / f"generate-{assignment}.log")
         if not why:
             folder = course / "submitted" / student / assignment
             folder.mkdir(parents=True)
@@ -224,7 +235,7 @@ def grade_notebooks(notebooks: Sequence[Path], package: Path, shipped: Path, wor
                 shutil.copy(path, folder / f"{stem}.ipynb")
             shutil.copytree(package, folder / "hri_lab", symlinks=True)
             outcome = autograde_one(course, student, assignment, work / f"autograde-{assignment}", timeout_s,
-                                    progress=lambda line: print(line, flush=True))
+                                    progress=lambda line: print(line, flush=True), sandbox=sandbox)
             why = "" if outcome.status == "graded" else outcome.message
             if why:  # for the instructor: run_autograder's log
                 log = work / f"autograde-{assignment}" / "autograde.log"

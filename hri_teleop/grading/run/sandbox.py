@@ -21,6 +21,7 @@ from pathlib import Path
 from typing import Callable, Dict, List, Mapping, Optional, Sequence, TextIO
 
 from hri_teleop.core.errors import HriTeleopError
+from hri_teleop.ros.master import STUDENT_UID_BASE, uid_process_count
 
 __all__ = ["SandboxError", "Limits", "DEFAULT_LIMITS", "sandbox_mode", "bwrap_problem", "session_argv",
            "StudentProcess", "student_uid", "student_environment", "OUTPUT_CAP_BYTES", "describe_exit"]
@@ -28,7 +29,6 @@ __all__ = ["SandboxError", "Limits", "DEFAULT_LIMITS", "sandbox_mode", "bwrap_pr
 #: Largest output (stdout + stderr, and any one file) a student process may write.
 OUTPUT_CAP_BYTES = 2 * 1024 * 1024
 _MODE_ENV = "HRI_GRADE_SANDBOX"
-_UID_BASE = 200000  # student uids: 200000 + the grading process' pid (unique while it lives)
 
 
 class SandboxError(HriTeleopError, RuntimeError):
@@ -118,7 +118,7 @@ def student_uid() -> Optional[int]:
     """An unprivileged uid for this grading process' student code, or None when not root."""
     if os.geteuid() != 0:
         return None
-    return _UID_BASE + os.getpid()
+    return STUDENT_UID_BASE + os.getpid()
 
 
 def session_argv(argv: Sequence[str], session_dir: Path, readonly_extra: Sequence[Path] = ()) -> List[str]:
@@ -165,24 +165,6 @@ def student_environment(env: Mapping[str, str]) -> Dict[str, str]:
     return {k: v for k, v in env.items() if k in _ENV_KEYS or k.startswith(_ENV_PREFIXES)}
 
 
-def _own_process_count(uid: int) -> int:
-    """Live processes and threads of ``uid`` (zombies left to a slow init do not count)."""
-    count = 0
-    for entry in os.listdir("/proc"):
-        if entry.isdigit():
-            try:
-                if os.stat(f"/proc/{entry}").st_uid != uid:
-                    continue
-                with open(f"/proc/{entry}/stat", "rb") as fh:
-                    state = fh.read().rsplit(b")", 1)[1].split()[0]
-                if state in (b"Z", b"X"):
-                    continue
-                count += len(os.listdir(f"/proc/{entry}/task"))
-            except (OSError, IndexError):
-                continue
-    return count
-
-
 def _preexec(limits: Limits, uid: Optional[int], nproc: int) -> Callable[[], None]:
     import resource  # noqa: PLC0415 - Unix only: imported here so that the rest of the grader imports anywhere
 
@@ -197,7 +179,10 @@ def _preexec(limits: Limits, uid: Optional[int], nproc: int) -> Callable[[], Non
             os.setgroups([])
             os.setgid(uid)
             os.setuid(uid)
-        resource.setrlimit(resource.RLIMIT_NPROC, (nproc, nproc))
+        # Inside a notebook kernel's box the limit is already set (lower): never ask for more than it.
+        hard = resource.getrlimit(resource.RLIMIT_NPROC)[1]
+        limit = nproc if hard == resource.RLIM_INFINITY else min(nproc, hard)
+        resource.setrlimit(resource.RLIMIT_NPROC, (limit, limit))
     return apply
 
 
@@ -235,7 +220,7 @@ class StudentProcess:
         self.limits = limits
         nproc = limits.processes
         if uid is None and os.geteuid() != 0:
-            nproc += _own_process_count(os.geteuid())  # the limit counts all of this user's processes
+            nproc += uid_process_count(os.geteuid())  # the limit counts all of this user's processes
         env = student_environment(env)
         tmp = self.folder / ".tmp"
         tmp.mkdir(exist_ok=True)
@@ -286,7 +271,7 @@ class StudentProcess:
 
     def process_count(self) -> int:
         """How many processes (threads included) its uid runs now; 0 when it has no uid of its own."""
-        return _own_process_count(self.uid) if self.uid is not None else 0
+        return uid_process_count(self.uid) if self.uid is not None else 0
 
     def output_size(self) -> int:
         try:

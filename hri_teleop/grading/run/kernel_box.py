@@ -1,0 +1,495 @@
+"""The kernel sandbox's launcher: one Jupyter kernel started in a bubblewrap box, and the box's rules.
+
+Jupyter starts it in place of the kernel (:mod:`hri_teleop.grading.run.kernel_sandbox` says how and
+why). It imports nothing of the grader's package, which takes half a second to import: it is loaded
+from its file, so every notebook's kernel pays only for its box (grading/README.md, "Notebooks'
+kernels"). The box's user writes the submission's copy in; Jupyter reaches the sockets via /proc.
+"""
+
+from __future__ import annotations
+
+import ctypes
+import json
+import os
+import shutil
+import signal
+import stat
+import subprocess
+import sys
+import time
+import uuid
+from dataclasses import dataclass
+from typing import Any, Dict, List, Mapping, Optional, Sequence, Tuple
+
+from hri_teleop.core.errors import HriTeleopError
+from hri_teleop.core.paths import REPO
+from hri_teleop.ros.master import STUDENT_UID_BASE, uid_process_count
+
+__all__ = ["POLICY_ENV", "SCRATCH_BYTES", "PROCESSES", "CHANNEL", "CHECK_RESULTS", "HIDDEN_ROOTS", "ERROR_MARK",
+           "KernelBoxError", "KernelPolicy", "Box", "mount_rules", "kernel_environment", "box_uid",
+           "launch", "main"]
+
+#: Set (to a :class:`KernelPolicy` as JSON) in the environment of nbgrader's autograde: its kernels are boxed.
+POLICY_ENV = "HRI_KERNEL_SANDBOX"
+#: The scratch folder's quota: a tmpfs, so memory, and only as much as the kernel writes.
+SCRATCH_BYTES = 256 * 1024 ** 2
+#: Processes and threads of a kernel and all it starts (its roscore, nodes, the check cells' own sandboxes).
+PROCESSES = 512
+#: The box's /dev/shm (POSIX semaphores of multiprocessing).
+SHM_BYTES = 16 * 1024 ** 2
+#: The box's own folder (a tmpfs) for the kernel's sockets, its connection file and the stored check results.
+CHANNEL = "/run/hri-kernel"
+CHANNEL_BYTES = 16 * 1024 ** 2
+#: Where the box holds its copy of this submission's stored check results (make grade's files job).
+CHECK_RESULTS = CHANNEL + "/check-results"
+#: Folders a kernel never sees (besides the grader's home, and the course and OUT that make grade adds).
+HIDDEN_ROOTS = ("/home", "/root", "/tmp", "/var/tmp", "/run", "/mnt", "/media", "/srv")
+#: Checkout folders a kernel never sees: the answer key, the instructor's course, make's outputs.
+REPO_HIDDEN = ("solutions", "notebooks", "out")
+#: Lines the launcher prints when the box cannot start start with this (the grader quotes them).
+ERROR_MARK = "kernel sandbox: "
+_READY_TIMEOUT_S = 20.0     # bwrap sets up the box in milliseconds; this only guards a hang
+_POLL_S = 0.005
+_PR_SET_PDEATHSIG = 1
+_SOCKETS = ("shell_port", "iopub_port", "stdin_port", "control_port", "hb_port")
+# The kernel's environment: what Python, ROS, Jupyter's kernel and the notebooks read; never the grader's tokens.
+_ENV_KEYS = {"PATH", "LANG", "LANGUAGE", "TERM", "TZ", "LD_LIBRARY_PATH", "CMAKE_PREFIX_PATH", "PKG_CONFIG_PATH",
+             "MPLBACKEND", "SDL_VIDEODRIVER", "SDL_AUDIODRIVER", "PYGAME_HIDE_SUPPORT_PROMPT", "OPENBLAS_NUM_THREADS",
+             "OMP_NUM_THREADS", "MKL_NUM_THREADS"}
+_ENV_PREFIXES = ("ROS", "LC_", "PYTHON", "HRI_", "NBGRADER_", "CATKIN")
+# Run inside the box before the kernel: the launcher ignores SIGINT (Jupyter's interrupt goes to the whole
+# process group, bwrap included), the kernel must take it again.
+_RESET_SIGINT = "import os, signal, sys; signal.signal(signal.SIGINT, signal.SIG_DFL); os.execvp(sys.argv[1], sys.argv[1:])"
+
+
+class KernelBoxError(HriTeleopError, RuntimeError):
+    """A kernel's box cannot be set up (one line, starting with :data:`ERROR_MARK`: the cause and the fix)."""
+
+
+def box_uid() -> Optional[int]:
+    """As root: an unprivileged uid for what this process starts; None otherwise."""
+    return STUDENT_UID_BASE + os.getpid() if os.geteuid() == 0 else None
+
+
+@dataclass(frozen=True)
+class KernelPolicy:
+    """What one submission's kernels get: ``hidden`` folders of the instructor's (the course, OUT; added to
+    :data:`HIDDEN_ROOTS`), ``check_results`` the host folder of this submission's stored check results
+    (copied into the box), the scratch quota and the process limit. ``own_proc`` False: the box shows the
+    machine's /proc instead of mounting its own (in a container that forbids the mount: Gradescope's)."""
+
+    hidden: Tuple[str, ...] = ()
+    check_results: str = ""
+    scratch_bytes: int = SCRATCH_BYTES
+    processes: int = PROCESSES
+    own_proc: bool = True
+
+    def to_json(self) -> str:
+        return json.dumps({"hidden": list(self.hidden), "check_results": self.check_results,
+                           "scratch_bytes": self.scratch_bytes, "processes": self.processes,
+                           "own_proc": self.own_proc})
+
+    @staticmethod
+    def from_json(text: str) -> "KernelPolicy":
+        try:
+            data = json.loads(text)
+            return KernelPolicy(tuple(str(p) for p in data.get("hidden", ())), str(data.get("check_results", "")),
+                                int(data.get("scratch_bytes", SCRATCH_BYTES)), int(data.get("processes", PROCESSES)),
+                                data.get("own_proc", True) is not False)
+        except (ValueError, TypeError, AttributeError) as exc:
+            raise KernelBoxError(f"{POLICY_ENV}: not a kernel sandbox policy ({exc}); make grade sets it, unset it") \
+                from None
+
+
+def _under(path: str, folder: str) -> bool:
+    return path == folder or path.startswith(folder.rstrip("/") + "/")
+
+
+def mount_rules(hidden: Sequence[str], shown: Sequence[str], hidden_inside: Sequence[str]) -> List[Tuple[str, str]]:
+    """("hide" | "show", path) in the order to mount them, so that the deepest rule above a path decides it.
+
+    ``hidden``: the instructor's folders; ``shown``: what the kernel needs that lies in them (the
+    toolkit, its Python), read-only; ``hidden_inside``: folders hidden again inside those (the answer key,
+    the course, OUT). A rule that changes nothing (a folder hidden inside a hidden one, one shown that is
+    not hidden) is left out. Pure: the caller keeps only paths that exist.
+    """
+    rules: Dict[str, str] = {}
+    for tier, (kind, paths) in enumerate((("hide", hidden), ("show", shown), ("hide", hidden_inside))):
+        for raw in paths:
+            path = os.path.normpath(raw)
+            if tier == 1 and any(_under(os.path.normpath(h), path) for h in hidden):
+                continue  # a folder at or above a hidden one (PYTHONPATH=$HOME, say) would show all of it
+            rules[path] = kind
+    ordered: List[Tuple[str, str]] = []
+    for path in sorted(rules, key=lambda p: (p.count("/"), p)):
+        above = [p for p in rules if p != path and _under(path, p)]
+        nearest = max(above, key=len) if above else None
+        if (rules[nearest] if nearest else "show") != rules[path]:
+            ordered.append((rules[path], path))
+    return ordered
+
+
+def kernel_environment(env: Mapping[str, str], home: str, tmp: str) -> Dict[str, str]:
+    """The kernel's environment: what it needs of ``env``, HOME and TMPDIR in its scratch folder, and
+    JPY_PARENT_PID 1: its parent is the box's init, pid 1 (Jupyter's pid would look gone to ipykernel's
+    parent poller, which then ends the kernel; 1 turns the poller off, and the box ends with its launcher)."""
+    kept = {k: v for k, v in env.items() if (k in _ENV_KEYS or k.startswith(_ENV_PREFIXES)) and k != POLICY_ENV}
+    kept.update({"HOME": home, "TMPDIR": tmp, "USER": "student", "LOGNAME": "student", "JPY_PARENT_PID": "1"})
+    return kept
+
+
+def _search_path_entries(env: Mapping[str, str]) -> List[str]:
+    found = []
+    for key in ("PATH", "PYTHONPATH", "ROS_PACKAGE_PATH", "CMAKE_PREFIX_PATH", "LD_LIBRARY_PATH", "PKG_CONFIG_PATH"):
+        found += [p for p in env.get(key, "").split(os.pathsep) if os.path.isabs(p)]
+    return found
+
+
+def _reachable(path: str, uid: Optional[int]) -> bool:
+    """Whether the box's user can reach ``path`` on the host: every folder above it lets others through
+    (as root, the box runs under a uid of its own that owns nothing and is in no group)."""
+    if not os.path.exists(path):
+        return False
+    if uid is None:
+        return os.access(path, os.R_OK)
+    parent = os.path.dirname(path)
+    while True:
+        try:
+            if not os.stat(parent).st_mode & stat.S_IXOTH:
+                return False
+        except OSError:
+            return False
+        if parent == "/":
+            return True
+        parent = os.path.dirname(parent)
+
+
+def _homes(env: Mapping[str, str]) -> List[str]:
+    """The grader's home folder(s): $HOME and the account's."""
+    import pwd  # noqa: PLC0415 - Unix only: imported where it runs
+
+    found = [env.get("HOME", "")]
+    try:
+        found.append(pwd.getpwuid(os.geteuid()).pw_dir)
+    except KeyError:
+        pass
+    return [h for h in found if os.path.isabs(h) and os.path.normpath(h) != "/"]
+
+
+def _rules(policy: KernelPolicy, env: Mapping[str, str], uid: Optional[int]) -> List[Tuple[str, str]]:
+    exe = os.path.realpath(sys.executable)
+    shown = [str(REPO), sys.prefix, sys.base_prefix, os.path.dirname(os.path.dirname(exe))]
+    # the kernel's Python is this one (.pth files included); python -m puts the folder it runs in first
+    shown += [p for p in sys.path if os.path.isabs(p) and os.path.realpath(p) != os.path.realpath(os.getcwd())]
+    shown += _search_path_entries(env)
+    inside = [str(REPO / name) for name in REPO_HIDDEN] + list(policy.hidden)
+    rules = mount_rules([*HIDDEN_ROOTS, *_homes(env)], [os.path.realpath(p) for p in shown],
+                        [os.path.realpath(p) for p in inside])
+    kept: List[Tuple[str, str]] = []
+    for kind, path in rules:
+        above = [p for k, p in kept if _under(path, p)]
+        in_tmpfs = bool(above) and dict((p, k) for k, p in kept)[max(above, key=len)] == "hide"
+        # bwrap, as the box's user, reads a shown folder on the host, and mounts a hidden one where it is
+        # (in a tmpfs of its own, or on the host): a folder that user cannot reach needs no hiding.
+        if os.path.isdir(path) and (_reachable(path, uid) or (kind == "hide" and in_tmpfs)):
+            kept.append((kind, path))
+    return kept
+
+
+def _in_hidden(path: str, rules: Sequence[Tuple[str, str]]) -> bool:
+    above = [(p, k) for k, p in rules if _under(path, p)]
+    return bool(above) and max(above, key=lambda pk: len(pk[0]))[1] == "hide"
+
+
+def _bwrap_argv(exe: str, rules: Sequence[Tuple[str, str]], cwd: str, policy: KernelPolicy, marker: str,
+                info_fd: int, block_fd: int) -> List[str]:
+    argv = [exe, "--unshare-user", "--unshare-pid", "--unshare-net", "--unshare-ipc", "--unshare-uts",
+            "--unshare-cgroup-try", "--die-with-parent", "--cap-drop", "ALL",
+            "--ro-bind", "/", "/", "--dev", "/dev", *(["--proc", "/proc"] if policy.own_proc else
+                                                     ["--ro-bind", "/proc", "/proc"]),
+            "--size", str(SHM_BYTES), "--tmpfs", "/dev/shm"]
+    for kind, path in rules:
+        argv += ["--tmpfs", path] if kind == "hide" else ["--ro-bind", path, path]
+    for mount_point in (cwd, CHANNEL):
+        if _in_hidden(mount_point, rules) or not os.path.isdir(mount_point):
+            argv += ["--dir", mount_point]
+    for kind, path in rules:
+        if kind == "hide":
+            argv += ["--remount-ro", path]
+    argv += ["--remount-ro", "/dev", "--size", str(policy.scratch_bytes), "--tmpfs", cwd,
+             "--size", str(CHANNEL_BYTES), "--tmpfs", CHANNEL, "--dir", marker, "--chdir", cwd,
+             "--info-fd", str(info_fd), "--block-fd", str(block_fd)]
+    return argv
+
+
+def _prctl_pdeathsig() -> None:
+    try:
+        ctypes.CDLL(None, use_errno=True).prctl(_PR_SET_PDEATHSIG, signal.SIGKILL, 0, 0, 0)
+    except (OSError, AttributeError):
+        pass
+
+
+#: A file tree read by the launcher: (path relative to its root, "d" | "f" | "l", mode, bytes or link target).
+_Tree = List[Tuple[str, str, int, bytes]]
+
+
+def _read_tree(root: str, budget: int) -> _Tree:
+    """``root``'s folders, files and links (nothing else), read as the launcher; KernelBoxError past ``budget`` bytes."""
+    tree: _Tree = []
+    total = 0
+    for dirpath, dirnames, filenames in os.walk(root):
+        for name in sorted(dirnames + filenames):
+            full = os.path.join(dirpath, name)
+            rel = os.path.relpath(full, root)
+            st = os.lstat(full)
+            if stat.S_ISLNK(st.st_mode):
+                tree.append((rel, "l", 0, os.fsencode(os.readlink(full))))
+            elif stat.S_ISDIR(st.st_mode):
+                tree.append((rel, "d", stat.S_IMODE(st.st_mode), b""))
+            elif stat.S_ISREG(st.st_mode):
+                total += st.st_size
+                if total > budget:
+                    raise KernelBoxError(f"{ERROR_MARK}the submission holds more than the scratch folder's "
+                                       f"{budget // 1024 ** 2} MB; the student must hand in less")
+                fd = os.open(full, os.O_RDONLY | os.O_NOFOLLOW)
+                with os.fdopen(fd, "rb") as fh:
+                    tree.append((rel, "f", stat.S_IMODE(st.st_mode), fh.read()))
+    return tree
+
+
+def _write_tree(tree: _Tree, target: str) -> None:
+    os.makedirs(target, exist_ok=True)
+    modes = []
+    for rel, kind, mode, data in tree:
+        path = os.path.join(target, rel)
+        if kind == "d":
+            os.mkdir(path, 0o700)
+            modes.append((path, mode | stat.S_IRWXU))
+        elif kind == "l":
+            os.symlink(os.fsdecode(data), path)
+        else:
+            fd = os.open(path, os.O_WRONLY | os.O_CREAT | os.O_EXCL, 0o600)
+            with os.fdopen(fd, "wb") as fh:
+                fh.write(data)
+            os.chmod(path, mode | stat.S_IRUSR | stat.S_IWUSR)
+    for path, mode in reversed(modes):
+        os.chmod(path, mode)
+
+
+class Box:
+    """One bubblewrap box being set up: started blocked, filled from outside, then let run."""
+
+    def __init__(self, command: Sequence[str], cwd: str, policy: KernelPolicy, env: Mapping[str, str],
+                 stderr: Optional[int] = None) -> None:
+        exe = shutil.which("bwrap", path=env.get("PATH"))
+        if exe is None:
+            raise KernelBoxError(f"{ERROR_MARK}bubblewrap (bwrap) is not installed; apt-get install bubblewrap")
+        self.uid = box_uid()
+        self.cwd = cwd
+        self.marker = f"{CHANNEL}/.ready-{uuid.uuid4().hex}"
+        info_r, info_w = os.pipe()
+        block_r, self._block_w = os.pipe()
+        nproc = policy.processes + (uid_process_count(os.geteuid()) if self.uid is None else 0)
+        argv = _bwrap_argv(exe, _rules(policy, env, self.uid), cwd, policy, self.marker, info_w, block_r)
+        argv += ["--", sys.executable, "-I", "-S", "-c", _RESET_SIGINT, *command]
+        home = os.path.join(cwd, ".home")
+        self.env = kernel_environment(env, home, os.path.join(cwd, ".tmp"))
+        uid, quota = self.uid, policy.scratch_bytes
+
+        def limits() -> None:
+            import resource  # noqa: PLC0415 - Unix only: imported where it runs
+
+            resource.setrlimit(resource.RLIMIT_CORE, (0, 0))
+            resource.setrlimit(resource.RLIMIT_FSIZE, (quota, quota))  # the inherited log files too
+            if uid is not None:
+                os.setgroups([])
+                os.setgid(uid)
+                os.setuid(uid)
+            resource.setrlimit(resource.RLIMIT_NPROC, (nproc, nproc))
+            _prctl_pdeathsig()  # after setuid, which clears it
+
+        try:
+            self.process = subprocess.Popen(argv, env=self.env, cwd="/", pass_fds=(info_w, block_r),
+                                            preexec_fn=limits, close_fds=True, stderr=stderr)
+        finally:
+            os.close(info_w)
+            os.close(block_r)
+        self.child = self._child_pid(info_r)
+
+    def _child_pid(self, info_r: int) -> int:
+        data = b""
+        try:
+            while True:
+                chunk = os.read(info_r, 4096)
+                if not chunk:
+                    break
+                data += chunk
+                try:
+                    return int(json.loads(data)["child-pid"])
+                except (ValueError, KeyError):
+                    continue
+        finally:
+            os.close(info_r)
+        self.process.wait()
+        raise KernelBoxError(f"{ERROR_MARK}bwrap could not set up the kernel's box (exit status "
+                           f"{self.process.returncode}; its message is above)")
+
+    @property
+    def root(self) -> str:
+        """The box's / as seen from outside."""
+        return f"/proc/{self.child}/root"
+
+    def wait_ready(self) -> None:
+        """Until every mount is in place (the last one leaves the marker), or KernelBoxError."""
+        deadline = time.monotonic() + _READY_TIMEOUT_S
+        while not os.path.isdir(self.root + self.marker):
+            if self.process.poll() is not None:
+                raise KernelBoxError(f"{ERROR_MARK}bwrap ended while it set up the kernel's box (exit status "
+                                   f"{self.process.returncode}; its message is above)")
+            if time.monotonic() > deadline:
+                raise KernelBoxError(f"{ERROR_MARK}bwrap did not set up the kernel's box within {_READY_TIMEOUT_S:.0f} s")
+            time.sleep(_POLL_S)
+
+    def fill(self, trees: Sequence[Tuple[_Tree, str]], files: Sequence[Tuple[str, bytes]]) -> None:
+        """Write ``trees`` (each at a path in the box) and ``files`` (path, bytes) as the box's user,
+        which the box's tmpfs takes (as root the launcher could not: its uid is not mapped in there)."""
+        pid = os.fork()
+        if pid == 0:  # pragma: no cover - the child's own exit status says how it went
+            code = 0
+            try:
+                if self.uid is not None:
+                    os.setgroups([])
+                    os.setgid(self.uid)
+                    os.setuid(self.uid)
+                for tree, where in trees:
+                    _write_tree(tree, self.root + where)
+                for where, data in files:
+                    fd = os.open(self.root + where, os.O_WRONLY | os.O_CREAT | os.O_TRUNC, 0o600)
+                    with os.fdopen(fd, "wb") as fh:
+                        fh.write(data)
+            except OSError as exc:
+                print(f"{ERROR_MARK}cannot fill the kernel's scratch folder ({exc.strerror}: {exc.filename})",
+                      file=sys.stderr, flush=True)
+                code = 1
+            os._exit(code)
+        _pid, status = os.waitpid(pid, 0)
+        if os.WEXITSTATUS(status) if os.WIFEXITED(status) else 1:
+            raise KernelBoxError(f"{ERROR_MARK}the kernel's scratch folder could not be filled (see above)")
+
+    def release(self) -> None:
+        os.write(self._block_w, b"go")
+        os.close(self._block_w)
+
+    def kill(self) -> None:
+        try:
+            self.process.kill()
+        except OSError:
+            pass
+        self.process.wait()
+
+
+def _connection(path: str) -> Dict[str, Any]:
+    with open(path, encoding="utf-8") as fh:
+        info: Dict[str, Any] = json.load(fh)
+    if info.get("transport") != "ipc":
+        raise KernelBoxError(f"{ERROR_MARK}{path}: the kernel's transport is {info.get('transport')!r}; the box "
+                           "needs ipc (--KernelManager.transport=ipc, as make grade sets)")
+    return info
+
+
+def _seeds(home: str) -> List[Tuple[_Tree, str]]:
+    """The grader's caches a fresh home should have (matplotlib's font list: without it matplotlib warns on
+    stderr, which nbgrader scores as a failed cell; the lab's live graph), copied into the box's home."""
+    cache = os.environ.get("XDG_CACHE_HOME") or os.path.join(os.path.expanduser("~"), ".cache")
+    found = []
+    for source, target in ((os.path.join(cache, "matplotlib"), ".cache/matplotlib"),
+                           (os.path.join(cache, "hri-teleop"), ".cache/hri-teleop")):
+        if os.path.isdir(source):
+            try:
+                found.append((_read_tree(source, CHANNEL_BYTES), os.path.join(home, target)))
+            except (OSError, KernelBoxError):
+                continue  # a cache the kernel rebuilds
+    return found
+
+
+def _link_sockets(info: Mapping[str, Any], root: str) -> List[str]:
+    """``ip-port`` for each of the kernel's sockets, a link to where the kernel binds it in the box."""
+    made = []
+    for name in _SOCKETS:
+        link = f"{info['ip']}-{info[name]}"
+        tmp = f"{link}.{os.getpid()}.tmp"
+        os.symlink(f"{root}{CHANNEL}/k-{info[name]}", tmp)
+        os.replace(tmp, link)
+        made.append(link)
+    return made
+
+
+def launch(command: Sequence[str], connection_file: str, policy: KernelPolicy) -> int:
+    """The launcher: the kernel ``command`` in a box at this process' folder; its exit status."""
+    cwd = os.getcwd()
+    info = _connection(connection_file)
+    signal.signal(signal.SIGINT, signal.SIG_IGN)  # Jupyter's interrupt is for the kernel (it takes it back)
+    inner = dict(info, ip=f"{CHANNEL}/k")
+    inside = f"{CHANNEL}/connection.json"
+    command = [inside if arg == connection_file else arg for arg in command]
+    submission = _read_tree(cwd, policy.scratch_bytes)
+    results = _read_tree(policy.check_results, CHANNEL_BYTES) if os.path.isdir(policy.check_results) else []
+    box = Box(command, cwd, policy, os.environ)
+    links: List[str] = []
+
+    def stop(signum: int, _frame: Any) -> None:
+        box.kill()
+        _unlink(links)
+        os._exit(128 + signum)
+
+    signal.signal(signal.SIGTERM, stop)
+    signal.signal(signal.SIGHUP, stop)
+    try:
+        box.wait_ready()
+        home = box.env["HOME"]
+        trees = [(submission, cwd), *_seeds(home), ([], box.env["TMPDIR"])]
+        if results:
+            trees.append((results, CHECK_RESULTS))
+        box.fill(trees, [(inside, json.dumps(inner).encode())])
+        links = _link_sockets(info, box.root)
+        box.release()
+    except (KernelBoxError, OSError) as exc:
+        box.kill()
+        _unlink(links)
+        print(exc if isinstance(exc, KernelBoxError) else f"{ERROR_MARK}{exc}", file=sys.stderr, flush=True)
+        return 1
+    code = box.process.wait()
+    _unlink(links)
+    return code if code >= 0 else 128 - code
+
+
+def _unlink(links: Sequence[str]) -> None:
+    for link in links:
+        try:
+            os.unlink(link)
+        except OSError:
+            pass
+
+
+def main(argv: Optional[Sequence[str]] = None) -> int:
+    """``python -m hri_teleop.grading.run.kernel_sandbox --connection-file F --policy JSON -- KERNEL...``."""
+    args = list(sys.argv[1:] if argv is None else argv)
+    try:
+        split = args.index("--")
+        options = dict(zip(args[:split:2], args[1:split:2]))
+        command = args[split + 1:]
+        if not command or set(options) != {"--connection-file", "--policy"}:
+            raise ValueError
+    except ValueError:
+        print("usage: kernel_box.py --connection-file FILE --policy JSON -- KERNEL COMMAND... (make grade runs it)",
+              file=sys.stderr)
+        return 2
+    try:
+        return launch(command, options["--connection-file"], KernelPolicy.from_json(options["--policy"]))
+    except (KernelBoxError, OSError) as exc:
+        print(exc if isinstance(exc, KernelBoxError) else f"{ERROR_MARK}{exc}", file=sys.stderr, flush=True)
+        return 1
+
+
+if __name__ == "__main__":
+    sys.exit(main())
