@@ -26,6 +26,7 @@ from typing import Any, Callable, Dict, List, Mapping, Optional, Sequence, Set, 
 from hri_teleop.core.errors import HriTeleopError
 from hri_teleop.core.paths import REPO
 from hri_teleop.ros.master_api import MasterApiError, master_call
+from hri_teleop.ros.proc_table import descendants
 
 
 class MasterError(HriTeleopError, RuntimeError):
@@ -282,87 +283,6 @@ class ManagedProcess:
             return self.popen.wait(timeout=timeout_s)
         except subprocess.TimeoutExpired:
             return None
-
-
-def _stat(path: str) -> Optional[Tuple[int, bytes]]:
-    """(parent pid, state letter) from a /proc ``stat`` file (a process's or a thread's); None once it ended."""
-    try:
-        with open(path, "rb") as fh:
-            stat = fh.read()
-        fields = stat[stat.rindex(b")") + 2:].split()  # after "pid (comm) "; comm may hold spaces
-        return int(fields[1]), fields[0]
-    except (OSError, ValueError, IndexError):
-        return None
-
-
-def _proc_table() -> Dict[int, Tuple[int, bytes]]:
-    """pid -> (parent pid, state) of every process, from /proc."""
-    try:
-        entries = os.listdir("/proc")
-    except OSError:
-        return {}
-    table: Dict[int, Tuple[int, bytes]] = {}
-    for entry in entries:
-        found = _stat(f"/proc/{entry}/stat") if entry.isdigit() else None
-        if found is not None:
-            table[int(entry)] = found
-    return table
-
-
-def process_trees(roots: Sequence[int]) -> List[int]:
-    """``roots`` and every live (not zombie) process below them now: one walk of /proc for all."""
-    table = _proc_table()
-    children: Dict[int, List[int]] = {}
-    for pid, (ppid, _state) in table.items():
-        children.setdefault(ppid, []).append(pid)
-    found, todo = [], list(roots)
-    while todo:
-        pid = todo.pop()
-        found.append(pid)
-        todo.extend(children.get(pid, []))
-    return [pid for pid in found if table.get(pid, (0, b"Z"))[1] not in (b"Z", b"X")]
-
-
-#: Student code run as root gets an unprivileged uid of its own: this + the pid of the process that
-#: owns it (unique while that process lives; the grader's sandboxes share it, so no two collide).
-STUDENT_UID_BASE = 200000
-
-
-def uid_process_count(uid: int) -> int:
-    """Live processes and threads of ``uid`` (zombies left to a slow init do not count)."""
-    count = 0
-    for entry in os.listdir("/proc"):
-        if entry.isdigit():
-            try:
-                if os.stat(f"/proc/{entry}").st_uid != uid:
-                    continue
-                found = _stat(f"/proc/{entry}/stat")
-                if found is None or found[1] in (b"Z", b"X"):
-                    continue
-                count += len(os.listdir(f"/proc/{entry}/task"))
-            except OSError:
-                continue
-    return count
-
-
-def descendants(root: int) -> List[int]:
-    """Every live (not zombie) process below ``root`` now (Linux /proc)."""
-    return [pid for pid in process_trees([root]) if pid != root]
-
-
-def busy_threads(pids: Sequence[int]) -> int:
-    """Threads of ``pids`` that are running or about to (state R or D): 0 when every one waits."""
-    busy = 0
-    for pid in pids:
-        try:
-            tids = os.listdir(f"/proc/{pid}/task")
-        except OSError:
-            continue  # ended
-        for tid in tids:
-            found = _stat(f"/proc/{pid}/task/{tid}/stat")
-            if found is not None and found[1] in (b"R", b"D"):
-                busy += 1
-    return busy
 
 
 def _group_alive(pgid: int) -> bool:

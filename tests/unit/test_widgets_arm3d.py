@@ -23,7 +23,7 @@ from hri_teleop.core.joints import JOINT_NAMES, PANDA_JOINT_LIMITS, READY_POSE_R
 from hri_teleop.course.widgets import ArmView, ArmViewError, joint_config
 from hri_teleop.course.widgets.arm3d import live_status, ready_config, replay_frames
 from hri_teleop.hardware.sim.kinematics import PandaKinematics, panda_urdf
-from hri_teleop.ros.master import descendants
+from hri_teleop.ros.proc_table import descendants
 
 pin = pytest.importorskip("pinocchio")
 FINGERS = ("panda_finger_joint1", "panda_finger_joint2")

@@ -20,7 +20,7 @@ from dataclasses import dataclass
 from pathlib import Path
 from typing import Any, Callable, Dict, List, Optional, Sequence, Tuple, TypeVar
 
-from hri_teleop.ros.master import descendants
+from hri_teleop.ros.proc_table import descendants
 
 __all__ = ["Progress", "print_line", "Run", "run_job", "job_count", "run_all", "reap_main", "reap_command"]
 

@@ -23,7 +23,7 @@ from typing import Any, Dict, List, Mapping, Optional, Sequence, Tuple
 
 from hri_teleop.core.errors import HriTeleopError
 from hri_teleop.core.paths import REPO
-from hri_teleop.ros.master import STUDENT_UID_BASE, uid_process_count
+from hri_teleop.ros.proc_table import STUDENT_UID_BASE, uid_process_count
 
 __all__ = ["POLICY_ENV", "SCRATCH_BYTES", "PROCESSES", "CHANNEL", "CHECK_RESULTS", "HIDDEN_ROOTS", "ERROR_MARK",
            "KernelBoxError", "KernelPolicy", "Box", "mount_rules", "kernel_environment", "box_uid",

@@ -15,7 +15,8 @@ import time
 from typing import Any, Callable, Dict, List, Protocol, Sequence, Set, Tuple
 
 from hri_teleop.hardware.gamepad import PAD_CLOCK_ENV
-from hri_teleop.ros.master import MasterError, PrivateMaster, busy_threads, process_trees
+from hri_teleop.ros.master import MasterError, PrivateMaster
+from hri_teleop.ros.proc_table import busy_threads, process_trees
 
 __all__ = ["GRADER_NODE", "wait_for", "Recorder", "GraderClock", "Quiescence", "wait_until_settled", "last_value",
            "connections", "node_rate_hz"]

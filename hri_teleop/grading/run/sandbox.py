@@ -21,7 +21,7 @@ from pathlib import Path
 from typing import Callable, Dict, List, Mapping, Optional, Sequence, TextIO
 
 from hri_teleop.core.errors import HriTeleopError
-from hri_teleop.ros.master import STUDENT_UID_BASE, uid_process_count
+from hri_teleop.ros.proc_table import STUDENT_UID_BASE, uid_process_count
 
 __all__ = ["SandboxError", "Limits", "DEFAULT_LIMITS", "sandbox_mode", "bwrap_problem", "session_argv",
            "StudentProcess", "student_uid", "student_environment", "OUTPUT_CAP_BYTES", "describe_exit"]
