@@ -72,7 +72,9 @@ def _key(node: ast.AST) -> Optional[str]:
     if isinstance(node, ast.Attribute):
         return node.attr
     if isinstance(node, ast.Subscript):
-        index = node.slice.value if isinstance(node.slice, ast.Index) else node.slice  # type: ignore[attr-defined]
+        index = node.slice
+        if type(index).__name__ == "Index":  # Python 3.8 wraps a subscript's value
+            index = index.value  # type: ignore[attr-defined]
         if isinstance(index, ast.Constant) and isinstance(index.value, str):
             return index.value
         if isinstance(index, ast.Constant) and isinstance(index.value, int):
