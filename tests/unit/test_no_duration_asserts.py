@@ -2,7 +2,7 @@
 
 Every test file under tests/ is read with ``ast``. A value read from a clock (``time.perf_counter()``,
 ``time.monotonic()``, ``time.process_time()``, ``time.time()``, their ``_ns`` forms, ``timeit``) is an
-*instant*; an instant minus an instant is a *duration*, and so is anything computed from a duration
+*instant*; anything minus an instant is a *duration* (a bag's stamp too), and so is anything computed from a duration
 (a ratio, ``min`` of several, a list they were appended to, what a helper function returns). An
 ``assert`` whose expression compares a duration fails the suite. Comparing instants with each other
 (``assert started <= clock.now() <= time.monotonic()``: an order, not a speed) and deadline loops
@@ -146,8 +146,8 @@ class _Module:
             return self._call(node)
         if isinstance(node, ast.BinOp):
             left, right = self.kind(node.left).level, self.kind(node.right).level
-            if DURATION in (left, right) or (isinstance(node.op, ast.Sub) and left == right == INSTANT):
-                return SPAN
+            if DURATION in (left, right) or (isinstance(node.op, ast.Sub) and right == INSTANT):
+                return SPAN  # an instant minus an instant, or a time from elsewhere (a bag's stamp) minus one
             if isinstance(node.op, (ast.Add, ast.Sub)) and INSTANT in (left, right):
                 return STAMP  # a deadline, a stamp in the past
             return PLAIN
@@ -363,6 +363,15 @@ def test(built):
     folder, timing = built
     assert folder.is_dir()
     assert timing["seconds"] < 60
+""",
+    "a recorded stamp minus a wall-clock instant": """
+import time
+def test(ros_master):
+    pub.stop()
+    silent_at = time.time()
+    msgs = read_topics(bag)
+    back_to_zero = next(t for t, m in msgs if t > silent_at and m.linear.x == 0.0)
+    assert back_to_zero - silent_at < 2.0
 """,
     "timeit": """
 import timeit
