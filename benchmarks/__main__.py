@@ -9,21 +9,15 @@ Exit status 0; 2 with one line on stderr when a benchmark cannot run.
 from __future__ import annotations
 
 import argparse
+import dataclasses
 import importlib
 import sys
 import time
 from pathlib import Path
 from typing import Callable, Dict, List, Optional
 
-from benchmarks.report import (
-    HEADER,
-    BenchError,
-    BenchOptions,
-    BenchRow,
-    format_row,
-    machine_summary,
-    write_results,
-)
+from benchmarks import machine as machines
+from benchmarks.report import HEADER, BenchError, BenchOptions, BenchRow, format_row, write_results
 
 #: name -> module in benchmarks with ``run(options, progress) -> List[BenchRow]``.
 BENCHMARKS: Dict[str, str] = {
@@ -33,6 +27,7 @@ BENCHMARKS: Dict[str, str] = {
     "grading": "grading",      # 4. hri-grade submission, make grade vs nbgrader autograde
     "notebooks": "notebooks",  # 5. every notebook headless, make setup when nothing is missing
     "determinism": "determinism",  # 6. the same part scores run after run, idle and loaded
+    "doctor": "doctor",        # 7. make doctor at home, beside a roscore start and stop
 }
 
 
@@ -40,17 +35,24 @@ def _progress(message: str) -> None:
     print(f"  … {message}", file=sys.stderr, flush=True)
 
 
-def run(names: List[str], options: BenchOptions, progress: Callable[[str], None] = _progress) -> List[BenchRow]:
+def run(names: List[str], options: BenchOptions, progress: Callable[[str], None] = _progress,
+        first: Optional[machines.Machine] = None) -> List[BenchRow]:
+    """Each benchmark between two looks at the machine (``first``: the look before the first one);
+    every row carries its benchmark's machine, idle or not."""
     rows: List[BenchRow] = []
     print(HEADER, flush=True)
-    for name in names:
+    for k, name in enumerate(names):
         module = importlib.import_module(f"benchmarks.{BENCHMARKS[name]}")
+        before = first if k == 0 and first is not None else machines.sample()
         started = time.monotonic()
         progress(f"{name}: running{' (smoke sizes)' if options.smoke else ''}")
-        for row in module.run(options, progress):
-            rows.append(row)
-            print(format_row(row), flush=True)
-        progress(f"{name}: done in {time.monotonic() - started:.0f} s")
+        measured = module.run(options, progress)
+        took_s = time.monotonic() - started
+        machine = machines.finished(before)
+        for row in measured:
+            rows.append(dataclasses.replace(row, machine=machine))
+            print(format_row(rows[-1]), flush=True)
+        progress(f"{name}: done in {took_s:.0f} s; {'idle' if machine.idle else 'the machine was BUSY'}")
     return rows
 
 
@@ -69,10 +71,10 @@ def main(argv: Optional[List[str]] = None) -> int:
     names = args.names or list(BENCHMARKS)
     out = Path(args.out).resolve()
     options = BenchOptions(out_dir=out, smoke=args.smoke, jobs=args.jobs)
-    machine = machine_summary()
-    print(f"Machine: {machine}", flush=True)
+    machine = machines.sample()
+    print(f"Machine: {machine.summary()}", flush=True)
     try:
-        rows = run(names, options)
+        rows = run(names, options, first=machine)
     except BenchError as exc:
         print(f"bench: {exc}", file=sys.stderr)
         return 2

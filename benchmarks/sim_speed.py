@@ -2,7 +2,8 @@
 
 ``run_lab`` steps the teleoperation controller, the arm, the hand, the object and the sensor board
 in lock-step on the lab's scenarios: the reference is real time. The second row times the arm alone
-with its seven joints (pinocchio's kinematics and the joint judge) against the hand alone.
+with its seven joints (pinocchio's kinematics and the joint judge) against the hand alone, the third
+the gripper's fingers and the object; both against the robot's 1 ms cycle.
 """
 
 from __future__ import annotations
@@ -18,6 +19,9 @@ from hri_teleop.core.limits import DEFAULT_LIMITS, TwistLimiter
 from hri_teleop.core.paths import SCENARIOS
 from hri_teleop.hardware.sim.arm import SimArm, SimArmConfig
 from hri_teleop.hardware.sim.config import default_sim_yaml, load_world_config
+from hri_teleop.hardware.sim.grasp_objects import OBJECTS
+from hri_teleop.hardware.sim.gripper_goals import MoveCommand
+from hri_teleop.hardware.sim.hand import HandSim
 from hri_teleop.hardware.sim.lab import run_lab
 from hri_teleop.hardware.sim.virtual_pad import load_script
 from hri_teleop.hardware.sim.world import LAB_ARM_CONFIG
@@ -26,6 +30,8 @@ from hri_teleop.hardware.sim.world import LAB_ARM_CONFIG
 REPEATS = {False: 5, True: 1}
 #: Simulated seconds of the arm-cycle timing: full run, smoke run.
 ARM_SECONDS = {False: 20.0, True: 2.0}
+#: Simulated seconds of the gripper hand, each timed alone (the best counts): full run, smoke run.
+HAND_REPEATS = {False: 5, True: 1}
 
 
 def run_scenario(path: Path) -> Tuple[float, float, int]:
@@ -58,7 +64,7 @@ def run(options: BenchOptions, progress: Callable[[str], None]) -> List[BenchRow
     figure = (f"real-time factor {rtf:.0f} (min {min(factors):.0f}) over {len(factors)} runs of "
               f"{', '.join(p.stem for p in scenarios)}; {values['wall_per_tick_ms']:.3f} ms of wall time per control tick")
     return [BenchRow("simulation flat out", figure, "real time (factor 1)", rtf, "simulated s / wall s", values),
-            run_arm(options, progress)]
+            run_arm(options, progress), run_hand(options, progress)]
 
 
 def arm_cycle_us(joints: bool, seconds: float) -> float:
@@ -92,3 +98,32 @@ def run_arm(options: BenchOptions, progress: Callable[[str], None]) -> BenchRow:
               f"{hand_alone:.1f} us for the hand alone: the joints cost {with_joints - hand_alone:.1f} us")
     return BenchRow("Panda joints per 1 kHz cycle", figure, "the robot's 1 ms cycle", 1000.0 / with_joints,
                     "1 ms / CPU per cycle", values)
+
+
+def hand_step_us(seconds: float, repeats: int) -> float:
+    """CPU microseconds per 1 ms step of the gripper closing on the sponge while the arm lifts
+    (the fingers, the piston's count, the finger joints read every step); the best of ``repeats``."""
+    best = float("inf")
+    for _ in range(repeats):
+        hand = HandSim()
+        hand.place_object(OBJECTS["sponge"])
+        hand.send(MoveCommand(0.0, 0.1), 0.0)
+        n = int(round(seconds * 1000))
+        started = time.process_time()
+        for k in range(1, n + 1):
+            hand.step(k * 0.001, 0.01)
+            _ = hand.fsr_count, hand.joint_positions_m
+        best = min(best, (time.process_time() - started) / n * 1e6)
+    if best <= 0:
+        raise BenchError("the hand's steps took no measurable CPU time: the benchmark is wrong")
+    return best
+
+
+def run_hand(options: BenchOptions, progress: Callable[[str], None]) -> BenchRow:
+    step_us = hand_step_us(1.0, HAND_REPEATS[options.smoke])
+    progress(f"sim: gripper hand {step_us:.1f} us per 1 ms step")
+    values = {"step_us": step_us, "share_of_1ms": step_us / 1000.0}
+    figure = (f"{step_us:.1f} us of CPU per 1 ms step of the fingers closing on the sponge "
+              f"(best of {HAND_REPEATS[options.smoke]} simulated seconds)")
+    return BenchRow("gripper hand per 1 kHz cycle", figure, "the robot's 1 ms cycle", 1000.0 / step_us,
+                    "1 ms / CPU per step", values)

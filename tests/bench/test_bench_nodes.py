@@ -1,13 +1,15 @@
 """make bench's ROS benchmarks in their smoke sizes: latency, command timing, simulation speed.
 
-They run the real mapping_node and teleoperation on a private master (roslaunch), so the
-smoke run also proves what the benchmark claims in the small: a force reaches the pad
-within a few ms, not at the node's next 50 Hz tick.
+They run the real mapping_node and teleoperation on a private master (roslaunch): the smoke run
+proves that each benchmark measures what it names and that its rows add up. How fast is for
+`make bench` to say, beside its reference and its machine: no test here judges a time.
 """
 
 from __future__ import annotations
 
+import json
 import math
+import re
 import subprocess
 import sys
 
@@ -29,7 +31,7 @@ def _check_row(row: BenchRow) -> None:
     assert row.ratio > 0 and math.isfinite(row.ratio), row
 
 
-def test_force_reaches_the_pad_within_a_few_ms_and_sampling_adds_its_period(tmp_path):
+def test_every_force_step_reaches_the_pad_through_the_nodes_and_through_each_board(tmp_path):
     rows = latency.run(BenchOptions(out_dir=tmp_path, smoke=True), _log)
     assert [r.benchmark for r in rows] == ["force → rumble, nodes only", "force → rumble, board every 10 ms",
                                            "force → rumble, board every 300 ms"]
@@ -37,38 +39,34 @@ def test_force_reaches_the_pad_within_a_few_ms_and_sampling_adds_its_period(tmp_
         _check_row(row)
     nodes, board10, board300 = (r.values for r in rows)
     assert nodes["missed_steps"] == 0 and nodes["steps"] == 20
-    # answered when the force arrives: polled at the 50 Hz tick the median would be ~10 ms
-    assert nodes["p50_ms"] < 5.0, rows[0]
-    assert nodes["hop_p50_ms"] <= nodes["mapped_p50_ms"] <= nodes["p50_ms"] + 0.5
     assert rows[0].ratio == pytest.approx(nodes["p50_ms"] / nodes["hop_p50_ms"])
-    # a step waits for the board's next sample: up to 300 ms with the handout's sketch
-    assert board300["p50_ms"] > board10["p50_ms"]
-    assert board300["max_ms"] < 300.0 + 100.0
+    assert rows[1].ratio == pytest.approx(board10["p50_ms"] / nodes["p50_ms"])
+    assert rows[2].ratio == pytest.approx(board300["p50_ms"] / board10["p50_ms"])
     assert (tmp_path / "latency" / "rumble.log").read_text().startswith("#")
     assert (tmp_path / "latency.png").stat().st_size > 10_000
 
 
-def test_twist_arrives_every_period_idle_and_loaded(tmp_path):
+def test_twists_are_recorded_idle_and_loaded(tmp_path):
     rows = timing.run(BenchOptions(out_dir=tmp_path, smoke=True, jobs=2), _log)
     assert [r.benchmark for r in rows] == ["twist period, idle", "twist period, 2 cores loaded"]
     for row in rows:
         _check_row(row)
-        assert row.values["period_p50_ms"] == pytest.approx(20.0, abs=1.0)
-        assert row.values["periods"] >= 2.0 / 0.02 * 0.8
+        assert row.values["periods"] >= 1 and 0 <= row.values["missed_periods"] <= row.values["periods"]
     assert rows[1].ratio == pytest.approx(rows[1].values["dev_p99_ms"] / rows[0].values["dev_p99_ms"])
 
 
-def test_simulation_runs_faster_than_real_time(tmp_path):
-    row, arm = sim_speed.run(BenchOptions(out_dir=tmp_path, smoke=True), _log)
+def test_simulation_rows_time_the_lab_the_arm_and_the_hand(tmp_path):
+    row, arm, hand = sim_speed.run(BenchOptions(out_dir=tmp_path, smoke=True), _log)
     _check_row(row)
-    assert row.values["rtf_median"] > 5.0
     assert row.ratio == row.values["rtf_median"]
-    assert row.values["simulated_s"] > 5.0
+    assert row.values["runs"] == 3 and row.values["simulated_s"] > 30.0  # the three scenarios, once each
+    assert row.ratio == pytest.approx(row.values["rtf_median"])
     # the arm's 1 ms cycle: the joints' share of it and the ratio to the robot's period
     _check_row(arm)
-    assert 0.0 < arm.values["hand_alone_us"] < arm.values["cycle_us"] < 1000.0
     assert arm.values["joints_us"] == pytest.approx(arm.values["cycle_us"] - arm.values["hand_alone_us"])
     assert arm.ratio == pytest.approx(1000.0 / arm.values["cycle_us"])
+    _check_row(hand)
+    assert hand.benchmark == "gripper hand per 1 kHz cycle" and hand.ratio == pytest.approx(1000.0 / hand.values["step_us"])
 
 
 def test_make_bench_prints_the_table_and_writes_results(tmp_path):
@@ -76,10 +74,13 @@ def test_make_bench_prints_the_table_and_writes_results(tmp_path):
                           capture_output=True, text=True, timeout=120)
     assert proc.returncode == 0, proc.stderr
     lines = proc.stdout.splitlines()
-    assert lines[0].startswith("Machine: ") and lines[1].startswith("| benchmark |")
-    assert lines[3].startswith("| simulation flat out |")
+    assert lines[0].startswith("Machine: ") and " cores, " in lines[0] and "Python " in lines[0]
+    assert "load average " in lines[0] and lines[1].startswith("| benchmark |") and lines[1].endswith("| machine |")
+    assert lines[3].startswith("| simulation flat out |") and re.search(r"cores, Python [\d.]+; load [\d.]+/", lines[3])
     assert (tmp_path / "results.md").read_text().count("| simulation flat out |") == 1
-    assert '"rtf_median"' in (tmp_path / "results.json").read_text()
+    data = json.loads((tmp_path / "results.json").read_text())
+    assert "rtf_median" in data["rows"][0]["values"]
+    assert all(isinstance(r["machine"]["idle"], bool) and r["machine"]["cores"] >= 1 for r in data["rows"])
 
 
 def test_an_unknown_benchmark_is_one_line_naming_the_choices(tmp_path):

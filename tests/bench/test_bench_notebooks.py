@@ -51,7 +51,7 @@ def test_smoke_run_gives_both_rows_with_consistent_ratios(tmp_path):
 
     for row in rows:
         assert _positive(row.ratio)
-        assert format_row(row).count("|") - format_row(row).count("\\|") == 5, "one table row, 4 cells"
+        assert format_row(row).count("|") - format_row(row).count("\\|") == 6, "one table row, 5 cells"
     assert any(m.startswith(f"notebook 1/{count} ") for m in messages), messages
     assert any(m.startswith(f"make setup {bench.SETUP_RUNS_SMOKE}/") for m in messages), messages
     assert bench.MARKER_ENV not in os.environ, "the marker must not outlive the run"

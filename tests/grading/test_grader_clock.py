@@ -11,20 +11,36 @@ pytestmark = pytest.mark.ros
 SEED = 407054861
 
 
+@pytest.fixture
+def clocks(monkeypatch):
+    """The clock each node run was observed on ("grader" or "real time"), as the judge saw it."""
+    from hri_teleop.grading.judge import compare
+
+    seen = []
+    original = compare.compare_teleop_node
+
+    def spy(observation, *args, **kwargs):
+        seen.append(observation.clock)
+        return original(observation, *args, **kwargs)
+
+    monkeypatch.setattr(compare, "compare_teleop_node", spy)
+    return seen
+
+
 def _package(tmp_path, text):
     return write_package(tmp_path / "hri_lab", {"package.xml": answer_text("package.xml"),
                                                 "scripts/teleoperation.py": text})
 
 
-def test_the_answer_key_runs_faster_than_its_pad_script_and_gets_full_marks(tmp_path):
-    from hri_teleop.grading.cases import inputs as C
+def test_the_answer_key_runs_on_the_grader_clock_and_gets_full_marks(tmp_path, clocks):
+    """On the grader's clock a run takes what the node computes, not the pad script's length; how much
+    faster that is than real time is make bench's ("hri-grade submission, real time", same run)."""
     from hri_teleop.grading.judge.checks import grade_teleoperation
 
     result = grade_teleoperation(_package(tmp_path, answer_text("scripts/teleoperation.py")), seed=SEED)
     assert result.score == result.max_score, result.failed_parts
     assert not any("real time" in n for n in result.notes)
-    # The parts' import probe and start-up take a few seconds; the script alone lasts quit_s.
-    assert result.duration_s < C.hidden_teleop_node_case(SEED).quit_s + 2.0
+    assert clocks == ["grader"]
 
 
 def test_a_loop_paced_by_time_sleep_is_judged_all_the_same(tmp_path):
@@ -60,10 +76,9 @@ def test_the_grader_clock_gives_the_same_messages_run_after_run(tmp_path):
     assert seen[0]["/gripper_width"] == seen[1]["/gripper_width"]
 
 
-def test_hri_grade_clock_real_runs_the_node_in_real_time_with_the_same_verdict(tmp_path, monkeypatch):
+def test_hri_grade_clock_real_runs_the_node_in_real_time_with_the_same_verdict(tmp_path, monkeypatch, clocks):
     """HRI_GRADE_CLOCK=real: grading as it was before the grader owned the clock (make bench's
     "before" row), judged the same and with no note about the clock."""
-    from hri_teleop.grading.cases import inputs as C
     from hri_teleop.grading.judge.checks import grade_teleoperation
     from hri_teleop.grading.judge.harness import CLOCK_ENV
 
@@ -71,4 +86,4 @@ def test_hri_grade_clock_real_runs_the_node_in_real_time_with_the_same_verdict(t
     result = grade_teleoperation(_package(tmp_path, answer_text("scripts/teleoperation.py")), seed=SEED)
     assert result.score == result.max_score, result.failed_parts
     assert not result.notes
-    assert result.duration_s > C.hidden_teleop_node_case(SEED).quit_s  # the pad script in real time
+    assert clocks == ["real time"]  # the pad script ran on the wall clock

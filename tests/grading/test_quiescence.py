@@ -9,6 +9,7 @@ import time
 
 import pytest
 
+from hri_teleop.grading.run import lockstep
 from hri_teleop.grading.run.lockstep import Quiescence, busy_threads
 
 WORK_THEN_SLEEP = """
@@ -19,6 +20,8 @@ while time.monotonic() < end:
 open(sys.argv[1], "w").write("done")
 time.sleep(60)
 """
+
+SPIN = "import sys; open(sys.argv[1], 'w').close()\nwhile True: pass"
 
 
 @pytest.fixture
@@ -56,28 +59,49 @@ def test_it_returns_only_after_a_grandchild_has_done_its_work(tmp_path, processe
     assert busy_threads(quiet.pids) == 0
 
 
-def test_it_does_not_wait_for_processes_outside_the_roots(tmp_path, processes):
-    spinner = processes([sys.executable, "-c", "while True: pass"])
+@pytest.fixture
+def waits(monkeypatch):
+    """Every wait Quiescence starts (its timeout) and what it came to, the real wait doing the waiting."""
+    calls = []
+    real = lockstep.wait_for
+
+    def recorded(condition, timeout_s, poll_s=0.02):
+        calls.append([timeout_s, None])
+        calls[-1][1] = real(condition, timeout_s, poll_s)
+        return calls[-1][1]
+
+    monkeypatch.setattr(lockstep, "wait_for", recorded)
+    return calls
+
+
+def _spinner(processes, tmp_path):
+    """A process in a busy loop, once it is in it (its start may wait on the disk)."""
+    marker = tmp_path / "spinning"
+    spinner = processes([sys.executable, "-c", SPIN, str(marker)])
+    _wait_file(marker)
+    assert marker.exists(), "the spinner did not start"
+    return spinner
+
+
+def test_it_does_not_wait_for_processes_outside_the_roots(tmp_path, processes, waits):
+    spinner = _spinner(processes, tmp_path)
     sleeper = processes(["sleep", "60"])
-    time.sleep(0.05)
     assert busy_threads([spinner.pid]) >= 1
     quiet = Quiescence([sleeper.pid])
-    started = time.monotonic()
     assert quiet.wait()
-    assert time.monotonic() - started < 1.0
+    # quiet within its wait: the spinner, outside the roots, never held it to the timeout
+    assert waits == [[Quiescence.TIMEOUT_S, True]] and (quiet.enabled, quiet.timeouts) == (True, 0)
 
 
-def test_it_gives_up_once_on_a_busy_loop_and_then_stops_waiting(processes, monkeypatch):
+def test_it_gives_up_once_on_a_busy_loop_and_then_stops_waiting(tmp_path, processes, monkeypatch, waits):
     monkeypatch.setattr(Quiescence, "TIMEOUT_S", 0.3)
-    spinner = processes([sys.executable, "-c", "while True: pass"])
+    spinner = _spinner(processes, tmp_path)
     quiet = Quiescence([spinner.pid])
-    started = time.monotonic()
     assert not quiet.wait()
-    assert time.monotonic() - started >= 0.3
+    assert waits == [[0.3, False]]  # the whole timeout waited for, and never quiet
     assert (quiet.enabled, quiet.timeouts) == (False, 1)
-    started = time.monotonic()
     assert quiet.wait()
-    assert time.monotonic() - started < 0.1
+    assert waits == [[0.3, False]]  # no second wait
 
 
 def test_an_ended_process_counts_as_quiet(tmp_path, processes):

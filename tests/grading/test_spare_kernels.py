@@ -5,6 +5,7 @@ ends off nbgrader's path but always ends."""
 from __future__ import annotations
 
 import os
+import signal
 import time
 
 import nbformat
@@ -88,20 +89,53 @@ def test_a_spare_nobody_took_is_stopped_with_its_files(kernels):
     assert list(sockets.iterdir()) == []
 
 
-def test_a_kernel_told_to_shut_down_ends_while_the_next_notebook_starts(kernels):
+@pytest.fixture
+def endings(monkeypatch):
+    """Every kernel seen out after its shutdown request: (its process, the wait it was given); the
+    escalation's waits stretched by ``stretch`` (a test that needs the kernel alive for a while)."""
+    seen = []
+    real = spare._see_out
+    stretch = [1.0]
+
+    def recorded(process, pgid, wait_s):
+        seen.append((process, wait_s))
+        real(process, pgid, wait_s * stretch[0])
+
+    monkeypatch.setattr(spare, "_see_out", recorded)
+    return seen, stretch
+
+
+HOLD = """import atexit, os, time
+def _hold(path={release!r}):
+    while not os.path.exists(path):
+        time.sleep(0.01)
+atexit.register(_hold)
+print(os.getpid())"""
+
+
+def test_a_kernel_told_to_shut_down_ends_while_the_next_notebook_starts(kernels, endings, tmp_path):
     run, _ = kernels
-    started = time.monotonic()
-    pid = int(run("import atexit, os, time; atexit.register(time.sleep, 1.5); print(os.getpid())", spares=1))
-    assert time.monotonic() - started < 1.5 + 5  # nbclient did not wait for its exit hook ...
-    assert os.path.exists(f"/proc/{pid}")  # ... which is still running
+    seen, stretch = endings
+    stretch[0] = 30.0  # SIGTERM only after 30 s (a hang guard): here it ends when its exit hook returns
+    release = tmp_path / "release"
+    pid = int(run(HOLD.format(release=str(release)), spares=1))
+    # nbclient returned while the kernel's exit hook still holds it (it waits for a file not yet written):
+    # had nbclient waited for the kernel to end, it would have killed it after shutdown_wait_time
+    assert os.path.exists(f"/proc/{pid}") and open(f"/proc/{pid}/stat").read().split()[2] != "Z"
+    assert [p.pid for p, _ in seen] == [pid] and all(t.is_alive() for t in spare._ending)
+    release.touch()
     spare.wait_for_ending_kernels()
+    assert seen[0][0].returncode == 0  # it ended by itself, not by a signal
     assert not os.path.exists(f"/proc/{pid}") or open(f"/proc/{pid}/stat").read().split()[2] == "Z"
 
 
-def test_a_kernel_that_will_not_end_is_killed_as_jupyter_would(kernels):
+def test_a_kernel_that_will_not_end_is_killed_as_jupyter_would(kernels, endings):
     run, _ = kernels
+    seen, _ = endings
     pid = int(run("import atexit, os, time; atexit.register(time.sleep, 600); print(os.getpid())", spares=1))
-    started = time.monotonic()
     spare.wait_for_ending_kernels()
-    assert time.monotonic() - started < 2.0 + 1.0  # SIGTERM after half the wait, SIGKILL after the rest
+    # Jupyter's escalation with the kernel manager's shutdown_wait_time (2 s): SIGTERM, then SIGKILL
+    [(process, wait_s)] = seen
+    assert process.pid == pid and wait_s == 2.0
+    assert process.returncode in (-signal.SIGTERM, -signal.SIGKILL)
     assert not os.path.exists(f"/proc/{pid}") or open(f"/proc/{pid}/stat").read().split()[2] == "Z"

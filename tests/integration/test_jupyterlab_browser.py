@@ -84,4 +84,3 @@ def test_jupyterlab_runs_a_notebook_and_renders_the_fsr_explorers_slider_and_plo
                 os.kill(kernel_pid, signal.SIGKILL)  # ours: started by the server this test started
                 raise
         shutil.rmtree(tmp_path / "chromium", ignore_errors=True)
-    assert time.monotonic() - started < 90

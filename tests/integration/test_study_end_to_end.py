@@ -170,7 +170,6 @@ def test_the_session_was_recorded_on_the_running_master_and_left_it_as_it_was(st
         assert t.extra["launch_args"]["max_sensor_force"] == str(SESSION_CALIBRATION)  # the session's value kept
     assert "operator" not in study.result.trials[0].extra  # recorded by hand, not by the rehearsal
     assert study.result.trials[1].extra["operator"]["kind"] == "study_operator"
-    assert study.record_s < 120, f"recording took {study.record_s:.0f} s"
 
 
 def test_outcomes_agree_with_what_the_simulation_knows(study):

@@ -81,10 +81,10 @@ def test_rumble_log_round_trips_and_names_a_bad_line(tmp_path):
 
 def test_a_row_shows_figure_reference_and_ratio():
     line = format_row(BenchRow("x", "p50 2 ms", "hop p50 0.5 ms", 4.0, "p50 / hop"))
-    assert line == "| x | p50 2 ms | hop p50 0.5 ms | 4× (p50 / hop) |"
+    assert line == "| x | p50 2 ms | hop p50 0.5 ms | 4× (p50 / hop) | not recorded |"
     assert "n/a" in format_row(BenchRow("x", "a", "b", math.inf, "c"))
 
 
 def test_a_bar_in_a_cell_does_not_split_the_row():
     line = format_row(BenchRow("a|b", "f", "r", 1.0, "m"))
-    assert line == "| a\\|b | f | r | 1× (m) |"
+    assert line == "| a\\|b | f | r | 1× (m) | not recorded |"

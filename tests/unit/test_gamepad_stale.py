@@ -101,6 +101,19 @@ def test_pads_driven_by_code_are_not_watched():
     assert not ScriptedPad(parse_script([{"t": 0.0, "axis": "left_y", "value": 1.0}])).stale_input_watch
 
 
+class FakeTime:
+    """pad_check's ``time`` module: a clock that moves only by what it sleeps (no wall time in the test)."""
+
+    def __init__(self) -> None:
+        self.now = 1000.0
+
+    def monotonic(self) -> float:
+        return self.now
+
+    def sleep(self, seconds: float) -> None:
+        self.now += seconds
+
+
 def test_pad_check_measures_the_longest_identical_run_of_a_held_stick(monkeypatch, capsys):
     from test_gamepad_pygame import FakeJoystick  # tests/unit, on sys.path under pytest
 
@@ -118,11 +131,13 @@ def test_pad_check_measures_the_longest_identical_run_of_a_held_stick(monkeypatc
 
     for device, frozen in ((FakeJoystick(), True), (Trembling(), False)):
         device.axes[1] = -0.8  # left stick held up
+        monkeypatch.setattr(pad_check, "time", FakeTime())  # 0.3 s at 200 Hz: 60 reads, 5 ms apart
         monkeypatch.setattr(pad_check, "PygamePad", lambda layout, index, device=device, **kw:
                             PygamePad(layout, joystick=device, **kw))
         assert pad_check.main(["--layout", "dualshock4", "--stale", "--seconds", "0.3", "--rate", "200"]) == 0
         longest_s = float(capsys.readouterr().out.splitlines()[-1].split(": ")[1].split()[0])
-        assert (longest_s > 0.2) if frozen else (longest_s < 0.05), longest_s
+        # frozen: identical from the first read to the last (59 periods); trembling: never two reads alike
+        assert longest_s == (pytest.approx(0.295, abs=0.006) if frozen else 0.0), longest_s
 
 
 @pytest.mark.parametrize("value", [-0.5, -1.0])

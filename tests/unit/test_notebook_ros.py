@@ -2,8 +2,6 @@
 
 from __future__ import annotations
 
-import time
-
 import pytest
 
 from hri_teleop.course import notebook_ros
@@ -12,12 +10,11 @@ from hri_teleop.ros.master import free_port
 from hri_teleop.ros.master_api import MasterApiError, master_call, master_reachable
 
 
-def test_a_closed_port_is_not_a_master_and_says_so_quickly():
+def test_a_closed_port_is_not_a_master_and_says_so_at_once():
+    """At once: the port refuses the connection; no answer is waited for (the timeout is for a master that hangs)."""
     uri = f"http://127.0.0.1:{free_port()}/"
-    started = time.monotonic()
     assert not master_reachable(uri)
-    assert time.monotonic() - started < 1.5
-    with pytest.raises(MasterApiError, match=f"no ROS master at {uri}.*ensure_ros"):
+    with pytest.raises(MasterApiError, match=f"no ROS master at {uri} \\(ConnectionRefusedError\\).*ensure_ros"):
         master_call("getSystemState", uri=uri)
 
 

@@ -22,6 +22,28 @@ class FakeRosTime:
         return self.now
 
 
+class FakeWall:
+    """The wall clock as hri_teleop.ros.clock sees it (its module ``time``): moves only when slept on."""
+
+    def __init__(self) -> None:
+        self.now = 100.0
+        self.sleeps = []
+
+    def monotonic(self) -> float:
+        return self.now
+
+    def sleep(self, seconds: float) -> None:
+        self.sleeps.append(seconds)
+        self.now += seconds
+
+
+@pytest.fixture
+def wall(monkeypatch):
+    fake = FakeWall()
+    monkeypatch.setattr(C, "time", fake)
+    return fake
+
+
 @pytest.fixture
 def ros_time(monkeypatch):
     fake = FakeRosTime()
@@ -54,12 +76,15 @@ def test_waiting_for_the_first_clock_reading(ros_time):
         clock.wait_started(timeout_s=0.01)
 
 
-def test_sleep_until_follows_the_clock_not_the_wall(ros_time):
+def test_sleep_until_follows_the_clock_not_the_wall(monkeypatch, wall):
+    readings = iter([1.0] * 50 + [1.02])  # the grader's /clock moves on after 50 looks
+    looks = []
+    monkeypatch.setattr(C.rospy, "get_time", lambda: looks.append(1) or next(readings))
+    monkeypatch.setattr(C.rospy, "is_shutdown", lambda: False)
     clock = C.NodeClock(sim_time=True)
-    threading.Timer(0.05, lambda: setattr(ros_time, "now", 1.02)).start()
-    started = time.monotonic()
     assert clock.sleep_until(1.02) is False
-    assert 0.04 < time.monotonic() - started < 1.0
+    assert len(looks) == 51 and next(readings, None) is None  # it returned on the reading that reached the target
+    assert wall.sleeps == [C.POLL_S] * 49  # between looks it slept on the wall, a poll at a time
 
 
 def test_sleep_until_ends_early_when_woken_and_says_so(ros_time):
@@ -70,16 +95,19 @@ def test_sleep_until_ends_early_when_woken_and_says_so(ros_time):
     assert ros_time.now == 1.0
 
 
-def test_a_clock_that_stopped_moving_ends_the_wait_after_stall_s(ros_time):
+def test_a_clock_that_stopped_moving_ends_the_wait_after_stall_s(ros_time, wall):
     clock = C.NodeClock(sim_time=True)
-    started = time.monotonic()
+    started = wall.now
     assert clock.sleep_until(5.0, stall_s=0.1) is False
-    assert 0.1 <= time.monotonic() - started < 1.0
+    assert ros_time.now == 1.0
+    stalled_s = wall.now - started  # the fake wall's: what the clock waited through, not how long this took
+    assert 0.1 < stalled_s <= 0.1 + 2 * C.POLL_S
 
 
-def test_on_the_wall_clock_sleep_until_waits_the_remaining_time():
+def test_on_the_wall_clock_sleep_until_waits_the_remaining_time(wall):
     clock = C.NodeClock(sim_time=False)
-    started = time.monotonic()
+    assert clock.now() == wall.now
     assert clock.sleep_until(clock.now() + 0.05) is False
-    assert time.monotonic() - started >= 0.049
+    assert wall.sleeps == [pytest.approx(0.05)]
     assert clock.sleep_until(clock.now() - 1.0) is False
+    assert len(wall.sleeps) == 1  # a time already past: no sleep at all

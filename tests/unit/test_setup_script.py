@@ -4,7 +4,6 @@ from __future__ import annotations
 
 import os
 import subprocess
-import time
 from pathlib import Path
 
 import pytest
@@ -26,12 +25,12 @@ def test_without_root_it_prints_the_exact_apt_command_and_fails():
     assert "ros-core" not in proc.stderr.split("install -y", 1)[1], "an installed package was listed as missing"
 
 
-def test_a_second_run_only_checks_and_is_fast():
+def test_a_second_run_only_checks():
+    """Nothing installed, nothing built the second time: only checks (their time: make bench, "make setup,
+    nothing missing")."""
     first = _run()
     assert first.returncode == 0, first.stderr
-    started = time.monotonic()
     second = _run()
-    elapsed = time.monotonic() - started
     assert second.returncode == 0, second.stderr
-    assert "installing" not in second.stdout + second.stderr
-    assert elapsed < 10.0, f"setup took {elapsed:.1f} s with nothing missing"
+    said = second.stdout + second.stderr
+    assert "installing" not in said and "creating" not in said, said

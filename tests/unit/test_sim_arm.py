@@ -12,7 +12,6 @@ from __future__ import annotations
 
 import math
 import re
-import time
 from typing import List, Optional, Sequence, Tuple
 
 import pytest
@@ -514,25 +513,30 @@ def test_new_events_returns_each_event_once():
     assert [e.kind for e in arm.new_events()] == [EVENT_RECOVERED]
 
 
-# --- speed -------------------------------------------------------------------------------------------
+# --- work per simulated second (its CPU cost: make bench, "Panda joints per 1 kHz cycle") ------------
 
 
-def _one_simulated_second(arm: SimArm, commands: Sequence[Sequence[float]]) -> float:
+def _one_simulated_second(arm: SimArm, commands: Sequence[Sequence[float]]) -> int:
+    """The 1 ms cycles the arm ran for one simulated second of 50 Hz commands."""
     t0 = arm.time_s
-    start = time.process_time()  # this process's CPU: a busy machine does not inflate it
+    cycles = 0
     for k, command in enumerate(commands):
         t = t0 + (k + 1) / RATE_HZ
         arm.command(command, t)
-        arm.run_until(t)
-    return time.process_time() - start
+        cycles += arm.run_until(t)
+    return cycles
 
 
-def test_the_sim_runs_at_least_20_times_faster_than_real_time():
-    """1 s of simulation (1000 cycles with the seven joints, translating and rotating, 50 commands)
-    well under 50 ms of this process's CPU."""
+def test_one_simulated_second_is_1000_cycles_of_the_seven_joints_under_50_commands():
+    """1 s of simulation: 1000 cycles with the seven joints, translating and rotating, 50 commands, and
+    the joints move in every second. How fast this runs is a figure of make bench, not a pass/fail here."""
     limiter = TwistLimiter(DEFAULT_LIMITS)
     commands = [limiter.step((0.04, -0.02, 0.01, 0.05, 0.1, 0.2), 1.0 / RATE_HZ) for _ in range(500)]
     arm = SimArm()
-    best = min(_one_simulated_second(arm, commands[50 * k: 50 * (k + 1)]) for k in range(5))
+    assert arm.joint_positions is not None
+    for k in range(5):
+        before = arm.joint_positions
+        assert _one_simulated_second(arm, commands[50 * k: 50 * (k + 1)]) == 1000
+        assert arm.time_s == pytest.approx(k + 1.0, abs=1e-9)
+        assert arm.joint_positions != before
     assert arm.violations == () and arm.state == STATE_MOVING
-    assert best < 0.050, f"1 s of simulation took {best * 1e3:.1f} ms (needs < 50 ms for 20x real time)"

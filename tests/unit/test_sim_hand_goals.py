@@ -4,7 +4,6 @@ from __future__ import annotations
 
 import ast
 import math
-import time
 from pathlib import Path
 
 import pytest
@@ -355,16 +354,15 @@ def test_same_inputs_same_outputs():
     assert run() == run()
 
 
-def test_one_second_at_1_khz_takes_less_than_20_ms():
-    def one_second() -> float:
-        hand = hand_with("sponge")
-        hand.send(MoveCommand(0.0, 0.1), 0.0)
-        begin = time.perf_counter()
-        for k in range(1, 1001):
-            hand.step(k * DT, 0.01)
-            _ = hand.fsr_count, hand.joint_positions_m
-        return time.perf_counter() - begin
-
-    best = min(one_second() for _ in range(5))
-    assert best < 0.020, f"1000 steps took {best * 1e3:.1f} ms"
-    assert math.isfinite(best)
+def test_one_second_at_1_khz_is_1000_steps_that_close_the_fingers_on_the_sponge():
+    """The work of one simulated second (its CPU cost: make bench, "gripper hand per 1 kHz cycle")."""
+    hand = hand_with("sponge")
+    hand.send(MoveCommand(0.0, 0.1), 0.0)
+    widths = []
+    for k in range(1, 1001):
+        hand.step(k * DT, 0.01)
+        _ = hand.fsr_count, hand.joint_positions_m
+        widths.append(hand.width_m)
+    assert hand.now_s == pytest.approx(1.0, abs=1e-12)
+    assert len(widths) == 1000 and all(b <= a for a, b in zip(widths, widths[1:])) and widths[-1] < widths[0]
+    assert all(math.isfinite(w) for w in widths)
