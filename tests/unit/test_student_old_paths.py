@@ -43,6 +43,7 @@ def _clean_env() -> Dict[str, str]:
 
 
 def test_the_old_paths_are_exactly_the_modules_last_terms_files_import_that_moved():
+    pytest.importorskip("rospy", reason="hri_teleop.ros needs rospy (the Python 3.8 run of the core tests has none)")
     moved = []
     for module in last_terms_imports():
         try:
