@@ -13,10 +13,17 @@ from __future__ import annotations
 import rospy
 from std_msgs.msg import Int16
 
-from hri_teleop.core.mapping import ADC_MAX_COUNT
-from hri_teleop.hardware.sim.sensor_profile import FSR_SENSOR_RATE_HZ, press_profile_count
-from hri_teleop.ros.clock import ClockError, NodeClock
-from hri_teleop.ros.params import fail, get_param, refuse_beside_hardware, run_node
+from hri_teleop.student import (
+    ADC_MAX_COUNT,
+    FSR_SENSOR_RATE_HZ,
+    ClockError,
+    NodeClock,
+    fail,
+    get_param,
+    press_profile_count,
+    refuse_beside_hardware,
+    run_node,
+)
 
 
 def main() -> int:

@@ -1,7 +1,8 @@
 """Every module of the toolkit, the lab's nodes and the benchmarks opens with a short docstring.
 
 At most 8 lines, blank ones included: the first line says what the module holds, the rest why it
-exists. Models, protocols and decisions live in the docstrings of their classes and in docs/.
+exists. Models, protocols and decisions live in the docstrings of their classes and in docs/. The
+student API's docstring is its reference for students and may be longer (REFERENCE_DOCSTRINGS).
 """
 
 from __future__ import annotations
@@ -15,6 +16,9 @@ import pytest
 
 ROOT = Path(__file__).resolve().parents[2]
 MAX_LINES = 8
+#: Docstrings that are a reference and may be longer: the student API's lists each name students
+#: may import, what it is for and since which version (help(hri_teleop.student) in a student's shell).
+REFERENCE_DOCSTRINGS = {"hri_teleop/student/__init__.py": 40}
 FOLDERS = (ROOT / "hri_teleop", ROOT / "hri_lab" / "scripts", ROOT / "benchmarks")
 #: A sentence: starts with a capital letter, a digit or a quoted name, and ends on the first line.
 SENTENCE = re.compile(r"^[A-Z0-9`\"'].*[.!?]$")
@@ -25,14 +29,14 @@ def _modules() -> List[Path]:
     return files + sorted((ROOT / "benchmarks").glob("*.py"))
 
 
-def docstring_problem(source: str) -> Optional[str]:
+def docstring_problem(source: str, max_lines: int = MAX_LINES) -> Optional[str]:
     """What is wrong with the module docstring of ``source``, or None when it is short and opens with a sentence."""
     doc = ast.get_docstring(ast.parse(source), clean=False)
     if not doc:
         return "no module docstring"
     lines = doc.splitlines()
-    if len(lines) > MAX_LINES:
-        return f"module docstring of {len(lines)} lines (at most {MAX_LINES})"
+    if len(lines) > max_lines:
+        return f"module docstring of {len(lines)} lines (at most {max_lines})"
     if not SENTENCE.match(lines[0]):
         return f"first line is not one sentence: {lines[0]!r}"
     return None
@@ -40,8 +44,9 @@ def docstring_problem(source: str) -> Optional[str]:
 
 @pytest.mark.parametrize("path", _modules(), ids=lambda p: str(p.relative_to(ROOT)))
 def test_module_docstring_is_short_and_opens_with_a_sentence(path: Path):
-    problem = docstring_problem(path.read_text(encoding="utf-8"))
-    assert problem is None, f"{path.relative_to(ROOT)}: {problem}"
+    relative = path.relative_to(ROOT).as_posix()
+    problem = docstring_problem(path.read_text(encoding="utf-8"), REFERENCE_DOCSTRINGS.get(relative, MAX_LINES))
+    assert problem is None, f"{relative}: {problem}"
 
 
 def test_every_folder_has_modules():

@@ -54,7 +54,8 @@ CORE_TESTS = ["test_fsr.py", "test_mapping.py", "test_limits.py", "test_teleop.p
               "test_experiment.py", "test_experiment_stats.py", "test_paramfile.py",
               "test_experiment_tlx.py", "test_experiment_analysis.py", "test_bench_stats.py",
               "test_checks_counts.py", "test_gamepad_browser.py", "test_gamepad_identify.py", "test_gamepad_stale.py",
-              "test_teleop_precision_motors.py", "test_rosserial_frames.py", "test_rosserial_board.py"]
+              "test_teleop_precision_motors.py", "test_rosserial_frames.py", "test_rosserial_board.py",
+              "test_student_old_paths.py"]
 
 
 @pytest.mark.skipif(not (REPO / ".venv38" / "bin" / "python").exists(),

@@ -1,4 +1,4 @@
-"""Student files may not use the lab's reference rules; the templates' given imports stay allowed."""
+"""Student files may not use the lab's reference rules; the templates' given imports (the student API) stay allowed."""
 
 from __future__ import annotations
 
@@ -6,7 +6,7 @@ from pathlib import Path
 
 import pytest
 
-from hri_teleop.grading.judge.reference_guard import reference_uses, refusal
+from hri_teleop.grading.judge.reference_guard import REFERENCE_MODULES, REFERENCE_NAMES, reference_uses, refusal
 
 ROOT = Path(__file__).resolve().parents[2]
 
@@ -20,6 +20,13 @@ ROOT = Path(__file__).resolve().parents[2]
     ("import hri_teleop\nv = hri_teleop.core.mapping.map_force(1, 2)\n", "line 2: hri_teleop.core.mapping"),
     ("import importlib\nm = importlib.import_module('hri_teleop.core.teleop')\n", "line 2: 'hri_teleop.core.teleop'"),
     ("from somewhere import TeleopController\n", "line 1: from somewhere import TeleopController"),
+    ("from hri_teleop.student import PadState, map_force\n", "line 1: from hri_teleop.student import PadState, map_force"),
+    ("import hri_teleop.student as api\nrule = api.TeleopController\n", "line 2: hri_teleop.student.TeleopController"),
+    ("from hri_teleop import student\nrule = student.map_force\n", "line 2: hri_teleop.student.map_force"),
+    ("import hri_teleop.core as c\nrule = c.teleop.TeleopController\n", "line 2: hri_teleop.core.teleop"),
+    ("from hri_teleop import core\nrule = core.mapping.map_force\n", "line 2: hri_teleop.core.mapping"),
+    ("from hri_teleop.mapping import ADC_MAX_COUNT\n", "line 1: from hri_teleop.mapping import ADC_MAX_COUNT"),
+    ("import hri_teleop.teleop\n", "line 1: import hri_teleop.teleop"),
 ])
 def test_each_way_to_reach_a_reference_rule_is_found_with_its_line(source, hit):
     assert hit in reference_uses(source)
@@ -28,6 +35,12 @@ def test_each_way_to_reach_a_reference_rule_is_found_with_its_line(source, hit):
 @pytest.mark.parametrize("source", [
     "from hri_teleop.core.gamepad import PadState, normalize_analog_input, open_gamepad\n",
     "from hri_teleop.core.limits import TwistLimiter\n",
+    "from hri_teleop.student import JOYAXISMOTION, PadState, TwistLimiter, normalize_analog_input, open_gamepad\n",
+    "import hri_teleop.student as api\nlimiter = api.TwistLimiter()\nstate = api.PadState.neutral()\n",
+    "from hri_teleop import student\npad = student.open_gamepad('virtual')\n",
+    "from hri_teleop.gamepad import PadState, normalize_analog_input, open_gamepad\n",  # last term's given imports
+    "from hri_teleop.gamepad.events import JOYAXISMOTION, JOYBUTTONDOWN, JOYBUTTONUP, pad_events\n",
+    "from hri_teleop.limits import TwistLimiter\n",
     "import rospy\nfrom std_msgs.msg import Float32\n",
     "mapping = {'a': 1}\nteleop = mapping['a']\n",
     "def broken(:\n",  # a syntax error is the check's to report
@@ -40,6 +53,16 @@ def test_the_given_imports_and_plain_names_are_allowed(source):
 @pytest.mark.parametrize("path", ["solutions/hri_lab/scripts/mapping_node.py", "solutions/hri_lab/scripts/teleoperation.py"])
 def test_the_answer_key_writes_its_rules_itself(path):
     assert reference_uses((ROOT / path).read_text()) == []
+
+
+def test_every_name_of_the_student_api_is_allowed_and_none_is_a_reference_rule():
+    import hri_teleop.student as student
+
+    for name in student.__all__:
+        assert reference_uses(f"from hri_teleop.student import {name}\n") == [], name
+        assert name not in REFERENCE_NAMES
+        home = getattr(getattr(student, name), "__module__", "") or ""
+        assert not any(home == m or home.startswith(m + ".") for m in REFERENCE_MODULES), (name, home)
 
 
 def test_the_refusal_is_one_line_with_the_file_the_uses_and_the_fix():

@@ -2,9 +2,10 @@
 
 The lab PCs and the grader have the toolkit installed, with ``hri_teleop.core.mapping`` (Ex. 5),
 ``hri_teleop.core.teleop`` (Ex. 8), ``hri_teleop.core.paramfile`` (Ex. 4, 11) and the grader. A file
-that reaches them (an import, an attribute of ``hri_teleop``, a module name in a string for
-``importlib``) is refused with that line and what to write instead. The templates' given code imports
-other modules (``hri_teleop.core.gamepad``, ``hri_teleop.core.limits``), which stay allowed.
+that reaches them (an import, an attribute of ``hri_teleop`` or of a module imported under another
+name, a module name in a string for ``importlib``) or imports a rule's name (from ``hri_teleop.student``
+too) is refused with that line and what to write instead. The templates' given code imports
+``hri_teleop.student`` (docs/student-api.md), which stays allowed.
 """
 
 from __future__ import annotations
@@ -21,6 +22,11 @@ REFERENCE_MODULES: Dict[str, str] = {
     "hri_teleop.core.paramfile": "the lab's parameter files",
     "hri_teleop.grading": "the grader",
     "hri_teleop.hardware.sim.lab": "the lab's reference nodes, simulated",
+    # last term's paths of the same (hri_teleop.mapping is a shim of the student API again)
+    "hri_teleop.mapping": "Ex. 5's mapping rule",
+    "hri_teleop.teleop": "Ex. 8's teleoperation rules",
+    "hri_teleop.paramfile": "the lab's parameter files",
+    "hri_teleop.sim.lab": "the lab's reference nodes, simulated",
 }
 #: names of the reference rules, wherever they are taken from
 REFERENCE_NAMES = frozenset({"map_force", "TeleopController", "TeleopCommand"})
@@ -33,14 +39,38 @@ def _module_hit(name: str) -> str:
     return ""
 
 
-def _dotted(node: ast.Attribute) -> str:
-    """``a.b.c`` for an attribute chain on a plain name, else ``""``."""
+def _dotted(node: ast.Attribute, aliases: Dict[str, str]) -> str:
+    """``a.b.c`` for an attribute chain on a plain name (an imported module's name resolved), else ``""``."""
     parts = [node.attr]
     value = node.value
     while isinstance(value, ast.Attribute):
         parts.append(value.attr)
         value = value.value
-    return ".".join([value.id, *reversed(parts)]) if isinstance(value, ast.Name) else ""
+    if not isinstance(value, ast.Name):
+        return ""
+    return ".".join([aliases.get(value.id, value.id), *reversed(parts)])
+
+
+def _import_aliases(tree: ast.AST) -> Dict[str, str]:
+    """Each name an import binds to a toolkit module -> that module (``import hri_teleop.core as c``: c)."""
+    aliases: Dict[str, str] = {}
+    for node in ast.walk(tree):
+        if isinstance(node, ast.Import):
+            for alias in node.names:
+                if alias.asname and alias.name.startswith("hri_teleop"):
+                    aliases[alias.asname] = alias.name
+        elif isinstance(node, ast.ImportFrom) and node.module and node.module.startswith("hri_teleop"):
+            for alias in node.names:
+                aliases[alias.asname or alias.name] = f"{node.module}.{alias.name}"
+    return aliases
+
+
+def _attribute_hit(dotted: str) -> str:
+    """The reference module or rule an attribute chain reaches, or ``""``."""
+    if _module_hit(dotted):
+        return _module_hit(dotted)
+    parts = dotted.split(".")
+    return dotted if parts[0] == "hri_teleop" and REFERENCE_NAMES & set(parts[1:]) else ""
 
 
 def reference_uses(source: str) -> List[str]:
@@ -50,6 +80,7 @@ def reference_uses(source: str) -> List[str]:
     except SyntaxError:
         return []  # the check reports the syntax error itself
     hits: List[str] = []
+    aliases = _import_aliases(tree)
     for node in ast.walk(tree):
         line = getattr(node, "lineno", 0)
         if isinstance(node, ast.Import):
@@ -59,8 +90,8 @@ def reference_uses(source: str) -> List[str]:
             full = [f"{node.module}.{n}" for n in names]
             if _module_hit(node.module) or any(_module_hit(f) for f in full) or REFERENCE_NAMES & set(names):
                 hits.append(f"line {line}: from {node.module} import {', '.join(names)}")
-        elif isinstance(node, ast.Attribute) and _module_hit(_dotted(node)):
-            hits.append(f"line {line}: {_module_hit(_dotted(node))}")
+        elif isinstance(node, ast.Attribute) and _attribute_hit(_dotted(node, aliases)):
+            hits.append(f"line {line}: {_attribute_hit(_dotted(node, aliases))}")
         elif isinstance(node, ast.Constant) and isinstance(node.value, str) and _module_hit(node.value.strip()):
             hits.append(f"line {line}: '{node.value.strip()}'")
     return sorted(set(hits), key=lambda h: int(h.split(":")[0].split()[1]))

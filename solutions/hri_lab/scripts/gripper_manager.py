@@ -19,10 +19,7 @@ from actionlib import CommState
 from actionlib_msgs.msg import GoalStatus
 from std_msgs.msg import Float32
 
-from hri_teleop.core.gripper import GoalThrottle, usable_width_m
-from hri_teleop.ros.clock import NodeClock
-from hri_teleop.ros.franka_gripper_msgs import MoveAction, MoveGoal
-from hri_teleop.ros.params import fail, get_param, run_node
+from hri_teleop.student import GoalThrottle, MoveAction, MoveGoal, NodeClock, fail, get_param, run_node, usable_width_m
 
 #: How often the action server's presence is checked (each check blocks at most 50 ms).
 SERVER_CHECK_PERIOD_S = 0.25

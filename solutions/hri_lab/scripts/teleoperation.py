@@ -38,10 +38,16 @@ import rospy
 from geometry_msgs.msg import Twist
 from std_msgs.msg import Float32
 
-from hri_teleop.core.gamepad import PadState, normalize_analog_input
-from hri_teleop.core.gamepad.events import JOYAXISMOTION, JOYBUTTONDOWN, JOYBUTTONUP, pad_events
-from hri_teleop.core.limits import TwistLimiter
-from hri_teleop.hardware.gamepad import open_gamepad
+from hri_teleop.student import (
+    JOYAXISMOTION,
+    JOYBUTTONDOWN,
+    JOYBUTTONUP,
+    PadState,
+    TwistLimiter,
+    normalize_analog_input,
+    open_gamepad,
+    pad_events,
+)
 
 GRIPPER_MIN_WIDTH = 0.0   # m
 GRIPPER_MAX_WIDTH = 0.08  # m: the Franka Hand opens 0 .. 0.08 m

@@ -1,0 +1,15 @@
+"""Last term's path of gripper_manager.py's rules: a shim over hri_teleop.student until 2.0."""
+
+from __future__ import annotations
+
+from typing import Any
+
+from hri_teleop import student
+from hri_teleop.student.deprecation import OldPath
+
+_OLD = OldPath(__name__, ["GoalThrottle", "usable_width_m"], student)
+__all__ = list(_OLD.order)
+
+
+def __getattr__(name: str) -> Any:
+    return _OLD.get(name)
