@@ -7,6 +7,12 @@ import shutil
 from pathlib import Path
 
 import pytest
+from hypothesis import settings
+
+# Hypothesis judges each example's duration by default (200 ms): on a busy machine that is a
+# speed assertion. No test judges time; a hung example is caught by pytest's own guards.
+settings.register_profile("hri-teleop", deadline=None)
+settings.load_profile("hri-teleop")
 
 REPO = Path(__file__).resolve().parents[1]
 
