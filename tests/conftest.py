@@ -73,3 +73,29 @@ def lab_twin(tmp_path):
         twin.stop()
         left = [" ".join(p.argv) for p in twin.started() if p.anything_left]
         assert not left, f"still running after the test: {left}"
+
+
+@pytest.fixture
+def foreign_roscore(tmp_path):
+    """A real roscore on a free port that no PrivateMaster of this process started: to the toolkit's
+    rules a master somebody else started, as the lab PC's is. ``.uri``, ``.env`` (no HRI_OWN_MASTER)."""
+    from types import SimpleNamespace
+
+    from hri_teleop.ros.master import OWN_MASTER_ENV, ManagedProcess, free_port
+    from hri_teleop.ros.master_api import master_reachable, running_nodes
+
+    port = free_port()
+    uri = f"http://127.0.0.1:{port}/"
+    env = dict(_ros_env(), ROS_MASTER_URI=uri, ROS_HOSTNAME="127.0.0.1", ROS_LOG_DIR=str(tmp_path / "log"),
+               ROS_HOME=str(tmp_path / "home"))
+    env.pop(OWN_MASTER_ENV, None)
+    core = ManagedProcess(["roscore", "-p", str(port)], env, tmp_path / "roscore.log", is_master=True)
+    try:
+        while not (master_reachable(uri) and running_nodes(among=["/rosout"], uri=uri)):
+            assert core.running, core.output()
+            assert core.wait(0.05) is None, core.output()
+        yield SimpleNamespace(uri=uri, env=env, core=core)
+    finally:
+        core.stop()
+        assert not core.anything_left, "the foreign roscore was left running"
+

@@ -41,14 +41,14 @@ from hri_teleop.core.experiment.sidecar import (
     write_sidecar,
 )
 from hri_teleop.core.experiment.tlx import SUBSCALES, TlxRatings, optional_tlx, store_tlx
-from hri_teleop.core.modes import LAB, NODE_DEFAULT_PAD, Start, start_refusal
+from hri_teleop.core.modes import HARDWARE_NODES, NODE_DEFAULT_PAD, Start, decide_mode, start_refusal
 from hri_teleop.core.run_record import LabRecord
 from hri_teleop.hardware.sim.grasp_objects import OBJECTS
 from hri_teleop.hardware.sim.operators import study_scenario
 from hri_teleop.plots.study import save_result_figure
 from hri_teleop.ros.bags import BagError
 from hri_teleop.ros.launch_inspect import LaunchInspectError, declared_args
-from hri_teleop.ros.master import MasterError, PrivateMaster, RunningMaster, run_reporting
+from hri_teleop.ros.master import MasterError, PrivateMaster, RunningMaster, run_reporting, started_here
 from hri_teleop.ros.teleop_demo import DEFAULT_TIMEOUT_S, record_from_bag, record_teleop_launch
 
 __all__ = ["METADATA_TOPIC", "PADS", "trial_stem", "trial_seed", "record_trial", "load_trial", "load_trials", "analyse_folder",
@@ -195,7 +195,9 @@ def record_trial(meta: TrialMeta, folder: Union[str, Path], *, sim: bool = True,
         if isinstance(on, RunningMaster):
             start = Start(f"trial {meta.label} (teleoperation.launch {' '.join(f'{k}:={v}' for k, v in args.items())})",
                           simulated=sim, pad=str(args.get("pad", NODE_DEFAULT_PAD)))
-            refusal = start_refusal(LAB, start, [], own_master=False)
+            own = started_here(on.uri)  # a running master this process started (a rehearsal), or the lab's
+            hardware = sorted(on.node_names() & set(HARDWARE_NODES))
+            refusal = start_refusal(decide_mode(os.environ, own), start, hardware, own_master=own)
             if refusal:
                 raise MasterError(refusal)
             _refuse_running_launch(on, args)

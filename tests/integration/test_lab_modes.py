@@ -12,8 +12,8 @@ import pytest
 from hri_teleop.course import lab, lab_nodes
 from hri_teleop.course.errors import CourseError
 from hri_teleop.course.master_mode import NotStarted, master_mode
-from hri_teleop.ros.master import OWN_MASTER_ENV, ManagedProcess, free_port
-from hri_teleop.ros.master_api import master_reachable, running_nodes
+from hri_teleop.ros.master import OWN_MASTER_ENV
+from hri_teleop.ros.master_api import running_nodes
 
 REPO = Path(__file__).resolve().parents[2]
 ANSWER_KEY = REPO / "solutions" / "hri_lab"
@@ -35,27 +35,17 @@ def kernel(ros_master, monkeypatch):
 
 
 @pytest.fixture
-def foreign_master(tmp_path, monkeypatch, ros_env):
-    """A roscore this process did not start (as the lab PC's is), and this process as a kernel on it."""
-    port = free_port()
-    uri = f"http://127.0.0.1:{port}/"
-    env = dict(ros_env, ROS_MASTER_URI=uri, ROS_HOSTNAME="127.0.0.1", ROS_LOG_DIR=str(tmp_path / "log"),
-               ROS_HOME=str(tmp_path / "home"))
-    core = ManagedProcess(["roscore", "-p", str(port)], env, tmp_path / "roscore.log", is_master=True)
+def foreign_master(foreign_roscore, monkeypatch):
+    """This process as a kernel on a master it did not start (as the lab PC's is)."""
+    for key, value in foreign_roscore.env.items():
+        if key.startswith("ROS_"):
+            monkeypatch.setenv(key, value)
+    for key in ("HRI_MODE", "NBGRADER_EXECUTION", OWN_MASTER_ENV):
+        monkeypatch.delenv(key, raising=False)
     try:
-        for _ in range(400):
-            if master_reachable(uri) and "/rosout" in running_nodes(among=["/rosout"], uri=uri):
-                break
-            assert core.running, core.output()
-            core.wait(0.05)
-        for key in ("ROS_MASTER_URI", "ROS_HOSTNAME", "ROS_LOG_DIR", "ROS_HOME"):
-            monkeypatch.setenv(key, env[key])
-        for key in ("HRI_MODE", "NBGRADER_EXECUTION", OWN_MASTER_ENV):
-            monkeypatch.delenv(key, raising=False)
-        yield uri
+        yield foreign_roscore.uri
     finally:
         lab.stop()
-        core.stop()
 
 
 def _spin_node(master, name):

@@ -9,6 +9,7 @@ from hri_teleop.core.attachment import Attachment
 from hri_teleop.core.experiment.metrics import MetricsError, TrialMeta, trial_metrics
 from hri_teleop.hardware.sim.operators import study_scenario
 from hri_teleop.ros.bags import read_topics
+from hri_teleop.ros.master_api import running_nodes
 from hri_teleop.ros.trial import METADATA_TOPIC, load_trials, main, record_trial
 
 pytestmark = pytest.mark.ros
@@ -79,15 +80,17 @@ def test_recording_on_the_lab_master_without_one_running_says_how_to_start_it(tm
 
 
 @pytest.mark.parametrize("more", [["--sim"], ["--pad", "virtual"]])
-def test_on_the_lab_master_a_simulated_or_scripted_trial_is_refused_before_anything_starts(ros_master, tmp_path,
-                                                                                         capsys, more):
-    before = ros_master.node_names()
-    args = [a for a in _record_args(tmp_path, "--master-uri", ros_master.uri) if a != "--sim"] + more
+def test_on_the_lab_master_a_simulated_or_scripted_trial_is_refused_before_anything_starts(foreign_roscore, tmp_path,
+                                                                                         capsys, monkeypatch, more):
+    monkeypatch.delenv("HRI_OWN_MASTER", raising=False)
+    uri = foreign_roscore.uri
+    before = running_nodes(uri=uri)
+    args = [a for a in _record_args(tmp_path, "--master-uri", uri) if a != "--sim"] + more
     assert main(args) == 1
     err = capsys.readouterr().err.strip()
     assert len(err.splitlines()) == 1 and err.startswith("trial: refused to start trial P01 trial 1"), err
     assert "not started by this process" in err
-    assert ros_master.node_names() == before
+    assert running_nodes(uri=uri) == before
     assert not (tmp_path / "trials").exists() or not list((tmp_path / "trials").glob("*.bag"))
 
 
