@@ -67,7 +67,8 @@ def test_calibration_sets_the_parameter_and_writes_only_the_value_into_the_launc
     assert ros_master.get_param("/max_sensor_force") == 688
     assert launch.read_text() == original.replace('name="max_sensor_force" value="700"',
                                                   'name="max_sensor_force" value="688"')
-    assert "/max_sensor_force = 688" in result["message"] and "teleoperation.launch:9" in result["message"]
+    line = next(n for n, text in enumerate(original.splitlines(), 1) if 'name="max_sensor_force"' in text)
+    assert "/max_sensor_force = 688" in result["message"] and f"teleoperation.launch:{line}" in result["message"]
 
 
 def test_ensure_ros_twice_in_one_process_gives_one_node_on_the_running_master(ros_master, tmp_path):
