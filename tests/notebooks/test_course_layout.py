@@ -121,11 +121,10 @@ def test_check_cells_show_each_part_of_the_grader_once_and_carry_no_points():
     """What the check cells show adds up to the checks' points (Ex. 8/9 and 9/12 split a check in two);
     those points are the files' (hri_teleop.grading.points), so the cells carry none."""
     from hri_teleop.grading.judge.checks import CHECKS
-    from hri_teleop.grading.points import check_points
-
     from hri_teleop.grading.judge.compare import GRAPH, MAPPING, SENSOR_LAUNCH, TELEOP, TELEOP_LAUNCH
     from hri_teleop.grading.judge.package_check import CATKIN_PACKAGE, EXERCISE_PARTS
     from hri_teleop.grading.judge.robot_params import POINTS
+    from hri_teleop.grading.points import check_points
 
     def total(table, node=None):
         return sum(points for key, (_n, points) in table.items() if node is None or key.startswith("node_") == node)
