@@ -13,7 +13,7 @@ import json
 import shutil
 import threading
 from pathlib import Path
-from typing import Dict, List, Tuple
+from typing import Any, Dict, List, Tuple
 
 import pytest
 
@@ -258,7 +258,7 @@ def test_make_grade_gives_the_files_job_and_the_notebooks_kernels_the_students_s
     from hri_teleop.grading.batch import folders, nbgrader_batch
     from hri_teleop.grading.run.jobs import Run
 
-    seen: Dict[str, object] = {}
+    seen: Dict[str, Any] = {}
 
     def files_job(argv, log, timeout_s, **kwargs):
         seen["argv"] = list(argv)
@@ -279,9 +279,9 @@ def test_make_grade_gives_the_files_job_and_the_notebooks_kernels_the_students_s
     assert argv[argv.index("--seed") + 1] == str(student_seed("alice"))
     nbgrader_batch._autograde_in(course, "alice", "preparation", tmp_path / "out", 60.0, threading.Lock(),
                                  lambda line: None, ["nbgrader", "autograde"])
-    assert seen["env"][SEED_ENV] == str(student_seed("alice"))  # type: ignore[index]
+    assert seen["env"][SEED_ENV] == str(student_seed("alice"))
     folders.grade_one(tmp_path / "submitted" / "alice", tmp_path / "out", None, None, seed=student_seed("alice"))
-    assert seen["argv"][seen["argv"].index("--seed") + 1] == str(student_seed("alice"))  # type: ignore[union-attr]
+    assert seen["argv"][seen["argv"].index("--seed") + 1] == str(student_seed("alice"))
 
 
 def test_gradescope_gives_the_files_and_the_uploaded_notebooks_the_students_seed(tmp_path, monkeypatch):
