@@ -1,10 +1,12 @@
 """The files' half of ``make check`` in the student bundle: each assignment's hri_lab graded as the course grades it.
 
 A deliverable's points are the files' (:mod:`hri_teleop.grading.points`): the notebooks' check
-cells show the same feedback and add no points. So the self-check grades ``<assignment>/hri_lab``
-with that assignment's checks and prints the points per check, before the notebooks run
-(``hri_teleop.course.selfcheck``). With ``HRI_GRADE_RESULTS_WRITE`` set (the bundle's Makefile does),
-each result is kept for the check cells of the same files, so a check runs once.
+cells show the same feedback and add no points. So after the notebooks ran
+(``hri_teleop.course.selfcheck``), the self-check grades ``<assignment>/hri_lab`` with that
+assignment's checks and prints the points per check. The bundle's Makefile lets the check cells keep
+their results (``HRI_GRADE_RESULTS_WRITE``) and this half take them (``HRI_GRADE_RESULTS``): the same
+files give the same parts, so a check runs once, and Ex. 15's graph is judged against the pipeline
+its notebook started (at home there is no other).
 
     python -m hri_teleop.grading.files_check FOLDER [--only ex05,ex12]
 """
@@ -18,7 +20,7 @@ from pathlib import Path
 from typing import Dict, List, Optional, Sequence, Tuple
 
 from hri_teleop.grading.batch.assignments import ASSIGNMENT_CHECKS, ASSIGNMENTS
-from hri_teleop.grading.judge.checks import grade_submission
+from hri_teleop.grading.judge.checks import grade
 from hri_teleop.grading.points import CHECK_CELLS, check_points
 from hri_teleop.grading.results import CheckResult, GradingError
 from hri_teleop.grading.run.sandbox import SandboxError
@@ -70,18 +72,18 @@ def main(argv: Optional[Sequence[str]] = None) -> int:
     got = most = 0.0
     for assignment, checks in todo.items():
         started = time.monotonic()
-        try:
-            results = grade_submission(folder / assignment / PACKAGE, checks=checks)
-        except (GradingError, SandboxError, WorkspaceError, OSError) as exc:
-            print(f"  {assignment}/{PACKAGE}: not graded: {exc}", flush=True)
-            most += sum(check_points(c) for c in checks)
-            continue
+        results: List[CheckResult] = []
+        for check in checks:
+            try:
+                results.append(grade(check, folder / assignment / PACKAGE))
+            except (GradingError, SandboxError, WorkspaceError, OSError) as exc:
+                print(f"  {assignment}/{PACKAGE}: {check} not graded: {exc}", flush=True)
+                most += check_points(check)
         for line in summary_lines(assignment, results, time.monotonic() - started):
             print(line, flush=True)
         got, most = got + sum(r.score for r in results), most + sum(r.max_score for r in results)
-    print(f"check: {got:g}/{most:g} points for your files; the notebooks' autograded points follow", flush=True)
+    print(f"check: {got:g}/{most:g} points for your files, beside the notebooks' autograded points above", flush=True)
     return 0
-
 
 if __name__ == "__main__":
     sys.exit(main())

@@ -180,8 +180,8 @@ def _points(output: str) -> dict:
 
 def _files_points(output: str) -> tuple:
     """(points, possible) of make check's line for the files (the checks' points are the files')."""
-    line = next(line for line in output.splitlines() if line.endswith("points for your files; the notebooks' "
-                                                                        "autograded points follow"))
+    line = next(line for line in output.splitlines() if line.endswith("points for your files, beside the "
+                                                                        "notebooks' autograded points above"))
     got, most = line.split("check: ")[1].split(" points")[0].split("/")
     return float(got), float(most)
 
