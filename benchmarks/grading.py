@@ -135,10 +135,11 @@ def check_grades_csv(path: Path, plan: Sequence[Student], auto: float, total: fl
             raise BenchError(f"{path}: {student.name} was not graded: {row.get('message', '')[:300]}")
         if not student.answer_key:
             continue
-        score, maximum = _number(row.get(f"{ASSIGNMENT}_score", "")), _number(row.get(f"{ASSIGNMENT}_max", ""))
+        # the notebooks' own points (nbgrader's); <assignment>_score adds the files' (hri_teleop.grading.points)
+        score, maximum = _number(row.get("notebooks_score", "")), _number(row.get("notebooks_max", ""))
         if score is None or maximum is None or not (math.isclose(score, auto) and math.isclose(maximum, total)):
-            raise BenchError(f"{path}: answer key {student.name} scored {row.get(f'{ASSIGNMENT}_score')}/"
-                             f"{row.get(f'{ASSIGNMENT}_max')} on the notebooks, not the full {auto:g}/{total:g}")
+            raise BenchError(f"{path}: answer key {student.name} scored {row.get('notebooks_score')}/"
+                             f"{row.get('notebooks_max')} on the notebooks, not the full {auto:g}/{total:g}")
         if files_checked:
             got, most = _number(row.get("files_score", "")), _number(row.get("files_max", ""))
             if got is None or most is None or most <= 0 or not math.isclose(got, most):

@@ -1,7 +1,8 @@
 """The checks of the notebooks: each judges one deliverable, prints its feedback, returns its points.
 
-A check is the last line of an autograded cell: nbgrader gives the cell that many points
-(partial credit), exactly as ``hri-grade`` and ``make grade`` score the same files.
+A check is the last line of a read-only check cell: the student sees the points and the feedback
+that ``hri-grade`` and ``make grade`` give the same files. nbgrader gives the cell no points: a
+deliverable's points are counted once, with the files (:mod:`hri_teleop.grading.points`).
 """
 
 from __future__ import annotations
@@ -22,21 +23,26 @@ from hri_teleop.grading.judge.graph import grade_graph
 from hri_teleop.grading.judge.package_check import grade_catkin_package
 from hri_teleop.grading.results import CheckResult, feedback_text
 
-__all__ = ["score", "robot_params", "mapping_node", "sensor_launch", "teleoperation_parts", "teleoperation_node",
+__all__ = ["POINTS_NOTE", "score", "robot_params", "mapping_node", "sensor_launch", "teleoperation_parts", "teleoperation_node",
            "catkin_package", "teleoperation_launch", "graph", "teleoperation_parts_result",
            "teleoperation_node_result"]
 
 PathLike = Union[str, Path]
 
 
-def score(result: CheckResult) -> float:
-    """Print a check's feedback and return its points: the last line of an autograded cell.
+#: The last line a check cell prints: where its points count (hri_teleop.grading.points).
+POINTS_NOTE = ("these points are your hri_lab files': the course counts them once, with the files you hand in "
+               "(this notebook cell adds none)")
 
-    nbgrader gives a test cell whose last value is a number that many points (partial
-    credit), so a student loses the points of the parts that fail and keeps the rest,
-    exactly as ``hri-grade`` and ``make grade`` score them.
+
+def score(result: CheckResult) -> float:
+    """Print a check's feedback and return its points: the last line of a check cell.
+
+    The points are the files' (a failing part costs its points, the rest are kept, as ``hri-grade``
+    and ``make grade`` score them); the cell itself is read-only and worth no nbgrader points.
     """
     print(feedback_text([result]))
+    print(f"note: {POINTS_NOTE}")
     return float(result.score)
 
 

@@ -42,7 +42,7 @@ def _parser() -> argparse.ArgumentParser:
         p.add_argument("path", help="the student's file or hri_lab folder" if name != "submission"
                        else "the student's hri_lab folder (or their submission folder)")
         p.add_argument("--json", action="store_true", help="print the Gradescope results JSON")
-        p.add_argument("--seed", type=int, default=None, help="seed of the hidden inputs (default: from the folder)")
+        p.add_argument("--seed", type=int, default=None, help="seed of the hidden inputs (default: $HRI_GRADE_SEED, else from the folder)")
         p.add_argument("--out", default=None, help="where plots, logs and results go (default: a new temp folder)")
         if name in ("submission", "graph"):
             p.add_argument("--graph-cache", default=None,

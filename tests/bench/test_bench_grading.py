@@ -113,7 +113,7 @@ def test_autograded_points_leave_manual_answers_out_of_the_autograded_sum(tmp_pa
 
 
 def _grades(path, rows):
-    columns = ["student", f"{ASSIGNMENT}_score", f"{ASSIGNMENT}_max", "files_score", "files_max", "status", "message"]
+    columns = ["student", "notebooks_score", "notebooks_max", "files_score", "files_max", "status", "message"]
     with open(path, "w", newline="") as fh:
         writer = csv.DictWriter(fh, fieldnames=columns)
         writer.writeheader()

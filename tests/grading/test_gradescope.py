@@ -34,10 +34,14 @@ from grading_helpers import (
 from hri_teleop.course.release import COURSE_DIR, STUDENT_MAKES_EXECUTABLE
 from hri_teleop.grading.cases.templates import generate_templates
 from hri_teleop.grading.gradescope.build import build_zip
+from hri_teleop.grading.judge.checks import CHECKS
+from hri_teleop.grading.points import check_points
 
 pytestmark = pytest.mark.ros
 #: The course notebook the uploads hold: Ex. 1 runs no ROS, so it autogrades in seconds.
 NOTEBOOK = "ex01_fsr_and_arduino.ipynb"
+#: The answer key's upload also holds Ex. 4, whose check cell shows robot-params (its points are the files').
+CHECK_NOTEBOOK = "ex04_robot_params.ipynb"
 _ENV = {"PATH": "/usr/local/sbin:/usr/local/bin:/usr/sbin:/usr/bin:/sbin:/bin", "HOME": "/tmp/home", "LANG": "C.UTF-8"}
 
 
@@ -142,7 +146,7 @@ def _released_notebook(work: Path) -> Path:
 def _cases(work: Path) -> Dict[str, dict]:
     """name -> the upload folder and the checks graded (None: the zip's, i.e. all).
 
-    The answer key's upload also holds the instructor's NOTEBOOK (every answer in it); the
+    The answer key's upload also holds the instructor's NOTEBOOK and CHECK_NOTEBOOK (every answer in them); the
     template's the released NOTEBOOK, untouched, and a notebook that is not the course's;
     params_robot_mass_int's the instructor's NOTEBOOK with a cell reaching for the autograder's files.
     """
@@ -152,6 +156,7 @@ def _cases(work: Path) -> Dict[str, dict]:
         "template": {"upload": work / "template", "checks": None},
     }
     shutil.copy(COURSE_DIR / "source" / "preparation" / NOTEBOOK, work / "key" / "upload")
+    shutil.copy(COURSE_DIR / "source" / "preparation" / CHECK_NOTEBOOK, work / "key" / "upload")
     shutil.copy(_released_notebook(work / "release"), work / "template")
     (work / "template" / "Untitled.ipynb").write_text(json.dumps({"cells": [], "metadata": {}, "nbformat": 4,
                                                                   "nbformat_minor": 5}))
@@ -226,7 +231,12 @@ def _failed(payload: dict) -> Dict[str, dict]:
 def test_the_answer_key_gets_full_marks_with_hidden_parts_after_published(graded):
     payload, _ = graded["answer key"]
     assert not _failed(payload), json.dumps(_failed(payload), indent=1)
-    assert payload["score"] == sum(t["max_score"] for t in payload["tests"]) > 80
+    # each part once: every check's parts (the files') and the uploaded notebooks' autograded cells, of
+    # which Ex. 4's check cell is none
+    assert payload["score"] == sum(t["max_score"] for t in payload["tests"]) == \
+        sum(check_points(c) for c in CHECKS) + sum(_autograded_points()) + sum(_autograded_points(CHECK_NOTEBOOK))
+    ex04 = [t["name"] for t in payload["tests"] if t["name"].startswith(f"preparation/{CHECK_NOTEBOOK}: ")]
+    assert ex04 == [f"preparation/{CHECK_NOTEBOOK}: ex4_loaded", f"preparation/{CHECK_NOTEBOOK}: ex4_dumped"], ex04
     hidden = [t["name"] for t in payload["tests"] if t["visibility"] == "after_published"]
     assert any(n.startswith("mapping-node: takes the range") for n in hidden), hidden
     assert "Not judged" not in payload.get("output", "") and "found your package in hri_lab/" in payload["output"]
@@ -271,8 +281,8 @@ def _notebook_tests(payload: dict) -> List[dict]:
     return [t for t in payload["tests"] if t["name"].startswith(f"preparation/{NOTEBOOK}: ")]
 
 
-def _autograded_points() -> List[float]:
-    cells = json.loads((COURSE_DIR / "source" / "preparation" / NOTEBOOK).read_text())["cells"]
+def _autograded_points(notebook: str = NOTEBOOK) -> List[float]:
+    cells = json.loads((COURSE_DIR / "source" / "preparation" / notebook).read_text())["cells"]
     return [c["metadata"]["nbgrader"]["points"] for c in cells if c.get("metadata", {}).get("nbgrader", {}).get("grade")
             and not c["metadata"]["nbgrader"].get("solution")]
 

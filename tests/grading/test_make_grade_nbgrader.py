@@ -28,6 +28,8 @@ from pathlib import Path
 import pytest
 from grading_helpers import REPO, SOLUTIONS, grader_env
 
+from hri_teleop.grading.points import check_points, is_check_cell
+
 pytestmark = pytest.mark.ros
 
 ASSIGNMENT = "preparation"
@@ -223,13 +225,15 @@ def test_make_grade_autogrades_an_nbgrader_course_in_parallel_and_survives_hosti
     assert "DeadKernelError" in jobs[("erin", ASSIGNMENT)], text
     assert "gradebook was locked" not in text, "a 60 s busy timeout outlasts a 7 s lock: no autograde may fail on it"
 
-    # nbgrader's gradebook: the graded submissions, every autograded cell of the answer key at full points
+    # nbgrader's gradebook: the graded submissions, every autograded cell of the answer key at full points;
+    # Ex. 4's check cell is none of them: its points are the files' (hri_teleop.grading.points)
     with Gradebook(f"sqlite:///{course / 'gradebook.db'}", "hri-task4-teleoperation") as gb:
         key = gb.find_submission(ASSIGNMENT, "alice")
         assert (key.score, key.max_score, key.code_score, key.max_code_score) == (auto, total, auto, auto)
         for notebook in key.notebooks:
             for grade in notebook.grades:
                 assert grade.auto_score in (None, grade.max_score), (notebook.name, grade.name, grade.auto_score)
+                assert not is_check_cell(grade.name), grade.name
         release = gb.find_submission(ASSIGNMENT, "bob")
         assert release.max_score == total and release.score <= 2
         bob_score = release.score
@@ -246,13 +250,18 @@ def test_make_grade_autogrades_an_nbgrader_course_in_parallel_and_survives_hosti
             if path.is_file():
                 assert SECRET not in path.read_text(errors="replace"), path
 
-    # grades.csv: one row per student, notebook score per assignment and total, status with the reason
+    # grades.csv: one row per student, the assignment's points (its notebooks' plus its files', each part
+    # once) and the total, status with the reason
     with open(out / "grades.csv") as fh:
         rows = {row["student"]: row for row in csv.DictReader(fh)}
     assert list(rows) == students
     assert rows["alice"]["status"] == "graded" and rows["alice"]["message"] == ""
-    assert float(rows["alice"][f"{ASSIGNMENT}_score"]) == float(rows["alice"]["notebooks_score"]) == auto
-    assert float(rows["alice"][f"{ASSIGNMENT}_max"]) == float(rows["alice"]["notebooks_max"]) == total
+    files = check_points("robot-params")
+    assert float(rows["alice"]["notebooks_score"]) == auto and float(rows["alice"]["notebooks_max"]) == total
+    assert float(rows["alice"][f"{ASSIGNMENT}_score"]) == auto + files == \
+        float(rows["alice"]["notebooks_score"]) + float(rows["alice"]["files_score"])
+    assert float(rows["alice"][f"{ASSIGNMENT}_max"]) == total + files == \
+        float(rows["alice"]["notebooks_max"]) + float(rows["alice"]["files_max"])
     assert rows["alice"]["needs_manual_grade"] == ASSIGNMENT  # the written answers wait for a grader
     assert rows["bob"]["status"] == "graded" and float(rows["bob"]["notebooks_score"]) == bob_score
     for student, words in (("ada", "took longer than"), ("dave", "links outside"), ("erin", "Kernel died")):
@@ -269,18 +278,24 @@ def test_make_grade_autogrades_an_nbgrader_course_in_parallel_and_survives_hosti
     log = (out / "alice" / ASSIGNMENT / "autograde.log").read_text()
     assert log.count("took the spare kernel started ahead") == len(NOTEBOOKS) - 1, log
 
-    # Ex. 4's check cell took the files job's result for the same package instead of running it again
+    # Ex. 4's check cell took the files job's result for the same package and the same seed (the student's,
+    # in the files job's --seed and the kernel's HRI_GRADE_SEED) instead of running it again, and said
+    # where its points count
+    from hri_teleop.course.check import POINTS_NOTE
     from hri_teleop.grading.judge.reuse import REUSED_NOTE
 
     for student in ("alice", "bob"):
         ex04 = (course / "autograded" / student / ASSIGNMENT / "ex04_robot_params.ipynb").read_text()
-        assert REUSED_NOTE[:60] in ex04, student
+        assert REUSED_NOTE[:60] in ex04 and POINTS_NOTE[:40] in ex04, student
 
     # the class report, lms.csv and the late policy (alice a second late: 10 % of the points; bob on time)
     rows = {row["student"]: row for row in csv.DictReader(open(out / "grades.csv"))}
-    assert (rows["alice"]["late_penalty"], rows["bob"]["late_penalty"]) == (f"{0.1 * total:g}", "0")
-    assert float(rows["alice"]["total"]) == pytest.approx(auto - 0.1 * total) and rows["ada"]["total"] == ""
-    assert "Task 4 total" in (out / "lms.csv").read_text().splitlines()[0]
+    points = total + files  # the assignment's: the late policy takes its share of these
+    assert (rows["alice"]["late_penalty"], rows["bob"]["late_penalty"]) == (f"{0.1 * points:g}", "0")
+    assert float(rows["alice"]["total"]) == pytest.approx(auto + files - 0.1 * points) and rows["ada"]["total"] == ""
+    lms = {row["SIS Login ID"]: row for row in csv.DictReader(open(out / "lms.csv"))}
+    assert float(lms["alice"]["Task 4 total"]) == pytest.approx(float(rows["alice"]["total"]))
+    assert float(lms["bob"]["Task 4 total"]) == float(rows["bob"]["notebooks_score"]) + float(rows["bob"]["files_score"])
     late = f"late policy, {ASSIGNMENT}: submitted 2026-12-01 23:59:01+01:00 (timestamp.txt), 1 s after the deadline"
     assert (out / "alice" / "feedback.txt").read_text().startswith(late), (out / "alice" / "feedback.txt").read_text()
     for name in NOTEBOOKS:  # nbgrader's HTML feedback carries the line too
@@ -290,6 +305,7 @@ def test_make_grade_autogrades_an_nbgrader_course_in_parallel_and_survives_hosti
                   f"{ASSIGNMENT}/ex04_robot_params:", "robot-params: loads", "Late submissions (1)",
                   "Waiting for grading by hand (1)"):
         assert words in report, words
+    assert "ex04_robot_params: ex4_file" not in report  # the check's parts are items once, as the files' parts
 
     # STUDENT=bob: only bob's jobs run again; everyone else's rows, the report's other students stay
     code, lines, stderr = _make_grade(submitted, out, STUDENT="bob", CHECKS="robot-params")
@@ -308,8 +324,8 @@ def test_make_grade_autogrades_an_nbgrader_course_in_parallel_and_survives_hosti
     code, lines, stderr = _make_grade(submitted, out, REPORT="1")
     assert code == 0 and not [line for line in lines if line.startswith("[")], "\n".join(lines) + stderr
     after = {row["student"]: row for row in csv.DictReader(open(out / "grades.csv"))}
-    assert float(after["alice"][f"{ASSIGNMENT}_score"]) == auto + by_hand
-    assert float(after["alice"]["total"]) == pytest.approx(auto + by_hand - 0.1 * total)
+    assert float(after["alice"][f"{ASSIGNMENT}_score"]) == auto + by_hand + files
+    assert float(after["alice"]["total"]) == pytest.approx(auto + by_hand + files - 0.1 * points)
     assert after["bob"] == again["bob"]
 
     # nothing of the hung submission is left: the process its kernel started in a session of its own neither

@@ -256,7 +256,7 @@ def test_a_hostile_notebook_is_refused_each_thing_and_honest_ones_keep_their_poi
     auto = _autograded_points(course)
     rows = _scores(out)
     assert rows["alice"]["status"] == rows["mallory"]["status"] == "graded", rows
-    assert float(rows["alice"][f"{ASSIGNMENT}_score"]) == float(rows["mallory"][f"{ASSIGNMENT}_score"]) == auto, rows
+    assert float(rows["alice"]["notebooks_score"]) == float(rows["mallory"]["notebooks_score"]) == auto, rows
     assert "UNSANDBOXED" not in (out / "report.html").read_text()
     assert _left_in(course) == []  # the kernels, their forks and their sleep are gone
 
@@ -294,7 +294,7 @@ def test_without_bubblewrap_make_grade_refuses_unless_unsandboxed_and_then_says_
     body = html.unescape(report.split("<body>", 1)[1])
     assert body.startswith('<p style="border:2px solid #c00;padding:.5em"><strong>UNSANDBOXED: the code of 1 '
                            "student(s) ran with the grader's rights"), body[:300]
-    assert float(_scores(out)["carol"][f"{ASSIGNMENT}_score"]) == _autograded_points(course)
+    assert float(_scores(out)["carol"]["notebooks_score"]) == _autograded_points(course)
     assert (home / "owned").read_text() == "owned"  # what the flag means: the notebook had the grader's rights
 
 

@@ -169,13 +169,30 @@ def test_the_installed_toolkit_holds_no_answer(installed, course):
 
 
 def _points(output: str) -> dict:
+    """notebook -> (points, possible) of make check's notebook lines."""
     scores = {}
     for line in output.splitlines():
-        if line.strip().endswith(")") and "points (" in line:
-            name = line.split("/")[1].split(".ipynb")[0] if "/" in line else line
+        if line.strip().endswith(")") and "points (" in line and ".ipynb ... " in line:
+            name = line.split("/")[1].split(".ipynb")[0]
             got, most = line.split(" ... ")[1].split(" points")[0].split("/")
             scores[name.strip()] = (float(got), float(most))
     return scores
+
+
+def _files_points(output: str) -> tuple:
+    """(points, possible) of make check's line for the files (the checks' points are the files')."""
+    line = next(line for line in output.splitlines() if line.endswith("points for your files, beside the "
+                                                                        "notebooks' autograded points above"))
+    got, most = line.split("check: ")[1].split(" points")[0].split("/")
+    return float(got), float(most)
+
+
+def _checked_points() -> float:
+    """The points of the checks the notebooks of CHECKED show (mapping-node, sensor-launch, graph)."""
+    from hri_teleop.grading.files_check import checks_for
+    from hri_teleop.grading.points import check_points
+
+    return sum(check_points(c) for a in ASSIGNMENTS for c in checks_for(a, CHECKED.split(",")))
 
 
 def test_untouched_the_bundle_scores_zero(installed, home):
@@ -184,6 +201,7 @@ def test_untouched_the_bundle_scores_zero(installed, home):
     assert done.returncode == 0, done.stdout[-3000:] + done.stderr[-3000:]
     scores = _points(done.stdout)
     assert len(scores) == 3 and all(got == 0 for got, _most in scores.values()), done.stdout
+    assert _files_points(done.stdout) == (0, _checked_points()), done.stdout
 
 
 def test_with_the_answer_key_copied_in_the_bundle_gets_full_marks_even_run_on_the_lab_pcs_master(
@@ -196,8 +214,10 @@ def test_with_the_answer_key_copied_in_the_bundle_gets_full_marks_even_run_on_th
     done = _make(bundle, "check", f"ONLY={CHECKED},ex10", timeout=1200, extra_env=on_the_lab_pc)
     assert done.returncode == 0, done.stdout[-3000:] + done.stderr[-3000:]
     assert f"check: grading on private masters (ROS_MASTER_URI={lab_twin.master_uri} is not used)" in done.stdout
-    scores = _points(done.stdout)
-    assert len(scores) == 4 and all(got == most > 0 for got, most in scores.values()), done.stdout
+    scores = _points(done.stdout)  # the check cells' notebooks show 0/0: their points are the files'
+    assert len(scores) == 4 and all(got == most for got, most in scores.values()), done.stdout
+    assert scores["ex10_teleoperate_robot"][1] > 0, done.stdout
+    assert _files_points(done.stdout) == (_checked_points(),) * 2 > (0, 0), done.stdout
     report = lab_twin.report()
     assert report.nonzero_twists == 0 and sum(report.gripper_goals.values()) == 0, report.lines()
     assert report.pub_force_publishers == ["/serial_node"], report.lines()

@@ -95,7 +95,8 @@ def test_nbgrader_cells_are_well_formed(path):
             assert cell["cell_type"] == "code" and not meta["locked"], meta["grade_id"]
             assert "### BEGIN SOLUTION" in source and "### END SOLUTION" in source, meta["grade_id"]
     assert len(ids) == len(set(ids)), f"{path.name}: grade_ids repeat"
-    assert any(_nbgrader(c).get("grade") for c in _cells(path)), f"{path.name}: nothing is graded"
+    assert any(_nbgrader(c).get("grade") or "".join(c["source"]).startswith("check.") for c in _cells(path)), \
+        f"{path.name}: nothing is graded or checked"
 
 
 @pytest.mark.parametrize("exercise,question", [(3, "ex3_stop"), (15, "ex15_flowchart")])
@@ -116,10 +117,14 @@ def test_autograded_cells_call_the_toolkit_and_carry_no_logic(path):
                 f"{path.name} {meta['grade_id']}: no definitions, loops or imports in a test cell"
 
 
-def test_file_checks_have_the_points_of_the_graders_parts():
+def test_check_cells_show_each_part_of_the_grader_once_and_carry_no_points():
+    """What the check cells show adds up to the checks' points (Ex. 8/9 and 9/12 split a check in two);
+    those points are the files' (hri_teleop.grading.points), so the cells carry none."""
+    from hri_teleop.grading.judge.checks import CHECKS
     from hri_teleop.grading.judge.compare import GRAPH, MAPPING, SENSOR_LAUNCH, TELEOP, TELEOP_LAUNCH
     from hri_teleop.grading.judge.package_check import CATKIN_PACKAGE, EXERCISE_PARTS
     from hri_teleop.grading.judge.robot_params import POINTS
+    from hri_teleop.grading.points import check_points
 
     def total(table, node=None):
         return sum(points for key, (_n, points) in table.items() if node is None or key.startswith("node_") == node)
@@ -129,9 +134,9 @@ def test_file_checks_have_the_points_of_the_graders_parts():
                 "ex12_launch": total(TELEOP_LAUNCH), "ex15_graph": total(GRAPH),
                 "ex9_package": sum(CATKIN_PACKAGE[k][1] for k in EXERCISE_PARTS[9]),
                 "ex12_package": sum(CATKIN_PACKAGE[k][1] for k in EXERCISE_PARTS[12])}
-    points = {_nbgrader(c)["grade_id"]: _nbgrader(c)["points"] for p in NOTEBOOKS for c in _cells(p)
-              if _nbgrader(c).get("grade")}
-    assert {k: points.get(k) for k in expected} == expected
+    assert sum(expected.values()) == sum(check_points(c) for c in CHECKS)
+    cells = {_nbgrader(c)["grade_id"]: _nbgrader(c) for p in NOTEBOOKS for c in _cells(p) if _nbgrader(c)}
+    assert {k: (cells[k]["grade"], cells[k].get("points")) for k in expected} == {k: (False, None) for k in expected}
 
 
 def test_source_assignments_link_to_the_answer_key():
@@ -196,36 +201,29 @@ def _points_in(cell_text: str) -> int:
 
 
 def test_the_readme_table_gives_each_notebook_the_points_its_cells_carry():
+    """The autograded and manual columns are the cells' nbgrader points; the check-cell column names the
+    checks a notebook's read-only check cells run, whose points (the files') add up to the checks'.
+    The guide's totals per assignment: tests/grading/test_points.py."""
+    from hri_teleop.grading.judge.checks import CHECKS
+    from hri_teleop.grading.points import CHECK_CELLS, check_points
+
     readme = (COURSE_DIR / "README.md").read_text(encoding="utf-8")
-    rows = {}
+    rows, shown = {}, {}
     for line in readme.splitlines():
         cells = [c.strip() for c in line.strip().strip("|").split("|")]
-        if len(cells) == 5 and cells[0].startswith("`") and "/ex" in cells[0]:
-            rows[cells[0].strip("`").split("/")[-1]] = (_points_in(cells[3]), _points_in(cells[4]))
+        if len(cells) == 6 and cells[0].startswith("`") and "/ex" in cells[0]:
+            name = cells[0].strip("`").split("/")[-1]
+            rows[name] = (_points_in(cells[3]), _points_in(cells[4]))
+            shown[name] = (re.findall(r"`([a-z-]+)`", cells[5]), _points_in(cells[5]))
     actual = {}
     for path in NOTEBOOKS:
         graded = [_nbgrader(c) for c in _cells(path) if _nbgrader(c).get("grade")]
         actual[path.stem] = (sum(m["points"] for m in graded if not m.get("solution")),
                              sum(m["points"] for m in graded if m.get("solution")))
     assert rows == actual
-
-
-def test_the_instructors_guide_gives_each_assignment_its_points():
-    guide = (COURSE_DIR.parent / "docs" / "instructors.md").read_text(encoding="utf-8")
-    listed = {}
-    for line in guide.splitlines():
-        cells = [c.strip() for c in line.strip().strip("|").split("|")]
-        if len(cells) == 5 and cells[2].isdigit():
-            listed[cells[0].split("`")[1] if "`" in cells[0] else cells[0]] = tuple(int(c) for c in cells[2:])
-    actual = {}
-    for path in NOTEBOOKS:
-        graded = [_nbgrader(c) for c in _cells(path) if _nbgrader(c).get("grade")]
-        auto = sum(m["points"] for m in graded if not m.get("solution"))
-        manual = sum(m["points"] for m in graded if m.get("solution"))
-        for key in (path.parent.name, "course"):
-            a, m, t = actual.get(key, (0, 0, 0))
-            actual[key] = (a + auto, m + manual, t + auto + manual)
-    assert listed == actual
+    assert {name: checks for name, (checks, _p) in shown.items()} == {
+        path.stem: [c.check for c in CHECK_CELLS if c.notebook == path.stem] for path in NOTEBOOKS}
+    assert sum(points for _c, points in shown.values()) == sum(check_points(c) for c in CHECKS)
 
 
 def test_the_rubric_covers_every_answer_graded_by_hand():

@@ -11,7 +11,7 @@ from __future__ import annotations
 import csv
 import json
 from pathlib import Path
-from typing import Any, Dict, Iterable, List, Optional, Sequence, Set, Tuple
+from typing import Any, Dict, Iterable, List, Mapping, Optional, Sequence, Set, Tuple
 
 from hri_teleop.grading.batch.late import Lateness
 from hri_teleop.grading.batch.report_data import (
@@ -23,8 +23,10 @@ from hri_teleop.grading.batch.report_data import (
     PartResult,
     StudentRecord,
 )
+from hri_teleop.grading.points import assignment_points
 
-__all__ = ["read_class", "notebook_parts", "write_rows", "update_rows", "write_summary", "read_summary"]
+__all__ = ["read_class", "notebook_parts", "score_columns", "write_rows", "update_rows", "write_summary",
+           "read_summary"]
 
 
 def read_summary(out: Path) -> List[Dict[str, Any]]:
@@ -41,6 +43,29 @@ def write_summary(out: Path, entries: Sequence[Dict[str, Any]], only: Optional[S
     kept = [e for e in read_summary(out) if e["student"] not in (only or set())] if only is not None else []
     merged = sorted(kept + list(entries), key=lambda e: str(e["student"]))
     (out / "summary.json").write_text(json.dumps(merged, indent=2), encoding="utf-8")
+
+
+def _fmt(value: Optional[float]) -> str:
+    return "" if value is None else f"{round(value, 6):g}"
+
+
+def score_columns(jobs: Iterable[Mapping[str, Any]], assignments: Sequence[str]) -> Dict[str, str]:
+    """grades.csv's points of one student in a course, from make grade's jobs: ``<assignment>_score``/``_max``
+    (its notebooks' plus its files' points, :func:`~hri_teleop.grading.points.assignment_points`),
+    ``notebooks_score``/``_max`` (nbgrader's: the check cells carry none) and ``files_score``/``_max``
+    (hri-grade's); blank where nothing was graded. Each part counts once: the assignments add up to
+    notebooks + files."""
+    jobs = list(jobs)
+    points = assignment_points(jobs)
+    row: Dict[str, str] = {}
+    for assignment in assignments:
+        score, maximum = points.get(assignment, (None, None))
+        row[f"{assignment}_score"], row[f"{assignment}_max"] = _fmt(score), _fmt(maximum)
+    for kind in ("notebooks", "files"):
+        graded = [j for j in jobs if j["kind"] == kind and j["status"] == "graded"]
+        row[f"{kind}_score"] = _fmt(sum(float(j["score"]) for j in graded) if graded else None)
+        row[f"{kind}_max"] = _fmt(sum(float(j["max_score"]) for j in graded) if graded else None)
+    return row
 
 
 def write_rows(path: Path, columns: Sequence[str], rows: Sequence[Dict[str, str]],
@@ -149,6 +174,7 @@ def _course_student(out: Path, entry: Dict[str, Any], assignments: Sequence[str]
     late = _late(entry)
     jobs, scores = [], []
     by_key = {(j["assignment"], j["kind"]): j for j in entry.get("jobs", ())}
+    points = assignment_points(entry.get("jobs", ()))
     files_ok = all(j["status"] == "graded" for (_a, kind), j in by_key.items() if kind == "files")
     parts = _parts_of(out / student / "results.json") if files_ok else []  # none stale from a run before
     for assignment in assignments:
@@ -159,16 +185,15 @@ def _course_student(out: Path, entry: Dict[str, Any], assignments: Sequence[str]
                 jobs.append(Job(student, label, str(j["status"]), float(j.get("seconds", 0.0)),
                                 str(j.get("message", "")), f"{student}/{assignment}/{log}",
                                 bool(j.get("sandboxed", True))))
-        nb = by_key.get((assignment, "notebooks"))
-        if nb is None:
+        if assignment not in points:
             continue  # not handed in
-        if nb["status"] == "graded":
-            maximum = float(nb["max_score"])
-            scores.append(AssignmentScore(assignment, float(nb["score"]), maximum,
-                                          _penalty(late, assignment, maximum)))
-            parts += cells.get((student, assignment), [])
+        score, maximum = points[assignment]  # its notebooks' and its files' points, each part once
+        if score is not None:
+            scores.append(AssignmentScore(assignment, score, maximum, _penalty(late, assignment, maximum)))
         else:
             scores.append(AssignmentScore(assignment, None, None))
+        if by_key[(assignment, "notebooks")]["status"] == "graded":
+            parts += cells.get((student, assignment), [])
     manual = tuple(a for (a, kind), j in sorted(by_key.items()) if kind == "notebooks" and j.get("needs_manual_grade"))
     return StudentRecord(student, str(entry["status"]), tuple(scores), tuple(jobs),
                          tuple(str(r) for r in entry.get("reasons", ())), tuple(parts), late, manual)

@@ -24,6 +24,7 @@ from hri_teleop.grading.batch.late import (
     submission_time,
 )
 from hri_teleop.grading.batch.report_data import FILES_ONLY, ClassResults
+from hri_teleop.grading.points import assignment_points
 from hri_teleop.grading.run.jobs import Progress, print_line
 
 __all__ = ["find_late_policy", "check_policy", "apply_late", "set_feedback_lines",
@@ -103,13 +104,13 @@ def apply_late(out: Path, policy: Optional[LatePolicy], folder_of: Callable[[str
 
 
 def _handed_in(entry: Dict[str, Any]) -> List[Tuple[str, Optional[float]]]:
-    """(assignment, its points when graded) of what one summary entry says was handed in."""
+    """(assignment, its points when graded: notebooks and files, each part once) of what one summary entry
+    says was handed in."""
     jobs = entry.get("jobs")
     if not isinstance(jobs, list):  # folders mode: one submission
         graded = entry.get("status") == "graded"
         return [(FILES_ONLY, float(entry["max_score"]) if graded else None)]
-    return [(str(j["assignment"]), float(j["max_score"]) if j["status"] == "graded" else None)
-            for j in jobs if j.get("kind") == "notebooks"]
+    return [(assignment, maximum) for assignment, (_score, maximum) in assignment_points(jobs).items()]
 
 
 def _number(value: Optional[float]) -> str:

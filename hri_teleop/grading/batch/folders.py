@@ -23,6 +23,7 @@ from hri_teleop.core.errors import HriTeleopError
 from hri_teleop.grading.batch.class_results import read_summary, write_rows, write_summary
 from hri_teleop.grading.batch.finish import check_policy, find_late_policy, finish
 from hri_teleop.grading.batch.report_data import FILES_ONLY
+from hri_teleop.grading.cases.inputs import student_seed
 from hri_teleop.grading.judge import reuse
 from hri_teleop.grading.judge.graph import live_graph
 from hri_teleop.grading.run.jobs import (
@@ -98,8 +99,11 @@ def select_student(available: Sequence[str], wanted: Optional[str], folder: Path
 
 
 
-def _hri_grade_argv(folder: Path, out: Path, graph_cache: Optional[Path], checks: Optional[Sequence[str]]) -> List[str]:
+def _hri_grade_argv(folder: Path, out: Path, graph_cache: Optional[Path], checks: Optional[Sequence[str]],
+                    seed: Optional[int] = None) -> List[str]:
     argv = [sys.executable, "-m", "hri_teleop.grading.cli", "submission", str(folder), "--json", "--out", str(out)]
+    if seed is not None:
+        argv += ["--seed", str(seed)]
     if graph_cache is not None:
         argv += ["--graph-cache", str(graph_cache)]
     if checks:
@@ -123,18 +127,20 @@ def _files_result(run: Run, log: Path, timeout_s: float) -> Tuple[str, float, fl
 
 
 def grade_one(folder: Path, out: Path, graph_cache: Optional[Path], checks: Optional[Sequence[str]],
-              timeout_s: float = PER_SUBMISSION_TIMEOUT_S, results_dir: Optional[Path] = None) -> Outcome:
+              timeout_s: float = PER_SUBMISSION_TIMEOUT_S, results_dir: Optional[Path] = None,
+              seed: Optional[int] = None) -> Outcome:
     """``hri-grade submission`` on ``folder`` in a job of its own, into ``out`` (the student is the folder's name).
 
     ``results_dir``: where it stores each check's result for the notebooks' check cells of the
-    same package (:mod:`hri_teleop.grading.judge.reuse`).
+    same package (:mod:`hri_teleop.grading.judge.reuse`); ``seed``: the hidden inputs' (make grade
+    gives the student's, :func:`~hri_teleop.grading.cases.inputs.student_seed`; None: the folder's).
     """
     out.mkdir(parents=True, exist_ok=True)
     log = out / "grader.log"
     env = {k: v for k, v in os.environ.items() if k not in (reuse.READ_ENV, reuse.WRITE_ENV)}
     if results_dir is not None:
         env[reuse.WRITE_ENV] = str(results_dir)
-    run = run_job(_hri_grade_argv(folder, out, graph_cache, checks), log, timeout_s, capture=True, env=env)
+    run = run_job(_hri_grade_argv(folder, out, graph_cache, checks, seed), log, timeout_s, capture=True, env=env)
     status, score, maximum, message = _files_result(run, log, timeout_s)
     return Outcome(folder.name, score, maximum, status, run.seconds, message)
 
@@ -213,8 +219,8 @@ def grade_all(folder: Path, out: Path, jobs: Optional[int] = None, checks: Optio
                  else f"NOT GRADED: {outcome.message}")
         progress(f"{line}  ({outcome.seconds:.1f} s)")
 
-    run_all([(sub.name, functools.partial(grade_one, sub, out / sub.name, graph_cache, checks, limit))
-             for sub in subs], jobs, done)
+    run_all([(sub.name, functools.partial(grade_one, sub, out / sub.name, graph_cache, checks, limit,
+                                          seed=student_seed(sub.name))) for sub in subs], jobs, done)
     ordered = [outcomes[s.name] for s in subs]
     kept = {only} if only is not None else None
     write_rows(out / "grades.csv", ["student", "score", "max_score", "status", "seconds", "message"],

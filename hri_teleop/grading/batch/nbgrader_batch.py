@@ -27,7 +27,13 @@ from traitlets.config import Config
 from traitlets.config.loader import ConfigFileNotFound, PyFileConfigLoader
 
 from hri_teleop.grading.batch.assignments import ASSIGNMENT_CHECKS, ASSIGNMENTS, nbgrader_env
-from hri_teleop.grading.batch.class_results import read_summary, update_rows, write_rows, write_summary
+from hri_teleop.grading.batch.class_results import (
+    read_summary,
+    score_columns,
+    update_rows,
+    write_rows,
+    write_summary,
+)
 from hri_teleop.grading.batch.finish import check_policy, find_late_policy, finish
 from hri_teleop.grading.batch.folders import (
     PER_SUBMISSION_TIMEOUT_S,
@@ -42,7 +48,9 @@ from hri_teleop.grading.batch.folders import (
 )
 from hri_teleop.grading.batch.report_data import FILES_JOB
 from hri_teleop.grading.batch.spare_kernels import PROVISIONER, PROVISIONER_ENV, SPARES_ENV
+from hri_teleop.grading.cases.inputs import SEED_ENV, student_seed
 from hri_teleop.grading.judge import reuse
+from hri_teleop.grading.points import check_cell_problems
 from hri_teleop.grading.results import CheckResult, feedback_text, gradescope_json
 from hri_teleop.grading.run.jobs import Progress, job_count, print_line, run_all, run_job
 from hri_teleop.grading.run.kernel_sandbox import (
@@ -273,7 +281,7 @@ def _retry_cause(log_text: str) -> str:
 
 def _autograde(course: _Course, student: str, assignment: str, out: Path, timeout_s: float,
                db_lock: threading.Lock, progress: Progress, results_dir: Optional[Path] = None,
-               sandbox: Optional[KernelPolicy] = None) -> JobOutcome:
+               sandbox: Optional[KernelPolicy] = None, seed: Optional[int] = None) -> JobOutcome:
     folder = course.submitted / student / assignment
     links = _outside_links(folder)
     if links:
@@ -285,20 +293,23 @@ def _autograde(course: _Course, student: str, assignment: str, out: Path, timeou
     try:
         return _autograde_in(course, student, assignment, out, timeout_s, db_lock, progress,
                              course.nbgrader_argv("autograde", assignment, "--student", student, "--force",
-                                                  *ipc_kernel_argv(sockets)), results_dir, sandbox)
+                                                  *ipc_kernel_argv(sockets)), results_dir, sandbox, seed)
     finally:
         shutil.rmtree(sockets, ignore_errors=True)
 
 
 def _autograde_in(course: _Course, student: str, assignment: str, out: Path, timeout_s: float,
                   db_lock: threading.Lock, progress: Progress, argv: List[str],
-                  results_dir: Optional[Path] = None, sandbox: Optional[KernelPolicy] = None) -> JobOutcome:
+                  results_dir: Optional[Path] = None, sandbox: Optional[KernelPolicy] = None,
+                  seed: Optional[int] = None) -> JobOutcome:
     """``results_dir``: the files jobs' check results, which the notebooks' check cells of the
     same package take instead of running the check again (:mod:`hri_teleop.grading.judge.reuse`).
-    ``sandbox``: the kernels start in the kernel sandbox (None: with the grader's rights)."""
+    ``sandbox``: the kernels start in the kernel sandbox (None: with the grader's rights). ``seed``:
+    the check cells' hidden inputs (None: the student's, as the files job's)."""
     log = out / "autograde.log"
     seconds = 0.0
     env = nbgrader_job_env()
+    env[SEED_ENV] = str(student_seed(student) if seed is None else seed)
     env.pop(reuse.WRITE_ENV, None)
     env.pop(POLICY_ENV, None)
     if results_dir is not None:
@@ -336,20 +347,23 @@ def _autograde_in(course: _Course, student: str, assignment: str, out: Path, tim
 
 
 def autograde_one(course_root: Path, student: str, assignment: str, out: Path, timeout_s: float,
-                  progress: Progress = print_line, sandbox: Optional[KernelPolicy] = None) -> JobOutcome:
+                  progress: Progress = print_line, sandbox: Optional[KernelPolicy] = None,
+                  seed: Optional[int] = None) -> JobOutcome:
     """nbgrader autograde of one student's one assignment in the course folder ``course_root`` (its
     ``submitted/<student>/<assignment>/`` and gradebook), as make grade runs it (the Gradescope autograder).
-    ``sandbox``: the kernels' sandbox (the course folder is hidden from them too); None: none."""
+    ``sandbox``: the kernels' sandbox (the course folder is hidden from them too); None: none. ``seed``: the
+    check cells' hidden inputs (None: :func:`~hri_teleop.grading.cases.inputs.student_seed` of ``student``)."""
     course = _open_course(course_root, course_root / "submitted", [assignment])
     out.mkdir(parents=True, exist_ok=True)
     if sandbox is not None:
         sandbox = replace(sandbox, hidden=(*sandbox.hidden, str(course.root), str(out)))
-    return _autograde(course, student, assignment, out, timeout_s, threading.Lock(), progress, None, sandbox)
+    return _autograde(course, student, assignment, out, timeout_s, threading.Lock(), progress, None, sandbox, seed)
 
 
 def _grade_files(course: _Course, student: str, assignment: str, out: Path, checks: Sequence[str],
                  graph_cache: Optional[Path], timeout_s: float, results_dir: Optional[Path] = None) -> JobOutcome:
-    o = grade_one(course.submitted / student / assignment, out, graph_cache, checks, timeout_s, results_dir)
+    o = grade_one(course.submitted / student / assignment, out, graph_cache, checks, timeout_s, results_dir,
+                  seed=student_seed(student))
     return JobOutcome(student, assignment, "files", o.score, o.max_score, o.status, o.seconds, o.message,
                       sandboxed=not bwrap_problem())
 
@@ -382,10 +396,6 @@ def _combine_files_results(student_out: Path, assignments: Sequence[str]) -> Non
         (student_out / "feedback.txt").write_text("\n\n".join(parts) + "\n", encoding="utf-8")
 
 
-def _fmt(value: Optional[float]) -> str:
-    return "" if value is None else f"{value:g}"
-
-
 def grade_course(course: Path, submitted: Path, out: Path, jobs: Optional[int] = None,
                  checks: Optional[Sequence[str]] = None, progress: Progress = print_line,
                  timeout_s: Optional[float] = None, student: Optional[str] = None,
@@ -408,6 +418,9 @@ def grade_course(course: Path, submitted: Path, out: Path, jobs: Optional[int] =
     assignments = _assignment_order(sorted({a for _s, a in pairs}))
     check_policy(policy, assignments)
     nb = _open_course(course, submitted, assignments)
+    counted_twice = check_cell_problems(course / "source")
+    if counted_twice:  # a check's points are the files': a graded check cell would count them again
+        raise BatchError(counted_twice[0])
     # The kernels see neither the course (other students, the gradebook, the answers) nor OUT.
     sandbox, problem = (None, "") if unsandboxed else kernel_sandbox(KernelPolicy((str(course), str(out))))
     require_sandbox(problem, unsandboxed, "the students' notebooks")
@@ -477,23 +490,17 @@ def grade_course(course: Path, submitted: Path, out: Path, jobs: Optional[int] =
     rows, summary = [], []
     for student in students:
         mine = {(o.assignment, o.kind): o for o in outcomes.values() if o.student == student}
-        row: Dict[str, str] = {"student": student}
+        # Each part counts once: an assignment's points are its notebooks' plus its files' (grading/points.py).
+        row: Dict[str, str] = {"student": student, **score_columns([asdict(o) for o in mine.values()], assignments)}
         reasons: List[str] = []
-        nb_score = nb_max = files_score = files_max = None
         for assignment in assignments:
             o = mine.get((assignment, "notebooks"))
-            row[f"{assignment}_score"] = row[f"{assignment}_max"] = ""
             if o is None:
                 continue
-            if o.status == "graded":
-                row[f"{assignment}_score"], row[f"{assignment}_max"] = _fmt(o.score), _fmt(o.max_score)
-                nb_score, nb_max = (nb_score or 0.0) + o.score, (nb_max or 0.0) + o.max_score
-            else:
+            if o.status != "graded":
                 reasons.append(f"{assignment}: {o.message}")
             f = mine.get((assignment, "files"))
-            if f is not None and f.status == "graded":
-                files_score, files_max = (files_score or 0.0) + f.score, (files_max or 0.0) + f.max_score
-            elif f is not None:
+            if f is not None and f.status != "graded":
                 reasons.append(f"{assignment}/{FILES_JOB}: {f.message}")
             if (student, assignment) in feedback_problems:
                 reasons.append(f"{assignment}: {feedback_problems[(student, assignment)]}")
@@ -502,9 +509,7 @@ def grade_course(course: Path, submitted: Path, out: Path, jobs: Optional[int] =
                            f"(expected {submitted.name}/{student}/<assignment>/)")
         _combine_files_results(out / student, assignments)
         status = "not graded" if reasons else "graded"
-        row.update({"notebooks_score": _fmt(nb_score), "notebooks_max": _fmt(nb_max), "files_score": _fmt(files_score),
-                    "files_max": _fmt(files_max),
-                    "needs_manual_grade": " ".join(a for (a, k), o in sorted(mine.items())
+        row.update({"needs_manual_grade": " ".join(a for (a, k), o in sorted(mine.items())
                                                    if k == "notebooks" and o.needs_manual_grade),
                     "status": status, "seconds": f"{sum(o.seconds for o in mine.values()):.1f}",
                     "message": "; ".join(reasons)})
@@ -557,12 +562,8 @@ def refresh_course(course: Path, submitted: Path, out: Path, progress: Progress 
         graded = {j["assignment"]: j for j in entry.get("jobs", ()) if j["kind"] == "notebooks"
                   and j["status"] == "graded"}
         row = {"student": str(entry["student"]),
-               "needs_manual_grade": " ".join(a for a, j in sorted(graded.items()) if j["needs_manual_grade"])}
-        for assignment, job in graded.items():
-            row[f"{assignment}_score"], row[f"{assignment}_max"] = _fmt(job["score"]), _fmt(job["max_score"])
-        if graded:
-            row["notebooks_score"] = _fmt(sum(float(j["score"]) for j in graded.values()))
-            row["notebooks_max"] = _fmt(sum(float(j["max_score"]) for j in graded.values()))
+               "needs_manual_grade": " ".join(a for a, j in sorted(graded.items()) if j["needs_manual_grade"]),
+               **score_columns(entry.get("jobs", ()), assignments)}
         rows.append(row)
     update_rows(out / "grades.csv", rows)
     finish(out, policy, lambda name, assignment: submitted / name / assignment, assignments, (nb.db_url, nb.course_id),

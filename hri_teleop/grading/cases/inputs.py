@@ -3,12 +3,14 @@
 The public traces and the hidden inputs come from the same ROS-free functions (a public trace is
 the hidden generator with fixed choices), and the expected outputs always from the reference
 implementation (``map_force``, ``TeleopController``), never from a second copy of the rules.
-Hidden cases differ per submission (``seed_for``) and use other parameter values than the public.
+Hidden cases differ per student (``student_seed``; a folder graded alone: ``seed_for``) and use other
+parameter values than the public.
 """
 
 from __future__ import annotations
 
 import hashlib
+import os
 import random
 from dataclasses import dataclass, field
 from pathlib import Path
@@ -21,7 +23,7 @@ from hri_teleop.core.mapping import ADC_MAX_COUNT, map_force
 from hri_teleop.core.teleop import Mode, TeleopController, TeleopParams
 
 __all__ = [
-    "CasesError", "seed_for", "PUBLIC_MAX_SENSOR_FORCE",
+    "CasesError", "SEED_ENV", "seed_for", "student_seed", "default_seed", "PUBLIC_MAX_SENSOR_FORCE",
     "MappingCase", "public_mapping_case", "hidden_mapping_cases",
     "TeleopGains", "PUBLIC_GAINS", "PadTick", "ExpectedTick", "TeleopPartsCase",
     "public_teleop_parts_case", "hidden_teleop_parts_case", "reference_parts",
@@ -46,6 +48,35 @@ def seed_for(submission: Union[str, Path]) -> int:
     parts = Path(submission).expanduser().resolve().parts[-3:]
     digest = hashlib.sha256("/".join(parts).encode("utf-8")).hexdigest()
     return int(digest[:8], 16)
+
+
+#: Set by make grade and the Gradescope autograder for nbgrader's kernels: the student's seed
+#: (:func:`student_seed`), which the notebooks' check cells take instead of their folder's.
+SEED_ENV = "HRI_GRADE_SEED"
+
+
+def student_seed(student: str) -> int:
+    """The seed of one student's hidden inputs, from their id alone.
+
+    make grade (the files job and the notebooks' check cells, by nbgrader's student id) and the
+    Gradescope autograder (by the roster's student id) derive it the same way, so a student meets
+    the same hidden inputs whichever way the course grades, in every assignment and on every rerun.
+    """
+    digest = hashlib.sha256(f"student:{student}".encode("utf-8")).hexdigest()
+    return int(digest[:8], 16)
+
+
+def default_seed(submission: Union[str, Path]) -> int:
+    """The seed when none is given: ``$HRI_GRADE_SEED`` (a kernel make grade or Gradescope runs for a
+    student), else the submission folder's (:func:`seed_for`)."""
+    value = os.environ.get(SEED_ENV, "").strip()
+    if not value:
+        return seed_for(submission)
+    try:
+        return int(value)
+    except ValueError:
+        raise CasesError(f"{SEED_ENV}={value!r} is not a whole number; unset it (the seed then comes from "
+                         "the folder) or give the student's seed") from None
 
 
 # -- mapping_node (Ex. 5) ----------------------------------------------------------------

@@ -17,6 +17,7 @@ from hri_teleop.core.paths import REPO
 from hri_teleop.grading.gradescope.container import CONFIG_NAME, Config
 from hri_teleop.grading.gradescope.notebooks import course_members
 from hri_teleop.grading.judge.checks import CHECKS
+from hri_teleop.grading.points import check_cell_problems
 from hri_teleop.grading.results import GradingError
 
 __all__ = ["SOURCE_PATHS", "SCRIPTS", "zip_members", "build_zip"]
@@ -62,6 +63,9 @@ def build_zip(out_dir: Path, checks: Sequence[str] = tuple(CHECKS), repo: Path =
     unknown = [c for c in checks if c not in CHECKS]
     if unknown or not checks:
         raise GradingError(f"unknown or no checks {unknown}; use some of {', '.join(CHECKS)}")
+    counted_twice = check_cell_problems(repo / "notebooks" / "source")
+    if counted_twice:  # a check's points are the files' tests': a graded check cell would count them again
+        raise GradingError(counted_twice[0])
     out_dir.mkdir(parents=True, exist_ok=True)
     target = out_dir / "autograder.zip"
     names: List[str] = []

@@ -9,7 +9,6 @@ upload's notebooks of the course are then autograded by nbgrader (:mod:`.noteboo
 
 from __future__ import annotations
 
-import hashlib
 import json
 import os
 import sys
@@ -19,7 +18,7 @@ from dataclasses import dataclass, replace
 from pathlib import Path
 from typing import Any, Dict, List, Optional, Sequence, Tuple
 
-from hri_teleop.grading.cases.inputs import seed_for
+from hri_teleop.grading.cases.inputs import seed_for, student_seed
 from hri_teleop.grading.gradescope.layout import find_upload
 from hri_teleop.grading.gradescope.notebooks import COURSE, NOTEBOOKS_TIMEOUT_S, NotebookTests, grade_notebooks
 from hri_teleop.grading.gradescope.report import Unjudged, results_payload
@@ -28,7 +27,8 @@ from hri_teleop.grading.results import CheckResult, GradingError
 from hri_teleop.grading.run.jobs import run_job
 from hri_teleop.grading.run.kernel_sandbox import KernelPolicy
 
-__all__ = ["CONFIG_NAME", "CHECKS_ENV", "Config", "load_config", "load_config_checks", "seed_from_metadata", "grade_upload", "main"]
+__all__ = ["CONFIG_NAME", "CHECKS_ENV", "Config", "load_config", "load_config_checks", "student_from_metadata",
+           "seed_from_metadata", "grade_upload", "main"]
 
 #: The autograder's settings, at the zip's root (written by ``make gradescope``).
 CONFIG_NAME = "gradescope.json"
@@ -78,22 +78,32 @@ def load_config_checks(config: Config, where: str = CHECKS_ENV) -> None:
         raise GradingError(f"{where}: unknown or no checks {unknown}; use some of {', '.join(CHECKS)}")
 
 
-def seed_from_metadata(path: Path) -> Optional[int]:
-    """The hidden inputs' seed from the students' Gradescope ids (the same on every resubmission).
+def _user_id(user: Dict[str, Any]) -> str:
+    for key in ("sid", "email", "id"):
+        if str(user.get(key) or "").strip():
+            return str(user[key]).strip()
+    return ""
 
-    Gradescope grades every upload in the same folder, so the folder-derived seed would give the
-    whole class the same hidden inputs. None when the metadata is missing or has no users.
-    """
+
+def student_from_metadata(path: Path) -> Optional[str]:
+    """The submitters' student id from Gradescope's metadata: each one's roster *Student ID* (``sid``; put
+    the students' make grade ids there), else their email, else Gradescope's user id; a group's joined by
+    ``+``. None when the metadata is missing or names no user."""
     try:
         data = json.loads(path.read_text(encoding="utf-8"))
-        users = sorted(str(u.get("id", u.get("email", ""))) for u in data.get("users", []))
-        assignment = str((data.get("assignment") or {}).get("id", ""))
+        users = sorted(filter(None, (_user_id(u) for u in data.get("users", []))))
     except (OSError, ValueError, AttributeError):
         return None
-    if not users:
-        return None
-    digest = hashlib.sha256(("/".join(users) + "|" + assignment).encode("utf-8")).hexdigest()
-    return int(digest[:8], 16)
+    return "+".join(users) or None
+
+
+def seed_from_metadata(path: Path) -> Optional[int]:
+    """The hidden inputs' seed of the submitters: :func:`~hri_teleop.grading.cases.inputs.student_seed` of
+    their student id (:func:`student_from_metadata`), as make grade derives it from the same id; the same
+    on every resubmission and in every assignment. Gradescope grades every upload in the same folder, so
+    the folder-derived seed would give the whole class the same hidden inputs. None without users."""
+    student = student_from_metadata(path)
+    return None if student is None else student_seed(student)
 
 
 def _hri_grade(package: Path, out: Path, checks: Sequence[str], seed: Optional[int], timeout_s: float,
@@ -119,8 +129,8 @@ def _notebooks(notebooks: Sequence[Path], package: Path, course: Optional[Path],
     if not notebooks or course is None or not course.is_dir():
         return NotebookTests()
     try:
-        student = "student" if seed is None else f"student-{seed}"  # the check cells' seed: one per student
-        return grade_notebooks(notebooks, package, course, work / "notebooks", timeout_s, student, sandbox)
+        # the check cells' hidden inputs are the files' tests' (seed): one student, one seed
+        return grade_notebooks(notebooks, package, course, work / "notebooks", timeout_s, "student", sandbox, seed)
     except Exception as exc:  # noqa: BLE001 - whatever stops nbgrader, the files' grades must still be written
         print(f"run_autograder: grading the notebooks failed: {type(exc).__name__}: {exc}", flush=True)
         names = ", ".join(p.name for p in notebooks[:6]) + (" ..." if len(notebooks) > 6 else "")
@@ -135,6 +145,7 @@ def grade_upload(submission: Path, work: Path, config: Config, seed: Optional[in
     kernel sandbox unless ``config.unsandboxed``, which hides ``hidden`` (/autograder) besides the course.
     """
     started = time.monotonic()
+    seed = seed_for(submission) if seed is None else seed  # one seed for the files' tests and the notebooks
     upload = find_upload(submission, work)
     notes = list(upload.notes)
     results, why = _hri_grade(upload.hri_lab, work / "out", config.checks, seed, config.submission_timeout_s,

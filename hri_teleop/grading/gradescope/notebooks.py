@@ -186,12 +186,13 @@ def _generate(course: Path, assignment: str, log: Path) -> str:
 
 def grade_notebooks(notebooks: Sequence[Path], package: Path, shipped: Path, work: Path,
                     timeout_s: float = NOTEBOOKS_TIMEOUT_S, student: str = "student",
-                    sandbox: Optional[KernelPolicy] = None) -> NotebookTests:
+                    sandbox: Optional[KernelPolicy] = None, seed: Optional[int] = None) -> NotebookTests:
     """Autograde the course's notebooks among ``notebooks`` beside ``package`` (the course in ``shipped``).
 
-    ``student`` names the submission's folder, whose last parts seed the check cells' hidden inputs
-    (:func:`hri_teleop.grading.cases.inputs.seed_for`): one per student, as on make grade. ``sandbox``:
-    the kernels' (None: the grader's rights); where it cannot run, the notebooks are not judged.
+    ``student`` names the submission's folder; ``seed`` is the check cells' hidden inputs' (the files'
+    tests' seed, :func:`hri_teleop.grading.cases.inputs.student_seed`; None: ``student``'s). The check
+    cells are no tests: their points are the files' (:mod:`hri_teleop.grading.points`). ``sandbox``: the
+    kernels' (None: the grader's rights); where it cannot run, the notebooks are not judged.
     """
     result = NotebookTests()
     known = course_notebooks(shipped)
@@ -235,7 +236,7 @@ def grade_notebooks(notebooks: Sequence[Path], package: Path, shipped: Path, wor
                 shutil.copy(path, folder / f"{stem}.ipynb")
             shutil.copytree(package, folder / "hri_lab", symlinks=True)
             outcome = autograde_one(course, student, assignment, work / f"autograde-{assignment}", timeout_s,
-                                    progress=lambda line: print(line, flush=True), sandbox=sandbox)
+                                    progress=lambda line: print(line, flush=True), sandbox=sandbox, seed=seed)
             why = "" if outcome.status == "graded" else outcome.message
             if why:  # for the instructor: run_autograder's log
                 log = work / f"autograde-{assignment}" / "autograde.log"

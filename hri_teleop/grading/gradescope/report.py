@@ -11,9 +11,7 @@ from __future__ import annotations
 from dataclasses import dataclass
 from typing import Any, Dict, List, Mapping, Optional, Sequence, Tuple
 
-from hri_teleop.grading.judge.compare_common import GRAPH, MAPPING, SENSOR_LAUNCH, TELEOP, TELEOP_LAUNCH
-from hri_teleop.grading.judge.package_check import CATKIN_PACKAGE
-from hri_teleop.grading.judge.robot_params import part_table
+from hri_teleop.grading.points import part_tables
 from hri_teleop.grading.results import CheckResult, gradescope_json
 
 __all__ = ["HIDDEN_INPUT_PARTS", "Unjudged", "part_tables", "visibility", "results_payload"]
@@ -32,13 +30,6 @@ class Unjudged:
 
     check: str
     reason: str
-
-
-def part_tables() -> Dict[str, Dict[str, Tuple[str, float]]]:
-    """check -> part key -> (part name as students see it, points), for every check."""
-    return {"robot-params": part_table(), "mapping-node": MAPPING, "sensor-launch": SENSOR_LAUNCH,
-            "teleoperation": TELEOP, "teleoperation-launch": TELEOP_LAUNCH, "graph": GRAPH,
-            "catkin-package": CATKIN_PACKAGE}
 
 
 def visibility(check: str, part_name: str) -> str:

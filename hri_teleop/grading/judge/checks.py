@@ -304,7 +304,7 @@ def grade_submission(folder: PathLike, *, seed: Optional[int] = None, out_dir: O
     if not folder.is_dir():
         raise GradingError(f"{folder}: not a folder; give the student's hri_lab package folder (or their submission)")
     root = find_package_root(folder)
-    seed = C.seed_for(root) if seed is None else seed
+    seed = C.default_seed(root) if seed is None else seed
     results = []
     for check in checks:
         kwargs: Dict[str, Any] = {"seed": seed, "out_dir": out_dir}

@@ -107,7 +107,7 @@ def _reusable(check: str) -> Callable[[Callable[..., CheckResult]], Callable[...
             if not (write or read) or not set(kwargs) <= _SAME_RESULT_KWARGS or not given.is_dir():
                 return grade_fn(path, **kwargs)
             root = find_package_root(given)
-            seed = C.seed_for(root) if kwargs.get("seed") is None else int(kwargs["seed"])
+            seed = C.default_seed(root) if kwargs.get("seed") is None else int(kwargs["seed"])
             if read and not write:
                 found = reuse.load(Path(read), check, seed, root)
                 if found is not None:
@@ -283,7 +283,7 @@ def _start(check: str, path: PathLike, out_dir: Optional[PathLike], seed: Option
     """(the check's run, or its result when the file is missing: every part failed; the seed)."""
     key = _KEY[check]
     root, given, found = _resolve(path, key)
-    seed = C.seed_for(root) if seed is None else int(seed)
+    seed = C.default_seed(root) if seed is None else int(seed)
     if found is None:
         hidden = check in ("mapping-node", "teleoperation")
         return _missing_result(check, key, _table_for(check), root, seed if hidden else None), seed
