@@ -1,12 +1,8 @@
 """The files' half of ``make check`` in the student bundle: each assignment's hri_lab graded as the course grades it.
 
-A deliverable's points are the files' (:mod:`hri_teleop.grading.points`): the notebooks' check
-cells show the same feedback and add no points. So after the notebooks ran
-(``hri_teleop.course.selfcheck``), the self-check grades ``<assignment>/hri_lab`` with that
-assignment's checks and prints the points per check. The bundle's Makefile lets the check cells keep
-their results (``HRI_GRADE_RESULTS_WRITE``) and this half take them (``HRI_GRADE_RESULTS``): the same
-files give the same parts, so a check runs once, and Ex. 15's graph is judged against the pipeline
-its notebook started (at home there is no other).
+A deliverable's points are the files' (:mod:`hri_teleop.grading.points`). After the notebooks ran, this
+grades ``<assignment>/hri_lab`` with the assignment's checks and prints the points per check, reusing the
+check cells' results where the same files give the same parts (``HRI_GRADE_RESULTS``): a check runs once.
 
     python -m hri_teleop.grading.files_check FOLDER [--only ex05,ex12]
 """

@@ -1,13 +1,10 @@
 """Where a deliverable's points live: one rule, read by every way of grading (docs/instructors.md, Points).
 
-A file the handout has the students write (``robot_params.yaml``, ``mapping_node.py``, ...) is
-judged by a check of the grader. **Its points live in the files**: make grade's files job, ``hri-grade
-submission`` and Gradescope's tests of the upload count them. A notebook's check cell
-(``check.mapping_node(PACKAGE)``) runs the same check and shows the same feedback, but it is a
-read-only cell that nbgrader gives no points, so no part counts twice. The files' points come from
-the grader's own process, never from a notebook's kernel, which runs student code; and a
-missing or broken notebook costs none of them. A course's autograded total is its notebooks' other
-autograded cells plus its files' checks (:func:`assignment_points`).
+A file the handout has the students write is judged by a check of the grader, and **its points live in
+the files** (make grade's files job, ``hri-grade submission``, Gradescope). A notebook's check cell runs
+the same check and shows the same feedback, but it is read-only and worth no nbgrader points, so no part
+counts twice and no student kernel produces the files' points. A course's autograded total is its
+notebooks' other autograded cells plus its files' checks (:func:`assignment_points`).
 """
 
 from __future__ import annotations

@@ -150,7 +150,7 @@ def test_with_a_person_at_the_labs_pad_the_students_node_drives_the_real_robot(c
     assert not [line for line in _lines(ex10) if line.startswith("refused to start teleoperation")]
     ex09 = _run(lab / "ex09_teleoperation_node.ipynb", env, tmp_path / "ex09.json")
     assert twin.report().nonzero_twists > after.nonzero_twists, twin.report().lines()
-    assert ex09["grades"]["ex9_node"][0] == ex09["grades"]["ex9_node"][1]
+    assert ex09["checks"]["ex9_node"][0] == ex09["checks"]["ex9_node"][1] > 0, ex09["cells"]
     assert twin.report().replaced == [] and twin.report().pub_force_publishers == ["/serial_node"]
 
 

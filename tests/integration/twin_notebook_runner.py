@@ -4,12 +4,15 @@
 
 As a lab engineer runs a course notebook on the lab PC (tests/integration/test_lab_twin_notebooks.py
 points the environment at the lab twin): every cell, errors allowed, nothing saved. OUT.json gets,
-per code cell, what it printed and its error, and the autograded cells' points as nbgrader counts them.
+per code cell, what it printed and its error, the autograded cells' points as nbgrader counts them, and
+the check cells' points as they print them (a check cell is read-only and worth no nbgrader points: its
+points are the files').
 """
 
 from __future__ import annotations
 
 import json
+import re
 import sys
 import time
 from pathlib import Path
@@ -27,7 +30,7 @@ def run(path: Path, timeout_s: int = 300) -> dict:
     with ipc_kernel_config() as config:
         NotebookClient(nb, config=config, timeout=timeout_s, startup_timeout=120, allow_errors=True,
                        resources={"metadata": {"path": str(path.parent)}}).execute()
-    cells, grades = [], {}
+    cells, grades, checks = [], {}, {}
     for number, cell in enumerate(nb.cells):
         if cell.cell_type != "code":
             continue
@@ -38,7 +41,10 @@ def run(path: Path, timeout_s: int = 300) -> dict:
         cells.append({"number": number, "grade_id": grade_id, "stdout": stdout, "stderr": stderr, "error": error})
         if is_grade(cell) and not is_solution(cell):
             grades[grade_id] = list(determine_grade(cell))
-    return {"cells": cells, "grades": grades, "seconds": time.monotonic() - started}
+        total = re.findall(r"^total: ([0-9.]+)/([0-9.]+)", stdout, re.M)
+        if total:
+            checks[grade_id] = [float(total[-1][0]), float(total[-1][1])]
+    return {"cells": cells, "grades": grades, "checks": checks, "seconds": time.monotonic() - started}
 
 
 if __name__ == "__main__":
