@@ -5,9 +5,13 @@ from __future__ import annotations
 import os
 import shutil
 from pathlib import Path
+from typing import TYPE_CHECKING, Iterator
 
 import pytest
 from hypothesis import settings
+
+if TYPE_CHECKING:
+    from hri_teleop.ros.lab_twin import LabTwin
 
 # Hypothesis judges each example's duration by default (200 ms): on a busy machine that is a
 # speed assertion. No test judges time; a hung example is caught by pytest's own guards.
@@ -54,18 +58,13 @@ def ros_master(tmp_path):
         assert not left, f"still running after the test: {left}"
 
 
-@pytest.fixture
-def lab_twin(tmp_path):
-    """A lab twin (hri_teleop.ros.lab_twin) on its own master, private to this test, stopped afterwards.
-
-    The twin is started with the robot activated and serial_node's ~publish_period_ms 10; a test that
-    needs another start builds its own ``LabTwin``. Asserts that nothing the twin started is left running.
-    """
+def _running_twin(folder: Path) -> Iterator["LabTwin"]:
+    """A started lab twin in ``folder``; stopped afterwards, asserting nothing it started is left running."""
     if shutil.which("roscore") is None:
         pytest.fail("roscore not found: run 'make setup' (installs ROS 1) or source tools/env.sh")
     from hri_teleop.ros.lab_twin import LabTwin
 
-    twin = LabTwin(tmp_path / "twin", base_env=_ros_env())
+    twin = LabTwin(folder, base_env=_ros_env())
     twin.start()
     try:
         yield twin
@@ -73,6 +72,22 @@ def lab_twin(tmp_path):
         twin.stop()
         left = [" ".join(p.argv) for p in twin.started() if p.anything_left]
         assert not left, f"still running after the test: {left}"
+
+
+@pytest.fixture
+def lab_twin(tmp_path):
+    """A lab twin (hri_teleop.ros.lab_twin) on its own master, private to this test, stopped afterwards.
+
+    The twin is started with the robot activated and serial_node's ~publish_period_ms 10; a test that
+    needs another start builds its own ``LabTwin``. Asserts that nothing the twin started is left running.
+    """
+    yield from _running_twin(tmp_path / "twin")
+
+
+@pytest.fixture(scope="module")
+def module_lab_twin(tmp_path_factory):
+    """The same twin, shared by the tests of one module (an expensive fixture of theirs runs on it)."""
+    yield from _running_twin(tmp_path_factory.mktemp("lab-twin"))
 
 
 @pytest.fixture

@@ -246,11 +246,13 @@ def test_the_pad_standin_makes_pygame_report_one_ps4_pad_following_the_script(tm
 
 def test_make_lab_twin_says_what_runs_takes_commands_and_stops_all_on_ctrl_c(tmp_path, ros_env):
     folder = tmp_path / "rehearsal"
-    proc = subprocess.Popen([sys.executable, "-m", "hri_teleop.ros.lab_twin", "--folder", str(folder)], env=ros_env,
+    proc = subprocess.Popen([sys.executable, "-m", "hri_teleop.ros.lab_twin", "--folder", str(folder)],
+                            env=dict(ros_env, PYTHONFAULTHANDLER="1"),
                             stdin=subprocess.PIPE, stdout=subprocess.PIPE, stderr=subprocess.STDOUT, text=True,
                             cwd=REPO, start_new_session=True)
     lines: "queue.Queue[str]" = queue.Queue()
-    threading.Thread(target=lambda: [lines.put(line) for line in proc.stdout], daemon=True).start()
+    reader = threading.Thread(target=lambda: [lines.put(line) for line in proc.stdout], daemon=True)
+    reader.start()
 
     def read_until(text: str) -> List[str]:
         seen = []
@@ -279,8 +281,11 @@ def test_make_lab_twin_says_what_runs_takes_commands_and_stops_all_on_ctrl_c(tmp
         proc.send_signal(signal.SIGINT)
         try:
             code = proc.wait(timeout=STOP_GUARD_S)
-        except subprocess.TimeoutExpired:
-            pytest.fail("make lab-twin still runs after Ctrl-C; it printed:\n" + "".join(list(lines.queue)[-40:]))
+        except subprocess.TimeoutExpired:  # where it hangs: PYTHONFAULTHANDLER prints every thread's stack on SIGABRT
+            proc.send_signal(signal.SIGABRT)
+            proc.wait(timeout=WAIT_S)
+            reader.join(timeout=WAIT_S)  # it ends with the process's output
+            pytest.fail("make lab-twin still runs after Ctrl-C; it printed:\n" + "".join(list(lines.queue)[-80:]))
         assert code == 130
     finally:
         if proc.poll() is None:

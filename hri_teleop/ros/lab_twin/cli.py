@@ -14,8 +14,10 @@ import argparse
 import signal
 import sys
 import threading
+import time
+from contextlib import contextmanager
 from pathlib import Path
-from typing import Callable, List, Optional, Set, TextIO
+from typing import Callable, Iterator, List, Optional, Set, TextIO
 
 from hri_teleop.core.errors import HriTeleopError
 from hri_teleop.core.paths import REPO
@@ -85,7 +87,6 @@ def _run(args: argparse.Namespace, stdin: TextIO) -> int:
     with LabTwin(args.folder, activated=not args.deactivated, publish_period_ms=args.publish_period_ms,
                  nodes_running=not args.bare) as twin:
         print("\n".join(_block(twin)), flush=True)
-        done = threading.Event()
 
         def read_commands() -> None:
             for line in stdin:
@@ -94,12 +95,29 @@ def _run(args: argparse.Namespace, stdin: TextIO) -> int:
 
         threading.Thread(target=read_commands, name="commands", daemon=True).start()
         said: Set[str] = set()
-        while not done.wait(WATCH_PERIOD_S):
-            for news_line in news(twin.report()):
-                if news_line not in said:
-                    said.add(news_line)
-                    print(f"twin: {news_line}", flush=True)
-    return 0
+        with _stop_requests() as stopped:
+            while not stopped:
+                for news_line in news(twin.report()):
+                    if news_line not in said:
+                        said.add(news_line)
+                        print(f"twin: {news_line}", flush=True)
+                time.sleep(WATCH_PERIOD_S)  # a signal's handler runs in it; the loop then ends
+    print("lab-twin: interrupted; everything it started has been stopped", file=sys.stderr, flush=True)
+    return 130
+
+
+@contextmanager
+def _stop_requests() -> Iterator[List[int]]:
+    """Ctrl-C and SIGTERM while the twin runs: noted, not raised, so the twin stops from one known place
+    (an exception raised in the middle of a poll or a file write could leave a lock held)."""
+    signals: List[int] = []
+    previous = {sig: signal.signal(sig, lambda signum, _frame: signals.append(signum))
+                for sig in (signal.SIGINT, signal.SIGTERM)}
+    try:
+        yield signals
+    finally:
+        for sig, handler in previous.items():
+            signal.signal(sig, handler)
 
 
 def main(argv: Optional[List[str]] = None) -> int:
