@@ -8,6 +8,7 @@ stood in. Counts are read from the twin's report; nothing here times a duration.
 
 from __future__ import annotations
 
+import contextlib
 import json
 import os
 import queue
@@ -25,6 +26,7 @@ import yaml
 from hri_teleop.core.doctor import OK, Finding
 from hri_teleop.ros.lab_twin import NODES, LabTwin, TwinReport
 from hri_teleop.ros.master import PrivateMaster
+from hri_teleop.ros.proc_table import descendants
 
 HERE = Path(__file__).resolve().parent
 REPO = HERE.parents[1]
@@ -260,6 +262,7 @@ def test_make_lab_twin_says_what_runs_takes_commands_and_stops_all_on_ctrl_c(tmp
             seen.append(lines.get(timeout=WAIT_S * 2))
         return seen
 
+    family: List[int] = []  # what is left to kill when the test fails
     try:
         block = read_until("press 700 2 | activate")
         text = "".join(block)
@@ -282,6 +285,7 @@ def test_make_lab_twin_says_what_runs_takes_commands_and_stops_all_on_ctrl_c(tmp
         try:
             code = proc.wait(timeout=STOP_GUARD_S)
         except subprocess.TimeoutExpired:  # where it hangs: PYTHONFAULTHANDLER prints every thread's stack on SIGABRT
+            family = descendants(proc.pid)  # its nodes and roscore run in sessions of their own: they would outlive it
             proc.send_signal(signal.SIGABRT)
             proc.wait(timeout=WAIT_S)
             reader.join(timeout=WAIT_S)  # it ends with the process's output
@@ -289,8 +293,12 @@ def test_make_lab_twin_says_what_runs_takes_commands_and_stops_all_on_ctrl_c(tmp
         assert code == 130
     finally:
         if proc.poll() is None:
+            family = descendants(proc.pid)
             os.killpg(proc.pid, signal.SIGKILL)
             proc.wait()
+        for pid in family:
+            with contextlib.suppress(ProcessLookupError):
+                os.kill(pid, signal.SIGKILL)
     for pid in pids:
         with pytest.raises(ProcessLookupError):
             os.kill(pid, 0)
