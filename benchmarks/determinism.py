@@ -18,7 +18,7 @@ from typing import Callable, Dict, List, Sequence, Tuple
 
 from benchmarks.report import BenchError, BenchOptions, BenchRow
 from hri_teleop.core.paths import SOLUTIONS
-from hri_teleop.grading.cases.templates import make_answer
+from hri_teleop.grading.cases.templates import generate_answers
 from hri_teleop.grading.judge.harness import CLOCK_ENV
 
 __all__ = ["BusyCores", "WRONG_PACKAGES", "FULL_RUNS", "package_variants", "part_scores", "run"]
@@ -40,12 +40,7 @@ WRONG_PACKAGES: Dict[str, Tuple[str, str, str]] = {
 
 def package_variants(target: Path) -> Dict[str, Path]:
     """The answer key's hri_lab (markers dropped) and the wrong packages, under ``target``."""
-    key = target / "answer-key" / "hri_lab"
-    for path in sorted(p for p in SOLUTIONS.rglob("*") if p.is_file() and p.name != "README.md"):
-        out = key / path.relative_to(SOLUTIONS)
-        out.parent.mkdir(parents=True, exist_ok=True)
-        out.write_text(make_answer(path.read_text(encoding="utf-8"), str(path)), encoding="utf-8")
-        out.chmod(path.stat().st_mode)
+    key = generate_answers(SOLUTIONS, target / "answer-key" / "hri_lab")
     packages = {"answer-key": key}
     for name, (relative, right, wrong) in WRONG_PACKAGES.items():
         folder = target / name / "hri_lab"

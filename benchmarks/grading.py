@@ -24,7 +24,7 @@ from benchmarks.report import BenchError, BenchOptions, BenchRow
 from hri_teleop.core.paths import REPO, SOLUTIONS
 from hri_teleop.course.nodes import STUDENT_PACKAGE
 from hri_teleop.grading.batch import nbgrader_batch
-from hri_teleop.grading.cases.templates import generate_templates, make_answer
+from hri_teleop.grading.cases.templates import generate_answers, generate_templates
 from hri_teleop.grading.judge.checks import CHECKS
 from hri_teleop.grading.judge.harness import CLOCK_ENV
 from hri_teleop.grading.run import jobs
@@ -262,11 +262,7 @@ def measure_submission(work_dir: Path, runs: int = SUBMISSION_RUNS, checks: Sequ
 
 def _answer_key_package(target: Path) -> None:
     """The answer key's hri_lab as a good student hands it in: solutions/ with the marker lines dropped."""
-    for path in sorted(p for p in SOLUTIONS.rglob("*") if p.is_file() and p.name != "README.md"):
-        out = target / path.relative_to(SOLUTIONS)
-        out.parent.mkdir(parents=True, exist_ok=True)
-        out.write_text(make_answer(path.read_text(encoding="utf-8"), str(path)), encoding="utf-8")
-        shutil.copymode(path, out)
+    generate_answers(SOLUTIONS, target)
 
 
 def build_course(root: Path, notebooks: Optional[Sequence[str]], plan: Sequence[Student],

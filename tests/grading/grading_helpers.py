@@ -3,6 +3,7 @@
 from __future__ import annotations
 
 import json
+import shutil
 import subprocess
 import sys
 from pathlib import Path
@@ -31,6 +32,29 @@ def hri_grade(*args: str, timeout: float = 300, env: Optional[Dict[str, str]] = 
         pytest.fail("hri-grade is not installed: run 'make setup' (pyproject.toml [project.scripts])")
     return subprocess.run([str(exe), *args], capture_output=True, text=True, timeout=timeout,
                           env=env or grader_env(), stdin=subprocess.DEVNULL)
+
+
+def nbgrader(args: List[str], cwd: Path) -> None:
+    """``nbgrader ARGS`` in the course folder ``cwd``; fails the test with its output when it fails."""
+    proc = subprocess.run([sys.executable, "-m", "nbgrader", *args], cwd=str(cwd), capture_output=True, text=True,
+                          env=grader_env(PYTHONWARNINGS="ignore"), timeout=300)
+    assert proc.returncode == 0, proc.stdout[-2000:] + proc.stderr[-2000:]
+
+
+def nbgrader_course(root: Path, assignment: str, notebooks: List[str], config_extra: str = "") -> Path:
+    """A course like notebooks/ under ``root`` with ``notebooks`` of ``assignment`` (the answer key linked as in
+    notebooks/source/) and ``config_extra`` after its nbgrader_config.py; the student version generated."""
+    from hri_teleop.course.nodes import STUDENT_PACKAGE
+    from hri_teleop.course.release import COURSE_DIR
+
+    source = root / "source" / assignment
+    source.mkdir(parents=True)
+    (root / "nbgrader_config.py").write_text((COURSE_DIR / "nbgrader_config.py").read_text() + config_extra)
+    for name in notebooks:
+        shutil.copy(COURSE_DIR / "source" / assignment / f"{name}.ipynb", source)
+    (source / STUDENT_PACKAGE).symlink_to(SOLUTIONS, target_is_directory=True)
+    nbgrader(["generate_assignment", assignment, "--create", "--force"], root)
+    return root
 
 
 def answer_text(relative: str) -> str:

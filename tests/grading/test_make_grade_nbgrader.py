@@ -20,13 +20,12 @@ import shutil
 import signal
 import sqlite3
 import subprocess
-import sys
 import threading
 import time
 from pathlib import Path
 
 import pytest
-from grading_helpers import REPO, SOLUTIONS, grader_env
+from grading_helpers import REPO, SOLUTIONS, grader_env, nbgrader_course
 
 from hri_teleop.grading.points import check_points, is_check_cell
 
@@ -39,39 +38,21 @@ TIMEOUT_S = 45
 LOCK_S = 7.0
 
 
-def _nbgrader(args, cwd: Path) -> None:
-    proc = subprocess.run([sys.executable, "-m", "nbgrader", *args], cwd=str(cwd), capture_output=True, text=True,
-                          env=grader_env(PYTHONWARNINGS="ignore"), timeout=300)
-    assert proc.returncode == 0, proc.stdout[-2000:] + proc.stderr[-2000:]
-
-
 @pytest.fixture(scope="module")
 def course(tmp_path_factory) -> Path:
     """A course like notebooks/ with two notebooks of the preparation, its student version generated."""
     from hri_teleop.course.nodes import STUDENT_PACKAGE
-    from hri_teleop.course.release import COURSE_DIR
     from hri_teleop.grading.cases.templates import generate_templates
 
-    root = tmp_path_factory.mktemp("nbcourse") / "course"
-    source = root / "source" / ASSIGNMENT
-    source.mkdir(parents=True)
-    shutil.copy(COURSE_DIR / "nbgrader_config.py", root / "nbgrader_config.py")
-    for name in NOTEBOOKS:
-        shutil.copy(COURSE_DIR / "source" / ASSIGNMENT / f"{name}.ipynb", source)
-    (source / STUDENT_PACKAGE).symlink_to(SOLUTIONS, target_is_directory=True)  # as notebooks/source/
-    _nbgrader(["generate_assignment", ASSIGNMENT, "--create", "--force"], root)
+    root = nbgrader_course(tmp_path_factory.mktemp("nbcourse") / "course", ASSIGNMENT, list(NOTEBOOKS))
     generate_templates(SOLUTIONS, root / "release" / ASSIGNMENT / STUDENT_PACKAGE)
     return root
 
 
 def _answer_key_package(target: Path) -> None:
-    from hri_teleop.grading.cases.templates import make_answer
+    from hri_teleop.grading.cases.templates import generate_answers
 
-    for path in sorted(p for p in SOLUTIONS.rglob("*") if p.is_file() and p.name != "README.md"):
-        out = target / path.relative_to(SOLUTIONS)
-        out.parent.mkdir(parents=True, exist_ok=True)
-        out.write_text(make_answer(path.read_text()))
-        shutil.copymode(path, out)
+    generate_answers(SOLUTIONS, target)
 
 
 def _replace_first_solution(folder: Path, notebook: str, code: str) -> None:

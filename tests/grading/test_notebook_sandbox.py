@@ -18,14 +18,13 @@ import shutil
 import signal
 import socket
 import subprocess
-import sys
 import threading
 import uuid
 from pathlib import Path
 from typing import Dict, List
 
 import pytest
-from grading_helpers import REPO, SOLUTIONS, grader_env
+from grading_helpers import REPO, SOLUTIONS, grader_env, nbgrader_course
 
 pytestmark = pytest.mark.ros
 
@@ -36,38 +35,18 @@ CELL_TIMEOUT_S = 30
 FORKS = 4096  # the fork loop's own bound: far above the kernel's process limit
 
 
-def _nbgrader(args, cwd: Path) -> None:
-    proc = subprocess.run([sys.executable, "-m", "nbgrader", *args], cwd=str(cwd), capture_output=True, text=True,
-                          env=grader_env(PYTHONWARNINGS="ignore"), timeout=300)
-    assert proc.returncode == 0, proc.stdout[-2000:] + proc.stderr[-2000:]
-
-
 @pytest.fixture(scope="module")
 def course(tmp_path_factory) -> Path:
     """The preparation with Ex. 1 only, generated; the per-cell limit CELL_TIMEOUT_S."""
-    from hri_teleop.course.nodes import STUDENT_PACKAGE
-    from hri_teleop.course.release import COURSE_DIR
-
-    root = tmp_path_factory.mktemp("sandboxcourse") / "course"
-    source = root / "source" / ASSIGNMENT
-    source.mkdir(parents=True)
-    config = (COURSE_DIR / "nbgrader_config.py").read_text()
-    (root / "nbgrader_config.py").write_text(config + f"\nc.Execute.timeout = {CELL_TIMEOUT_S}\n")
-    shutil.copy(COURSE_DIR / "source" / ASSIGNMENT / f"{NOTEBOOK}.ipynb", source)
-    (source / STUDENT_PACKAGE).symlink_to(SOLUTIONS, target_is_directory=True)
-    _nbgrader(["generate_assignment", ASSIGNMENT, "--create", "--force"], root)
-    return root
+    return nbgrader_course(tmp_path_factory.mktemp("sandboxcourse") / "course", ASSIGNMENT, [NOTEBOOK],
+                           f"\nc.Execute.timeout = {CELL_TIMEOUT_S}\n")
 
 
 def _answer_key(folder: Path) -> Path:
-    from hri_teleop.grading.cases.templates import make_answer
+    from hri_teleop.grading.cases.templates import generate_answers
 
     folder.mkdir(parents=True)
-    for path in sorted(p for p in SOLUTIONS.rglob("*") if p.is_file() and p.name != "README.md"):
-        out = folder / "hri_lab" / path.relative_to(SOLUTIONS)
-        out.parent.mkdir(parents=True, exist_ok=True)
-        out.write_text(make_answer(path.read_text()))
-        shutil.copymode(path, out)
+    generate_answers(SOLUTIONS, folder / "hri_lab")
     return folder
 
 

@@ -17,7 +17,7 @@ from typing import List, Sequence, Tuple, Union
 from hri_teleop.core.errors import HriTeleopError
 
 __all__ = ["TemplateError", "KINDS", "kind_of", "make_template", "make_answer", "has_markers", "solution_lines",
-           "empty_regions", "generate_templates", "GeneratedFile"]
+           "empty_regions", "generate_templates", "generate_answers", "GeneratedFile"]
 
 _BEGIN = re.compile(r"^(?P<indent>\s*)(?:#+\s*|<!--\s*(?:###\s*)?)BEGIN SOLUTION\s*(?:-->)?\s*$")
 _END = re.compile(r"^\s*(?:#+\s*|<!--\s*(?:###\s*)?)END SOLUTION\s*(?:-->)?\s*$")
@@ -168,3 +168,20 @@ def generate_templates(solutions_dir: Union[str, Path], out_dir: Union[str, Path
             target.chmod(target.stat().st_mode & ~0o111)
         written.append(GeneratedFile(path, target, count))
     return written
+
+
+def generate_answers(solutions_dir: Union[str, Path], out_dir: Union[str, Path]) -> Path:
+    """The answer key as a good student hands it in: every file under ``solutions_dir`` (README.md, the
+    instructors', skipped) written under ``out_dir`` with the marker lines dropped, its mode kept. Returns ``out_dir``."""
+    root, out = Path(solutions_dir), Path(out_dir)
+    if not root.is_dir():
+        raise TemplateError(f"{root}: no such folder; pass the answer key folder (solutions/)")
+    for path in sorted(p for p in root.rglob("*") if p.is_file()):
+        relative = path.relative_to(root)
+        if relative == Path("README.md") or "__pycache__" in relative.parts:
+            continue
+        target = out / relative
+        target.parent.mkdir(parents=True, exist_ok=True)
+        target.write_text(make_answer(path.read_text(encoding="utf-8"), str(path)), encoding="utf-8")
+        shutil.copymode(path, target)
+    return out
