@@ -3,30 +3,36 @@
 Entry points (grading/README.md): ``hri-grade`` (``cli``), ``make grade`` (``batch``), and the
 notebooks' ``check_*`` (AssertionError with the student's feedback unless every part passes) and
 ``grade_*`` (return the result); ``hri-grade traces`` and ``templates`` write the public traces and
-the student templates. No lab node imports it; rospy is needed only by the parts that run ROS.
+the student templates. No lab node imports it; rospy is needed only by the parts that run ROS. The names below are
+imported when first used, so a grading session or probe (``hri_teleop.grading.run``) does not load
+the checks (0.2 s of CPU per process).
 """
 
 from __future__ import annotations
 
-from hri_teleop.grading.judge.checks import (
-    CHECKS,
-    check_graph,
-    check_mapping_node,
-    check_robot_params,
-    check_sensor_launch,
-    check_teleoperation,
-    check_teleoperation_launch,
-    grade,
-    grade_mapping_node,
-    grade_robot_params,
-    grade_sensor_launch,
-    grade_submission,
-    grade_teleoperation,
-    grade_teleoperation_launch,
-)
-from hri_teleop.grading.judge.graph import grade_graph
-from hri_teleop.grading.judge.package_check import grade_catkin_package
-from hri_teleop.grading.results import CheckResult, GradingError, Part, feedback_text, gradescope_json
+import importlib
+from typing import TYPE_CHECKING, Any, Dict
+
+if TYPE_CHECKING:
+    from hri_teleop.grading.judge.checks import (
+        CHECKS,
+        check_graph,
+        check_mapping_node,
+        check_robot_params,
+        check_sensor_launch,
+        check_teleoperation,
+        check_teleoperation_launch,
+        grade,
+        grade_mapping_node,
+        grade_robot_params,
+        grade_sensor_launch,
+        grade_submission,
+        grade_teleoperation,
+        grade_teleoperation_launch,
+    )
+    from hri_teleop.grading.judge.graph import grade_graph
+    from hri_teleop.grading.judge.package_check import grade_catkin_package
+    from hri_teleop.grading.results import CheckResult, GradingError, Part, feedback_text, gradescope_json
 
 __all__ = [
     "CHECKS", "CheckResult", "GradingError", "Part", "feedback_text", "gradescope_json", "grade", "grade_submission",
@@ -34,3 +40,20 @@ __all__ = [
     "grade_teleoperation_launch", "grade_graph", "grade_catkin_package", "check_robot_params", "check_mapping_node", "check_sensor_launch",
     "check_teleoperation", "check_teleoperation_launch", "check_graph",
 ]
+
+_RESULTS = ("CheckResult", "GradingError", "Part", "feedback_text", "gradescope_json")
+#: Where each name of ``__all__`` lives.
+_HOME: Dict[str, str] = {name: "hri_teleop.grading.judge.checks" for name in __all__ if name not in _RESULTS}
+_HOME.update({name: "hri_teleop.grading.results" for name in _RESULTS})
+_HOME.update({"grade_graph": "hri_teleop.grading.judge.graph",
+              "grade_catkin_package": "hri_teleop.grading.judge.package_check"})
+
+
+def __getattr__(name: str) -> Any:
+    """A name of ``__all__``, imported from its module the first time it is asked for."""
+    home = _HOME.get(name)
+    if home is None:
+        raise AttributeError(f"module {__name__!r} has no attribute {name!r}")
+    value = getattr(importlib.import_module(home), name)
+    globals()[name] = value
+    return value

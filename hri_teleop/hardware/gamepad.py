@@ -1,4 +1,8 @@
-"""One entry point for the node: a pad by kind ("pygame" or "virtual") and layout name."""
+"""One entry point for the node: a pad by kind ("pygame" or "virtual") and layout name.
+
+Each kind's module is imported when that kind is opened: a node that never opens a pad (the
+mapping node, the sensor) does not load numpy or pygame through the student API.
+"""
 
 from __future__ import annotations
 
@@ -11,8 +15,6 @@ from hri_teleop.core.gamepad.interface import PAD_KINDS, Gamepad
 from hri_teleop.core.gamepad.layout import Layout
 from hri_teleop.core.gamepad.rumble import RUMBLE_CHECK_LEVEL, RUMBLE_CHECK_S, rumble_refused
 from hri_teleop.core.gamepad.state import GamepadError
-from hri_teleop.hardware.real.pygame_pad import PygamePad
-from hri_teleop.hardware.sim.virtual_pad import ScriptedPad, VirtualPad
 
 __all__ = ["PAD_KINDS", "PAD_CLOCK_ENV", "open_gamepad", "check_pad_rumble"]
 
@@ -46,8 +48,12 @@ def open_gamepad(kind: str = "pygame", layout: Union[Layout, str, None] = None, 
         if script:
             raise GamepadError("a pad script (%s) only drives the virtual pad: set pad to 'virtual' "
                                "or remove the script" % (script,))
+        from hri_teleop.hardware.real.pygame_pad import PygamePad  # noqa: PLC0415 - see the module's docstring
+
         return PygamePad(layout, index, log=log)
     if name in ("virtual", "scripted"):
+        from hri_teleop.hardware.sim.virtual_pad import ScriptedPad, VirtualPad  # noqa: PLC0415 - as above
+
         clock = clock if clock is not None else _default_clock()
         if script:
             return ScriptedPad(script, layout, clock=clock)

@@ -26,6 +26,7 @@ from typing import Any, Callable, Dict, List, Mapping, Optional, Sequence, Set, 
 from hri_teleop.core.errors import HriTeleopError
 from hri_teleop.core.paths import REPO
 from hri_teleop.ros.master_api import MasterApiError, master_call
+from hri_teleop.ros.master_core import PORT_TAKEN, core_params, rosmaster_argv, rosout_argv, rosout_program
 from hri_teleop.ros.proc_table import descendants
 
 
@@ -296,13 +297,17 @@ def _group_alive(pgid: int) -> bool:
 
 
 class PrivateMaster:
-    """A ``roscore`` on a free port with its own log directory; a context manager.
+    """A private master on a free port with its own log directory; a context manager.
 
-    ``env`` is the environment to give every ROS process meant to talk to this master.
+    What roscore starts (rosmaster, rosout, its parameters), without roscore's own process unless
+    ``roscore``. ``env`` is the environment to give every ROS process meant to talk to this master.
     """
 
     def __init__(self, port: Optional[int] = None, base_env: Optional[Mapping[str, str]] = None,
-                 work_dir: Optional[Path] = None) -> None:
+                 work_dir: Optional[Path] = None, roscore: bool = False) -> None:
+        #: ``roscore`` itself rather than what it starts (:mod:`~hri_teleop.ros.master_core`): the lab twin's.
+        self._roscore = roscore
+        self._rosout: Optional[ManagedProcess] = None
         self._auto_port = port is None  # a port of our own choice may be taken again: start() picks another
         self.port = port or free_port()
         self.uri = f"http://127.0.0.1:{self.port}/"
@@ -324,34 +329,68 @@ class PrivateMaster:
 
     # -- lifecycle -------------------------------------------------------------------
     def start(self, timeout_s: float = 20.0, attempts: int = 3) -> "PrivateMaster":
-        """Start roscore and wait until /rosout is up.
+        """Start the master and wait until /rosout is up.
 
-        Between free_port() and roscore's bind, any process may take the port for an outgoing
+        Between free_port() and the master's bind, any process may take the port for an outgoing
         connection (ROS nodes open many): then, on a port of our own choice, a fresh one is tried.
         """
+        rosout = None if self._roscore else rosout_program(self.env)
         for attempt in range(attempts):
-            self.core = ManagedProcess(["roscore", "-p", str(self.port)], self.env,
-                                       self.work_dir / "roscore.log", is_master=True)
+            argv = rosmaster_argv(self.port) if rosout else ["roscore", "-p", str(self.port)]
+            self.core = ManagedProcess(argv, self.env, self.work_dir / "roscore.log", is_master=True)
             self.started.append(self.core)
             deadline = time.monotonic() + timeout_s
             while time.monotonic() < deadline:
-                if not self.core.running:
-                    output = self.core.output().strip()
-                    self.core.stop()  # its rosmaster/rosout children too
-                    self.core = None
-                    if self._auto_port and "Address already in use" in output and attempt + 1 < attempts:
+                problem = self._start_problem()
+                if problem:
+                    self._stop_core(quick=True)
+                    if self._auto_port and problem == "taken" and attempt + 1 < attempts:
                         self._move_to(free_port())
                         break
-                    raise MasterError(f"roscore on port {self.port} exited: {output[-400:]}")
-                if self.is_online() and self.node_names() and "/rosout" in self.node_names():
+                    raise MasterError(f"the ROS master on port {self.port} exited: {problem}")
+                if rosout and self._rosout is None and self.is_online():
+                    for name, value in core_params(self.env).items():
+                        self.set_param(name, value)
+                    self._rosout = ManagedProcess(rosout_argv(rosout, Path(self.env["ROS_LOG_DIR"])), self.env,
+                                                  self.work_dir / "rosout.log", is_master=True)
+                    self.started.append(self._rosout)
+                if self.is_online() and "/rosout" in self.node_names():
                     _OWN_MASTERS[_uri_key(self.uri)] = self.core
                     self.env[OWN_MASTER_ENV] = f"{self.uri} {self.master_pid()}"
                     return self
-                time.sleep(0.1)
+                time.sleep(0.02 if rosout else 0.1)
             else:
                 self.stop()
-                raise MasterError(f"roscore on port {self.port} did not come up within {timeout_s:.0f} s")
-        raise MasterError(f"roscore found no free port in {attempts} attempts")  # pragma: no cover
+                raise MasterError(f"the ROS master on port {self.port} did not come up within {timeout_s:.0f} s")
+        raise MasterError(f"the ROS master found no free port in {attempts} attempts")  # pragma: no cover
+
+    def _start_problem(self) -> str:
+        """Why the starting master cannot serve: "taken" (its port), another reason, or "" (none yet)."""
+        assert self.core is not None
+        output = self.core.output() if not self.core.running or self._rosout is None else ""
+        if "Address already in use" in output or PORT_TAKEN in output:
+            return "taken"
+        if not self.core.running:
+            return output.strip()[-400:] or f"status {self.core.popen.returncode}"
+        if self._rosout is not None and not self._rosout.running:
+            return "rosout exited: " + self._rosout.output().strip()[-400:]
+        if self.core.argv[0] == "rosmaster" and self.is_online() and self.master_pid() != self.core.popen.pid:
+            return "taken"  # another master answers there
+        return ""
+
+    def _stop_core(self, quick: bool) -> None:
+        """Stop rosout and the master (roscore: with everything it started); killed when ``quick``."""
+        for proc in (self._rosout, self.core):
+            if proc is not None:
+                proc.kill() if quick else proc.stop()
+        self._rosout = None
+        self.core = None
+
+    @property
+    def core_pids(self) -> List[int]:
+        """The master's own processes (rosmaster and rosout; roscore and what it started)."""
+        procs = [p for p in (self.core, self._rosout) if p is not None and p.running]
+        return [pid for p in procs for pid in [p.popen.pid, *descendants(p.popen.pid)]]
 
     def _move_to(self, port: int) -> None:
         self.port = port
@@ -371,11 +410,7 @@ class PrivateMaster:
         self.children.clear()
         if self.core is not None:
             _OWN_MASTERS.pop(_uri_key(self.uri), None)
-            if quick:
-                self.core.kill()
-            else:
-                self.core.stop()
-            self.core = None
+        self._stop_core(quick)
         if self._own_dir:
             shutil.rmtree(self.work_dir, ignore_errors=True)
 

@@ -76,7 +76,7 @@ class LabTwin:
         for stale in self.folder.glob("*.json"):
             stale.unlink()
         write_activated(self.folder, self.activated)
-        master = self.master = PrivateMaster(base_env=self._base_env, work_dir=self.work_dir / "ros")
+        master = self.master = PrivateMaster(base_env=self._base_env, work_dir=self.work_dir / "ros", roscore=True)
         try:
             master.start()
             deadline = time.monotonic() + timeout_s
