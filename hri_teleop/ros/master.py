@@ -387,9 +387,14 @@ class PrivateMaster:
         self.core = None
 
     @property
+    def core_processes(self) -> List[ManagedProcess]:
+        """What runs the master itself: rosmaster and rosout, or roscore."""
+        return [p for p in (self.core, self._rosout) if p is not None]
+
+    @property
     def core_pids(self) -> List[int]:
-        """The master's own processes (rosmaster and rosout; roscore and what it started)."""
-        procs = [p for p in (self.core, self._rosout) if p is not None and p.running]
+        """The pids of the master's own processes, roscore's children included."""
+        procs = [p for p in self.core_processes if p.running]
         return [pid for p in procs for pid in [p.popen.pid, *descendants(p.popen.pid)]]
 
     def _move_to(self, port: int) -> None:
