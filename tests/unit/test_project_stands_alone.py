@@ -13,7 +13,7 @@ ROOT = Path(__file__).resolve().parents[2]
 SKIP_DIRS = {".git", ".venv", ".venv38", "out", "build", "__pycache__", ".pytest_cache", "hri_teleop.egg-info"}
 TEXT = {".py", ".md", ".yaml", ".yml", ".launch", ".ipynb", ".txt", ".cfg", ".toml", ".sh", ".xml", ".cpp", ".h",
         ".ino", ".json", ".in", ""}
-OUTSIDE = re.compile(r"\.\./shared|/work/shared|\bdesign\.md\b|shared/handout")
+OUTSIDE = re.compile(r"\.\./shared\b|\bshared/handout\b|\bdesign\.md\b")
 
 
 def _project_files():

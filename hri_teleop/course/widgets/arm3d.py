@@ -44,7 +44,6 @@ MAX_DRAW_HZ = 30.0
 #: After this long without a joint state the widget says what to start.
 SILENCE_S = 2.0
 _ROOT = "panda"
-_TCP_FRAME = "panda_hand_tcp"
 _HAND_GEOMETRY = "panda_hand_0"
 #: Where the camera is (m, base frame): front right, above; meshcat's camera looks at the base.
 _CAMERA_M = (1.0, -0.8, 0.7)
@@ -312,7 +311,9 @@ class ArmView(widgets.VBox):
             reason = str(caught[0].message).replace("\n", " ") if caught else "no link was sent"
             raise ArmViewError(f"the Panda's meshes did not load into the 3D view ({reason}); reinstall "
                                "example-robot-data with `make setup`")
-        self._tcp_frame = model.getFrameId(_TCP_FRAME)
+        from hri_teleop.hardware.sim.kinematics import TCP_FRAME  # noqa: PLC0415 - pinocchio is loaded by now
+
+        self._tcp_frame = model.getFrameId(TCP_FRAME)
         x, y, z = _CAMERA_M
         viewer["/Cameras/default/rotated/<object>"].set_property("position", [x, z, -y])  # three.js: y up
         self.frame.value = (f'<iframe src="{self.server.web_url}" title="3D view of the Panda" '

@@ -28,11 +28,6 @@ COMMAND_FAILED = "libfranka gripper: Command failed!"
 #: libfranka's message for a command ended by stop.
 COMMAND_ABORTED = "libfranka gripper: Command aborted!"
 
-# Vertical relative speeds below this count as sticking (m/s).
-_STICK_M_PER_S = 1e-9
-# Widths closer than this are equal (m): far below any physical resolution.
-_SAME_M = 1e-12
-
 
 class HandSimError(HriTeleopError, ValueError):
     """A hand, object or command setting is unusable, or time ran backwards."""
