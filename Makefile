@@ -58,6 +58,13 @@ bench: setup
 # of its own module; prints the mutants per module and every survivor as file:line: old -> new.
 # MODULES=hri_teleop/core/joints.py,... mutates only those; JOBS=n mutants at once (default: the cores).
 # Not part of `make test` (a full run takes tens of minutes).
+# constraints.txt: the exact versions of .venv (Python 3.11) and .venv38 (Python 3.8), which every
+# install through tools/setup.sh takes (make setup, the student bundle, Gradescope); run it after a
+# tested upgrade, at the start of a term (docs/testing.md, "Pinned versions").
+.PHONY: pins
+pins: setup
+	@$(ENV) $(PY) tools/pins.py
+
 .PHONY: mutants
 mutants: setup
 	@$(ENV) $(PY) tools/mutants.py $(if $(MODULES),--only $(subst $(comma), ,$(MODULES))) $(if $(JOBS),--jobs $(JOBS))

@@ -97,7 +97,10 @@ if [ ! -x "$venv/bin/python" ] || ! "$venv/bin/python" -c 'import sys' 2>/dev/nu
   "$system_python" -m venv --system-site-packages "$venv"
 fi
 
-want="$(cat pyproject.toml | sha256sum | cut -c1-16)"
+# The term's exact versions (constraints.txt, written by `make pins`): every install takes them.
+pins=()
+[ ! -f constraints.txt ] || pins=(-c constraints.txt)
+want="$(cat pyproject.toml constraints.txt 2>/dev/null | sha256sum | cut -c1-16)"
 have="$(cat "$stamp" 2>/dev/null || true)"
 if [ "$want" != "$have" ] || ! "$venv/bin/python" -c 'import hri_teleop' 2>/dev/null; then
   # Ubuntu 20.04's pip 20.0 cannot install a pyproject-only project in editable mode.
@@ -107,7 +110,7 @@ if [ "$want" != "$have" ] || ! "$venv/bin/python" -c 'import hri_teleop' 2>/dev/
   fi
   say "installing hri-teleop and its dependencies into .venv"
   if [ "$edition" = student ]; then extras=""; else extras="[test]"; fi
-  "$venv/bin/python" -m pip install -q --disable-pip-version-check -e ".$extras"
+  "$venv/bin/python" -m pip install -q --disable-pip-version-check ${pins[@]+"${pins[@]}"} -e ".$extras"
   echo "$want" > "$stamp"
 fi
 
@@ -143,7 +146,7 @@ if [ -n "$py38" ] && [ "$("$system_python" -c 'import sys; print(sys.version_inf
     rm -rf .venv38
     if "$py38" -m venv .venv38 \
       && .venv38/bin/python -m pip install -q --disable-pip-version-check "pip>=24.1" \
-      && .venv38/bin/python -m pip install -q --disable-pip-version-check -e ".[test]"; then
+      && .venv38/bin/python -m pip install -q --disable-pip-version-check ${pins[@]+"${pins[@]}"} -e ".[test]"; then
       echo "$want38" > .venv38/.stamp
     else
       say "could not build .venv38; the Python 3.8 run of the unit tests will be skipped" >&2

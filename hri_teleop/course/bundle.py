@@ -35,7 +35,7 @@ PathLike = Union[str, Path]
 BUNDLE_FILES = REPO / "notebooks" / "bundle"
 
 #: what of this project the student's toolkit holds (relative to the project root)
-TOOLKIT_FILES = ("pyproject.toml", "hri_teleop", "hri_lab", "grading/traces", "tools/setup.sh", "tools/env.sh",
+TOOLKIT_FILES = ("pyproject.toml", "constraints.txt", "LICENSE", "hri_teleop", "hri_lab", "grading/traces", "tools/setup.sh", "tools/env.sh",
                  "tools/kernel.sh", "docs", "firmware/arduino_code_force_node", "notebooks/experiment")
 #: the lab's completed deliverables (and the CMakeLists whose lines are Ex. 9's answer): instructors only
 LAB_DELIVERABLES = ("hri_lab/scripts/mapping_node.py", "hri_lab/scripts/teleoperation.py",
