@@ -75,6 +75,10 @@ def run_mapping_node(session: Session, plan: MappingNodePlan) -> MappingNodeObse
                 if out_topic:
                     recorder.add(out_topic)
                 connected = wait_for(functools.partial(_both_ends, publisher, recorder, out_topic), 5.0)
+                # and the node's own publisher has counted the recorder: a message published before
+                # that is sent to nobody (its first count would get no answer under load)
+                if connected and out_topic:
+                    wait_for(functools.partial(_counted_by_node, session, sorted(nodes), out_topic), 5.0)
                 if connected:
                     responses = _lockstep(publisher, recorder, out_topic, case.counts, proc, plan.response_timeout_s)
                 recorder.close()
@@ -92,6 +96,11 @@ def run_mapping_node(session: Session, plan: MappingNodePlan) -> MappingNodeObse
                                node=_facts(proc, nodes, sub, pub, problem, exited)))
         _forget_nodes(session.master, _student_nodes(session.master, session.baseline))
     return MappingNodeObservation(runs=runs)
+
+
+def _counted_by_node(session: Session, nodes: List[str], topic: str) -> bool:
+    """One of the student's nodes has a subscriber of ``topic`` in its own bus info (the recorder)."""
+    return any(session.master.connections(node, topic, "o") > 0 for node in nodes)
 
 
 def _both_ends(publisher: Any, recorder: Recorder, out_topic: str) -> bool:
