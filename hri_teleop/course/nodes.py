@@ -24,7 +24,7 @@ from hri_teleop.ros.launch_inspect import LaunchedNode, LaunchInspectError, laun
 from hri_teleop.ros.master import ManagedProcess, stop_side_by_side
 from hri_teleop.ros.master_api import master_call, running_nodes
 
-__all__ = ["STUDENT_PACKAGE", "stop_nodes", "run_provided_node", "run_student_node", "rosrun_student", "launch",
+__all__ = ["start_gated", "STUDENT_PACKAGE", "stop_nodes", "run_provided_node", "run_student_node", "rosrun_student", "launch",
            "wait_for_publisher", "student_workspace", "launch_student", "node_start", "launch_starts"]
 
 PathLike = Union[str, Path]
@@ -54,7 +54,7 @@ def _ros_args(params: Dict[str, Any]) -> List[str]:
     return [f"_{name}:={value}" for name, value in params.items()]
 
 
-def _start(argv: Sequence[str], name: str, starts: Sequence[Start], extra_env: Optional[Dict[str, str]] = None,
+def start_gated(argv: Sequence[str], name: str, starts: Sequence[Start], extra_env: Optional[Dict[str, str]] = None,
            cwd: Optional[Path] = None, nodes: Optional[Sequence[str]] = None) -> Any:
     """Start ``argv`` (its ROS node names ``nodes``, default ``[name]``; what they are, ``starts``).
 
@@ -93,8 +93,8 @@ def run_provided_node(script: str, **params: Any) -> Any:
     path = REFERENCE_PACKAGE / "scripts" / script
     if not path.is_file():
         raise CourseError(f"{script}: not one of the lab's nodes in {path.parent}")
-    return _start([sys.executable, str(path), *_ros_args(params)], Path(script).stem,
-                  [node_start(script, Path(script).stem, params)])
+    return start_gated([sys.executable, str(path), *_ros_args(params)], Path(script).stem,
+                       [node_start(script, Path(script).stem, params)])
 
 
 def node_start(script: str, node: str, params: Dict[str, Any]) -> Start:
@@ -118,15 +118,15 @@ def run_student_node(path: PathLike, name: str = "", **params: Any) -> Any:
     if not script.is_file():
         raise CourseError(f"{script}: no such file next to this notebook")
     node = name or script.stem
-    return _start([sys.executable, str(script.resolve()), f"__name:={node}", *_ros_args(params)], node,
-                  [node_start(script.name, node, params)], cwd=script.resolve().parent)
+    return start_gated([sys.executable, str(script.resolve()), f"__name:={node}", *_ros_args(params)], node,
+                       [node_start(script.name, node, params)], cwd=script.resolve().parent)
 
 
 def rosrun_student(workspace: Any, script: str, name: str = "", **params: Any) -> Any:
     """``rosrun hri_lab SCRIPT`` in the student's built workspace (:func:`hri_teleop.ros.catkin_ws.build_workspace`)."""
     node = name or Path(script).stem
-    return _start(["rosrun", "hri_lab", script, f"__name:={node}", *_ros_args(params)], node,
-                  [node_start(script, node, params)], extra_env=workspace.env())
+    return start_gated(["rosrun", "hri_lab", script, f"__name:={node}", *_ros_args(params)], node,
+                       [node_start(script, node, params)], extra_env=workspace.env())
 
 
 def _start_launch(where: Sequence[str], label: str, extra_env: Optional[Dict[str, str]] = None) -> Any:
@@ -136,7 +136,7 @@ def _start_launch(where: Sequence[str], label: str, extra_env: Optional[Dict[str
         nodes = launched_nodes(where, env)
     except LaunchInspectError as exc:
         raise CourseError(str(exc)) from None
-    return _start(["roslaunch", "--wait", *where], label, launch_starts(nodes, label), extra_env=extra_env,
+    return start_gated(["roslaunch", "--wait", *where], label, launch_starts(nodes, label), extra_env=extra_env,
                   nodes=[n.name for n in nodes])
 
 

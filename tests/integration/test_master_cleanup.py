@@ -115,9 +115,9 @@ time.sleep(0.3)  # a node's clean shutdown (rospy.spin notices within 0.5 s)
 KERNEL = """
 import sys
 from hri_teleop.course.notebook_ros import ensure_ros
-from hri_teleop.course.nodes import _start
+from hri_teleop.course.nodes import start_gated
 ros = ensure_ros(quiet=True)
-node = _start([sys.executable, "-c", sys.argv[1], sys.argv[2]], "counter", [])
+node = start_gated([sys.executable, "-c", sys.argv[1], sys.argv[2]], "counter", [])
 while "ready" not in node.output():
     pass
 import subprocess, time

@@ -271,7 +271,8 @@ _KEY = {"robot-params": "robot_params", "mapping-node": "mapping_node", "sensor-
         "teleoperation": "teleoperation", "teleoperation-launch": "teleoperation_launch", "graph": "graph"}
 
 
-def _table_for(check: str) -> Dict[str, Tuple[str, float]]:
+def table_for(check: str) -> Dict[str, Tuple[str, float]]:
+    """A check's parts: key -> (part name, points)."""
     if check == "robot-params":
         return part_table()
     return {"mapping-node": compare.MAPPING, "sensor-launch": compare.SENSOR_LAUNCH, "teleoperation": compare.TELEOP,
@@ -286,7 +287,7 @@ def _start(check: str, path: PathLike, out_dir: Optional[PathLike], seed: Option
     seed = C.default_seed(root) if seed is None else int(seed)
     if found is None:
         hidden = check in ("mapping-node", "teleoperation")
-        return _missing_result(check, key, _table_for(check), root, seed if hidden else None), seed
+        return _missing_result(check, key, table_for(check), root, seed if hidden else None), seed
     sandbox_mode()  # says once when bubblewrap is missing
     return _Run(check, root if given is None else given, out_dir, key, given or found,
                 reference=_REFERENCE_FOR.get(check, ())), seed
