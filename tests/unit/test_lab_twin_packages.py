@@ -5,6 +5,7 @@ from __future__ import annotations
 
 import os
 import sys
+import threading
 import time
 import xml.etree.ElementTree as ET
 from pathlib import Path
@@ -13,6 +14,7 @@ from hri_teleop.ros.lab_twin.cli import news
 from hri_teleop.ros.lab_twin.counts import (
     CountsFile,
     counts_path,
+    owner_lock,
     read_activated,
     read_json,
     write_activated,
@@ -62,13 +64,31 @@ def test_a_counts_file_belongs_to_the_newest_process_of_its_node(tmp_path: Path)
     counts.add("twists")
     counts.flush()
     assert read_json(path)["twists"] == 1
-    # Another process of the node, started later (a launch over the twin's own node), wrote the file.
+    # Another process of the node, started later (a launch over the twin's own node), wrote the file,
+    # holding the owner's lock as every writer does (this process's writer thread may be mid-flush).
     newer = {"node": "/franka_control", "pid": os.getpid() + 1, "started_ns": time.time_ns() + 10 ** 9, "twists": 7}
-    write_json_atomic(path, newer)
+    with owner_lock(path):
+        write_json_atomic(path, newer)
     counts.add("twists")
     counts.flush()
     counts.close(stopped=True)  # not even its last counts
     assert read_json(path) == newer and counts.superseded
+
+
+def test_a_flush_waits_for_the_owner_lock_and_then_yields_to_the_newer_process(tmp_path: Path) -> None:
+    path = tmp_path / "franka_gripper.json"
+    counts = CountsFile(path, "/franka_gripper", flush_period_s=3600.0)
+    counts.add("goals")
+    newer = {"node": "/franka_gripper", "pid": os.getpid() + 1, "started_ns": time.time_ns() + 10 ** 9, "goals": 4}
+    with owner_lock(path):  # another process is between reading the owner and writing
+        flusher = threading.Thread(target=counts.flush)
+        flusher.start()
+        flusher.join(timeout=0.2)
+        assert flusher.is_alive()  # it waits for the lock instead of writing
+        write_json_atomic(path, newer)
+    flusher.join(timeout=30.0)
+    assert read_json(path) == newer and counts.superseded
+    counts.close()
 
 
 def test_a_counts_file_of_an_older_process_is_taken_over(tmp_path: Path) -> None:

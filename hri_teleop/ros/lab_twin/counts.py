@@ -8,15 +8,17 @@ the same node takes the file over. The robot's user stop lives there too (:data:
 
 from __future__ import annotations
 
+import fcntl
 import json
 import os
 import threading
 import time
+from contextlib import contextmanager
 from pathlib import Path
-from typing import Any, Dict, Mapping, Optional
+from typing import Any, Dict, Iterator, Mapping, Optional
 
 __all__ = ["TWIN_DIR_ENV", "TWIN_PACKAGE_ENV", "TWIN_BOARD_PORT_ENV", "FLUSH_PERIOD_S", "RECLAIM_PERIOD_S", "ACTIVATION_FILE", "CountsFile",
-           "write_json_atomic", "read_json", "counts_path", "read_activated", "write_activated"]
+           "write_json_atomic", "owner_lock", "read_json", "counts_path", "read_activated", "write_activated"]
 
 #: The environment variable that names the twin's folder for its node processes.
 TWIN_DIR_ENV = "HRI_LAB_TWIN_DIR"
@@ -44,6 +46,22 @@ def write_json_atomic(path: Path, data: Mapping[str, Any]) -> None:
     tmp = path.with_name(f".{path.name}.{os.getpid()}.{threading.get_ident()}.tmp")
     tmp.write_text(json.dumps(dict(data), sort_keys=True), encoding="utf-8")
     os.replace(tmp, path)
+
+
+@contextmanager
+def owner_lock(path: Path) -> Iterator[None]:
+    """Hold the lock that makes "read the owner, then write" one step for ``path``.
+
+    Every writer of a counts file (each thread of each process of the node) takes it, so an older
+    process can never read its own counts, lose the processor, and then write over a newer one's.
+    """
+    lock_path = Path(path).with_name(f".{Path(path).name}.lock")
+    with open(lock_path, "a", encoding="utf-8") as handle:
+        fcntl.flock(handle, fcntl.LOCK_EX)
+        try:
+            yield
+        finally:
+            fcntl.flock(handle, fcntl.LOCK_UN)
 
 
 def read_json(path: Path) -> Dict[str, Any]:
@@ -134,14 +152,18 @@ class CountsFile:
         """Write the counts, unless a newer process of this node owns the file (then never again)."""
         with self._lock:
             values = dict(self._values)
+            if self._superseded:
+                return
+        with owner_lock(self.path):
             try:
                 current = read_json(self.path)
             except ValueError:  # not JSON: nobody's counts, ours replace it
                 current = {}
-            if self._superseded or _newer(current, values):
-                self._superseded = True
+            if _newer(current, values):
+                with self._lock:
+                    self._superseded = True
                 return
-        write_json_atomic(self.path, values)
+            write_json_atomic(self.path, values)
 
     def _run(self) -> None:
         while not self._closed.is_set():
