@@ -43,7 +43,7 @@ lab-twin: setup
 # where the time goes (no test judges a time: speed is `make bench`'s).
 TEST_JOBS ?= $(shell echo $$(( $$(nproc 2>/dev/null || echo 1) + 1 )))
 test: setup
-	@$(ENV) $(PY) -m pytest -q -p no:cacheprovider --durations=30 $(if $(filter-out 0,$(TEST_JOBS)),-n $(TEST_JOBS) --dist loadfile) $(PYTEST_ARGS)
+	@$(ENV) $(PY) -m pytest -q -p no:cacheprovider --durations=30 $(if $(filter-out 0,$(TEST_JOBS)),-n $(TEST_JOBS) --dist loadfile --no-loadscope-reorder) $(PYTEST_ARGS)
 
 # Benchmarks (README "Performance"): force-to-rumble latency, twist timing, simulation speed,
 # grading throughput and determinism, notebooks and setup, make doctor; each row beside its reference
