@@ -11,7 +11,6 @@ from hri_teleop.core.config import lab_max_sensor_force as max_sensor_force
 from hri_teleop.course.lab_nodes import (
     default_pad,
     hand_z_m,
-    mode,
     pad_params,
     start_application,
     start_board,
@@ -28,5 +27,5 @@ from hri_teleop.course.recovery import recover, reflex
 from hri_teleop.ros.master import PrivateMaster as private_master
 
 __all__ = ["stop", "run_provided", "run_student", "rosrun", "launch_student", "wait_for_publisher", "start_robot",
-           "start_board", "start_pipeline", "start_application", "wait_for_quit", "pad_params", "default_pad", "mode", "hand_z_m", "max_sensor_force", "private_master",
+           "start_board", "start_pipeline", "start_application", "wait_for_quit", "pad_params", "default_pad", "hand_z_m", "max_sensor_force", "private_master",
            "reflex", "recover"]

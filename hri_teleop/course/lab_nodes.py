@@ -68,7 +68,7 @@ def wait_for_subscriber(topic: str, node: str, process: Any = None, timeout_s: f
     return False
 
 
-def _wait_until_up(process: Any, topic: str, publishers: bool, node: str, timeout_s: float) -> None:
+def wait_until_up(process: Any, topic: str, publishers: bool, node: str, timeout_s: float) -> None:
     deadline = time.monotonic() + timeout_s
     while time.monotonic() < deadline:
         if node in _topic_nodes(topic, publishers)[0]:
@@ -87,8 +87,8 @@ def start_robot(timeout_s: float = 60.0, **params: Any) -> Any:
         print(refusal)
         return NotStarted(refusal)
     robot = run_provided_node("lab_sim.py", **params)
-    _wait_until_up(robot, DEFAULT_TWIST_TOPIC, False, "/lab_sim", timeout_s)
-    _wait_until_up(robot, EE_POSE_TOPIC, True, "/lab_sim", timeout_s)
+    wait_until_up(robot, DEFAULT_TWIST_TOPIC, False, "/lab_sim", timeout_s)
+    wait_until_up(robot, EE_POSE_TOPIC, True, "/lab_sim", timeout_s)
     return robot
 
 
@@ -99,7 +99,7 @@ def start_board(timeout_s: float = 60.0, **params: Any) -> Any:
         print(refusal)
         return NotStarted(refusal)
     board = run_provided_node("FSR_sensor.py", **params)
-    _wait_until_up(board, "/pub_force", True, "/FSR_sensor", timeout_s)
+    wait_until_up(board, "/pub_force", True, "/FSR_sensor", timeout_s)
     return board
 
 

@@ -15,9 +15,8 @@ from hri_teleop.hardware.sim.grasp_objects import OBJECTS
 from hri_teleop.hardware.sim.lab import run_lab
 from hri_teleop.hardware.sim.study import simulate_study
 from hri_teleop.hardware.sim.virtual_pad import parse_script
-from hri_teleop.hardware.sim.world import LAB_ARM_CONFIG as ARM
 from hri_teleop.hardware.sim.world import WorldConfig
 from hri_teleop.plots.common import lab_timeline as timeline
 
-__all__ = ["run_lab", "parse_script", "WorldConfig", "OBJECTS", "Attachment", "ARM", "SCENARIOS", "TeleopParams",
+__all__ = ["run_lab", "parse_script", "WorldConfig", "OBJECTS", "Attachment", "SCENARIOS", "TeleopParams",
            "summarize", "format_summary", "timeline", "simulate_study"]

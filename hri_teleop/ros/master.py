@@ -37,7 +37,8 @@ class MasterError(HriTeleopError, RuntimeError):
 #: (topic or service, [node, ...]): one entry of the master's getSystemState.
 Registrations = List[Tuple[str, List[str]]]
 
-_LIVE: "Set[ManagedProcess]" = set()
+#: The processes this module started that still run (what :func:`stop_all` stops at exit).
+LIVE_PROCESSES: "Set[ManagedProcess]" = set()
 _HOOKED: List[bool] = []
 #: Set for the processes a PrivateMaster's owner starts: "URI PID" of the master (its rosmaster's pid).
 OWN_MASTER_ENV = "HRI_OWN_MASTER"
@@ -83,7 +84,7 @@ def stop_all() -> None:
     """What is still running when Python exits (a notebook kernel closing): the nodes side by
     side, then the masters killed -- after the nodes, nobody reads them, and a kernel whose
     exit takes 2 s stalls the notebook's restart (and nbgrader, once per notebook)."""
-    live = list(_LIVE)
+    live = list(LIVE_PROCESSES)
     interrupt_nodes()
     stop_side_by_side([proc for proc in live if not proc.is_master])
     for proc in live:
@@ -94,16 +95,16 @@ def stop_all() -> None:
 def _track(proc: "ManagedProcess") -> None:
     """Remember a live process; the first one registers :func:`stop_all` as the exit hook
     (on use, not on import: importing this module changes nothing)."""
-    if not _LIVE and not _HOOKED:
+    if not LIVE_PROCESSES and not _HOOKED:
         atexit.register(stop_all)
         _HOOKED.append(True)
-    _LIVE.add(proc)
+    LIVE_PROCESSES.add(proc)
 
 
 def interrupt_nodes() -> None:
     """SIGINT every live process but the masters, without waiting: their shutdowns overlap
     with whatever the caller does next (a kernel's own rospy shutdown takes 0.6 s)."""
-    for proc in list(_LIVE):
+    for proc in list(LIVE_PROCESSES):
         if not proc.is_master:
             proc.interrupt()
 
@@ -248,7 +249,7 @@ class ManagedProcess:
                 time.sleep(0.02)
             if pgid is None or not _group_alive(pgid):
                 break
-        _LIVE.discard(self)
+        LIVE_PROCESSES.discard(self)
         if not self._log.closed:
             self._log.close()
         return self.popen.returncode

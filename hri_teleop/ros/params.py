@@ -162,7 +162,7 @@ def fail_from_callback(message: str, exit_code: int = EXIT_BAD_INPUT) -> None:
     rospy.signal_shutdown(str(message))
 
 
-def _is_project_error(exc: BaseException) -> bool:
+def is_project_error(exc: BaseException) -> bool:
     """Errors raised on purpose by hri_teleop: they carry a one-line cause and fix."""
     return isinstance(exc, HriTeleopError)
 
@@ -178,7 +178,7 @@ def run_node(main: Callable[[], Optional[int]]) -> None:
     except (KeyboardInterrupt, rospy.ROSInterruptException):
         code = 0
     except Exception as exc:
-        if not _is_project_error(exc):
+        if not is_project_error(exc):
             raise
         _log_fatal(str(exc))
         code = EXIT_BAD_INPUT

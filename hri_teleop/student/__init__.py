@@ -6,7 +6,7 @@ is renamed or withdrawn keeps working, with a DeprecationWarning naming its repl
 next major version. Policy and changes: docs/student-api.md. Importing this module loads neither
 rospy nor pygame; the ROS helpers are imported the first time a file asks for them.
 
-Student API 1.0. Each name, what it is for, and the version it appeared in:
+Student API 1.1. Each name, what it is for, and the version it appeared in:
 
 The gamepad (teleoperation.py, the handout *Task 4: Teleoperation*, Ex. 8-9)
   PadState                1.0  one snapshot of the pad: sticks and buttons by position; PadState.neutral()
@@ -28,6 +28,7 @@ The gripper (gripper_manager.py)
   usable_width_m          1.0  a width target as the hand may be sent it (None if not a number), and why not
   MoveAction              1.0  franka_gripper's move action (for actionlib.SimpleActionClient)
   MoveGoal                1.0  franka_gripper's move goal: width (m) and speed (m/s)
+  goal_status_name        1.1  actionlib's name of a goal status (SUCCEEDED, ABORTED, ...) for a log line
 
 The provided nodes (parameters, errors, time)
   get_param               1.0  a ROS parameter read and type-checked; a bad one ends the node with the fix
@@ -55,18 +56,19 @@ from hri_teleop.student.deprecation import importer_stacklevel, removed_in
 
 if TYPE_CHECKING:  # imported when first asked for (__getattr__ below): their modules import rospy
     from hri_teleop.ros.clock import ClockError, NodeClock
+    from hri_teleop.ros.error_recovery import status_name as goal_status_name
     from hri_teleop.ros.franka_gripper_msgs import MoveAction, MoveGoal
     from hri_teleop.ros.params import fail, get_param, refuse_beside_hardware, run_node
 
 #: The student API's version: the minor grows when a name is added or deprecated, the major when one goes.
-API_VERSION = "1.0"
+API_VERSION = "1.1"
 __version__ = API_VERSION
 
 __all__ = [
     "PadState", "pad_events", "JOYAXISMOTION", "JOYBUTTONDOWN", "JOYBUTTONUP", "normalize_analog_input",
     "open_gamepad", "TwistLimiter",
     "ADC_MAX_COUNT", "FSR_SENSOR_RATE_HZ", "press_profile_count",
-    "GoalThrottle", "usable_width_m", "MoveAction", "MoveGoal",
+    "GoalThrottle", "usable_width_m", "MoveAction", "MoveGoal", "goal_status_name",
     "get_param", "fail", "run_node", "refuse_beside_hardware", "NodeClock", "ClockError",
 ]
 
@@ -76,6 +78,7 @@ DEPRECATED: Dict[str, Tuple[str, str]] = {}
 
 _CLOCK = ("ClockError", "NodeClock")
 _GRIPPER_MSGS = ("MoveAction", "MoveGoal")
+_STATUS = ("goal_status_name",)
 _PARAMS = ("fail", "get_param", "refuse_beside_hardware", "run_node")
 
 
@@ -84,6 +87,9 @@ def _ros_name(name: str) -> Any:
     if name in _CLOCK:
         from hri_teleop.ros import clock  # noqa: PLC0415 - rospy only once a file asks for a ROS helper
         return getattr(clock, name)
+    if name in _STATUS:
+        from hri_teleop.ros.error_recovery import status_name  # noqa: PLC0415 - imports actionlib and rospy
+        return status_name
     if name in _GRIPPER_MSGS:
         from hri_teleop.ros import franka_gripper_msgs  # noqa: PLC0415 - the action classes are generated on import
         return getattr(franka_gripper_msgs, name)
@@ -92,7 +98,7 @@ def _ros_name(name: str) -> Any:
 
 
 def __getattr__(name: str) -> Any:
-    if name in _CLOCK + _GRIPPER_MSGS + _PARAMS:
+    if name in _CLOCK + _GRIPPER_MSGS + _STATUS + _PARAMS:
         value = _ros_name(name)
         globals()[name] = value
         return value

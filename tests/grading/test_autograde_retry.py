@@ -4,7 +4,7 @@ from __future__ import annotations
 
 import pytest
 
-from hri_teleop.grading.batch.nbgrader_batch import _retry_cause
+from hri_teleop.grading.batch.nbgrader_batch import retry_cause
 
 
 @pytest.mark.parametrize("log, cause", [
@@ -12,7 +12,7 @@ from hri_teleop.grading.batch.nbgrader_batch import _retry_cause
     ("RuntimeError: Kernel didn't respond in 120 seconds", "the notebook's kernel did not start"),
 ])
 def test_a_failure_of_the_grading_machine_is_graded_again(log, cause):
-    assert _retry_cause(f"[AutogradeApp] ERROR ...\n{log}\n") == cause
+    assert retry_cause(f"[AutogradeApp] ERROR ...\n{log}\n") == cause
 
 
 @pytest.mark.parametrize("log", [
@@ -22,4 +22,4 @@ def test_a_failure_of_the_grading_machine_is_graded_again(log, cause):
     "",
 ])
 def test_a_failure_of_the_submission_is_not_graded_again(log):
-    assert _retry_cause(log) == ""
+    assert retry_cause(log) == ""

@@ -329,6 +329,6 @@ def test_a_grader_crash_on_the_notebooks_is_one_not_judged_line(tmp_path, monkey
         raise OSError("disk full")
 
     monkeypatch.setattr(container, "grade_notebooks", crash)
-    result = container._notebooks([tmp_path / "ex01_fsr_and_arduino.ipynb"], tmp_path, tmp_path, tmp_path, 60.0, 7, None)
+    result = container.grade_upload_notebooks([tmp_path / "ex01_fsr_and_arduino.ipynb"], tmp_path, tmp_path, tmp_path, 60.0, 7, None)
     assert result.unjudged == [("ex01_fsr_and_arduino.ipynb", "the grader stopped with OSError")]
-    assert container._notebooks([], tmp_path, tmp_path, tmp_path, 60.0, 7, None).unjudged == []
+    assert container.grade_upload_notebooks([], tmp_path, tmp_path, tmp_path, 60.0, 7, None).unjudged == []

@@ -271,13 +271,13 @@ def test_make_grade_gives_the_files_job_and_the_notebooks_kernels_the_students_s
 
     monkeypatch.setattr(folders, "run_job", files_job)
     monkeypatch.setattr(nbgrader_batch, "run_job", notebooks_job)
-    course = nbgrader_batch._Course(tmp_path, tmp_path / "submitted", "course", f"sqlite:///{tmp_path / 'gb.db'}")
+    course = nbgrader_batch.Course(tmp_path, tmp_path / "submitted", "course", f"sqlite:///{tmp_path / 'gb.db'}")
     (tmp_path / "submitted" / "alice" / "preparation").mkdir(parents=True)
     (tmp_path / "out").mkdir()
-    nbgrader_batch._grade_files(course, "alice", "preparation", tmp_path / "out", ["robot-params"], None, 60.0)
+    nbgrader_batch.grade_files(course, "alice", "preparation", tmp_path / "out", ["robot-params"], None, 60.0)
     argv = seen["argv"]
     assert argv[argv.index("--seed") + 1] == str(student_seed("alice"))
-    nbgrader_batch._autograde_in(course, "alice", "preparation", tmp_path / "out", 60.0, threading.Lock(),
+    nbgrader_batch.autograde_in(course, "alice", "preparation", tmp_path / "out", 60.0, threading.Lock(),
                                  lambda line: None, ["nbgrader", "autograde"])
     assert seen["env"][SEED_ENV] == str(student_seed("alice"))
     folders.grade_one(tmp_path / "submitted" / "alice", tmp_path / "out", None, None, seed=student_seed("alice"))
@@ -316,7 +316,7 @@ def test_gradescope_gives_the_files_and_the_uploaded_notebooks_the_students_seed
     upload.parent.mkdir()
     shutil.copy(SOURCE / "preparation" / upload.name, upload)
     (tmp_path / "hri_lab").mkdir()
-    container._notebooks([upload], tmp_path / "hri_lab", shipped / COURSE, tmp_path / "work", 60.0, seed, None)
+    container.grade_upload_notebooks([upload], tmp_path / "hri_lab", shipped / COURSE, tmp_path / "work", 60.0, seed, None)
     assert asked == [seed]
 
 

@@ -22,9 +22,8 @@ from hri_teleop.grading.batch import spare_kernels as spare
 def kernels(tmp_path, monkeypatch):
     """Run small notebooks as nbgrader does (Unix sockets, a new kernel each) with ``spares`` allowed."""
     monkeypatch.setattr(KernelProvisionerFactory.instance(), "default_provisioner_name", spare.PROVISIONER)
-    monkeypatch.setattr(spare, "_started", 0)
-    monkeypatch.setattr(spare, "_spare", None)
-    monkeypatch.setattr(spare, "_ending", [])
+    spare.wait_for_ending_kernels()
+    spare.start_budget()
     sockets = tmp_path / "sockets"
     sockets.mkdir()
     config = Config()
@@ -50,25 +49,25 @@ PID = "import os; print(os.getpid())"
 def test_each_notebook_runs_in_the_kernel_started_while_the_one_before_ran(kernels):
     run, sockets = kernels
     first = run(PID, spares=2)
-    ahead = spare._spare.process.pid
+    ahead = spare.waiting_spare().process.pid
     assert run(PID, spares=2) == str(ahead)
-    ahead = spare._spare.process.pid
+    ahead = spare.waiting_spare().process.pid
     assert run(PID, spares=2) == str(ahead)
-    assert spare._spare is None and spare.spares_left() == 0  # the budget is spent: nothing idles
+    assert spare.waiting_spare() is None and spare.spares_left() == 0  # the budget is spent: nothing idles
     assert int(first) != ahead
 
 
 def test_without_a_budget_no_kernel_is_started_ahead(kernels):
     run, _ = kernels
     run(PID, spares=0)
-    assert spare._spare is None
+    assert spare.waiting_spare() is None
     assert run(PID, spares=0) != run(PID, spares=0)
 
 
 def test_a_spare_that_does_not_fit_is_stopped_and_a_kernel_started_as_usual(kernels, tmp_path):
     run, _ = kernels
     run(PID, spares=3)
-    unfit = spare._spare.process
+    unfit = spare.waiting_spare().process
     other = tmp_path / "elsewhere"
     other.mkdir()
     assert run("import os; print(os.getpid(), os.getcwd())", spares=3, cwd=other).split() != [str(unfit.pid)]
@@ -79,7 +78,7 @@ def test_a_spare_that_does_not_fit_is_stopped_and_a_kernel_started_as_usual(kern
 def test_a_spare_nobody_took_is_stopped_with_its_files(kernels):
     run, sockets = kernels
     run(PID, spares=1)
-    left = spare._spare
+    left = spare.waiting_spare()
     deadline = time.monotonic() + 20
     while len(list(sockets.iterdir())) < 5 and time.monotonic() < deadline:  # it bound its sockets
         time.sleep(0.05)
@@ -94,14 +93,14 @@ def endings(monkeypatch):
     """Every kernel seen out after its shutdown request: (its process, the wait it was given); the
     escalation's waits stretched by ``stretch`` (a test that needs the kernel alive for a while)."""
     seen = []
-    real = spare._see_out
+    real = spare.see_out
     stretch = [1.0]
 
     def recorded(process, pgid, wait_s):
         seen.append((process, wait_s))
         real(process, pgid, wait_s * stretch[0])
 
-    monkeypatch.setattr(spare, "_see_out", recorded)
+    monkeypatch.setattr(spare, "see_out", recorded)
     return seen, stretch
 
 
@@ -122,7 +121,7 @@ def test_a_kernel_told_to_shut_down_ends_while_the_next_notebook_starts(kernels,
     # nbclient returned while the kernel's exit hook still holds it (it waits for a file not yet written):
     # had nbclient waited for the kernel to end, it would have killed it after shutdown_wait_time
     assert os.path.exists(f"/proc/{pid}") and open(f"/proc/{pid}/stat").read().split()[2] != "Z"
-    assert [p.pid for p, _ in seen] == [pid] and all(t.is_alive() for t in spare._ending)
+    assert [p.pid for p, _ in seen] == [pid] and len(spare.ending_kernels()) == 1
     release.touch()
     spare.wait_for_ending_kernels()
     assert seen[0][0].returncode == 0  # it ended by itself, not by a signal

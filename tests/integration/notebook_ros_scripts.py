@@ -30,7 +30,7 @@ def publish_burst(count: int, rate_hz: float) -> None:
     from geometry_msgs.msg import Twist
     from std_msgs.msg import Float32, Int16
 
-    from hri_teleop.course.widgets import lab_topics
+    from hri_teleop.course.widgets.live import lab_topics
 
     rospy.init_node("burst", disable_signals=True)
     twist_topic = lab_topics()[-1].topic

@@ -12,6 +12,7 @@ import pytest
 from hri_teleop.course import lab, lab_nodes
 from hri_teleop.course.errors import CourseError
 from hri_teleop.course.master_mode import NotStarted, master_mode
+from hri_teleop.hardware.sim.world import LAB_ARM_CONFIG
 from hri_teleop.ros.master import OWN_MASTER_ENV
 from hri_teleop.ros.master_api import running_nodes
 
@@ -50,7 +51,7 @@ def foreign_master(foreign_roscore, monkeypatch):
 
 def _spin_node(master, name):
     proc = master.run([sys.executable, "-c", SPIN, name], name)
-    assert lab_nodes._wait_until_up(proc, "/rosout", True, "/" + name, 30.0) is None
+    assert lab_nodes.wait_until_up(proc, "/rosout", True, "/" + name, 30.0) is None
     return proc
 
 
@@ -84,7 +85,7 @@ def test_at_home_next_to_a_real_board_nothing_simulated_starts(kernel, capsys):
 def test_the_kernels_own_master_is_home_and_another_is_the_lab(kernel, foreign_master):
     assert master_mode(kernel.uri).own and master_mode(kernel.uri).mode == "home"
     assert not master_mode(foreign_master).own and master_mode(foreign_master).mode == "lab"
-    assert lab.mode() == "lab" and lab.default_pad() == "pygame"
+    assert lab_nodes.mode() == "lab" and lab.default_pad() == "pygame"
 
 
 @pytest.mark.parametrize("hri_mode", [None, "home", "grading"])
@@ -121,13 +122,12 @@ def test_on_the_labs_master_a_node_with_the_real_pad_starts(foreign_master, caps
 def test_the_hand_height_comes_from_the_arms_joint_states(kernel):
     robot = lab_nodes.start_robot(object="none")
     assert robot.running
-    from hri_teleop.course import sim
 
     reader = kernel.run([sys.executable, "-c", "from hri_teleop.course import ensure_ros, lab; "
                          "ensure_ros(quiet=True); print('z_m', lab.hand_z_m())"], "hand_reader")
     assert reader.wait(60) == 0, reader.output()
     z_m = float(reader.output().split("z_m")[-1])
-    assert z_m == pytest.approx(sim.ARM.start_position_m[2], abs=0.002)
+    assert z_m == pytest.approx(LAB_ARM_CONFIG.start_position_m[2], abs=0.002)
 
 
 def test_a_killed_nodes_stale_registration_does_not_block_a_restart(kernel):

@@ -41,7 +41,7 @@ def test_a_port_the_caller_chose_is_not_changed_and_nothing_is_left(taken_port, 
         ros.start()
     assert ros.port == taken_port
     assert not [p for p in ros.started if p.anything_left]
-    assert not [p for p in master_module._LIVE if p in ros.started]
+    assert not [p for p in master_module.LIVE_PROCESSES if p in ros.started]
 
 
 def test_a_port_where_another_master_answers_is_never_joined(foreign_roscore, tmp_path):

@@ -11,7 +11,8 @@ from pathlib import Path
 
 import pytest
 
-from hri_teleop.course.widgets import GraphView, draw_graph, lab_topics, read_graph
+from hri_teleop.course.widgets.graph import GraphView, draw_graph, read_graph
+from hri_teleop.course.widgets.live import lab_topics
 
 pytestmark = pytest.mark.ros
 

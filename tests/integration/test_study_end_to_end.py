@@ -140,7 +140,7 @@ def study(tmp_path_factory) -> Study:
             if (p, n) != ("P01", 1):
                 predicted[p, n] = _predicted(out / "scenarios" / f"{p}_t{n:02d}.yaml", condition)
         after = lab.node_names()
-        left = [" ".join(proc.argv) for proc in list(master_module._LIVE)
+        left = [" ".join(proc.argv) for proc in list(master_module.LIVE_PROCESSES)
                 if proc not in lab.core_processes and proc is not lab_node]
         print(f"\nstudy: 4 trials recorded in {record_s:.1f} s, analysed in {analyse_s:.1f} s")
         yield Study(out, result, predicted, code, printed.getvalue(), before, after, lab_node.running, left,

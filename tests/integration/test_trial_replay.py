@@ -13,7 +13,7 @@ import pytest
 import yaml
 
 from hri_teleop.core.experiment.metrics import TrialMeta
-from hri_teleop.course.widgets import ArmView, read_joint_states
+from hri_teleop.course.widgets.arm3d import ArmView, read_joint_states
 from hri_teleop.hardware.sim.operators import study_scenario
 from hri_teleop.ros.bags import read_topics
 from hri_teleop.ros.trial import load_trials, record_trial

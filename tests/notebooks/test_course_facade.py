@@ -69,6 +69,31 @@ def test_every_name_a_namespace_offers_exists(namespace: str):
     assert module.__all__ and all(hasattr(module, name) for name in module.__all__)
 
 
+#: The pages a student, an instructor or a lab engineer reads: a name they show is offered too.
+USER_DOCS = [NOTEBOOKS.parent / "README.md", NOTEBOOKS / "README.md", NOTEBOOKS / "bundle" / "README.md",
+             *sorted((NOTEBOOKS.parent / "docs").glob("*.md"))]
+
+
+def unused_names(namespace: str, offered: List[str], notebooks: str, docs: str) -> List[str]:
+    """The names ``namespace`` offers that no notebook and no user page writes as ``namespace.name``."""
+    return [name for name in offered if not re.search(rf"\b{namespace}\.{name}\b", notebooks + "\n" + docs)]
+
+
+@pytest.mark.parametrize("namespace", NAMESPACES)
+def test_each_namespace_offers_only_what_the_notebooks_or_the_user_docs_use(namespace: str):
+    module = importlib.import_module(f"hri_teleop.course.{namespace}")
+    notebooks = "\n".join("".join(cell["source"]) for path in ALL_NOTEBOOKS
+                          for cell in json.loads(path.read_text(encoding="utf-8"))["cells"])
+    docs = "\n".join(path.read_text(encoding="utf-8") for path in USER_DOCS if path.is_file())
+    assert unused_names(namespace, list(module.__all__), notebooks, docs) == []
+
+
+def test_a_name_nobody_uses_is_found():
+    assert unused_names("widgets", ["LivePlot", "FigureView"], "plot = widgets.LivePlot()", "") == ["FigureView"]
+    assert unused_names("widgets", ["Doctor"], "", "`widgets.Doctor()` in a cell") == []
+    assert unused_names("lab", ["mode"], "widgets.mode", "") == ["mode"]
+
+
 def test_an_unknown_name_of_the_facade_is_an_attribute_error():
     with pytest.raises(AttributeError, match="no attribute 'grade_mapping_node'"):
         course.grade_mapping_node  # noqa: B018

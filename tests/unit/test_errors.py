@@ -48,7 +48,7 @@ def test_the_errors_keep_their_builtin_base():
 def test_a_node_reports_only_the_toolkits_errors_in_one_line(exc, ours):
     from hri_teleop.core.config import ConfigError
     from hri_teleop.core.experiment.tlx import TlxError
-    from hri_teleop.ros.params import _is_project_error
+    from hri_teleop.ros.params import is_project_error
 
     kinds = {"ConfigError": ConfigError, "TlxError": TlxError, "ValueError": ValueError, "RuntimeError": RuntimeError}
-    assert _is_project_error(kinds[exc]("x")) is ours
+    assert is_project_error(kinds[exc]("x")) is ours

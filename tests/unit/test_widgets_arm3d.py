@@ -20,8 +20,14 @@ import numpy as np
 import pytest
 
 from hri_teleop.core.joints import JOINT_NAMES, PANDA_JOINT_LIMITS, READY_POSE_RAD
-from hri_teleop.course.widgets import ArmView, ArmViewError, joint_config
-from hri_teleop.course.widgets.arm3d import live_status, ready_config, replay_frames
+from hri_teleop.course.widgets.arm3d import (
+    ArmView,
+    ArmViewError,
+    joint_config,
+    live_status,
+    ready_config,
+    replay_frames,
+)
 from hri_teleop.hardware.sim.kinematics import PandaKinematics, panda_urdf
 from hri_teleop.ros.proc_table import descendants
 

@@ -10,7 +10,7 @@ import time
 import pytest
 from matplotlib.figure import Figure
 
-from hri_teleop.course.widgets import FigureView, Ticker, WidgetError
+from hri_teleop.course.widgets._base import FigureView, Ticker, WidgetError
 
 
 def test_image_mode_shows_the_figure_as_png_and_redraw_updates_it():

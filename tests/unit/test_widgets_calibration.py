@@ -4,8 +4,8 @@ from __future__ import annotations
 
 import pytest
 
-from hri_teleop.course.widgets import MaxRecorder
 from hri_teleop.course.widgets._base import WidgetError
+from hri_teleop.course.widgets.calibration import MaxRecorder
 from hri_teleop.hardware.real.calibrate import CalibrateError
 
 

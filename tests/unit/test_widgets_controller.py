@@ -8,8 +8,14 @@ import pytest
 
 from hri_teleop.core.gamepad import PadState
 from hri_teleop.core.teleop import Mode, TeleopParams
-from hri_teleop.course.widgets import ControllerModel, ControllerView, open_pad, pad_svg
-from hri_teleop.course.widgets.controller import button_roles, stick_dot_xy
+from hri_teleop.course.widgets.controller import (
+    ControllerModel,
+    ControllerView,
+    button_roles,
+    open_pad,
+    pad_svg,
+    stick_dot_xy,
+)
 from hri_teleop.hardware.sim.virtual_pad import VirtualPad
 
 

@@ -10,15 +10,8 @@ import pytest
 from hri_teleop.core import fsr
 from hri_teleop.core.gamepad import normalize_analog_input
 from hri_teleop.core.mapping import map_force
-from hri_teleop.course.widgets import (
-    DeadzoneExplorer,
-    FsrExplorer,
-    deadzone_curve,
-    filter_stick,
-    fsr_curve,
-    fsr_reading,
-)
-from hri_teleop.course.widgets.fsr import describe_reading, format_ohm
+from hri_teleop.course.widgets.deadzone import DeadzoneExplorer, deadzone_curve, filter_stick
+from hri_teleop.course.widgets.fsr import FsrExplorer, describe_reading, format_ohm, fsr_curve, fsr_reading
 
 
 def test_a_reading_is_the_core_chain_force_to_count_to_mapped():

@@ -4,8 +4,7 @@ from __future__ import annotations
 
 import pytest
 
-from hri_teleop.course.widgets import draw_graph, graph_from_state, layered_layout
-from hri_teleop.course.widgets.graph import wrap_name
+from hri_teleop.course.widgets.graph import draw_graph, graph_from_state, layered_layout, wrap_name
 
 TWIST = "/cartesian_velocity_controller/cmd_vel"
 # getSystemState and getTopicTypes as the master answers them while teleoperation.launch runs.

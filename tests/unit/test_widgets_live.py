@@ -9,8 +9,7 @@ import numpy as np
 import pytest
 
 from hri_teleop.core.config import DEFAULT_TWIST_TOPIC, load_teleop_config
-from hri_teleop.course.widgets import TopicBuffer, lab_topics, numeric_fields
-from hri_teleop.course.widgets.live import field_getter, rate_hz
+from hri_teleop.course.widgets.live import TopicBuffer, field_getter, lab_topics, numeric_fields, rate_hz
 
 
 class _Vector3:

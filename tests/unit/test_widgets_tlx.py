@@ -10,8 +10,8 @@ import pytest
 from hri_teleop.core.experiment.metrics import TrialMeta
 from hri_teleop.core.experiment.sidecar import read_sidecar, sidecar_data, write_sidecar
 from hri_teleop.core.experiment.tlx import SUBSCALE_KEYS, TlxRatings
-from hri_teleop.course.widgets import TlxWidget, trial_sidecars
 from hri_teleop.course.widgets._base import WidgetError
+from hri_teleop.course.widgets.tlx import TlxWidget, trial_sidecars
 
 ANSWERS = {"mental": 40, "physical": 10, "temporal": 30, "performance": 20, "effort": 45, "frustration": 15}
 

@@ -63,7 +63,7 @@ from hri_teleop.grading.run.kernel_sandbox import (
 from hri_teleop.grading.run.sandbox import bwrap_problem, sandbox_mode
 from hri_teleop.ros.kernel import install_kernelspec, ipc_kernel_argv
 
-__all__ = ["BatchError", "JobOutcome", "course_layout", "course_submissions", "grade_course", "refresh_course",
+__all__ = ["retry_cause", "BatchError", "JobOutcome", "course_layout", "course_submissions", "grade_course", "refresh_course",
            "nbgrader_job_env"]
 
 _NOTEBOOK_TIMEOUT_S = 1800.0        # nbgrader autograde of one (student, assignment); a cell has 300 s of its own
@@ -145,7 +145,7 @@ def _with_busy_timeout(db_url: str) -> str:
 
 
 @dataclass(frozen=True)
-class _Course:
+class Course:
     root: Path
     submitted: Path
     course_id: str
@@ -159,7 +159,7 @@ class _Course:
         return argv
 
 
-def _open_course(course: Path, submitted: Path, assignments: Sequence[str]) -> _Course:
+def _open_course(course: Path, submitted: Path, assignments: Sequence[str]) -> Course:
     try:
         import nbgrader  # noqa: F401, PLC0415 - optional (not on Python 3.8): courses only
         from nbgrader.api import Gradebook, MissingEntry  # noqa: PLC0415 - optional (not on Python 3.8): courses only
@@ -183,7 +183,7 @@ def _open_course(course: Path, submitted: Path, assignments: Sequence[str]) -> _
                 raise BatchError(f"assignment {assignment!r} is not in the gradebook {coursedir.db_url}: run "
                                  f"`make release` (nbgrader generate_assignment {assignment}) in {course} first") \
                     from None
-    return _Course(course, submitted, coursedir.course_id, db_url)
+    return Course(course, submitted, coursedir.course_id, db_url)
 
 
 def _outside_links(folder: Path) -> List[str]:
@@ -239,7 +239,7 @@ def nbgrader_job_env(base: Optional[Mapping[str, str]] = None) -> Dict[str, str]
     return dict(nbgrader_env(base), ROS_MASTER_URI=_NO_MASTER)
 
 
-def _submission_score(course: _Course, lock: threading.Lock, student: str,
+def _submission_score(course: Course, lock: threading.Lock, student: str,
                       assignment: str) -> Tuple[float, float, bool]:
     from nbgrader.api import Gradebook  # noqa: PLC0415 - optional (not on Python 3.8): courses only
 
@@ -253,7 +253,7 @@ def _submission_score(course: _Course, lock: threading.Lock, student: str,
             gb.engine.dispose()
 
 
-def _forget_outputs(course: _Course, student: str, assignment: str) -> None:
+def _forget_outputs(course: Course, student: str, assignment: str) -> None:
     """A submission that was not graded has no autograded notebooks and no feedback (none stale either)."""
     from nbgrader.utils import rmtree  # noqa: PLC0415 - optional (not on Python 3.8): courses only
 
@@ -274,12 +274,12 @@ _RETRY_CAUSES = (("database is locked", "the gradebook was locked"),
                  ("Kernel didn't respond in", "the notebook's kernel did not start"))
 
 
-def _retry_cause(log_text: str) -> str:
+def retry_cause(log_text: str) -> str:
     """Why an autograde run is worth repeating ("" when the failure is the submission's)."""
     return next((why for needle, why in _RETRY_CAUSES if needle in log_text), "")
 
 
-def _autograde(course: _Course, student: str, assignment: str, out: Path, timeout_s: float,
+def _autograde(course: Course, student: str, assignment: str, out: Path, timeout_s: float,
                db_lock: threading.Lock, progress: Progress, results_dir: Optional[Path] = None,
                sandbox: Optional[KernelPolicy] = None, seed: Optional[int] = None) -> JobOutcome:
     folder = course.submitted / student / assignment
@@ -291,14 +291,14 @@ def _autograde(course: _Course, student: str, assignment: str, out: Path, timeou
                           "feedback); the student must hand in the file itself", sandboxed=sandbox is not None)
     sockets = Path(tempfile.mkdtemp(prefix="hri-kernel-"))  # the kernels' Unix sockets (no TCP port race)
     try:
-        return _autograde_in(course, student, assignment, out, timeout_s, db_lock, progress,
+        return autograde_in(course, student, assignment, out, timeout_s, db_lock, progress,
                              course.nbgrader_argv("autograde", assignment, "--student", student, "--force",
                                                   *ipc_kernel_argv(sockets)), results_dir, sandbox, seed)
     finally:
         shutil.rmtree(sockets, ignore_errors=True)
 
 
-def _autograde_in(course: _Course, student: str, assignment: str, out: Path, timeout_s: float,
+def autograde_in(course: Course, student: str, assignment: str, out: Path, timeout_s: float,
                   db_lock: threading.Lock, progress: Progress, argv: List[str],
                   results_dir: Optional[Path] = None, sandbox: Optional[KernelPolicy] = None,
                   seed: Optional[int] = None) -> JobOutcome:
@@ -334,7 +334,7 @@ def _autograde_in(course: _Course, student: str, assignment: str, out: Path, tim
             score, maximum, manual = _submission_score(course, db_lock, student, assignment)
             return JobOutcome(student, assignment, "notebooks", score, maximum, "graded", seconds, "", manual,
                               sandboxed=sandbox is not None)
-        cause = _retry_cause(log.read_text(errors="replace"))
+        cause = retry_cause(log.read_text(errors="replace"))
         if cause and attempt < _DB_ATTEMPTS:
             shutil.copy(log, log.with_name(f"autograde.attempt{attempt}.log"))
             progress(f"      {student} {assignment}: {cause}; autograding again "
@@ -360,7 +360,7 @@ def autograde_one(course_root: Path, student: str, assignment: str, out: Path, t
     return _autograde(course, student, assignment, out, timeout_s, threading.Lock(), progress, None, sandbox, seed)
 
 
-def _grade_files(course: _Course, student: str, assignment: str, out: Path, checks: Sequence[str],
+def grade_files(course: Course, student: str, assignment: str, out: Path, checks: Sequence[str],
                  graph_cache: Optional[Path], timeout_s: float, results_dir: Optional[Path] = None) -> JobOutcome:
     o = grade_one(course.submitted / student / assignment, out, graph_cache, checks, timeout_s, results_dir,
                   seed=student_seed(student))
@@ -368,7 +368,7 @@ def _grade_files(course: _Course, student: str, assignment: str, out: Path, chec
                       sandboxed=not bwrap_problem())
 
 
-def _generate_feedback(course: _Course, assignment: str, out: Path,
+def _generate_feedback(course: Course, assignment: str, out: Path,
                        student: Optional[str] = None) -> Tuple[bool, Dict[str, str]]:
     """``nbgrader generate_feedback`` for every autograded student of ``assignment`` (or ``student`` only):
     (ok, {student: failure})."""
@@ -448,7 +448,7 @@ def grade_course(course: Path, submitted: Path, out: Path, jobs: Optional[int] =
     for student, assignment in sorted(pairs, key=lambda p: (order[p[1]], p[0])):
         if files_checks[assignment]:
             tasks.append((f"{student}\0{assignment}\0files",
-                          functools.partial(_grade_files, nb, student, assignment, out / student / assignment,
+                          functools.partial(grade_files, nb, student, assignment, out / student / assignment,
                                             files_checks[assignment], graph_cache, files_limit,
                                             results_dir / student / assignment)))
     for student, assignment in sorted(pairs, key=lambda p: (order[p[1]], p[0])):

@@ -26,7 +26,8 @@ from jupyter_client.provisioning.local_provisioner import LocalProvisioner
 from hri_teleop.grading.run.kernel_sandbox import POLICY_ENV, boxed_command
 from hri_teleop.grading.run.sandbox import SandboxError
 
-__all__ = ["PROVISIONER", "PROVISIONER_ENV", "SPARES_ENV", "SpareProvisioner", "spares_left", "stop_spare"]
+__all__ = ["PROVISIONER", "PROVISIONER_ENV", "SPARES_ENV", "Spare", "SpareProvisioner", "spares_left", "stop_spare",
+           "waiting_spare", "ending_kernels", "see_out", "wait_for_ending_kernels", "start_budget"]
 
 #: The provisioner's entry-point name (pyproject.toml) and Jupyter's variable that picks it for
 #: kernelspecs that name none, as the hri-teleop kernel.
@@ -48,7 +49,7 @@ def _boxed(cmd: List[str], connection_file: str, transport: str) -> List[str]:
 
 
 @dataclass
-class _Spare:
+class Spare:
     process: "subprocess.Popen[bytes]"
     connection_file: str
     info: KernelConnectionInfo
@@ -57,7 +58,7 @@ class _Spare:
 
 
 _lock = threading.Lock()
-_spare: Optional[_Spare] = None
+_spare: Optional[Spare] = None
 _started = 0
 
 
@@ -70,6 +71,20 @@ def spares_left() -> int:
     return max(0, _budget() - _started)
 
 
+def waiting_spare() -> Optional[Spare]:
+    """The kernel started ahead that no notebook has taken yet (None: none waits)."""
+    with _lock:
+        return _spare
+
+
+def start_budget() -> None:
+    """Count spares from zero again, as a new grading process would (the spare left, if any, is stopped)."""
+    global _started
+    stop_spare()
+    with _lock:
+        _started = 0
+
+
 def _copy(popen_kwargs: Dict[str, Any]) -> Dict[str, Any]:
     return {key: dict(value) if isinstance(value, dict) else value for key, value in popen_kwargs.items()}
 
@@ -78,7 +93,7 @@ def _template(cmd: List[str], connection_file: str) -> List[Optional[str]]:
     return [None if arg == connection_file else arg for arg in cmd]
 
 
-def _remove_files(spare: _Spare) -> None:
+def _remove_files(spare: Spare) -> None:
     paths = [spare.connection_file] + [f"{spare.info['ip']}-{spare.info[name]}" for name in
                                        ("shell_port", "iopub_port", "stdin_port", "control_port", "hb_port")]
     for path in paths:
@@ -88,7 +103,7 @@ def _remove_files(spare: _Spare) -> None:
             pass
 
 
-def _pop_spare() -> Optional[_Spare]:
+def _pop_spare() -> Optional[Spare]:
     global _spare
     with _lock:
         spare, _spare = _spare, None
@@ -102,7 +117,7 @@ def stop_spare() -> None:
         _stop(spare)
 
 
-def _stop(spare: _Spare) -> None:
+def _stop(spare: Spare) -> None:
     """Kill a spare (it has run no code: nothing to shut down cleanly) and remove its files."""
     try:
         os.killpg(spare.process.pid, signal.SIGKILL)  # Jupyter starts kernels in a session of their own
@@ -118,7 +133,7 @@ def _stop(spare: _Spare) -> None:
 _ending: List[threading.Thread] = []
 
 
-def _see_out(process: "subprocess.Popen[bytes]", pgid: Optional[int], wait_s: float) -> None:
+def see_out(process: "subprocess.Popen[bytes]", pgid: Optional[int], wait_s: float) -> None:
     """What Jupyter does after a shutdown request, off its path: wait, then SIGTERM, then SIGKILL."""
     for signum in (None, signal.SIGTERM, signal.SIGKILL):
         if signum is not None:
@@ -136,6 +151,11 @@ def _see_out(process: "subprocess.Popen[bytes]", pgid: Optional[int], wait_s: fl
             continue
 
 
+def ending_kernels() -> List[threading.Thread]:
+    """The threads still seeing a kernel out after its shutdown request."""
+    return [thread for thread in list(_ending) if thread.is_alive()]
+
+
 def wait_for_ending_kernels() -> None:
     """At exit: every kernel that was told to shut down has ended (each within its own bound)."""
     for thread in list(_ending):
@@ -146,7 +166,7 @@ atexit.register(wait_for_ending_kernels)
 atexit.register(stop_spare)  # atexit runs last-registered first: the spare goes, then the endings are awaited
 
 
-def _take(template: List[Optional[str]], popen_kwargs: Dict[str, Any]) -> Optional[_Spare]:
+def _take(template: List[Optional[str]], popen_kwargs: Dict[str, Any]) -> Optional[Spare]:
     """The spare if it is what this launch asks for; one that is not (or died) is stopped."""
     spare = _pop_spare()
     if spare is None:
@@ -175,7 +195,7 @@ def _start(km: Any, template: List[Optional[str]], popen_kwargs: Dict[str, Any])
     cmd = _boxed([fname if arg is None else arg for arg in template], fname, "ipc")
     process = launch_kernel(cmd, **_copy(popen_kwargs))  # it adds to the environment it is given
     with _lock:
-        _spare = _Spare(process, fname, info, template, popen_kwargs)
+        _spare = Spare(process, fname, info, template, popen_kwargs)
 
 
 class SpareProvisioner(LocalProvisioner):
@@ -214,7 +234,7 @@ class SpareProvisioner(LocalProvisioner):
         await super().shutdown_requested(restart)
         if restart or self.process is None or self.parent is None or not _budget():
             return  # Jupyter's own way outside make grade
-        thread = threading.Thread(target=_see_out, name=f"kernel-{self.pid}-ending", daemon=True,
+        thread = threading.Thread(target=see_out, name=f"kernel-{self.pid}-ending", daemon=True,
                                   args=(self.process, self.pgid, float(self.parent.shutdown_wait_time)))
         thread.start()
         _ending.append(thread)

@@ -123,7 +123,7 @@ def _hri_grade(package: Path, out: Path, checks: Sequence[str], seed: Optional[i
     return [CheckResult.from_dict(d) for d in json.loads(listing.read_text(encoding="utf-8"))], None
 
 
-def _notebooks(notebooks: Sequence[Path], package: Path, course: Optional[Path], work: Path,
+def grade_upload_notebooks(notebooks: Sequence[Path], package: Path, course: Optional[Path], work: Path,
                timeout_s: float, seed: Optional[int], sandbox: Optional[KernelPolicy]) -> NotebookTests:
     """The course's notebooks of the upload graded; a failure of the grader is a "not judged" line, never a crash."""
     if not notebooks or course is None or not course.is_dir():
@@ -161,7 +161,7 @@ def grade_upload(submission: Path, work: Path, config: Config, seed: Optional[in
                 unjudged.append(Unjudged(check, reason))
     sandbox = None if config.unsandboxed else KernelPolicy(tuple(str(p) for p in (*hidden, work, submission)
                                                                   if p is not None) + ((str(course),) if course else ()))
-    graded = _notebooks(upload.notebooks, upload.hri_lab, course, work, config.notebooks_timeout_s, seed, sandbox)
+    graded = grade_upload_notebooks(upload.notebooks, upload.hri_lab, course, work, config.notebooks_timeout_s, seed, sandbox)
     return results_payload(results, unjudged, notes + graded.notes, time.monotonic() - started, order=config.checks,
                            notebook_tests=graded.tests, notebooks_unjudged=graded.unjudged)
 

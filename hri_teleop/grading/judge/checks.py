@@ -23,15 +23,15 @@ from hri_teleop.grading.judge import compare
 from hri_teleop.grading.judge.graph import grade_graph, live_graph
 from hri_teleop.grading.judge.harness import (
     TWIST_TOPIC,
-    _closing,
-    _finish,
-    _parse_launch,
-    _refuse_reference,
-    _require_ros,
-    _reusable,
-    _Run,
-    _start,
+    CheckRun,
+    closing_scratch,
+    finish_check,
     grading_clock,
+    parse_launch,
+    refuse_reference,
+    require_ros,
+    reusable,
+    start_check,
 )
 from hri_teleop.grading.judge.package_check import grade_catkin_package
 from hri_teleop.grading.judge.robot_params import compare_robot_params
@@ -71,11 +71,11 @@ PathLike = Union[str, Path]
 
 # -- the checks --------------------------------------------------------------------------------
 
-@_reusable("robot-params")
-@_closing
+@reusable("robot-params")
+@closing_scratch
 def grade_robot_params(path: PathLike, *, seed: Optional[int] = None, out_dir: Optional[PathLike] = None) -> CheckResult:
     """Ex. 4: Table 1's keys, YAML types and values; loaded with rosparam's own loader."""
-    run, seed = _start("robot-params", path, out_dir, seed)
+    run, seed = start_check("robot-params", path, out_dir, seed)
     if isinstance(run, CheckResult):  # the file is missing
         return run
     target = run.space.file("robot_params")
@@ -86,11 +86,11 @@ def grade_robot_params(path: PathLike, *, seed: Optional[int] = None, out_dir: O
         parts = compare_robot_params(None, f"`rosparam load` fails: {data.error}")
     else:
         parts = compare_robot_params(data.params)
-    return _finish("robot-params", run, parts, None)
+    return finish_check("robot-params", run, parts, None)
 
 
-@_reusable("mapping-node")
-@_closing
+@reusable("mapping-node")
+@closing_scratch
 def grade_mapping_node(path: PathLike, *, seed: Optional[int] = None, out_dir: Optional[PathLike] = None,
                        reference_allowed: bool = False) -> CheckResult:
     """Ex. 5: the node for real on a private master: topics, type, every value, the range from the parameter.
@@ -98,11 +98,11 @@ def grade_mapping_node(path: PathLike, *, seed: Optional[int] = None, out_dir: O
     ``reference_allowed``: judge a file that uses the lab's reference rule too (the lab's own
     node, when the grader's agreement with it is tested); students' files never are.
     """
-    _require_ros()
-    run, seed = _start("mapping-node", path, out_dir, seed)
+    require_ros()
+    run, seed = start_check("mapping-node", path, out_dir, seed)
     if isinstance(run, CheckResult):  # the file is missing
         return run
-    refused = None if reference_allowed else _refuse_reference(run, "mapping-node", compare.MAPPING, seed)
+    refused = None if reference_allowed else refuse_reference(run, "mapping-node", compare.MAPPING, seed)
     if refused is not None:
         return refused
     cases = [C.public_mapping_case()] + C.hidden_mapping_cases(seed)
@@ -111,18 +111,18 @@ def grade_mapping_node(path: PathLike, *, seed: Optional[int] = None, out_dir: O
                            start_timeout_s=10.0, response_timeout_s=1.5)
     observation = run.session(plan, timeout_s=120.0)
     parts = compare.compare_mapping(observation, cases, run.out_dir)
-    return _finish("mapping-node", run, parts, seed)
+    return finish_check("mapping-node", run, parts, seed)
 
 
-@_reusable("sensor-launch")
-@_closing
+@reusable("sensor-launch")
+@closing_scratch
 def grade_sensor_launch(path: PathLike, *, seed: Optional[int] = None, out_dir: Optional[PathLike] = None) -> CheckResult:
     """Ex. 6-7: parsed with roslaunch's loader, then launched: /force_mapped flows and stays in [0, 1]."""
-    _require_ros()
-    run, seed = _start("sensor-launch", path, out_dir, seed)
+    require_ros()
+    run, seed = start_check("sensor-launch", path, out_dir, seed)
     if isinstance(run, CheckResult):  # the file is missing
         return run
-    parsed, facts = _parse_launch(run, "sensor_launch")
+    parsed, facts = parse_launch(run, "sensor_launch")
     observation: Optional[SensorLaunchObservation] = None
     if parsed.ok:
         scripts = {n.type for n in parsed.nodes}
@@ -144,19 +144,19 @@ def grade_sensor_launch(path: PathLike, *, seed: Optional[int] = None, out_dir: 
         observation = run.session(plan, timeout_s=90.0)
     parts = compare.compare_sensor_launch(parsed, observation, facts)
     notes = _clock_notes(observation, "sensor.launch: ")
-    return _finish("sensor-launch", run, parts, None, notes)
+    return finish_check("sensor-launch", run, parts, None, notes)
 
 
-@_reusable("teleoperation")
-@_closing
+@reusable("teleoperation")
+@closing_scratch
 def grade_teleoperation(path: PathLike, *, seed: Optional[int] = None, out_dir: Optional[PathLike] = None,
                         node: bool = True) -> CheckResult:
     """Ex. 8-9: the student's parts against pad-event traces, then the node with the virtual pad."""
-    _require_ros()
-    run, seed = _start("teleoperation", path, out_dir, seed)
+    require_ros()
+    run, seed = start_check("teleoperation", path, out_dir, seed)
     if isinstance(run, CheckResult):  # the file is missing
         return run
-    refused = _refuse_reference(run, "teleoperation", compare.TELEOP, seed)
+    refused = refuse_reference(run, "teleoperation", compare.TELEOP, seed)
     if refused is not None:
         return refused
     cases = [C.public_teleop_parts_case(), C.hidden_teleop_parts_case(seed)]
@@ -194,10 +194,10 @@ def grade_teleoperation(path: PathLike, *, seed: Optional[int] = None, out_dir: 
         observation = run.session(plan, timeout_s=90.0)
         parts += compare.compare_teleop_node(observation, node_case, TWIST_TOPIC, run.out_dir)
         notes += _clock_notes(observation)
-    return _finish("teleoperation", run, parts, seed, notes)
+    return finish_check("teleoperation", run, parts, seed, notes)
 
 
-def _launch_sim_plan(run: _Run, parsed: LaunchParseResult) -> Optional[TeleopLaunchSimPlan]:
+def _launch_sim_plan(run: CheckRun, parsed: LaunchParseResult) -> Optional[TeleopLaunchSimPlan]:
     """The ``teleop-launch-sim`` session for a parsed teleoperation.launch; None without a teleoperation node."""
     node = compare.teleop_node_name(parsed)
     if node is None:
@@ -260,23 +260,23 @@ _REAL_TIME_NOTE = ("the node did not tick with the grader's /clock (a loop paced
                    "does not), so it was run in real time")
 
 
-@_reusable("teleoperation-launch")
-@_closing
+@reusable("teleoperation-launch")
+@closing_scratch
 def grade_teleoperation_launch(path: PathLike, *, seed: Optional[int] = None,
                                out_dir: Optional[PathLike] = None) -> CheckResult:
     """Ex. 12-13: node set, serial_node with its port, /max_sensor_force, the controller include;
     then launched in simulation (the simulated lab in place of robot and board)."""
-    _require_ros()
-    run, seed = _start("teleoperation-launch", path, out_dir, seed)
+    require_ros()
+    run, seed = start_check("teleoperation-launch", path, out_dir, seed)
     if isinstance(run, CheckResult):  # the file is missing
         return run
-    parsed, facts = _parse_launch(run, "teleoperation_launch")
+    parsed, facts = parse_launch(run, "teleoperation_launch")
     parts = compare.compare_teleop_launch(parsed, facts)
     plan = _launch_sim_plan(run, parsed) if parsed.ok else None
     observation: Optional[TeleopLaunchSimObservation] = run.session(plan, timeout_s=120.0) if plan is not None else None
     parts.append(compare.compare_teleop_launch_sim(parsed, observation, C.launch_sim_case(), run.out_dir))
     notes = _clock_notes(observation, "teleoperation.launch: ")
-    return _finish("teleoperation-launch", run, parts, None, notes)
+    return finish_check("teleoperation-launch", run, parts, None, notes)
 
 
 CHECKS: Dict[str, Callable[..., CheckResult]] = {

@@ -15,7 +15,7 @@ from hri_teleop.grading.run.sandbox import OUTPUT_CAP_BYTES, describe_exit
 
 #: Values on /force_mapped must be within this of the reference (Float32 carries ~7 digits).
 TOLERANCE = 1e-6
-_TWIST_TOLERANCE = 1e-9
+TWIST_TOLERANCE = 1e-9
 
 # Part names and points, per check (names are what students see; tests refer to the keys).
 MAPPING: Dict[str, Tuple[str, float]] = {
@@ -63,21 +63,21 @@ GRAPH: Dict[str, Tuple[str, float]] = {
     "links": ("who publishes and who subscribes each topic", 3),
 }
 
-_PACKAGES = ("hri_lab", "ros_intro")  # the handout has Ex. 2-6 done in ros_intro
+STUDENT_PACKAGES = ("hri_lab", "ros_intro")  # the handout has Ex. 2-6 done in ros_intro
 
 
-def _part(table: Dict[str, Tuple[str, float]], key: str, passed: bool, message: str = "",
+def judged_part(table: Dict[str, Tuple[str, float]], key: str, passed: bool, message: str = "",
           plots: Sequence[str] = (), note: str = "") -> Part:
     name, points = table[key]
     return Part(name, points, passed, message, tuple(plots), note)
 
 
-def _nj(table: Dict[str, Tuple[str, float]], key: str, reason: str) -> Part:
+def not_judged_part(table: Dict[str, Tuple[str, float]], key: str, reason: str) -> Part:
     name, points = table[key]
     return not_judged(name, points, reason)
 
 
-def _fmt(value: Any) -> str:
+def fmt_value(value: Any) -> str:
     if isinstance(value, bool):
         return str(value)
     if isinstance(value, float):
@@ -87,11 +87,11 @@ def _fmt(value: Any) -> str:
     if isinstance(value, dict) and "__missing__" in value:
         return f"no attribute {value['__missing__']}"
     if isinstance(value, (list, tuple)):
-        return "[" + ", ".join(_fmt(v) for v in value) + "]"
+        return "[" + ", ".join(fmt_value(v) for v in value) + "]"
     return repr(value)
 
 
-def _as_float(value: Any) -> Optional[float]:
+def as_float(value: Any) -> Optional[float]:
     if isinstance(value, bool) or value is None:
         return None
     try:

@@ -15,15 +15,15 @@ from hri_teleop.core.gripper import width_from_joint_positions_m
 from hri_teleop.core.mapping import ADC_MAX_COUNT
 from hri_teleop.grading.cases.inputs import LaunchSimCase
 from hri_teleop.grading.judge.compare_common import (
-    _PACKAGES,
     GRAPH,
     SENSOR_LAUNCH,
+    STUDENT_PACKAGES,
     TELEOP_LAUNCH,
-    _as_float,
-    _fmt,
-    _nj,
-    _part,
+    as_float,
     explain_process,
+    fmt_value,
+    judged_part,
+    not_judged_part,
 )
 from hri_teleop.grading.judge.plots import timeline
 from hri_teleop.grading.judge.robot_params import TABLE_1
@@ -54,10 +54,10 @@ def _parse_parts(table: Dict[str, Tuple[str, float]], parsed: LaunchParseResult,
         reason = parsed.error or explain_process(parse_facts or ProcessFacts(), "parsing")
         if franka_hint and "franka_control" in reason:
             reason += franka_hint
-        return ([_part(table, "parse", False, f"roslaunch cannot load it: {reason}")]
-                + [_nj(table, k, "the file does not parse") for k in later]), True
+        return ([judged_part(table, "parse", False, f"roslaunch cannot load it: {reason}")]
+                + [not_judged_part(table, k, "the file does not parse") for k in later]), True
     empty = not parsed.nodes and not parsed.params
-    return [_part(table, "parse", not empty, "it parses but starts no node and sets no parameter: write the launch "
+    return [judged_part(table, "parse", not empty, "it parses but starts no node and sets no parameter: write the launch "
                   f"file (handout {exercise})" if empty else "")], False
 
 
@@ -98,25 +98,25 @@ def compare_sensor_launch(parsed: LaunchParseResult, observation: Optional[Senso
         found = scripts.get(script, [])
         if not found:
             missing.append(f"no node runs {script} of hri_lab: start it with a <node> element (handout Ex. 6)")
-        elif not any(n.package in _PACKAGES for n in found):
+        elif not any(n.package in STUDENT_PACKAGES for n in found):
             missing.append(f"{script} is started from package {found[0].package!r}; it is in hri_lab")
-    parts.append(_part(T, "nodes", not missing, "\n".join(missing)))
+    parts.append(judged_part(T, "nodes", not missing, "\n".join(missing)))
     ok, message = check_max_param(parsed.params)
-    parts.append(_part(T, "param", ok, message))
+    parts.append(judged_part(T, "param", ok, message))
     keys = [k for k in TABLE_1 if f"/{k}" in parsed.params or any(p.startswith(f"/{k}/") for p in parsed.params)]
-    parts.append(_part(T, "yaml", True, note=("Ex. 7 done: robot_params.yaml is loaded" if keys else
+    parts.append(judged_part(T, "yaml", True, note=("Ex. 7 done: robot_params.yaml is loaded" if keys else
                                               "Ex. 7 (voluntary) not done: robot_params.yaml is not loaded")))
     if observation is None or observation.session_error:
         reason = observation.session_error if observation is not None else "it was not launched"
-        parts.append(_nj(T, "flow", f"the grader could not launch it ({reason})"))
+        parts.append(not_judged_part(T, "flow", f"the grader could not launch it ({reason})"))
         return parts
     values = observation.force_mapped
     kinds = {k for _, k, _ in values}
-    numbers = [_as_float(v) for _, _, v in values]
+    numbers = [as_float(v) for _, _, v in values]
     problems = []
     note = _supplied_note(observation, "the flow")
     if {"FSR_sensor.py", "mapping_node.py"} <= set(observation.supplied):
-        parts.append(_part(T, "flow", False, "the launch file starts neither node: the grader started both, so "
+        parts.append(judged_part(T, "flow", False, "the launch file starts neither node: the grader started both, so "
                            "nothing that flowed came from your launch file", note=note))
         return parts
     if not values:
@@ -129,11 +129,11 @@ def compare_sensor_launch(parsed: LaunchParseResult, observation: Optional[Senso
         outside = [v for v in numbers if v is None or not 0.0 <= v <= 1.0]
         if outside:
             problems.append(f"{len(outside)} of {len(values)} values on /force_mapped were outside [0, 1] "
-                            f"(e.g. {_fmt(outside[0])}): check mapping_node.py's range and clipping")
+                            f"(e.g. {fmt_value(outside[0])}): check mapping_node.py's range and clipping")
         if len(values) < 3:
             problems.append(f"only {len(values)} messages on /force_mapped in the recording: the sensor publishes "
                             "10 per second")
-    parts.append(_part(T, "flow", not problems, "\n".join(problems), note=note))
+    parts.append(judged_part(T, "flow", not problems, "\n".join(problems), note=note))
     return parts
 
 
@@ -180,29 +180,29 @@ def compare_teleop_launch(parsed: LaunchParseResult, parse_facts: Optional[Proce
             problems.append(f"no node runs {script} of hri_lab: start it with a <node> element (handout Ex. 12 e)")
         elif not any(n.package == "hri_lab" for n in found):
             problems.append(f"{script} is started from package {found[0].package!r}; in the lab it is in hri_lab")
-    parts.append(_part(T, "nodes", not problems, "\n".join(problems)))
+    parts.append(judged_part(T, "nodes", not problems, "\n".join(problems)))
     params = parsed.params
     serial = [n for n in scripts.get("serial_node.py", []) if n.package == "rosserial_python"]
     if not serial:
-        parts.append(_part(T, "serial", False, "no node runs rosserial_python's serial_node.py: the Arduino's "
+        parts.append(judged_part(T, "serial", False, "no node runs rosserial_python's serial_node.py: the Arduino's "
                                                "node of Ex. 12 f)"))
     else:
         key = f"{serial[0].full_name}/port"
         port = params.get(key)
         if port is None:
-            parts.append(_part(T, "serial", False, f"serial_node has no private parameter port ({key}): give it the "
+            parts.append(judged_part(T, "serial", False, f"serial_node has no private parameter port ({key}): give it the "
                                                    "Arduino's serial port (Ex. 11), a string <param> inside its <node>"))
         elif not isinstance(port, str) or not port.startswith("/dev/tty"):
-            parts.append(_part(T, "serial", False, f"{key} is {port!r}; it must be the Arduino's serial port, the "
+            parts.append(judged_part(T, "serial", False, f"{key} is {port!r}; it must be the Arduino's serial port, the "
                                                    "string /dev/ttyACM0"))
         else:
             port_note = "" if port == "/dev/ttyACM0" else f"port is {port}"
             rate_note = board_rate_note(params.get(f"{serial[0].full_name}/publish_period_ms"))
-            parts.append(_part(T, "serial", True, note="; ".join(n for n in (port_note, rate_note) if n)))
+            parts.append(judged_part(T, "serial", True, note="; ".join(n for n in (port_note, rate_note) if n)))
     ok, message = check_max_param(params)
-    parts.append(_part(T, "param", ok, message))
+    parts.append(judged_part(T, "param", ok, message))
     included = FRANKA_MARKER_PARAM in params
-    parts.append(_part(T, "include", included, "" if included else (
+    parts.append(judged_part(T, "include", included, "" if included else (
         "franka_control_cartesian_velocity.launch of franka_control is not included: the robot's launch file "
         "of Ex. 13, with an <include> element")))
     return parts
@@ -229,9 +229,9 @@ def _sim_plot(plot_dir: Optional[Path], observation: TeleopLaunchSimObservation,
     twist = [(t, v[2]) for t, v in _series(observation, DEFAULT_TWIST_TOPIC) if isinstance(v, list)]
     z = [(t, v[2]) for t, v in _series(observation, "/lab_sim/ee_pose") if isinstance(v, list)]
     width = [(t, _width_m(v)) for t, v in _series(observation, "/franka_gripper/joint_states")]
-    target = [(t, _as_float(v)) for t, v in _series(observation, "/gripper_width")]
-    force = [(t, _as_float(v)) for t, v in _series(observation, "/force_mapped")]
-    rumble = [(t, _as_float(v)) for t, v in _series(observation, f"{teleop}/rumble")]
+    target = [(t, as_float(v)) for t, v in _series(observation, "/gripper_width")]
+    force = [(t, as_float(v)) for t, v in _series(observation, "/force_mapped")]
+    rumble = [(t, as_float(v)) for t, v in _series(observation, f"{teleop}/rumble")]
     panels = [("twist v_z (m/s)", [("command", twist)]), ("end effector z (m)", [("simulated arm", z)]),
               ("gripper width (m)", [("hand", width), ("/gripper_width", target)]),
               ("force", [("/force_mapped", force), ("rumble", rumble)])]
@@ -259,16 +259,16 @@ def compare_teleop_launch_sim(parsed: LaunchParseResult, observation: Optional[T
     """The launch file run with the simulated lab and the grader's operator (``case``): did it all connect?"""
     T = TELEOP_LAUNCH
     if not parsed.ok:
-        return _nj(T, "sim", "the file does not parse")
+        return not_judged_part(T, "sim", "the file does not parse")
     if observation is None:
-        return _nj(T, "sim", "it starts no teleoperation.py of hri_lab, so there is no operator to run")
+        return not_judged_part(T, "sim", "it starts no teleoperation.py of hri_lab, so there is no operator to run")
     if observation.session_error:
-        return _nj(T, "sim", f"the grader could not run the simulation ({observation.session_error})")
+        return not_judged_part(T, "sim", f"the grader could not run the simulation ({observation.session_error})")
     note = _supplied_note(observation, "the rest")
     teleop = teleop_node_name(parsed) or "/teleoperation"
     if observation.problem:
         launch = dataclasses.replace(observation.launch, problem=observation.problem)
-        return _part(T, "sim", False, explain_process(launch, "roslaunch"), note=note)
+        return judged_part(T, "sim", False, explain_process(launch, "roslaunch"), note=note)
     twist_topic = DEFAULT_TWIST_TOPIC
     problems: List[str] = []
     twists = [v for _, v in _series(observation, twist_topic)]
@@ -290,7 +290,7 @@ def compare_teleop_launch_sim(parsed: LaunchParseResult, observation: Optional[T
                "/gripper_width came but the hand did not move: is gripper_manager.py started?")
         problems.append(f"the hand did not close while cross was held ({seen}); {why}")
     pub_force = _series(observation, "/pub_force")
-    force = [_as_float(v) for _, v in _series(observation, "/force_mapped")]
+    force = [as_float(v) for _, v in _series(observation, "/force_mapped")]
     if not pub_force:
         problems.append("no sensor counts on /pub_force: the board's counts reach ROS through rosserial_python's "
                         "serial_node.py (the grader's stand-in forwards the simulated board)")
@@ -305,7 +305,7 @@ def compare_teleop_launch_sim(parsed: LaunchParseResult, observation: Optional[T
             problems.append(f"/force_mapped stayed below {SIM_MIN_FORCE} (max {max(numbers):.3f}) while the hand "
                             "squeezed the sponge: is /max_sensor_force the calibrated count?")
     facts = []
-    rumble = [r for r in (_as_float(v) for _, v in _series(observation, f"{teleop}/rumble")) if r is not None]
+    rumble = [r for r in (as_float(v) for _, v in _series(observation, f"{teleop}/rumble")) if r is not None]
     if rumble:
         facts.append(f"the pad rumbled up to {max(rumble):.2f}")
     status = [v for _, v in _series(observation, "/lab_sim/object") if isinstance(v, dict)]
@@ -317,7 +317,7 @@ def compare_teleop_launch_sim(parsed: LaunchParseResult, observation: Optional[T
         facts.append(f"{teleop} was still running after square was pressed")
     note = "; ".join(x for x in [note] + facts if x)
     plots = _sim_plot(plot_dir, observation, teleop) if problems else []
-    return _part(T, "sim", not problems, "\n".join(problems), plots, note=note)
+    return judged_part(T, "sim", not problems, "\n".join(problems), plots, note=note)
 
 
 # -- Ex. 15: the graph --------------------------------------------------------------------------
@@ -353,8 +353,8 @@ def compare_graph(answer: Any, live: LiveGraphObservation, answer_error: str = "
             or not isinstance(answer.get("topics"), dict):
         why = answer_error or ("graph.yaml needs `nodes:` (a list of node names) and `topics:` (a mapping from "
                                "topic name to type, publishers and subscribers); see the template")
-        return [_part(T, "format", False, why)] + [_nj(T, k, "graph.yaml could not be read") for k in ("nodes", "types", "links")]
-    parts = [_part(T, "format", True)]
+        return [judged_part(T, "format", False, why)] + [not_judged_part(T, k, "graph.yaml could not be read") for k in ("nodes", "types", "links")]
+    parts = [judged_part(T, "format", True)]
     pubs, subs, types = live.publishers, live.subscribers, live.types
     live_nodes = {n for ns in list(pubs.values()) + list(subs.values()) for n in ns}
     pipeline_nodes = _canon(n for t in PIPELINE_TOPICS for n in pubs.get(t, []) + subs.get(t, []))
@@ -366,7 +366,7 @@ def compare_graph(answer: Any, live: LiveGraphObservation, answer_error: str = "
     unknown = sorted(n for n in listed - _canon(live_nodes) if not _LAB_ONLY.match(n))
     if unknown:
         problems.append(f"not in the running graph: {', '.join(unknown)} (check the names with `rosnode list`)")
-    parts.append(_part(T, "nodes", not problems, "\n".join(problems)))
+    parts.append(judged_part(T, "nodes", not problems, "\n".join(problems)))
 
     topics = {_name(k): v for k, v in answer["topics"].items()}
     problems = []
@@ -381,7 +381,7 @@ def compare_graph(answer: Any, live: LiveGraphObservation, answer_error: str = "
     for topic in sorted(topics):
         if topic not in types and not _LAB_ONLY.match(topic):
             problems.append(f"{topic} is not a topic of the running graph (check it with `rostopic list`)")
-    parts.append(_part(T, "types", not problems, "\n".join(problems)))
+    parts.append(judged_part(T, "types", not problems, "\n".join(problems)))
 
     problems = []
     for topic in PIPELINE_TOPICS:
@@ -397,5 +397,5 @@ def compare_graph(answer: Any, live: LiveGraphObservation, answer_error: str = "
             if got != want:
                 problems.append(f"{topic} {role}: expected {', '.join(sorted(want)) or 'none'}, listed "
                                 f"{', '.join(sorted(got)) or 'none'} (`rostopic info {topic}`)")
-    parts.append(_part(T, "links", not problems, "\n".join(problems)))
+    parts.append(judged_part(T, "links", not problems, "\n".join(problems)))
     return parts

@@ -23,15 +23,15 @@ from hri_teleop.grading.cases.inputs import (
     reference_parts,
 )
 from hri_teleop.grading.judge.compare_common import (
-    _TWIST_TOLERANCE,
     MAPPING,
     TELEOP,
     TOLERANCE,
-    _as_float,
-    _fmt,
-    _nj,
-    _part,
+    TWIST_TOLERANCE,
+    as_float,
     explain_process,
+    fmt_value,
+    judged_part,
+    not_judged_part,
     process_hints,
 )
 from hri_teleop.grading.judge.plots import expected_vs_actual, mapping_plot, series_plot
@@ -57,7 +57,7 @@ def _integer_type(kind: str) -> bool:
 
 def _diagnose_mapping(bad: List[Tuple[int, float, float, Any]], out_type: str) -> str:
     """The most likely mistake behind wrong (count, max, expected, got) values."""
-    gots = [(c, m, e, _as_float(g)) for c, m, e, g in bad]
+    gots = [(c, m, e, as_float(g)) for c, m, e, g in bad]
     numeric = [(c, m, e, g) for c, m, e, g in gots if g is not None]
     if _integer_type(out_type):
         return f"{out_type} holds whole numbers only, so 0.5 arrives as 0: publish std_msgs/Float32"
@@ -92,7 +92,7 @@ def _judge_mapping(items: List[Tuple[int, int, float, List[Response]]], out_type
     wrong = []
     for i, (_, _, expected, responses) in enumerate(items):
         if responses:
-            got = _as_float(responses[0][1])
+            got = as_float(responses[0][1])
             if got is None or abs(got - expected) > TOLERANCE:
                 wrong.append(i)
     if not (missing or extra or wrong):
@@ -103,7 +103,7 @@ def _judge_mapping(items: List[Tuple[int, int, float, List[Response]]], out_type
         for i in wrong[:3]:
             count, maximum, expected, responses = items[i]
             lines.append(f"  /pub_force = {count} with /max_sensor_force = {maximum}: expected /force_mapped = "
-                         f"{expected:.6g}, got {_fmt(responses[0][1])}")
+                         f"{expected:.6g}, got {fmt_value(responses[0][1])}")
         lines.append("hint: " + _diagnose_mapping([(items[i][0], items[i][1], items[i][2], items[i][3][0][1])
                                                    for i in wrong], out_type))
     if missing:
@@ -124,26 +124,26 @@ def compare_mapping(observation: MappingNodeObservation, cases: Sequence[Mapping
     runs = observation.runs
     if observation.session_error or not runs:
         reason = observation.session_error or "the grader's ROS session produced nothing"
-        return [_nj(T, k, f"the grader could not run the node ({reason})") for k in T]
+        return [not_judged_part(T, k, f"the grader could not run the node ({reason})") for k in T]
     public, public_case = runs[0], cases[0]
     facts = public.node
     if not public.input_topic:
         message = explain_process(facts, "mapping_node.py")
         if facts.started and facts.subscriptions == [] and not facts.problem:
             message = "mapping_node.py subscribes to no topic: create rospy.Subscriber('/pub_force', Int16, callback)"
-        return [_part(T, "sub", False, message)] + [_nj(T, k, "the node did not subscribe to /pub_force")
+        return [judged_part(T, "sub", False, message)] + [not_judged_part(T, k, "the node did not subscribe to /pub_force")
                                                     for k in T if k != "sub"]
 
     parts: List[Part] = []
     in_topic, in_type = public.input_topic, public.input_type
     if in_topic == "/pub_force" and in_type == "std_msgs/Int16":
-        parts.append(_part(T, "sub", True))
+        parts.append(judged_part(T, "sub", True))
     elif in_topic != "/pub_force":
         others = ", ".join(t for t, _ in facts.subscriptions)
-        parts.append(_part(T, "sub", False, f"the node subscribes {others}, not /pub_force: the sensor publishes on "
+        parts.append(judged_part(T, "sub", False, f"the node subscribes {others}, not /pub_force: the sensor publishes on "
                                             "/pub_force (the grader sent the counts to your topic to judge the rest)"))
     else:
-        parts.append(_part(T, "sub", False, f"the node subscribes /pub_force as {in_type}; the sensor publishes "
+        parts.append(judged_part(T, "sub", False, f"the node subscribes /pub_force as {in_type}; the sensor publishes "
                                             "std_msgs/Int16: use Int16 from std_msgs.msg"))
 
     out_topic, out_type = public.output_topic, public.output_type
@@ -154,16 +154,16 @@ def compare_mapping(observation: MappingNodeObservation, cases: Sequence[Mapping
                    "rospy.Publisher('/force_mapped', Float32, queue_size=10)")
         if facts.exited_by_itself:
             message = explain_process(facts, "mapping_node.py")
-        parts.append(_part(T, "pub", False, message))
-        return parts + [_nj(T, k, "nothing was published") for k in ("type", "values", "clip", "hidden")]
+        parts.append(judged_part(T, "pub", False, message))
+        return parts + [not_judged_part(T, k, "nothing was published") for k in ("type", "values", "clip", "hidden")]
     if not public.connected:
-        parts.append(_part(T, "pub", False, f"the grader could not connect to {in_topic} ({in_type}) and "
+        parts.append(judged_part(T, "pub", False, f"the grader could not connect to {in_topic} ({in_type}) and "
                                             f"{out_topic}: " + explain_process(facts, "mapping_node.py")))
-        return parts + [_nj(T, k, "no connection to the node") for k in ("type", "values", "clip", "hidden")]
+        return parts + [not_judged_part(T, k, "no connection to the node") for k in ("type", "values", "clip", "hidden")]
     if out_type == "std_msgs/Float32":
-        type_part = _part(T, "type", True)
+        type_part = judged_part(T, "type", True)
     else:
-        type_part = _part(T, "type", False, f"{out_topic} is {out_type or 'of no known type'}; it must be "
+        type_part = judged_part(T, "type", False, f"{out_topic} is {out_type or 'of no known type'}; it must be "
                                             "std_msgs/Float32 (teleoperation subscribes Float32): "
                                             "from std_msgs.msg import Float32")
     if not answered:
@@ -175,13 +175,13 @@ def compare_mapping(observation: MappingNodeObservation, cases: Sequence[Mapping
                        f"in it (SerializationError in its output): publish std_msgs/Float32")
         if facts.exited_by_itself:
             message = explain_process(facts, "mapping_node.py")
-        parts += [_part(T, "pub", False, message), type_part]
-        return parts + [_nj(T, k, "nothing was published") for k in ("values", "clip", "hidden")]
+        parts += [judged_part(T, "pub", False, message), type_part]
+        return parts + [not_judged_part(T, k, "nothing was published") for k in ("values", "clip", "hidden")]
     if out_topic != "/force_mapped":
-        parts.append(_part(T, "pub", False, f"the node publishes on {out_topic}, not /force_mapped: teleoperation "
+        parts.append(judged_part(T, "pub", False, f"the node publishes on {out_topic}, not /force_mapped: teleoperation "
                                             "listens on /force_mapped (the values were judged on your topic)"))
     else:
-        parts.append(_part(T, "pub", True))
+        parts.append(judged_part(T, "pub", True))
     parts.append(type_part)
 
     def items(run: MappingRun, case: MappingCase, which: Callable[[int, int], bool]
@@ -202,7 +202,7 @@ def compare_mapping(observation: MappingNodeObservation, cases: Sequence[Mapping
         if not ok and public.node.exited_by_itself:
             message += "\n" + explain_process(public.node, "mapping_node.py")
         plots = [] if ok else mapping_plot(plot_dir, public, public_case, [index[i] for i in wrong])
-        parts.append(_part(T, key, ok, message, plots))
+        parts.append(judged_part(T, key, ok, message, plots))
 
     hidden_ok = True
     hidden_lines: List[str] = []
@@ -222,7 +222,7 @@ def compare_mapping(observation: MappingNodeObservation, cases: Sequence[Mapping
     if len(runs) < len(cases):
         hidden_ok = False
         hidden_lines.append("the hidden runs did not happen (see the parts above)")
-    parts.append(_part(T, "hidden", hidden_ok, "\n".join(hidden_lines), hidden_plots))
+    parts.append(judged_part(T, "hidden", hidden_ok, "\n".join(hidden_lines), hidden_plots))
     return parts
 
 
@@ -252,7 +252,7 @@ def _method_error(result: PartsCaseResult, method: str) -> Optional[str]:
 
 def _differs(value: Any, want: float, tolerance: float) -> bool:
     """The student's value is no number, or further than ``tolerance`` from ``want``."""
-    number = _as_float(value)
+    number = as_float(value)
     return number is None or abs(number - want) > tolerance
 
 
@@ -262,8 +262,8 @@ def _judge_gripper(case: TeleopPartsCase, exp: List[ExpectedTick], got: List[Par
     if not bad:
         return True, "", []
     i = bad[0]
-    value = _as_float(got[i].gripper_width)
-    previous = _as_float(got[i - 1].gripper_width) if i > 0 else 0.08
+    value = as_float(got[i].gripper_width)
+    previous = as_float(got[i - 1].gripper_width) if i > 0 else 0.08
     held = case.ticks[i].buttons
     if value is None:
         hint = "self.gripper_width must stay a number in metres"
@@ -278,7 +278,7 @@ def _judge_gripper(case: TeleopPartsCase, exp: List[ExpectedTick], got: List[Par
     else:
         hint = f"while a button is held the width changes by k_gripper / rate = {step:.6g} m per tick"
     message = (f"{_case_where(case, i)} ({_pad_context(case, i)}): gripper_width expected {exp[i].gripper_width:.6g} m, "
-               f"got {_fmt(got[i].gripper_width)}; {len(bad)} of {len(exp)} ticks differ\nhint: {hint}")
+               f"got {fmt_value(got[i].gripper_width)}; {len(bad)} of {len(exp)} ticks differ\nhint: {hint}")
     return False, message, bad
 
 
@@ -299,7 +299,7 @@ def _judge_twist(case: TeleopPartsCase, exp: List[ExpectedTick], got: List[Parts
         rotation = g.rotation_mode is True
         want = e.velocity_if_rotation if rotation else e.velocity_if_translation
         if not isinstance(velocity, list) or len(velocity) != 6 \
-                or any(_differs(v, w, _TWIST_TOLERANCE) for v, w in zip(velocity, want)):
+                or any(_differs(v, w, TWIST_TOLERANCE) for v, w in zip(velocity, want)):
             bad.append(i)
     if not bad:
         return True, "", []
@@ -307,7 +307,7 @@ def _judge_twist(case: TeleopPartsCase, exp: List[ExpectedTick], got: List[Parts
     velocity = got[i].cartesian_velocity
     rotation = got[i].rotation_mode is True
     want = exp[i].velocity_if_rotation if rotation else exp[i].velocity_if_translation
-    values = [_as_float(v) for v in velocity] if isinstance(velocity, list) else []
+    values = [as_float(v) for v in velocity] if isinstance(velocity, list) else []
     numbers = [v for v in values if v is not None]
     mode = "rotation" if rotation else "translation"
     if len(values) != 6 or len(numbers) != 6:
@@ -316,15 +316,15 @@ def _judge_twist(case: TeleopPartsCase, exp: List[ExpectedTick], got: List[Parts
         raw = _no_deadzone(case.gains.params(), rotation).target_twist(case.ticks[i].state())
         active = range(3, 6) if rotation else range(0, 3)
         other = range(0, 3) if rotation else range(3, 6)
-        if all(abs(v - r) <= _TWIST_TOLERANCE for v, r in zip(numbers, raw)) and raw != tuple(want):
+        if all(abs(v - r) <= TWIST_TOLERANCE for v, r in zip(numbers, raw)) and raw != tuple(want):
             hint = "pass every stick through self.normalize_analog_input() before the gain (the dead zone, Figure 8)"
-        elif any(abs(numbers[k]) > _TWIST_TOLERANCE for k in other):
+        elif any(abs(numbers[k]) > TWIST_TOLERANCE for k in other):
             hint = f"in {mode} mode only the {mode} half of the velocity may be non-zero"
-        elif all(abs(numbers[k] + want[k]) <= _TWIST_TOLERANCE for k in active) and any(want[k] for k in active):
+        elif all(abs(numbers[k] + want[k]) <= TWIST_TOLERANCE for k in active) and any(want[k] for k in active):
             hint = "the signs are reversed: check the controller assignment in the file's docstring"
-        elif any(abs(numbers[k] + want[k]) <= _TWIST_TOLERANCE and want[k] != 0 for k in active):
+        elif any(abs(numbers[k] + want[k]) <= TWIST_TOLERANCE and want[k] != 0 for k in active):
             wrong = [("v_x v_y v_z w_x w_y w_z".split())[k] for k in active
-                     if want[k] != 0 and abs(numbers[k] + want[k]) <= _TWIST_TOLERANCE]
+                     if want[k] != 0 and abs(numbers[k] + want[k]) <= TWIST_TOLERANCE]
             hint = f"{', '.join(wrong)} has the wrong sign: check the controller assignment in the file's docstring"
         else:
             gain = case.gains.k_rot if rotation else case.gains.k_trans
@@ -336,7 +336,7 @@ def _judge_twist(case: TeleopPartsCase, exp: List[ExpectedTick], got: List[Parts
                 hint = ("v_x <- left stick up/down, v_y <- left stick left/right (left = +y), v_z <- right stick "
                         "up/down, each normalized and times the mode's gain")
     message = (f"{_case_where(case, i)} ({_pad_context(case, i)}, your rotation_mode = {rotation}): "
-               f"cartesian_velocity expected {_fmt(list(want))}, got {_fmt(velocity)}; "
+               f"cartesian_velocity expected {fmt_value(list(want))}, got {fmt_value(velocity)}; "
                f"{len(bad)} of {len(exp)} ticks differ\nhint: {hint}")
     return False, message, bad
 
@@ -357,7 +357,7 @@ def _judge_toggle(case: TeleopPartsCase, exp: List[ExpectedTick], got: List[Part
     else:
         hint = "switch once per press of triangle: toggle_mode() is called once for each JOYBUTTONDOWN"
     message = (f"{_case_where(case, i)}: after {presses} press(es) of triangle rotation_mode should be "
-               f"{exp[i].rotation_mode}, got {_fmt(value)}; {len(bad)} of {len(exp)} ticks differ\nhint: {hint}")
+               f"{exp[i].rotation_mode}, got {fmt_value(value)}; {len(bad)} of {len(exp)} ticks differ\nhint: {hint}")
     return False, message, bad
 
 
@@ -366,7 +366,7 @@ def _judge_rumble(case: TeleopPartsCase, exp: List[ExpectedTick], got: List[Part
     if not bad:
         return True, "", []
     i = bad[0]
-    value = _as_float(got[i].rumble)
+    value = as_float(got[i].rumble)
     force = case.ticks[i].force
     if value is None:
         hint = "self.rumble must be a number 0..1"
@@ -377,7 +377,7 @@ def _judge_rumble(case: TeleopPartsCase, exp: List[ExpectedTick], got: List[Part
     else:
         hint = "the rumble is the mapped force self.force, limited to 0..1"
     message = (f"{_case_where(case, i)}: with self.force = {force:g} rumble expected {exp[i].rumble:g}, got "
-               f"{_fmt(got[i].rumble)}; {len(bad)} of {len(exp)} ticks differ\nhint: {hint}")
+               f"{fmt_value(got[i].rumble)}; {len(bad)} of {len(exp)} ticks differ\nhint: {hint}")
     return False, message, bad
 
 
@@ -388,14 +388,14 @@ def compare_teleop_parts(observation: TeleopPartsResult, cases: Sequence[TeleopP
     keys = ("gripper", "twist", "toggle", "rumble")
     if not observation.ok:
         reason = observation.error or explain_process(probe_facts or ProcessFacts(), "teleoperation.py")
-        return [_part(T, "import", False, reason)] + [_nj(T, k, "the file could not be imported") for k in keys]
+        return [judged_part(T, "import", False, reason)] + [not_judged_part(T, k, "the file could not be imported") for k in keys]
     results = observation.cases
     errors = [r.construct_error for r in results if r.construct_error]
     if errors:
-        return ([_part(T, "import", False, f"Teleoperation(rate=..., k_trans=..., k_rot=..., k_gripper=..., "
+        return ([judged_part(T, "import", False, f"Teleoperation(rate=..., k_trans=..., k_rot=..., k_gripper=..., "
                                            f"deadzone=...) raised {errors[0]}: keep the template's constructor")]
-                + [_nj(T, k, "Teleoperation could not be built") for k in keys])
-    parts = [_part(T, "import", True)]
+                + [not_judged_part(T, k, "Teleoperation could not be built") for k in keys])
+    parts = [judged_part(T, "import", True)]
     judges = {"gripper": (_judge_gripper, "update_gripper_width", "gripper_width", "gripper_width (m)"),
               "twist": (_judge_twist, "update_cartesian_velocity", "cartesian_velocity", ""),
               "toggle": (_judge_toggle, "toggle_mode", "rotation_mode", "rotation_mode"),
@@ -433,7 +433,7 @@ def compare_teleop_parts(observation: TeleopPartsResult, cases: Sequence[TeleopP
                     a_series = [v if not isinstance(v, bool) else float(v) for v in values]
                     plots += series_plot(plot_dir, f"teleop-{key}-{_slug(case.label)}.png",
                                           f"{attribute}, {case.label} trace", e_series, a_series, ylabel, bad[:50])
-        parts.append(_part(T, key, not failures, "\n".join(failures), plots))
+        parts.append(judged_part(T, key, not failures, "\n".join(failures), plots))
     return parts
 
 
@@ -442,8 +442,8 @@ def _first_wrong_component(exp: List[ExpectedTick], ticks: List[PartsTick], inde
     want = exp[index].velocity_if_rotation if ticks[index].rotation_mode is True else exp[index].velocity_if_translation
     if isinstance(velocity, list) and len(velocity) == 6:
         for k in range(6):
-            v = _as_float(velocity[k])
-            if v is None or abs(v - want[k]) > _TWIST_TOLERANCE:
+            v = as_float(velocity[k])
+            if v is None or abs(v - want[k]) > TWIST_TOLERANCE:
                 return k
     return 0
 
@@ -471,45 +471,45 @@ def compare_teleop_node(observation: TeleopNodeObservation, case: TeleopNodeCase
     T = TELEOP
     keys = ("node_start", "node_twist_topic", "node_width_topic", "node_twist", "node_width", "node_rumble", "node_quit")
     if observation.session_error:
-        return [_nj(T, k, f"the grader could not run the node ({observation.session_error})") for k in keys]
+        return [not_judged_part(T, k, f"the grader could not run the node ({observation.session_error})") for k in keys]
     facts = observation.node
     if not facts.started or (observation.problem and not facts.publications):
-        return ([_part(T, "node_start", False, explain_process(facts, "teleoperation.py"))]
-                + [_nj(T, k, "the node did not start") for k in keys[1:]])
+        return ([judged_part(T, "node_start", False, explain_process(facts, "teleoperation.py"))]
+                + [not_judged_part(T, k, "the node did not start") for k in keys[1:]])
     parts: List[Part] = []
     subs = facts.subscriptions
     force_sub = [t for topic, t in subs if topic == "/force_mapped"]
     if force_sub == ["std_msgs/Float32"]:
-        parts.append(_part(T, "node_start", True))
+        parts.append(judged_part(T, "node_start", True))
     elif force_sub:
-        parts.append(_part(T, "node_start", False, f"the node subscribes /force_mapped as {force_sub[0]}; "
+        parts.append(judged_part(T, "node_start", False, f"the node subscribes /force_mapped as {force_sub[0]}; "
                                                    "mapping_node publishes std_msgs/Float32"))
     else:
         listed = ", ".join(topic for topic, _ in subs) or "no topic"
-        parts.append(_part(T, "node_start", False, f"the node subscribes {listed}, not /force_mapped: "
+        parts.append(judged_part(T, "node_start", False, f"the node subscribes {listed}, not /force_mapped: "
                                                    "rospy.Subscriber('/force_mapped', Float32, self.on_force)"))
     messages = observation.messages
     pubs = facts.publications
 
     twist_at, twist_type = _topic_of_type(facts, "geometry_msgs/Twist", twist_topic)
     if twist_at == twist_topic and twist_type == "geometry_msgs/Twist":
-        parts.append(_part(T, "node_twist_topic", True))
+        parts.append(judged_part(T, "node_twist_topic", True))
     elif twist_at:
-        parts.append(_part(T, "node_twist_topic", False, f"the Twist goes to {twist_at}; the velocity controller "
+        parts.append(judged_part(T, "node_twist_topic", False, f"the Twist goes to {twist_at}; the velocity controller "
                                                          f"listens on {twist_topic}"))
     else:
         found = [f"{topic} ({t})" for topic, t in pubs if topic == twist_topic]
-        parts.append(_part(T, "node_twist_topic", False,
+        parts.append(judged_part(T, "node_twist_topic", False,
                            (f"{found[0]} is not geometry_msgs/Twist" if found else f"nothing publishes {twist_topic}")
                            + ": rospy.Publisher('/cartesian_velocity_controller/cmd_vel', Twist, queue_size=1)"))
     width_at, width_type = _topic_of_type(facts, "std_msgs/Float32", "/gripper_width")
     if width_at == "/gripper_width" and width_type == "std_msgs/Float32":
-        parts.append(_part(T, "node_width_topic", True))
+        parts.append(judged_part(T, "node_width_topic", True))
     elif width_at == "/gripper_width":
-        parts.append(_part(T, "node_width_topic", False, f"/gripper_width is {width_type}; gripper_manager "
+        parts.append(judged_part(T, "node_width_topic", False, f"/gripper_width is {width_type}; gripper_manager "
                                                          "subscribes std_msgs/Float32"))
     else:
-        parts.append(_part(T, "node_width_topic", False, "nothing publishes /gripper_width: "
+        parts.append(judged_part(T, "node_width_topic", False, "nothing publishes /gripper_width: "
                                                          "rospy.Publisher('/gripper_width', Float32, queue_size=1)"))
 
     # the twist: each held stick must give its exact value for a while (after the ramp)
@@ -517,7 +517,7 @@ def compare_teleop_node(observation: TeleopNodeObservation, case: TeleopNodeCase
     rate = case.gains.rate
     need = max(3, int(0.15 * rate))
     if not twists:
-        parts.append(_nj(T, "node_twist", "no twist was recorded"))
+        parts.append(not_judged_part(T, "node_twist", "no twist was recorded"))
     else:
         failures = []
         for plateau in case.plateaus:
@@ -537,11 +537,11 @@ def compare_teleop_node(observation: TeleopNodeObservation, case: TeleopNodeCase
                     f"{twist_at}: {names[comp]} must reach {plateau.value:.4g} (dashed) while the stick is held",
                     [t for t, _, _ in twists], [math.nan] * len(twists), [v[comp] for _, _, v in twists],
                     "time since the node started (s)", names[comp], levels=[plateau.value]))
-        parts.append(_part(T, "node_twist", not failures, "\n".join(failures), plots))
+        parts.append(judged_part(T, "node_twist", not failures, "\n".join(failures), plots))
 
-    widths = [m for m in messages.get(width_at, []) if _as_float(m[2]) is not None] if width_at else []
+    widths = [m for m in messages.get(width_at, []) if as_float(m[2]) is not None] if width_at else []
     if not widths:
-        parts.append(_nj(T, "node_width", "no gripper width was recorded"))
+        parts.append(not_judged_part(T, "node_width", "no gripper width was recorded"))
     else:
         step = case.gains.k_gripper / rate
         final = float(widths[-1][2])
@@ -553,17 +553,17 @@ def compare_teleop_node(observation: TeleopNodeObservation, case: TeleopNodeCase
             problems.append(f"after holding cross for {case.close_s:g} s (k_gripper {case.gains.k_gripper:g} m/s) the "
                             f"width should be {case.final_width:.6g} m (within 3 steps of {step:.4g} m), it ended at "
                             f"{final:.6g} m")
-        parts.append(_part(T, "node_width", not problems, "\n".join(problems)))
+        parts.append(judged_part(T, "node_width", not problems, "\n".join(problems)))
 
     rumble_topic = next((topic for topic, t in pubs if topic.endswith("/rumble") and t == "std_msgs/Float32"), "")
-    rumbles = [float(m[2]) for m in messages.get(rumble_topic, []) if _as_float(m[2]) is not None] if rumble_topic else []
+    rumbles = [float(m[2]) for m in messages.get(rumble_topic, []) if as_float(m[2]) is not None] if rumble_topic else []
     if not rumbles:
-        parts.append(_part(T, "node_rumble", False, "no ~rumble messages: keep the template's send() and its "
+        parts.append(judged_part(T, "node_rumble", False, "no ~rumble messages: keep the template's send() and its "
                                                     "rumble publisher"))
     else:
         hits = sum(1 for v in rumbles if abs(v - case.rumble) <= TOLERANCE)
         ok = hits >= len(rumbles) // 2
-        parts.append(_part(T, "node_rumble", ok, "" if ok else (
+        parts.append(judged_part(T, "node_rumble", ok, "" if ok else (
             f"with /force_mapped = {case.force:g} arriving every 50 ms the rumble should be {case.rumble:g}; it was "
             f"in {hits} of {len(rumbles)} ticks (values {min(rumbles):.3g} .. {max(rumbles):.3g}): keep the value "
             "in on_force() and compute the rumble from self.force")))
@@ -571,7 +571,7 @@ def compare_teleop_node(observation: TeleopNodeObservation, case: TeleopNodeCase
     code = observation.exit_code
     last = twists[-1][2] if twists else None
     if observation.quit_in_time and code == 0 and last is not None and all(v == 0.0 for v in last):
-        parts.append(_part(T, "node_quit", True))
+        parts.append(judged_part(T, "node_quit", True))
     else:
         why = []
         if not observation.quit_in_time:
@@ -579,8 +579,8 @@ def compare_teleop_node(observation: TeleopNodeObservation, case: TeleopNodeCase
         elif code != 0:
             why.append(f"it {describe_exit(code)} after square")
         if last is not None and any(v != 0.0 for v in last):
-            why.append(f"the last twist was {_fmt(last)}, not zero")
+            why.append(f"the last twist was {fmt_value(last)}, not zero")
         message = "; ".join(why) or "no twist was recorded"
         hints = process_hints(facts)
-        parts.append(_part(T, "node_quit", False, message + ("; " + "; ".join(hints) if hints else "")))
+        parts.append(judged_part(T, "node_quit", False, message + ("; " + "; ".join(hints) if hints else "")))
     return parts

@@ -16,11 +16,11 @@ import yaml
 
 from hri_teleop.grading.judge import compare
 from hri_teleop.grading.judge.harness import (
-    _grader_env,
-    _missing_result,
-    _require_ros,
-    _resolve,
-    _reusable,
+    grader_shell_env,
+    missing_result,
+    require_ros,
+    resolve_deliverable,
+    reusable,
     run_session_plan,
 )
 from hri_teleop.grading.results import CheckResult, GradingError
@@ -77,11 +77,11 @@ def live_graph(cache_file: Optional[PathLike] = None) -> LiveGraphObservation:
             pass  # unreadable, cut short or of another version (RecordError): compute it again
     if not (REFERENCE_PACKAGE / "launch" / "teleoperation.launch").is_file():
         return _graph_of_running_master()  # the student bundle: the pipeline its notebook started
-    _require_ros()
+    require_ros()
     session_dir = Path(tempfile.mkdtemp(prefix="hri-grade-graph-"))
     try:
         context = SessionContext(session_dir=str(session_dir), student_folder="", uid=None, python=sys.executable,
-                                 env=dict(_grader_env(), TMPDIR=str(session_dir)),
+                                 env=dict(grader_shell_env(), TMPDIR=str(session_dir)),
                                  out=str(session_dir / "live-graph.out.json"), limits=DEFAULT_LIMITS)
         plan = LiveGraphPlan(launch_args=["robot:=false", "arduino:=false", "pad:=virtual"],
                              nodes=list(LIVE_GRAPH_NODES), start_timeout_s=30.0)
@@ -128,15 +128,15 @@ def _graph_of_running_master() -> LiveGraphObservation:
                                 subscribers={t: sorted(n) for t, n in subs}, types=types)
 
 
-@_reusable("graph")
+@reusable("graph")
 def grade_graph(path: PathLike, *, seed: Optional[int] = None, out_dir: Optional[PathLike] = None,
                 graph_cache: Optional[PathLike] = None) -> CheckResult:
     """Ex. 15: the student's nodes, topics and types against the live graph of the lab's pipeline."""
     key = "graph"
-    root, given, found = _resolve(path, key)
+    root, given, found = resolve_deliverable(path, key)
     started = time.monotonic()
     if found is None:
-        return _missing_result("graph", key, compare.GRAPH, root, None)
+        return missing_result("graph", key, compare.GRAPH, root, None)
     error, answer = "", None
     try:
         if found.stat().st_size > 100_000:

@@ -58,13 +58,13 @@ _PROBE_TIMEOUT_S = 20.0
 TWIST_TOPIC = DEFAULT_TWIST_TOPIC
 
 
-def _require_ros() -> None:
+def require_ros() -> None:
     for tool in ("roscore", "roslaunch"):
-        if shutil.which(tool, path=_grader_env()["PATH"]) is None:
+        if shutil.which(tool, path=grader_shell_env()["PATH"]) is None:
             raise GradingError(f"{tool} not found: run 'make setup' (it installs ROS 1) and source tools/env.sh")
 
 
-def _grader_env(package_path: str = "") -> Dict[str, str]:
+def grader_shell_env(package_path: str = "") -> Dict[str, str]:
     """tools/env.sh's environment with ``package_path`` (default: the lab's hri_lab) and no outside master."""
     env = lab_shell_env(package_root=REPO)
     if package_path:
@@ -76,10 +76,10 @@ def _grader_env(package_path: str = "") -> Dict[str, str]:
     return env
 
 
-_OPEN_RUNS: "List[_Run]" = []
+_OPEN_RUNS: "List[CheckRun]" = []
 
 
-def _closing(check: Callable[..., CheckResult]) -> Callable[..., CheckResult]:
+def closing_scratch(check: Callable[..., CheckResult]) -> Callable[..., CheckResult]:
     """Whatever happens inside a check, its scratch folder does not outlive it."""
     @functools.wraps(check)
     def wrapper(*args: Any, **kwargs: Any) -> CheckResult:
@@ -95,7 +95,7 @@ def _closing(check: Callable[..., CheckResult]) -> Callable[..., CheckResult]:
 _SAME_RESULT_KWARGS = {"seed", "out_dir", "graph_cache"}
 
 
-def _reusable(check: str) -> Callable[[Callable[..., CheckResult]], Callable[..., CheckResult]]:
+def reusable(check: str) -> Callable[[Callable[..., CheckResult]], Callable[..., CheckResult]]:
     """In make grade only: the files job stores each result, a notebook's check cell of the same
     package takes it (:mod:`hri_teleop.grading.judge.reuse`). A file given alone, or arguments that
     change what is judged (``node=False``), always run the check."""
@@ -120,7 +120,7 @@ def _reusable(check: str) -> Callable[[Callable[..., CheckResult]], Callable[...
     return decorate
 
 
-class _Run:
+class CheckRun:
     """One check's scratch folder (a fresh workspace) and where its plots and logs go."""
 
     def __init__(self, check: str, submission: PathLike, out_dir: Optional[PathLike], key: str,
@@ -159,7 +159,7 @@ class _Run:
             shutil.rmtree(self.session_dir, ignore_errors=True)
 
     def env(self) -> Dict[str, str]:
-        return _grader_env(ros_package_path(self.space.ws))
+        return grader_shell_env(ros_package_path(self.space.ws))
 
     def probe(self, command: str, target: Path, name: str, result_type: Type[P], plan: Optional[Path] = None
               ) -> Tuple[Optional[P], ProcessFacts]:
@@ -228,7 +228,7 @@ def run_session_plan(context: SessionContext, plan: SessionPlan[Obs], session_di
     return observation.from_json(json.loads(out.read_text(encoding="utf-8")))
 
 
-def _missing_result(check: str, key: str, table: Dict[str, Tuple[str, float]], root: Path, seed: Optional[int]) -> CheckResult:
+def missing_result(check: str, key: str, table: Dict[str, Tuple[str, float]], root: Path, seed: Optional[int]) -> CheckResult:
     sub = DELIVERABLES[key]
     entries = list(table.values())
     parts = [Part(entries[0][0], entries[0][1], False, f"{sub} was not found in {root}: put it at {sub} in your "
@@ -237,7 +237,7 @@ def _missing_result(check: str, key: str, table: Dict[str, Tuple[str, float]], r
     return CheckResult(check, str(root / sub), parts, seed)
 
 
-def _resolve(path: PathLike, key: str) -> Tuple[Path, Optional[Path], Optional[Path]]:
+def resolve_deliverable(path: PathLike, key: str) -> Tuple[Path, Optional[Path], Optional[Path]]:
     """(package root, the file given explicitly or None, the file found or None)."""
     path = Path(path).expanduser()
     if not path.exists():
@@ -250,7 +250,7 @@ def _resolve(path: PathLike, key: str) -> Tuple[Path, Optional[Path], Optional[P
     return root, None, locate(root, key)
 
 
-def _finish(check: str, run: _Run, parts: List[Part], seed: Optional[int], notes: Sequence[str] = ()) -> CheckResult:
+def finish_check(check: str, run: CheckRun, parts: List[Part], seed: Optional[int], notes: Sequence[str] = ()) -> CheckResult:
     target = run.space.originals.get(_KEY[check])
     mode = sandbox_mode(warn=False)
     all_notes = list(notes) + ([] if mode == "bwrap" else ["student code ran without bubblewrap (limits only)"])
@@ -279,21 +279,21 @@ def table_for(check: str) -> Dict[str, Tuple[str, float]]:
             "teleoperation-launch": compare.TELEOP_LAUNCH, "graph": compare.GRAPH}[check]
 
 
-def _start(check: str, path: PathLike, out_dir: Optional[PathLike], seed: Optional[int]
-           ) -> Tuple[Union[_Run, CheckResult], int]:
+def start_check(check: str, path: PathLike, out_dir: Optional[PathLike], seed: Optional[int]
+           ) -> Tuple[Union[CheckRun, CheckResult], int]:
     """(the check's run, or its result when the file is missing: every part failed; the seed)."""
     key = _KEY[check]
-    root, given, found = _resolve(path, key)
+    root, given, found = resolve_deliverable(path, key)
     seed = C.default_seed(root) if seed is None else int(seed)
     if found is None:
         hidden = check in ("mapping-node", "teleoperation")
-        return _missing_result(check, key, table_for(check), root, seed if hidden else None), seed
+        return missing_result(check, key, table_for(check), root, seed if hidden else None), seed
     sandbox_mode()  # says once when bubblewrap is missing
-    return _Run(check, root if given is None else given, out_dir, key, given or found,
+    return CheckRun(check, root if given is None else given, out_dir, key, given or found,
                 reference=_REFERENCE_FOR.get(check, ())), seed
 
 
-def _refuse_reference(run: _Run, check: str, table: Dict[str, Tuple[str, float]], seed: Optional[int]
+def refuse_reference(run: CheckRun, check: str, table: Dict[str, Tuple[str, float]], seed: Optional[int]
                       ) -> Optional[CheckResult]:
     """Every part failed when the student's file uses the lab's reference rules (None: it does not)."""
     target = run.space.files[_KEY[check]]
@@ -307,10 +307,10 @@ def _refuse_reference(run: _Run, check: str, table: Dict[str, Tuple[str, float]]
     message = refusal(Path(DELIVERABLES[_KEY[check]]).name, uses)
     parts = [Part(entries[0][0], entries[0][1], False, message)]
     parts += [not_judged(name, points, "the file uses the lab's reference implementation") for name, points in entries[1:]]
-    return _finish(check, run, parts, seed)
+    return finish_check(check, run, parts, seed)
 
 
-def _parse_launch(run: _Run, key: str) -> Tuple[LaunchParseResult, ProcessFacts]:
+def parse_launch(run: CheckRun, key: str) -> Tuple[LaunchParseResult, ProcessFacts]:
     data, facts = run.probe("launch-parse", run.space.file(key), f"parse-{key}", LaunchParseResult)
     return (data if data is not None else LaunchParseResult()), facts
 

@@ -12,7 +12,7 @@ from pathlib import Path
 from typing import Any, List, Optional, Sequence, Tuple
 
 from hri_teleop.grading.cases.inputs import MappingCase
-from hri_teleop.grading.judge.compare_common import _as_float
+from hri_teleop.grading.judge.compare_common import as_float
 from hri_teleop.grading.run.records import MappingRun
 
 __all__ = ["expected_vs_actual", "mapping_plot", "series_plot", "timeline"]
@@ -71,7 +71,7 @@ def mapping_plot(plot_dir: Optional[Path], run: MappingRun, case: MappingCase, m
     if plot_dir is None:
         return []
     actual = [r[0].value if r else None for r in run.responses] + [None] * (len(case.counts) - len(run.responses))
-    actual = [a if _as_float(a) is not None else None for a in actual]
+    actual = [a if as_float(a) is not None else None for a in actual]
     path = expected_vs_actual(Path(plot_dir) / f"mapping-{case.label}.png",
                               f"/force_mapped for the {case.label} counts, /max_sensor_force = {case.max_sensor_force}",
                               list(range(len(case.counts))), list(case.expected), actual, "count number", "/force_mapped",
@@ -85,7 +85,7 @@ def series_plot(plot_dir: Optional[Path], name: str, title: str, expected: List[
     if plot_dir is None:
         return []
     return [expected_vs_actual(Path(plot_dir) / name, title, list(range(len(expected))), expected,
-                               [_as_float(a) for a in actual], "tick", ylabel, marks=marks)]
+                               [as_float(a) for a in actual], "tick", ylabel, marks=marks)]
 
 
 Series = Sequence[Tuple[float, Optional[float]]]

@@ -27,14 +27,14 @@ from hri_teleop.grading.run.records import (
     Topic,
 )
 from hri_teleop.grading.run.ros_session import (
-    _IGNORED_TOPICS,
+    IGNORED_TOPICS,
     Session,
-    _graph,
-    _launch_facts,
-    _node_io,
-    _start_problem,
-    _student_nodes,
+    launch_facts,
+    node_io,
     recorded_since,
+    start_problem,
+    student_nodes,
+    topic_graph,
 )
 from hri_teleop.ros.master import stop_side_by_side
 
@@ -79,7 +79,7 @@ def run_teleop_launch_sim(session: Session, plan: TeleopLaunchSimPlan) -> Teleop
     started = now()
     up = wait_for(lambda: teleop in session.master.node_names() or not launch.running, plan.start_timeout_s, 0.05)
     session.phase("teleoperation node registered")
-    problem = "" if up and launch.running else _start_problem(launch, plan.start_timeout_s, f"starting {teleop}")
+    problem = "" if up and launch.running else start_problem(launch, plan.start_timeout_s, f"starting {teleop}")
     extra: List[Any] = []
     nodes: Set[str] = set()
     teleop_pub: List[Topic] = []
@@ -90,12 +90,12 @@ def run_teleop_launch_sim(session: Session, plan: TeleopLaunchSimPlan) -> Teleop
             supplied.append(name)
         def still_up() -> bool:
             nonlocal nodes, teleop_pub, quit_in_time
-            current = _student_nodes(session.master, session.baseline)
+            current = student_nodes(session.master, session.baseline)
             nodes |= current - {"/lab_sim"}
             if teleop not in current or not launch.running:
                 quit_in_time = teleop not in current
                 return False
-            teleop_pub = _node_io(session.master, {teleop})[1] or teleop_pub
+            teleop_pub = node_io(session.master, {teleop})[1] or teleop_pub
             return True
 
         if clock is not None:
@@ -158,19 +158,19 @@ def run_teleop_launch_sim(session: Session, plan: TeleopLaunchSimPlan) -> Teleop
             deadline = time.monotonic() + plan.run_s
             while time.monotonic() < deadline and still_up():
                 time.sleep(0.1)
-    pubs, subs, types = _graph(session.master)
+    pubs, subs, types = topic_graph(session.master)
     recorder.close()
     exited = not launch.running
 
     stop_side_by_side([launch, *extra, lab])  # their shutdowns overlap (0.7 s one after another)
-    publishers, subscribers = _connections(pubs, subs, _IGNORED_TOPICS)
+    publishers, subscribers = _connections(pubs, subs, IGNORED_TOPICS)
     return TeleopLaunchSimObservation(
         supplied=supplied, problem=problem, nodes=sorted(nodes), quit_in_time=quit_in_time,
         run_s=round(now() - started, 3), teleop_publications=teleop_pub,
         clock="grader" if clock is not None and not clock.paced else "real time",
         publishers=publishers, subscribers=subscribers,
-        types={t: k for t, k in types.items() if t not in _IGNORED_TOPICS},
-        messages=recorded_since(recorder, started, plan.record), launch=_launch_facts(launch, exited),
+        types={t: k for t, k in types.items() if t not in IGNORED_TOPICS},
+        messages=recorded_since(recorder, started, plan.record), launch=launch_facts(launch, exited),
         lab_sim_log=lab.output()[-1500:])
 
 
@@ -193,7 +193,7 @@ def run_live_graph(session: Session, plan: LiveGraphPlan) -> LiveGraphObservatio
         return LiveGraphObservation(problem=f"the reference teleoperation.launch did not start: {out}")
     previous: Any = None
     for _ in range(50):  # until two readings 0.3 s apart agree
-        pubs, subs, types = _graph(session.master)
+        pubs, subs, types = topic_graph(session.master)
         reading = (sorted((t, sorted(n)) for t, n in pubs.items()), sorted((t, sorted(n)) for t, n in subs.items()))
         if reading == previous:
             break

@@ -31,17 +31,17 @@ from hri_teleop.grading.run.records import (
     TeleopNodePlan,
 )
 from hri_teleop.grading.run.ros_session import (
-    _IGNORED_TOPICS,
+    IGNORED_TOPICS,
     Session,
-    _facts,
-    _forget_nodes,
-    _graph,
-    _launch_facts,
-    _pick,
-    _start_problem,
-    _student_nodes,
-    _wait_for_node,
+    forget_nodes,
+    launch_facts,
+    node_facts,
+    pick_topic,
     recorded_since,
+    start_problem,
+    student_nodes,
+    topic_graph,
+    wait_for_node,
 )
 from hri_teleop.grading.run.sandbox import describe_exit
 from hri_teleop.ros.master import stop_side_by_side
@@ -59,16 +59,16 @@ def run_mapping_node(session: Session, plan: MappingNodePlan) -> MappingNodeObse
             break  # nothing came back for the public counts: the hidden ones cannot tell more
         session.master.set_param("/max_sensor_force", case.max_sensor_force)
         proc = session.start_student([session.python, plan.script], f"mapping_node-{index}")
-        nodes, sub, pub, ok = _wait_for_node(session, proc, plan.start_timeout_s, lambda s, p: bool(s))
+        nodes, sub, pub, ok = wait_for_node(session, proc, plan.start_timeout_s, lambda s, p: bool(s))
         if ok and not pub:  # subscribed; give it a moment to advertise too
-            nodes, sub, pub, _ = _wait_for_node(session, proc, 2.0, lambda s, p: bool(p))
+            nodes, sub, pub, _ = wait_for_node(session, proc, 2.0, lambda s, p: bool(p))
         in_topic = in_type = out_topic = out_type = ""
         connected = False
         responses: List[List[Response]] = []
-        problem = "" if ok else _start_problem(proc, plan.start_timeout_s, "subscribing to a topic")
+        problem = "" if ok else start_problem(proc, plan.start_timeout_s, "subscribing to a topic")
         if ok:
-            in_topic, in_type = _pick(sub, "/pub_force")
-            out_topic, out_type = _pick(pub, "/force_mapped")
+            in_topic, in_type = pick_topic(sub, "/pub_force")
+            out_topic, out_type = pick_topic(pub, "/force_mapped")
             if in_topic:
                 publisher = rospy.Publisher(in_topic, Int16, queue_size=1000, tcp_nodelay=True)
                 recorder = Recorder()
@@ -83,7 +83,7 @@ def run_mapping_node(session: Session, plan: MappingNodePlan) -> MappingNodeObse
                     responses = _lockstep(publisher, recorder, out_topic, case.counts, proc, plan.response_timeout_s)
                 recorder.close()
                 publisher.unregister()
-            nodes2, sub2, pub2, _ = _wait_for_node(session, proc, 0.0, lambda s, p: True)
+            nodes2, sub2, pub2, _ = wait_for_node(session, proc, 0.0, lambda s, p: True)
             if nodes2:
                 nodes, sub, pub = nodes2, sub2, pub2
         exited = not proc.running
@@ -93,8 +93,8 @@ def run_mapping_node(session: Session, plan: MappingNodePlan) -> MappingNodeObse
         runs.append(MappingRun(label=case.label, max_sensor_force=case.max_sensor_force, counts=case.counts,
                                responses=responses, input_topic=in_topic, input_type=in_type, output_topic=out_topic,
                                output_type=out_type, connected=connected,
-                               node=_facts(proc, nodes, sub, pub, problem, exited)))
-        _forget_nodes(session.master, _student_nodes(session.master, session.baseline))
+                               node=node_facts(proc, nodes, sub, pub, problem, exited)))
+        forget_nodes(session.master, student_nodes(session.master, session.baseline))
     return MappingNodeObservation(runs=runs)
 
 
@@ -181,7 +181,7 @@ def run_sensor_launch(session: Session, plan: SensorLaunchPlan) -> SensorLaunchO
     recorder = Recorder(clock.now if clock else time.monotonic)
     ok = wait_for(lambda: bool(session.master.publishers("/force_mapped")) or not launch.running,
                plan.start_timeout_s, 0.05) and launch.running
-    problem = "" if ok else _start_problem(launch, plan.start_timeout_s, "anything publishing /force_mapped")
+    problem = "" if ok else start_problem(launch, plan.start_timeout_s, "anything publishing /force_mapped")
     if ok:
         recorder.add("/force_mapped")
         recorder.add("/pub_force")
@@ -194,8 +194,8 @@ def run_sensor_launch(session: Session, plan: SensorLaunchPlan) -> SensorLaunchO
             # Enough messages to judge, not a fixed time: a busy machine records the same number.
             wait_for(lambda: bool(want and recorder.count("/force_mapped") >= want) or not launch.running,
                   plan.record_s, 0.01)
-    nodes = sorted(_student_nodes(session.master, session.baseline))
-    pubs, subs, types = _graph(session.master)
+    nodes = sorted(student_nodes(session.master, session.baseline))
+    pubs, subs, types = topic_graph(session.master)
     recorder.close()
     exited = not launch.running
     if ok and exited:
@@ -205,10 +205,10 @@ def run_sensor_launch(session: Session, plan: SensorLaunchPlan) -> SensorLaunchO
     return SensorLaunchObservation(
         supplied=supplied, problem=problem, nodes=nodes,
         clock="grader" if clock is not None and not clock.paced else "real time",
-        types={t: k for t, k in types.items() if t not in _IGNORED_TOPICS},
+        types={t: k for t, k in types.items() if t not in IGNORED_TOPICS},
         force_mapped=[Message(t, k, v) for t, k, v in recorder.messages.get("/force_mapped", [])],
         pub_force=[Message(t, k, v) for t, k, v in recorder.messages.get("/pub_force", [])],
-        launch=_launch_facts(launch, exited))
+        launch=launch_facts(launch, exited))
 
 
 def run_teleop_node(session: Session, plan: TeleopNodePlan) -> TeleopNodeObservation:
@@ -239,8 +239,8 @@ def run_teleop_node(session: Session, plan: TeleopNodePlan) -> TeleopNodeObserva
     for topic in record[1:] if clock else record:
         recorder.add(topic)
     proc = session.start_student(argv, "teleoperation", clock.student_env() if clock else None)
-    nodes, sub, pub, ok = _wait_for_node(session, proc, plan.start_timeout_s, lambda s, p: bool(p))
-    problem = "" if ok else _start_problem(proc, plan.start_timeout_s, "advertising a topic")
+    nodes, sub, pub, ok = wait_for_node(session, proc, plan.start_timeout_s, lambda s, p: bool(p))
+    problem = "" if ok else start_problem(proc, plan.start_timeout_s, "advertising a topic")
     if ok and clock is not None and record:
         others = record[1:]
         wait_for(lambda: all(recorder.connected(t) and any(connections(session, n, t, "o") > 0 for n in nodes)
@@ -252,7 +252,7 @@ def run_teleop_node(session: Session, plan: TeleopNodePlan) -> TeleopNodeObserva
         """Add what the node registered since: a node that is shutting down has unregistered its
         topics already, so a later reading never replaces an earlier one."""
         nonlocal nodes, sub, pub
-        nodes2, sub2, pub2, _ = _wait_for_node(session, proc, 0.0, lambda s, p: True)
+        nodes2, sub2, pub2, _ = wait_for_node(session, proc, 0.0, lambda s, p: True)
         if nodes2:
             nodes = set(nodes) | set(nodes2)
             sub = sub + [x for x in sub2 if x not in sub]
@@ -296,7 +296,7 @@ def run_teleop_node(session: Session, plan: TeleopNodePlan) -> TeleopNodeObserva
     recorder.close()
     return TeleopNodeObservation(
         problem=problem, quit_in_time=exited, clock="real time" if clock is None or clock.paced else "grader",
-        rescued_steps=clock.rescues if clock else 0, node=_facts(proc, nodes, sub, pub, problem, exited),
+        rescued_steps=clock.rescues if clock else 0, node=node_facts(proc, nodes, sub, pub, problem, exited),
         exit_code=exit_code, messages=recorded_since(recorder, started))
 
 

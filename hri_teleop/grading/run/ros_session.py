@@ -19,25 +19,25 @@ from hri_teleop.grading.run.records import Message, NodeFacts, ProcessFacts, Ses
 from hri_teleop.grading.run.sandbox import StudentProcess, describe_exit
 from hri_teleop.ros.master import PrivateMaster, stop_side_by_side
 
-__all__ = ["Session"]
+__all__ = ["IGNORED_TOPICS", "topic_graph", "student_nodes", "forget_nodes", "node_io", "node_facts", "start_problem", "wait_for_node", "launch_facts", "pick_topic", "Session"]
 
-_IGNORED_TOPICS = ("/rosout", "/rosout_agg")
+IGNORED_TOPICS = ("/rosout", "/rosout_agg")
 
 
 # -- what a student's node did ------------------------------------------------------------
 
-def _graph(master: PrivateMaster) -> Tuple[Dict[str, Set[str]], Dict[str, Set[str]], Dict[str, str]]:
+def topic_graph(master: PrivateMaster) -> Tuple[Dict[str, Set[str]], Dict[str, Set[str]], Dict[str, str]]:
     """(topic -> publisher nodes, topic -> subscriber nodes, topic -> type) from the master."""
     pubs, subs, _ = master.system_state()
     types = master.topic_types()
     return ({t: set(n) for t, n in pubs}, {t: set(n) for t, n in subs}, types)
 
 
-def _student_nodes(master: PrivateMaster, baseline: Set[str]) -> Set[str]:
+def student_nodes(master: PrivateMaster, baseline: Set[str]) -> Set[str]:
     return {n for n in master.node_names() if n not in baseline and n != GRADER_NODE and n != "/rosout"}
 
 
-def _forget_nodes(master: PrivateMaster, nodes: Set[str]) -> None:
+def forget_nodes(master: PrivateMaster, nodes: Set[str]) -> None:
     """Remove a stopped student node's registrations: a killed node never unregisters itself,
     and the next run may reuse its name."""
     proxy = master._proxy()
@@ -59,15 +59,15 @@ def _forget_nodes(master: PrivateMaster, nodes: Set[str]) -> None:
                     proxy.unregisterService(node, service, service_uri)
 
 
-def _node_io(master: PrivateMaster, nodes: Set[str]) -> Tuple[List[Topic], List[Topic]]:
+def node_io(master: PrivateMaster, nodes: Set[str]) -> Tuple[List[Topic], List[Topic]]:
     """(topic, type) the nodes subscribe and publish (rosout left out)."""
-    pubs, subs, types = _graph(master)
-    sub = sorted(Topic(t, types.get(t, "")) for t, n in subs.items() if n & nodes and t not in _IGNORED_TOPICS)
-    pub = sorted(Topic(t, types.get(t, "")) for t, n in pubs.items() if n & nodes and t not in _IGNORED_TOPICS)
+    pubs, subs, types = topic_graph(master)
+    sub = sorted(Topic(t, types.get(t, "")) for t, n in subs.items() if n & nodes and t not in IGNORED_TOPICS)
+    pub = sorted(Topic(t, types.get(t, "")) for t, n in pubs.items() if n & nodes and t not in IGNORED_TOPICS)
     return sub, pub
 
 
-def _facts(proc: Any, nodes: Set[str], sub: List[Topic], pub: List[Topic], problem: str,
+def node_facts(proc: Any, nodes: Set[str], sub: List[Topic], pub: List[Topic], problem: str,
            exited_by_itself: bool) -> NodeFacts:
     return NodeFacts(started=bool(nodes), nodes=sorted(nodes), subscriptions=sub, publications=pub,
                      exited_by_itself=exited_by_itself, exit_code=proc.returncode, output_tail=proc.output_tail(),
@@ -123,7 +123,7 @@ class Session:
         self.master.stop(quick=True)
 
 
-def _start_problem(proc: Any, timeout_s: float, what: str) -> str:
+def start_problem(proc: Any, timeout_s: float, what: str) -> str:
     if not proc.running:
         return f"{describe_exit(proc.returncode)} before {what}"
     count = proc.process_count()
@@ -133,7 +133,7 @@ def _start_problem(proc: Any, timeout_s: float, what: str) -> str:
             f"or waiting for something that never comes?){crowd}")
 
 
-def _wait_for_node(session: Session, proc: Any, timeout_s: float, want: Callable[[List[Topic], List[Topic]], bool]
+def wait_for_node(session: Session, proc: Any, timeout_s: float, want: Callable[[List[Topic], List[Topic]], bool]
                    ) -> Tuple[Set[str], List[Topic], List[Topic], bool]:
     """Wait until the student's node(s) satisfy ``want(subs, pubs)``, it dies, or the time is up."""
     nodes: Set[str] = set()
@@ -142,16 +142,16 @@ def _wait_for_node(session: Session, proc: Any, timeout_s: float, want: Callable
 
     def ready() -> bool:
         nonlocal nodes, sub, pub
-        nodes = _student_nodes(session.master, session.baseline)
+        nodes = student_nodes(session.master, session.baseline)
         if nodes:
-            sub, pub = _node_io(session.master, nodes)
+            sub, pub = node_io(session.master, nodes)
         return (bool(nodes) and want(sub, pub)) or not proc.running
 
     ok = wait_for(ready, timeout_s, 0.05) and proc.running
     return nodes, sub, pub, ok
 
 
-def _launch_facts(launch: Any, exited: bool) -> ProcessFacts:
+def launch_facts(launch: Any, exited: bool) -> ProcessFacts:
     """roslaunch's end and last output (its ``problem`` is the observation's)."""
     return ProcessFacts(exit_code=launch.returncode, exited_by_itself=exited, output_tail=launch.output_tail(),
                         output_bytes=launch.output_size())
@@ -163,7 +163,7 @@ def recorded_since(recorder: Recorder, started: float, topics: Optional[List[str
             if topics is None or t in topics}
 
 
-def _pick(topics: List[Topic], wanted: str) -> Tuple[str, str]:
+def pick_topic(topics: List[Topic], wanted: str) -> Tuple[str, str]:
     """(topic, type): ``wanted`` if present, else the only other one, else ('', '')."""
     for topic, kind in topics:
         if topic == wanted:

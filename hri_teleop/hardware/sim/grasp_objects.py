@@ -5,7 +5,7 @@ from __future__ import annotations
 from dataclasses import dataclass
 from typing import Dict, Optional
 
-from hri_teleop.hardware.sim.hand_params import GRAVITY_M_PER_S2, HandSimError, _check
+from hri_teleop.hardware.sim.hand_params import GRAVITY_M_PER_S2, HandSimError, checked_param
 
 __all__ = ["GraspObject", "OBJECTS", "holding_force_n", "is_held"]
 
@@ -35,10 +35,10 @@ class GraspObject:
             ("mass_kg", "e.g. 0.06 for an egg"),
             ("friction_coefficient", "e.g. 0.4"),
         ):
-            object.__setattr__(self, name, _check(getattr(self, name), f"GraspObject.{name}", fix,
+            object.__setattr__(self, name, checked_param(getattr(self, name), f"GraspObject.{name}", fix,
                                                   lowest=">0"))
         if self.breaking_force_n is not None:
-            object.__setattr__(self, "breaking_force_n", _check(
+            object.__setattr__(self, "breaking_force_n", checked_param(
                 self.breaking_force_n, "GraspObject.breaking_force_n", "e.g. 30.0, or None for unbreakable",
                 lowest=">0"))
 

@@ -9,7 +9,7 @@ from typing import Optional, Union
 from hri_teleop.core.checks import is_number
 from hri_teleop.hardware.sim.hand_params import DEFAULT_EPSILON_M, MAX_SPEED_M_PER_S, HandSimError
 
-__all__ = ["MoveCommand", "GraspCommand", "HomingCommand", "StopCommand", "Command", "GoalStatus", "GoalRecord",
+__all__ = ["ACTION_NAMES", "add_note", "MoveCommand", "GraspCommand", "HomingCommand", "StopCommand", "Command", "GoalStatus", "GoalRecord",
            "HandState", "goal_problem"]
 
 
@@ -59,7 +59,7 @@ class StopCommand:
 
 Command = Union[MoveCommand, GraspCommand, HomingCommand, StopCommand]
 
-_ACTION_NAMES = {MoveCommand: "move", GraspCommand: "grasp", HomingCommand: "homing", StopCommand: "stop"}
+ACTION_NAMES = {MoveCommand: "move", GraspCommand: "grasp", HomingCommand: "homing", StopCommand: "stop"}
 
 
 class GoalStatus(IntEnum):
@@ -93,7 +93,7 @@ class GoalRecord:
     @property
     def action(self) -> str:
         """The action's name: "move", "grasp", "homing" or "stop"."""
-        return _ACTION_NAMES[type(self.command)]
+        return ACTION_NAMES[type(self.command)]
 
     @property
     def done(self) -> bool:
@@ -101,7 +101,7 @@ class GoalRecord:
         return self.status != GoalStatus.ACTIVE
 
 
-def _note(record: GoalRecord, text: str) -> None:
+def add_note(record: GoalRecord, text: str) -> None:
     """Add ``text`` to the record's plain-words ``detail``."""
     if text:
         record.detail = f"{record.detail}; {text}" if record.detail else text

@@ -14,7 +14,7 @@ from hri_teleop.core.attachment import Attachment
 from hri_teleop.core.checks import is_finite_number
 from hri_teleop.hardware.sim.grasp_objects import GraspObject, holding_force_n
 from hri_teleop.hardware.sim.gripper_goals import (
-    _ACTION_NAMES,
+    ACTION_NAMES,
     Command,
     GoalRecord,
     GoalStatus,
@@ -22,7 +22,7 @@ from hri_teleop.hardware.sim.gripper_goals import (
     HandState,
     MoveCommand,
     StopCommand,
-    _note,
+    add_note,
     goal_problem,
 )
 from hri_teleop.hardware.sim.hand_params import (
@@ -31,7 +31,7 @@ from hri_teleop.hardware.sim.hand_params import (
     GRAVITY_M_PER_S2,
     HandParams,
     HandSimError,
-    _check,
+    checked_param,
 )
 
 __all__ = ["HandSim"]
@@ -67,7 +67,7 @@ class HandSim:
         self.attachment = attachment if attachment is not None else Attachment()
         if not isinstance(self.params, HandParams) or not isinstance(self.attachment, Attachment):
             raise HandSimError("HandSim takes a HandParams and an Attachment; build them with their defaults")
-        self._now = _check(start_s, "HandSim start_s", "pass the simulation's start time in seconds, e.g. 0.0")
+        self._now = checked_param(start_s, "HandSim start_s", "pass the simulation's start time in seconds, e.g. 0.0")
         p, a = self.params, self.attachment
         # Plain floats for the 1 kHz loop.
         self._w_max = p.max_width_m
@@ -113,8 +113,8 @@ class HandSim:
         """
         if not isinstance(obj, GraspObject):
             raise HandSimError(f"place_object takes a GraspObject, got {obj!r}; e.g. OBJECTS['egg']")
-        offset = _check(finger_offset_m, "finger_offset_m", "pass metres, 0.0 = fingers at the grasp height")
-        height = _check(height_m, "height_m", "pass metres above the support, 0.0 = on the table", lowest=">=0")
+        offset = checked_param(finger_offset_m, "finger_offset_m", "pass metres, 0.0 = fingers at the grasp height")
+        height = checked_param(height_m, "height_m", "pass metres above the support, 0.0 = on the table", lowest=">=0")
         if self._in_reach and abs(offset) <= self.params.grip_zone_m and self._w < obj.width_m + self._travel:
             raise HandSimError(
                 f"place_object: the fingers are {self._w:.4f} m apart, too close for the {obj.name} "
@@ -353,7 +353,7 @@ class HandSim:
         record.status = status
         record.success = success
         record.error = error
-        _note(record, detail)
+        add_note(record, detail)
         record.finished_s = now
         self._finished.append(record)
         if record is self._active:
@@ -365,7 +365,7 @@ class HandSim:
         move, grasp and homing preempt the running one; stop ends it and releases.
         Impossible goals end ABORTED at once and leave the running goal alone.
         """
-        if type(command) not in _ACTION_NAMES:
+        if type(command) not in ACTION_NAMES:
             raise HandSimError(
                 f"send takes a MoveCommand, GraspCommand, HomingCommand or StopCommand, got {command!r}"
             )
@@ -396,7 +396,7 @@ class HandSim:
         elif isinstance(command, GraspCommand):
             self._mode, self._cap = _GRASP, min(command.force_n, p.max_force_n)
             if command.force_n > p.max_force_n:
-                _note(record, f"force {command.force_n} N clipped to {p.max_force_n} N")
+                add_note(record, f"force {command.force_n} N clipped to {p.max_force_n} N")
             self._target = 0.0 if command.width_m < self._w else self._w_max
             self._speed = self._clip_speed(command.speed_m_per_s, record)
             self._grasp = command
@@ -420,7 +420,7 @@ class HandSim:
 
     def _clip_speed(self, speed: float, record: GoalRecord) -> float:
         if speed > self._v_max:
-            _note(record, f"speed {speed} m/s clipped to {self._v_max} m/s")
+            add_note(record, f"speed {speed} m/s clipped to {self._v_max} m/s")
             return self._v_max
         return speed
 

@@ -8,7 +8,7 @@ from hri_teleop.core.checks import checked_float
 from hri_teleop.core.errors import HriTeleopError
 from hri_teleop.core.teleop import GRIPPER_MAX_WIDTH_M
 
-__all__ = ["HandSimError", "MAX_SPEED_M_PER_S", "MAX_FORCE_N", "MOVE_WIDTH_TOLERANCE_M", "MOVE_STALL_TIMEOUT_S",
+__all__ = ["checked_param", "HandSimError", "MAX_SPEED_M_PER_S", "MAX_FORCE_N", "MOVE_WIDTH_TOLERANCE_M", "MOVE_STALL_TIMEOUT_S",
            "DEFAULT_EPSILON_M", "GRAVITY_M_PER_S2", "COMMAND_FAILED", "COMMAND_ABORTED", "HandParams"]
 
 #: Largest speed of the width (m/s): franka_gripper's default_speed, frankx's max_speed.
@@ -33,7 +33,7 @@ class HandSimError(HriTeleopError, ValueError):
     """A hand, object or command setting is unusable, or time ran backwards."""
 
 
-def _check(value: object, name: str, fix: str, *, lowest: str = "") -> float:
+def checked_param(value: object, name: str, fix: str, *, lowest: str = "") -> float:
     """``value`` as a finite float; ``lowest`` ">0" or ">=0" bounds it (else HandSimError)."""
     return checked_float(value, name, fix, HandSimError, lowest=lowest)
 
@@ -68,11 +68,11 @@ class HandParams:
             ("homing_force_n", "e.g. 10.0"),
         )
         for name, fix in positive:
-            object.__setattr__(self, name, _check(getattr(self, name), f"HandParams.{name}", fix,
+            object.__setattr__(self, name, checked_param(getattr(self, name), f"HandParams.{name}", fix,
                                                   lowest=">0"))
         for name, fix in (("move_width_tolerance_m", "e.g. 0.001"), ("grip_zone_m", "e.g. 0.02")):
-            object.__setattr__(self, name, _check(getattr(self, name), f"HandParams.{name}", fix, lowest=">=0"))
-        width = _check(self.initial_width_m, "HandParams.initial_width_m", "e.g. 0.08 (fully open)")
+            object.__setattr__(self, name, checked_param(getattr(self, name), f"HandParams.{name}", fix, lowest=">=0"))
+        width = checked_param(self.initial_width_m, "HandParams.initial_width_m", "e.g. 0.08 (fully open)")
         if not 0.0 <= width <= self.max_width_m:
             raise HandSimError(
                 f"HandParams.initial_width_m must lie in 0 .. {self.max_width_m} m, got {width!r}; e.g. 0.08 (fully open)"

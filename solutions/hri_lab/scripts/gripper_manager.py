@@ -19,12 +19,21 @@ from actionlib import CommState
 from actionlib_msgs.msg import GoalStatus
 from std_msgs.msg import Float32
 
-from hri_teleop.student import GoalThrottle, MoveAction, MoveGoal, NodeClock, fail, get_param, run_node, usable_width_m
+from hri_teleop.student import (
+    GoalThrottle,
+    MoveAction,
+    MoveGoal,
+    NodeClock,
+    fail,
+    get_param,
+    goal_status_name,
+    run_node,
+    usable_width_m,
+)
 
 #: How often the action server's presence is checked (each check blocks at most 50 ms).
 SERVER_CHECK_PERIOD_S = 0.25
 
-_STATUS_NAMES = {v: k for k, v in vars(GoalStatus).items() if k.isupper() and isinstance(v, int)}
 
 
 class GripperManager:
@@ -127,7 +136,7 @@ class GripperManager:
             return
         error = getattr(result, "error", "") if result is not None else ""
         rospy.logwarn_throttle(2.0, "gripper move to %.4f m ended %s%s", self._goal_width,
-                               _STATUS_NAMES.get(state, state), f": {error}" if error else "")
+                               goal_status_name(state), f": {error}" if error else "")
 
 
 def main() -> int:
