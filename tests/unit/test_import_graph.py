@@ -4,44 +4,29 @@ functions and under TYPE_CHECKING too (they hide a circle, they do not remove it
 
 from __future__ import annotations
 
-import ast
+import importlib.util
 from pathlib import Path
 from typing import Dict, List, Set
 
-PACKAGE = Path(__file__).resolve().parents[2] / "hri_teleop"
+REPO = Path(__file__).resolve().parents[2]
+PACKAGE = REPO / "hri_teleop"
 
 
-def _modules() -> Dict[str, Path]:
-    found = {}
-    for path in PACKAGE.rglob("*.py"):
-        parts = path.relative_to(PACKAGE.parent).with_suffix("").parts
-        found[".".join(parts[:-1] if parts[-1] == "__init__" else parts)] = path
-    return found
+def _architecture_tool():
+    """tools/architecture.py, which draws docs/architecture.md from the same graph."""
+    spec = importlib.util.spec_from_file_location("_tools_architecture", REPO / "tools" / "architecture.py")
+    assert spec is not None and spec.loader is not None
+    module = importlib.util.module_from_spec(spec)
+    spec.loader.exec_module(module)
+    return module
+
+
+ARCHITECTURE = _architecture_tool()
 
 
 def import_graph() -> Dict[str, Set[str]]:
-    """Module -> the toolkit's modules it imports anywhere in its text."""
-    modules = _modules()
-    graph: Dict[str, Set[str]] = {name: set() for name in modules}
-    for name, path in modules.items():
-        package = name.split(".") if path.name == "__init__.py" else name.split(".")[:-1]
-        for node in ast.walk(ast.parse(path.read_text())):
-            targets: List[str] = []
-            if isinstance(node, ast.ImportFrom):
-                base = ".".join(package[:len(package) - node.level + 1] + [node.module or ""]).strip(".") \
-                    if node.level else node.module or ""
-                # ``from package import module`` imports that module (as import-linter counts it);
-                # ``from module import name`` imports the module
-                targets = [f"{base}.{alias.name}" if f"{base}.{alias.name}" in modules else base
-                           for alias in node.names]
-            elif isinstance(node, ast.Import):
-                targets = [alias.name for alias in node.names]
-            for target in targets:
-                while target and target not in modules and "." in target:
-                    target = target.rsplit(".", 1)[0]
-                if target in modules and target != name:
-                    graph[name].add(target)
-    return graph
+    """Module -> the toolkit's modules it imports anywhere in its text (tools/architecture.py)."""
+    return ARCHITECTURE.import_graph(PACKAGE)
 
 
 def circles(graph: Dict[str, Set[str]]) -> List[List[str]]:

@@ -1,5 +1,5 @@
 """The layers are folders, and each imports only the layers below it (every import counts, those
-inside functions too): core < hardware, plots < ros < grading < course, and student (what students'
+inside functions too): core < plots < hardware < ros < grading < course, and student (what students'
 files import) on ros, imported by nothing in the package but last term's import paths, thin shims
 over it (docs/architecture.md). The core imports no process, socket, thread, ROS, pygame, serial
 port or widget: only the standard library, numpy and yaml."""
