@@ -18,6 +18,8 @@ import sys
 from pathlib import Path
 from typing import Dict, List, Mapping, Optional, Sequence, Tuple
 
+from packaging.utils import canonicalize_name
+
 REPO = Path(__file__).resolve().parents[1]
 #: (folder of the environment, the Python version it runs) -- the environments a term is tested on.
 ENVIRONMENTS: Tuple[Tuple[str, str], ...] = ((".venv", "3.11"), (".venv38", "3.8"))
@@ -29,11 +31,6 @@ HEADER = """\
 _ROW = re.compile(r"^([A-Za-z0-9][A-Za-z0-9._-]*)==([^\s;]+)$")
 
 
-def canonical(name: str) -> str:
-    """PEP 503's name: lower case, runs of ``-_.`` as one ``-``."""
-    return re.sub(r"[-_.]+", "-", name).lower()
-
-
 def parse_freeze(text: str) -> Dict[str, str]:
     """``name==version`` lines of ``pip freeze`` (canonical name -> version); direct references and
     editable installs are left out: they name a path of one machine."""
@@ -41,7 +38,7 @@ def parse_freeze(text: str) -> Dict[str, str]:
     for line in text.splitlines():
         found = _ROW.match(line.strip())
         if found:
-            pins[canonical(found.group(1))] = found.group(2)
+            pins[canonicalize_name(found.group(1))] = found.group(2)
     return pins
 
 

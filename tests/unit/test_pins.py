@@ -10,6 +10,7 @@ from pathlib import Path
 
 from packaging.markers import Marker
 from packaging.requirements import Requirement
+from packaging.utils import canonicalize_name
 
 REPO = Path(__file__).resolve().parents[2]
 
@@ -70,8 +71,8 @@ def test_every_dependency_is_pinned_once_on_each_python_it_installs_on():
         for dependency in _dependencies():
             if dependency.marker is not None and not dependency.marker.evaluate(env):
                 continue
-            name = pins.canonical(dependency.name)
-            held = [r for r in rows if pins.canonical(r.name) == name and r.marker is not None and r.marker.evaluate(env)]
+            name = canonicalize_name(dependency.name)
+            held = [r for r in rows if canonicalize_name(r.name) == name and r.marker is not None and r.marker.evaluate(env)]
             assert len(held) == 1, (python, name, [str(r) for r in held])
             version = str(held[0].specifier).lstrip("=")
             assert dependency.specifier.contains(version, prereleases=True), (python, str(dependency), version)
