@@ -117,11 +117,11 @@ def test_simulated_board_reaches_force_mapped_with_the_model_counts_at_the_firmw
     mapped = [(t, float(m.data)) for t, m in topics["/force_mapped"]]
 
     _check_staircase([c for _, c in counts], steps, "/pub_force")
-    measured_hz = rate_hz(counts)
-    print(f"\nfirmware rate measured on /pub_force: {measured_hz:.1f} Hz over {len(counts)} messages")
-    # The simulation keeps to the wall clock; it says so when the machine is too busy for that.
-    assert measured_hz == pytest.approx(FIRMWARE_RATE_HZ, rel=0.05), sim[0].output()
-    assert rate_hz(mapped) == pytest.approx(FIRMWARE_RATE_HZ, rel=0.05)
+    # The rate is judged on the board's own clock (simavr's): each staircase step, STEP_S long there,
+    # holds STEP_S * 100 samples (_check_staircase). The wall clock only gives a figure to print: on
+    # a busy machine the simulated board and the bridge fall behind it and catch up in bursts.
+    print(f"\nrate on the wall clock: /pub_force {rate_hz(counts):.1f} Hz, /force_mapped {rate_hz(mapped):.1f} Hz "
+          f"over {len(counts)} messages")
 
     pairing = pair_outputs(counts, mapped, lambda c: float(map_force(c, MAX_SENSOR_FORCE)), tolerance=1e-6)
     assert pairing.unmatched_outputs == 0, "values on /force_mapped that are no count's mapping"
@@ -164,8 +164,7 @@ def test_the_bridge_survives_the_board_being_unplugged_and_plugged_back_in(ros_m
     assert len(before) > 50
     assert len(after) >= 100, f"only {len(after)} counts after the board came back"
     _check_staircase(before, steps, "before the unplug")
-    _check_staircase(after, steps, "after the replug")
-    assert rate_hz([(t, c) for t, c in counts if t > plugged_at]) == pytest.approx(FIRMWARE_RATE_HZ, rel=0.05)
+    _check_staircase(after, steps, "after the replug")  # the firmware's rate, on the board's own clock
     after_mapped = [v for t, v in ((t, float(m.data)) for t, m in topics["/force_mapped"]) if t > plugged_at]
     assert len(after_mapped) >= 100
     out = bridge.output()
@@ -219,7 +218,26 @@ def rosserial(firmware) -> None:
                     "apt install ros-noetic-rosserial-python)")
 
 
-def _rosserial_rate(master, tmp_path: Path, node_args: List[str], record_s: float):
+def board_period_ms(counts: List[int], steps: List[int]) -> Tuple[float, float]:
+    """(the publish period on the board's own clock, its uncertainty), ms, from the staircase alone:
+    n samples that advance the staircase by k steps (each STEP_S long) are (n - 1) periods in k * STEP_S."""
+    indices = [steps.index(c) for c in counts]
+    advanced = sum((b - a) % len(steps) for a, b in zip(indices, indices[1:]))
+    gaps = len(counts) - 1
+    return advanced * STEP_S * 1000.0 / gaps, STEP_S * 1000.0 / gaps
+
+
+@pytest.mark.parametrize("period_ms, samples", [(10.0, 400), (300.0, 12), (100.0, 30)])
+def test_the_period_on_the_boards_clock_comes_from_the_staircase_alone(period_ms, samples):
+    steps = [11, 22, 33, 44, 55, 66, 77, 88, 99, 110]
+    at_s = [0.013 + k * period_ms / 1000.0 for k in range(samples)]
+    counts = [steps[int(t / STEP_S) % len(steps)] for t in at_s]
+    measured, within = board_period_ms(counts, steps)
+    assert abs(measured - period_ms) <= within
+    assert abs(board_period_ms(counts[::2], steps)[0] - 2 * period_ms) <= 2 * within  # every other sample lost
+
+
+def _rosserial_counts(master, tmp_path: Path, node_args: List[str], record_s: float):
     profile, steps = _staircase(tmp_path)
     link = tmp_path / "ttyACM0"
     board = SimulatedUno(link, profile, repeat_us=int(len(steps) * STEP_S * 1e6), firmware=FORCE_NODE_ELF)
@@ -235,19 +253,21 @@ def _rosserial_rate(master, tmp_path: Path, node_args: List[str], record_s: floa
     recorder.stop()
     counts = [(t, int(m.data)) for t, m in read_topics(tmp_path / "rosserial.bag", ["/pub_force"])["/pub_force"]]
     assert set(c for _, c in counts) <= set(steps), "counts the FSR model does not predict"
-    return rate_hz(counts), node.output()
+    print(f"\nrate on the wall clock: {rate_hz(counts):.1f} Hz over {len(counts)} messages")
+    return [c for _, c in counts], steps, node.output()
 
 
 @pytest.mark.ros
 def test_the_rosserial_sketch_publishes_at_its_period_parameter_through_serial_node(rosserial, ros_master, tmp_path):
-    measured_hz, out = _rosserial_rate(ros_master, tmp_path, ["_publish_period_ms:=10"], 2.0)
-    print(f"\nrosserial sketch with publish_period_ms=10: {measured_hz:.1f} Hz")
-    assert measured_hz == pytest.approx(100.0, rel=0.05)
+    counts, steps, out = _rosserial_counts(ros_master, tmp_path, ["_publish_period_ms:=10"], 2.0)
+    period_ms, within_ms = board_period_ms(counts, steps)
+    assert abs(period_ms - 10.0) <= within_ms + 0.5, f"{period_ms:.2f} ms on the board's clock"
     assert "period from ~publish_period_ms" in out, out
 
 
 @pytest.mark.ros
 def test_the_rosserial_sketch_falls_back_to_the_handouts_300_ms(rosserial, ros_master, tmp_path):
-    measured_hz, out = _rosserial_rate(ros_master, tmp_path, [], 2.5)
-    assert measured_hz == pytest.approx(1 / 0.3, rel=0.1)
+    counts, steps, out = _rosserial_counts(ros_master, tmp_path, [], 2.5)
+    period_ms, within_ms = board_period_ms(counts, steps)
+    assert abs(period_ms - 300.0) <= within_ms + 15.0, f"{period_ms:.1f} ms on the board's clock"
     assert "no ~publish_period_ms: 300 ms (handout); 10 recommended" in out, out
