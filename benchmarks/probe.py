@@ -26,6 +26,37 @@ from std_msgs.msg import Float32, Int16
 ON_COUNT = 500
 #: Between phases the force rests at 0 this long (s), so that one phase's rumble has ended.
 REST_S = 0.4
+#: A step's answer (the pad's rumble turning on or off) is awaited this long at most (s) before the
+#: next step: a hang guard. The next step waits for the answer, so a busy machine makes the steps
+#: later, never overlapping: a step with no answer is one the nodes lost, not one they were slow for.
+ANSWER_TIMEOUT_S = 10.0
+
+
+class RumbleLogTail:
+    """The rumble requests the teleoperation node appends to its ``~rumble_log`` (line-buffered)."""
+
+    def __init__(self, path: str) -> None:
+        self.path = path
+        self.offset = 0
+        self.partial = ""
+        self.records: List[Any] = []  # (time_s, intensity)
+
+    def poll(self) -> None:
+        with open(self.path, encoding="utf-8") as fh:
+            fh.seek(self.offset)
+            text = fh.read()
+            self.offset = fh.tell()
+        lines = (self.partial + text).split("\n")
+        self.partial = lines.pop()
+        for line in lines:
+            fields = line.split()
+            if len(fields) >= 2 and not line.startswith("#"):
+                self.records.append((float(fields[0]), float(fields[1])))
+
+    def answered(self, since_s: float, on: bool) -> bool:
+        """Whether a request at or after ``since_s`` agrees with a step to ``on``."""
+        self.poll()
+        return any(t >= since_s and (intensity > 0.0) == on for t, intensity in reversed(self.records))
 
 
 def _wait(condition, timeout_s: float, what: str) -> None:
@@ -37,8 +68,8 @@ def _wait(condition, timeout_s: float, what: str) -> None:
 
 
 def _step_gaps_s(period_s: float, rng: random.Random) -> float:
-    """Random time to the next force step: long enough for the previous one to be answered,
-    and not a multiple of any loop period, so steps fall at every phase of the node's loop."""
+    """Random time from a step's answer to the next force step, not a multiple of any loop period,
+    so steps fall at every phase of the node's loop."""
     lo = period_s + 0.05
     return rng.uniform(lo, lo + period_s + 0.05)
 
@@ -65,6 +96,7 @@ def latency(args: argparse.Namespace) -> Dict[str, Any]:
     _wait(lambda: pub.get_num_connections() >= 2 and mapped_sub.get_num_connections() >= 1, 30.0,
           "mapping_node and the probe's own subscriber on /pub_force")
     _wait(lambda: open(args.rumble_log).read().startswith("#"), 30.0, f"the rumble log {args.rumble_log}")
+    rumbles = RumbleLogTail(args.rumble_log)
     for _ in range(5):  # warm the connections up (first messages pay for lazy setup)
         pub.publish(Int16(data=0))
         time.sleep(0.02)
@@ -106,6 +138,9 @@ def latency(args: argparse.Namespace) -> Dict[str, Any]:
             else:
                 count[0] = ON_COUNT if on else 0
             steps.append([now, on])
+            deadline = now + ANSWER_TIMEOUT_S
+            while not rumbles.answered(now, on) and time.monotonic() < deadline and not rospy.is_shutdown():
+                time.sleep(0.001)
         time.sleep(_step_gaps_s(period_s, rng))
         stop.set()
         if board is not None:

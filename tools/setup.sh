@@ -101,6 +101,48 @@ fi
 pins=()
 [ ! -f constraints.txt ] || pins=(-c constraints.txt)
 want="$(cat pyproject.toml constraints.txt 2>/dev/null | sha256sum | cut -c1-16)"
+# The lab PCs run Python 3.8. Where this machine has a python3.8 (pyenv) and is not itself
+# on 3.8, a small ROS-free .venv38 lets `make test` run the core's unit tests on 3.8 too. It is
+# built beside .venv, at the same time (about 45 s each from pip's cache): it gets the project's
+# dependencies and a .pth file that puts this checkout on its path (what an editable install does
+# for imports), so the two installs never build the project in the same folder at once. The stamp is checked first: looking for
+# python3.8 costs ~0.15 s (pyenv's shim is a shell script) and only matters when .venv38 is to be built.
+build_venv38() {
+  say "creating .venv38 (Python 3.8, as on the lab PCs) for the core's unit tests"
+  # pip >= 24.1 (24.3.1, the last for 3.8): the pip 23.0 of python3.8's ensurepip backtracks
+  # for many minutes over the Jupyter stack (jsonschema extras); 24.3 resolves it in seconds.
+  rm -rf .venv38
+  local requirements
+  if "$py38" -m venv .venv38 \
+    && .venv38/bin/python -m pip install -q --disable-pip-version-check "pip>=24.1" \
+    && requirements="$(.venv38/bin/python tools/requirements.py dependencies test)" \
+    && printf '%s\n' "$requirements" > .venv38/requirements.txt \
+    && .venv38/bin/python -m pip install -q --disable-pip-version-check ${pins[@]+"${pins[@]}"} -r .venv38/requirements.txt \
+    && printf '%s\n' "$here" > "$(.venv38/bin/python -c 'import sysconfig; print(sysconfig.get_paths()["purelib"])')/hri_teleop_checkout.pth"; then
+    echo "$want38" > .venv38/.stamp
+  else
+    say "could not build .venv38; the Python 3.8 run of the unit tests will be skipped" >&2
+    rm -rf .venv38
+  fi
+}
+venv38_job=""
+if [ "$edition" != student ]; then
+  want38="$(printf '%s' "$want" | sha256sum | cut -c1-16)"
+  py38=""
+  if [ "$(cat .venv38/.stamp 2>/dev/null || true)" != "$want38" ]; then
+    for candidate in "$(command -v python3.8 || true)" "${PYENV_ROOT:-$HOME/.pyenv}"/versions/3.8*/bin/python3.8; do
+      if [ -n "$candidate" ] && [ -x "$candidate" ] && "$candidate" -c 'import sys' >/dev/null 2>&1; then
+        py38="$candidate"; break
+      fi
+    done
+  fi
+  if [ -n "$py38" ] && [ "$("$system_python" -c 'import sys; print(sys.version_info[:2] != (3, 8))')" = "True" ]; then
+    build_venv38 &
+    venv38_job=$!
+    trap '[ -z "$venv38_job" ] || kill "$venv38_job" 2>/dev/null || true' EXIT
+  fi
+fi
+
 have="$(cat "$stamp" 2>/dev/null || true)"
 if [ "$want" != "$have" ] || ! "$venv/bin/python" -c 'import hri_teleop' 2>/dev/null; then
   # Ubuntu 20.04's pip 20.0 cannot install a pyproject-only project in editable mode.
@@ -124,35 +166,5 @@ if ! "$venv/bin/python" -c 'import rospy, actionlib, rosbag, genpy' 2>/dev/null;
   say "rospy is not importable from .venv; remove .venv and run 'make setup' again" >&2
   exit 1
 fi
-# The lab PCs run Python 3.8. Where this machine has a python3.8 (pyenv) and is not itself
-# on 3.8, a small ROS-free .venv38 lets `make test` run the core's unit tests on 3.8 too.
-# The stamp is checked first: looking for python3.8 costs ~0.15 s (pyenv's shim is a shell
-# script) and only matters when .venv38 is to be built.
-[ "$edition" != student ] || { say "ready ($("$venv/bin/python" --version), ROS from ${ROS_DISTRO:-Debian packages})"; exit 0; }
-want38="$(printf '%s' "$want" | sha256sum | cut -c1-16)"
-py38=""
-if [ "$(cat .venv38/.stamp 2>/dev/null || true)" != "$want38" ]; then
-  for candidate in "$(command -v python3.8 || true)" "${PYENV_ROOT:-$HOME/.pyenv}"/versions/3.8*/bin/python3.8; do
-    if [ -n "$candidate" ] && [ -x "$candidate" ] && "$candidate" -c 'import sys' >/dev/null 2>&1; then
-      py38="$candidate"; break
-    fi
-  done
-fi
-if [ -n "$py38" ] && [ "$("$system_python" -c 'import sys; print(sys.version_info[:2] != (3, 8))')" = "True" ]; then
-  if [ "$(cat .venv38/.stamp 2>/dev/null || true)" != "$want38" ]; then
-    say "creating .venv38 (Python 3.8, as on the lab PCs) for the core's unit tests"
-    # pip >= 24.1 (24.3.1, the last for 3.8): the pip 23.0 of python3.8's ensurepip backtracks
-    # for many minutes over the Jupyter stack (jsonschema extras); 24.3 resolves it in seconds.
-    rm -rf .venv38
-    if "$py38" -m venv .venv38 \
-      && .venv38/bin/python -m pip install -q --disable-pip-version-check "pip>=24.1" \
-      && .venv38/bin/python -m pip install -q --disable-pip-version-check ${pins[@]+"${pins[@]}"} -e ".[test]"; then
-      echo "$want38" > .venv38/.stamp
-    else
-      say "could not build .venv38; the Python 3.8 run of the unit tests will be skipped" >&2
-      rm -rf .venv38
-    fi
-  fi
-fi
-
+if [ -n "$venv38_job" ]; then wait "$venv38_job" || true; venv38_job=""; fi
 say "ready ($("$venv/bin/python" --version), ROS from ${ROS_DISTRO:-Debian packages})"

@@ -8,6 +8,7 @@ import re
 import sys
 from pathlib import Path
 
+import tomllib
 from packaging.markers import Marker
 from packaging.requirements import Requirement
 from packaging.utils import canonicalize_name
@@ -84,10 +85,23 @@ def test_every_row_is_an_exact_version_for_a_named_python():
         assert row.marker is not None and not Marker(str(row.marker)).evaluate({"python_version": "3.12"}), str(row)
 
 
+def test_the_requirements_tool_reads_pyprojects_arrays_as_toml_does():
+    spec = importlib.util.spec_from_file_location("_tools_requirements", REPO / "tools" / "requirements.py")
+    assert spec is not None and spec.loader is not None
+    tool = importlib.util.module_from_spec(spec)
+    spec.loader.exec_module(tool)
+    text = (REPO / "pyproject.toml").read_text(encoding="utf-8")
+    project = tomllib.loads(text)["project"]
+    assert tool.array(text, "dependencies") == project["dependencies"]
+    assert tool.array(text, "test") == project["optional-dependencies"]["test"]
+    assert tool.array('test = [\n    "a>=1",  # why\n    # a comment\n    "b; python_version < \\"3.9\\"",\n]\n', "test") == \
+        ["a>=1", 'b; python_version < "3.9"']
+
+
 def test_every_install_of_the_toolkit_takes_the_constraints():
     setup = (REPO / "tools" / "setup.sh").read_text(encoding="utf-8")
-    installs = [line for line in setup.splitlines() if "pip install" in line and '-e "' in line]
-    assert len(installs) == 2  # .venv and .venv38
+    installs = [line for line in setup.splitlines() if "pip install" in line and ('-e "' in line or " -r " in line)]
+    assert len(installs) == 2  # .venv (the project, editable) and .venv38 (the project's requirements)
     assert all('${pins[@]+"${pins[@]}"}' in line for line in installs), installs
     assert "pins=(-c constraints.txt)" in setup
     from hri_teleop.course.bundle import TOOLKIT_FILES
