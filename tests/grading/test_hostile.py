@@ -11,11 +11,17 @@ from __future__ import annotations
 
 import csv
 import os
+import subprocess
+import sys
+import threading
 import time
 from pathlib import Path
+from typing import List, Set, Tuple
 
 import pytest
 from grading_helpers import answer_text, grader_env, hri_grade, open_folder, write_package
+
+from hri_teleop.ros.proc_table import STUDENT_UID_BASE, process_trees
 
 pytestmark = pytest.mark.ros
 
@@ -45,7 +51,8 @@ def _submissions(root: Path, outside: Path, names) -> None:
         write_package(root / name / "hri_lab", {"scripts/mapping_node.py": text})
 
 
-def _no_student_processes_left() -> bool:
+def _no_student_processes_left(uids: Set[int]) -> bool:
+    """No live process runs as one of ``uids`` (this batch's student uids: other tests grade beside it)."""
     for entry in os.listdir("/proc"):
         if entry.isdigit():
             try:
@@ -54,9 +61,32 @@ def _no_student_processes_left() -> bool:
                     state = fh.read().rsplit(b")", 1)[1].split()[0]
             except (OSError, IndexError):
                 continue
-            if uid >= 200000 and state not in (b"Z", b"X"):
+            if uid in uids and state not in (b"Z", b"X"):
                 return False
     return True
+
+
+def _batch_watching_its_processes(*args: str, timeout_s: float) -> Tuple["subprocess.CompletedProcess[str]", Set[int]]:
+    """``hri-grade ARGS``, and every pid of its process tree seen while it ran (polled every 20 ms).
+
+    A student's uid is STUDENT_UID_BASE + the pid of the grader process that runs its code, a
+    process of this tree: so these are the only uids this batch's student code can run as."""
+    exe = Path(sys.executable).with_name("hri-grade")
+    proc = subprocess.Popen([str(exe), *args], stdout=subprocess.PIPE, stderr=subprocess.STDOUT, text=True,
+                            env=grader_env(), stdin=subprocess.DEVNULL)
+    seen: Set[int] = set()
+    chunks: List[str] = []
+    reader = threading.Thread(target=lambda: chunks.append(proc.stdout.read() if proc.stdout else ""), daemon=True)
+    reader.start()
+    deadline = time.monotonic() + timeout_s
+    while proc.poll() is None and time.monotonic() < deadline:
+        seen.update(process_trees([proc.pid]))
+        time.sleep(0.02)
+    if proc.poll() is None:
+        proc.kill()
+    proc.wait()
+    reader.join(30.0)
+    return subprocess.CompletedProcess(proc.args, proc.returncode, "".join(chunks), ""), seen
 
 
 def _grades(out: Path):
@@ -76,9 +106,11 @@ EXPECTED_WORDS = {
 def test_hostile_submissions_fail_clearly_and_the_good_one_keeps_full_marks(tmp_path, outside):
     names = ["good", *EXPECTED_WORDS]
     _submissions(tmp_path / "submitted", outside, names)
-    proc = hri_grade("batch", str(tmp_path / "submitted"), "--out", str(tmp_path / "grades"), "--jobs", "2",
-                     "--checks", "mapping-node", timeout=400)
-    assert proc.returncode == 0, proc.stdout + proc.stderr
+    proc, pids = _batch_watching_its_processes("batch", str(tmp_path / "submitted"), "--out", str(tmp_path / "grades"),
+                                               "--jobs", "2", "--checks", "mapping-node", timeout_s=400)
+    assert proc.returncode == 0, proc.stdout
+    uids = {STUDENT_UID_BASE + pid for pid in pids}
+    assert len(pids) > 2, "the batch's jobs were never seen: the check below would be empty"
     grades = _grades(tmp_path / "grades")
     assert set(grades) == set(names)
     assert all(row["status"] == "graded" for row in grades.values()), grades
@@ -90,9 +122,9 @@ def test_hostile_submissions_fail_clearly_and_the_good_one_keeps_full_marks(tmp_
         assert os.path.getsize(tmp_path / "grades" / name / "feedback.txt") < 50_000
     assert not (outside / "HACKED.txt").exists()
     deadline = time.monotonic() + 5
-    while not _no_student_processes_left() and time.monotonic() < deadline:
+    while not _no_student_processes_left(uids) and time.monotonic() < deadline:
         time.sleep(0.1)
-    assert _no_student_processes_left(), "student processes outlived their grading"
+    assert _no_student_processes_left(uids), "student processes outlived their grading"
 
 
 def test_without_bubblewrap_the_grader_says_so_once_and_still_contains_them(tmp_path, outside):
