@@ -21,7 +21,7 @@ from typing import List, Set, Tuple
 import pytest
 from grading_helpers import answer_text, grader_env, hri_grade, open_folder, write_package
 
-from hri_teleop.ros.proc_table import STUDENT_UID_BASE, process_trees
+from hri_teleop.ros.proc_table import STUDENT_UID_BASE, proc_stat, process_trees
 
 pytestmark = pytest.mark.ros
 
@@ -57,11 +57,10 @@ def _no_student_processes_left(uids: Set[int]) -> bool:
         if entry.isdigit():
             try:
                 uid = os.stat(f"/proc/{entry}").st_uid
-                with open(f"/proc/{entry}/stat", "rb") as fh:
-                    state = fh.read().rsplit(b")", 1)[1].split()[0]
-            except (OSError, IndexError):
+            except OSError:
                 continue
-            if uid in uids and state not in (b"Z", b"X"):
+            found = proc_stat(f"/proc/{entry}/stat") if uid in uids else None
+            if found is not None and found[1] not in (b"Z", b"X"):
                 return False
     return True
 
@@ -72,6 +71,8 @@ def _batch_watching_its_processes(*args: str, timeout_s: float) -> Tuple["subpro
     A student's uid is STUDENT_UID_BASE + the pid of the grader process that runs its code, a
     process of this tree: so these are the only uids this batch's student code can run as."""
     exe = Path(sys.executable).with_name("hri-grade")
+    if not exe.exists():
+        pytest.fail("hri-grade is not installed: run 'make setup' (pyproject.toml [project.scripts])")
     proc = subprocess.Popen([str(exe), *args], stdout=subprocess.PIPE, stderr=subprocess.STDOUT, text=True,
                             env=grader_env(), stdin=subprocess.DEVNULL)
     seen: Set[int] = set()
