@@ -87,7 +87,7 @@ PLAN: List[Dict[str, Any]] = [
     {"wait": "miss"},
     # (c) a smooth ramp, (d) silence, (c) a step, recovery
     {"mark": "ramp"}, {"twists": RAMP, "rate_hz": 100}, {"sleep": 0.4}, {"mark": "ramp_end"},
-    {"twists": TIMEOUT_RAMP, "rate_hz": 100}, {"mark": "silence"}, {"sleep": 0.6}, {"mark": "silence_end"},
+    {"twists": TIMEOUT_RAMP, "rate_hz": 100}, {"mark": "silence"}, {"sleep": 1.0}, {"mark": "silence_end"},
     {"mark": "step"}, {"twists": STEP, "rate_hz": 100}, {"sleep": 0.3}, {"mark": "before_recover"},
     {"call": "recover"}, {"sleep": 0.3}, {"mark": "end"},
     # (f) another step, cleared by franka_control's error_recovery action
@@ -166,10 +166,6 @@ def _values(status) -> Dict[str, str]:
     return {kv.key: kv.value for kv in status.values}
 
 
-def _rate_hz(stamps: List[float]) -> float:
-    return (len(stamps) - 1) / (stamps[-1] - stamps[0])
-
-
 # --- the node ----------------------------------------------------------------------------
 
 
@@ -191,11 +187,8 @@ def test_the_node_speaks_the_hardware_types_and_stops_cleanly_on_sigint(session)
     assert "Traceback" not in session.node_output
 
 
-def test_state_topics_come_at_their_rates(session):
-    joints = [t for t, _ in session.between("/franka_gripper/joint_states", "press_start", "press_end")]
-    poses = [t for t, _ in session.between("/lab_sim/ee_pose", "press_start", "press_end")]
-    assert _rate_hz(joints) == pytest.approx(30.0, rel=0.1)
-    assert _rate_hz(poses) == pytest.approx(100.0, rel=0.1)
+def test_the_pose_starts_where_the_scenario_puts_it_in_the_base_frame(session):
+    """(Each topic's rate: test_rates_on_sim_clock.py, on simulated time.)"""
     pose = session.topics["/lab_sim/ee_pose"][0][1]
     assert pose.header.frame_id == "panda_link0"
     assert (pose.pose.position.x, pose.pose.position.y, pose.pose.position.z) == pytest.approx(START)
@@ -259,7 +252,7 @@ def test_stop_aborts_a_running_move_with_libfrankas_error(session):
 # --- (b) the piston, the FSR and the board ---------------------------------------------------
 
 
-def test_pressing_the_piston_sends_the_fsr_count_of_the_spring_force_at_the_board_rate(session):
+def test_pressing_the_piston_sends_the_fsr_count_of_the_spring_force(session):
     squeeze_m = EGG.width_m + TRAVEL_M - PRESS_WIDTH_M
     force_n = squeeze_m / (1.0 / Attachment().spring_n_per_m + 1.0 / EGG.stiffness_n_per_m)  # springs in series
     expected = Attachment().count(force_n)
@@ -270,7 +263,6 @@ def test_pressing_the_piston_sends_the_fsr_count_of_the_spring_force_at_the_boar
     counts = [m.data for _, m in pressed]
     assert sum(counts) / len(counts) == pytest.approx(expected, abs=1.0)
     assert max(abs(c - expected) for c in counts) <= 6  # noise: 1 count standard deviation
-    assert _rate_hz([t for t, _ in pressed]) == pytest.approx(100.0, rel=0.1)
     grips = [m.data for _, m in session.between("/lab_sim/grip_force", "press_start", "press_end")]
     assert grips and all(g == pytest.approx(force_n, rel=1e-6) for g in grips)
 
@@ -333,15 +325,21 @@ def test_no_command_for_longer_than_the_timeout_stops_the_arm_and_says_why(sessi
     assert timeouts and timeouts[-1].level == 1 and timeouts[-1].message.startswith("timeout:")
     sent = session.twists(1)
     last_t, last_vy = sent[-1][0], sent[-1][2]
+    # Judged on lab_sim's own stamps (a pose and the twist of one tick share one): on a busy machine
+    # its simulated time skips its stalls, so when it stops is its clock's business, not the client's.
+    twists = sorted((m.header.stamp.to_sec(), m.twist.linear.y)
+                    for _, m in session.between("/lab_sim/ee_twist", "silence", "silence_end"))
+    assert twists and twists[0][1] != 0.0, twists[:3]  # still holding the last command
+    stopped_s = next(t for t, v in twists if v == 0.0)
+    assert all(v == 0.0 for t, v in twists if t >= stopped_s)
+    assert stopped_s >= last_t + TIMEOUT_S  # held at least the timeout after it was sent
     poses = session.between("/lab_sim/ee_pose", "silence", "silence_end")
-    still = [m.pose.position.y for t, m in poses if t > last_t + TIMEOUT_S + 0.1]  # then a ramp of ~4 ms
-    assert still and max(still) - min(still) < 1e-9
+    still = [m.pose.position.y for _, m in sorted(poses, key=lambda p: p[1].header.stamp.to_sec())
+             if m.header.stamp.to_sec() >= stopped_s]
+    assert len(still) >= 10 and max(still) - min(still) < 1e-9
     integral_m = sum(v[2] * (later[0] - v[0]) for v, later in zip(sent, sent[1:]))
     # the last command is held for the timeout, then ramped to zero (about 1.6 ms more)
     assert still[-1] - START[1] == pytest.approx(integral_m + last_vy * TIMEOUT_S, abs=5e-4)
-    twists = [m.twist.linear.y for t, m in session.between("/lab_sim/ee_twist", "silence", "silence_end")
-              if t > last_t + TIMEOUT_S + 0.1]
-    assert twists and all(v == 0.0 for v in twists)
     assert all(_values(m)["violations"] == "0" for m in statuses)
     assert "command timeout" in session.node_output
 
@@ -411,9 +409,9 @@ def test_a_stalled_simulation_skips_the_stall_instead_of_judging_a_timeout(ros_m
 FINGERS = ["panda_finger_joint1", "panda_finger_joint2"]
 
 
-def test_the_arm_joints_come_as_franka_state_controller_publishes_them_at_its_rate(session):
+def test_the_arm_joints_come_as_franka_state_controller_publishes_them(session):
     states = session.between("/franka_state_controller/joint_states", "press_start", "press_end")
-    assert _rate_hz([t for t, _ in states]) == pytest.approx(30.0, rel=0.1)
+    assert len(states) >= 10
     for _, msg in states:
         assert list(msg.name) == list(JOINT_NAMES)
         assert len(msg.position) == len(msg.velocity) == 7 and list(msg.effort) == [0.0] * 7
@@ -425,7 +423,7 @@ def test_the_arm_joints_come_as_franka_state_controller_publishes_them_at_its_ra
 
 def test_joint_states_merges_arm_and_fingers_as_joint_state_publisher_does(session):
     merged = session.between("/joint_states", "at60", "press")
-    assert _rate_hz([t for t, _ in merged]) == pytest.approx(30.0, rel=0.1)
+    assert len(merged) >= 5
     arm = {m.header.stamp.to_sec(): list(m.position) for _, m in session.topics["/franka_state_controller/joint_states"]}
     for _, msg in merged:
         assert list(msg.name) == list(JOINT_NAMES) + FINGERS

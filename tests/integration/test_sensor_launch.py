@@ -8,7 +8,7 @@ from pathlib import Path
 import pytest
 
 from hri_teleop.core.mapping import map_force
-from hri_teleop.core.traces import pair_outputs, rate_hz
+from hri_teleop.core.traces import pair_outputs
 from hri_teleop.ros.sensor_demo import record_sensor_launch
 
 pytestmark = pytest.mark.ros
@@ -28,8 +28,8 @@ def test_force_mapped_is_float32_and_equals_the_mapping_of_pub_force(ros_master,
                                                   max_sensor_force=max_sensor_force, rate_hz=50)
     assert types["/pub_force"] == "std_msgs/Int16"
     assert types["/force_mapped"] == "std_msgs/Float32"
-    assert len(mapped) >= 50, f"only {len(mapped)} messages on /force_mapped in 3 s at 50 Hz"
-    assert rate_hz(mapped) == pytest.approx(50.0, rel=0.2)
+    # enough to judge the mapping by; the rate itself is counted on simulated time (test_rates_on_sim_clock.py)
+    assert len(mapped) >= 10, f"only {len(mapped)} messages on /force_mapped in 3 s at 50 Hz"
     # rosbag connects to the two topics one after the other: outputs recorded before the first
     # or after the last recorded count have no recorded cause, so only the span between is judged.
     inside = [(t, v) for t, v in mapped if counts[0][0] <= t <= counts[-1][0] + 0.05]
