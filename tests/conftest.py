@@ -81,6 +81,27 @@ def pytest_collection_modifyitems(config: pytest.Config, items: list) -> None:
     items.sort(key=key)  # stable: within a module, and among the rest, the order stays
 
 
+@pytest.hookimpl(hookwrapper=True)
+def pytest_runtest_protocol(item: pytest.Item, nextitem: object) -> Iterator[None]:
+    """With HRI_TEST_CPU_LOG=path: one JSON line per test of the CPU seconds it cost (this process and
+    the children it waited for: roscore, nodes, kernels), to see where a 2-core machine's time goes."""
+    path = os.environ.get("HRI_TEST_CPU_LOG")
+    if not path:
+        yield
+        return
+    import json
+    import resource
+
+    def cpu_s() -> float:
+        own, kids = resource.getrusage(resource.RUSAGE_SELF), resource.getrusage(resource.RUSAGE_CHILDREN)
+        return own.ru_utime + own.ru_stime + kids.ru_utime + kids.ru_stime
+
+    before = cpu_s()
+    yield
+    with open(path, "a") as fh:
+        fh.write(json.dumps({"test": item.nodeid, "cpu_s": round(cpu_s() - before, 3)}) + "\n")
+
+
 def _ros_env() -> dict:
     """The environment tools/env.sh gives: venv first on PATH, hri_lab on ROS_PACKAGE_PATH."""
     from hri_teleop.ros.master import lab_shell_env
