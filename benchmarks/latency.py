@@ -16,8 +16,8 @@ import numpy as np
 from benchmarks.nodes import MeasuredNodes
 from benchmarks.report import BenchError, BenchOptions, BenchRow
 from benchmarks.stats import ForceStep, Summary, match_rumbles, summarise_ms
-from hri_teleop.hardware.sim.virtual_pad import read_rumble_log
 from hri_teleop.plots.common import latency_cdf
+from hri_teleop.sim.virtual_pad import read_rumble_log
 
 #: Force steps per phase (full run, smoke run). The smoke run's 20 direct steps take ~2 s
 #: and make its median a fair test of "answered at once, not at the next tick".

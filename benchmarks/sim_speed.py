@@ -17,14 +17,14 @@ from benchmarks.report import BenchError, BenchOptions, BenchRow
 from hri_teleop.core.config import LAB_TELEOP_CONFIG, load_teleop_config
 from hri_teleop.core.limits import DEFAULT_LIMITS, TwistLimiter
 from hri_teleop.core.paths import SCENARIOS
-from hri_teleop.hardware.sim.arm import SimArm, SimArmConfig
-from hri_teleop.hardware.sim.config import default_sim_yaml, load_world_config
-from hri_teleop.hardware.sim.grasp_objects import OBJECTS
-from hri_teleop.hardware.sim.gripper_goals import MoveCommand
-from hri_teleop.hardware.sim.hand import HandSim
-from hri_teleop.hardware.sim.lab import run_lab
-from hri_teleop.hardware.sim.virtual_pad import load_script
-from hri_teleop.hardware.sim.world import LAB_ARM_CONFIG
+from hri_teleop.sim.arm import SimArm, SimArmConfig
+from hri_teleop.sim.config import default_sim_yaml, load_world_config
+from hri_teleop.sim.grasp_objects import OBJECTS
+from hri_teleop.sim.gripper_goals import MoveCommand
+from hri_teleop.sim.hand import HandSim
+from hri_teleop.sim.lab import run_lab
+from hri_teleop.sim.virtual_pad import load_script
+from hri_teleop.sim.world import LAB_ARM_CONFIG
 
 #: Runs of each scenario (the median counts): full run, smoke run.
 REPEATS = {False: 5, True: 1}

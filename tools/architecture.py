@@ -23,7 +23,8 @@ END = "<!-- end: drawn by tools/architecture.py -->"
 HOLDS: Dict[str, str] = {
     "core": "the lab's rules, plain Python: fsr, mapping, limits, teleop, gripper, gamepad/, experiment/, modes",
     "plots": "the figures (matplotlib, Agg) demos, the study and the grader's feedback share",
-    "hardware": "the boundary, real | simulated: real/ (pygame pad, serial board), sim/ (Panda, hand, board, lock-step lab)",
+    "sim": "the lock-step simulation, pure: Panda arm and joints, hand, object, board, world, scripted pad, operators, study",
+    "hardware": "the boundary, real | simulated: real/ (pygame pad, serial board), sim/ (the board's serial protocols)",
     "ros": "what the ROS shells share: parameters, clocks, private masters, bags, the kernel, demos, the lab twin",
     "student": "what students' files import, versioned (student-api.md)",
     "grading": "the autograder, one subpackage per step (below)",
@@ -139,12 +140,14 @@ def render(graph: Dict[str, Set[str]]) -> str:
         del layers[shim]  # last term's import paths, outside the layers (student-api.md)
     for deps in layers.values():
         deps &= set(layers)
-    out = ["```", f"{'layer':<11} {'imports':<36} {'modules':>7} {'lines':>6}  holds"]
+    width = max(len(", ".join(deps)) for deps in layers.values()) + 1
+    out = ["```", f"{'layer':<11} {'imports':<{width}} {'modules':>7} {'lines':>6}  holds"]
     for level in reversed(levels(layers)):
         for layer in level:
             files = [p for m, p in known.items() if m.startswith(f"hri_teleop.{layer}.") or m == f"hri_teleop.{layer}"]
             uses = ", ".join(sorted(layers[layer])) or "-"
-            out.append(f"{layer + '/':<11} {uses:<36} {len(files):>7} {about(lines_of(files)):>6}  {HOLDS.get(layer, '')}")
+            out.append(f"{layer + '/':<11} {uses:<{width}} {len(files):>7} {about(lines_of(files)):>6}  "
+                       f"{HOLDS.get(layer, '')}")
     out.append("```")
     out.append("")
     out.append(f"Import order, bottom up (each imports only what stands left of it; siblings in braces): "

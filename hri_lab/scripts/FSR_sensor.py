@@ -3,7 +3,7 @@
 
 It stands in for the lab's Arduino (``arduino_code_force_node.ino`` over rosserial): same topic,
 same type (std_msgs/Int16, 0..1023), repeated smooth presses shaped through the FSR 402 model
-(hri_teleop.hardware.sim.sensor_profile). Parameters: ``~rate_hz`` (10.0; the sketch sends about
+(hri_teleop.sim.sensor_profile). Parameters: ``~rate_hz`` (10.0; the sketch sends about
 3 Hz), ``~max_value`` (1023, the count at the top of a press: your /max_sensor_force makes
 /force_mapped reach exactly 1), ``~period_s`` (4.0 s per press and release).
 """

@@ -1,7 +1,7 @@
 #!/usr/bin/env python3
 """The lab's hardware, simulated: Franka arm and hand, an object, the FSR board.
 
-One node, one job: it runs a :class:`hri_teleop.hardware.sim.world.LabWorld` (a 1 kHz arm that
+One node, one job: it runs a :class:`hri_teleop.sim.world.LabWorld` (a 1 kHz arm that
 judges every command like the robot, the hand with franka_gripper's goals, the object, the piston
 attachment and the sensor board) in real time, behind exactly the real hardware's interfaces, so
 teleoperation.py, gripper_manager.py and mapping_node.py cannot tell it from the lab. Its clock
@@ -38,7 +38,7 @@ from hri_teleop.core.joints import (
     nearest_limit,
 )
 from hri_teleop.core.reflex import explain_reflex
-from hri_teleop.hardware.sim.arm import (
+from hri_teleop.sim.arm import (
     ACCELERATION_DISCONTINUITY,
     EVENT_RECOVERED,
     EVENT_REFLEX,
@@ -48,15 +48,15 @@ from hri_teleop.hardware.sim.arm import (
     VELOCITY_DISCONTINUITY,
     VELOCITY_LIMITS_VIOLATION,
 )
-from hri_teleop.hardware.sim.config import (
+from hri_teleop.sim.config import (
     default_sim_yaml,
     describe,
     load_world_config,
     world_overrides_from_params,
 )
-from hri_teleop.hardware.sim.gripper_goals import GoalRecord
-from hri_teleop.hardware.sim.hand_params import HandSimError
-from hri_teleop.hardware.sim.world import LabWorld, ObjectStatus
+from hri_teleop.sim.gripper_goals import GoalRecord
+from hri_teleop.sim.hand_params import HandSimError
+from hri_teleop.sim.world import LabWorld, ObjectStatus
 from hri_teleop.ros import franka_msgs as fm
 from hri_teleop.ros.clock import ClockError, NodeClock
 from hri_teleop.ros.gripper_actions import ACTIONS, command_from_goal, end_goal

@@ -52,7 +52,7 @@ from hri_teleop.core.teleop import (
     recovery_refusal,
 )
 from hri_teleop.hardware.gamepad import check_pad_rumble, open_gamepad
-from hri_teleop.hardware.sim.virtual_pad import (
+from hri_teleop.sim.virtual_pad import (
     RUMBLE_LOG_HEADER,
     RumbleRecord,
     ScriptedPad,

@@ -1,6 +1,6 @@
 """How often the lab's sensor board sends a count: the handout's sketch, its accepted periods, the recommended rate.
 
-One home for these numbers: the simulated board (hardware/sim/board.py) offers them as rates and
+One home for these numbers: the simulated board (sim/board.py) offers them as rates and
 ``make doctor`` (core/doctor.py) judges a real board against them. The sketches themselves are in
 firmware/ (arduino_code_force_node's FORCE_NODE_* constants, fsr_serial's SAMPLE_PERIOD_US).
 """

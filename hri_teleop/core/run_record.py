@@ -1,7 +1,7 @@
 """What a teleoperation run did, as the demo and the tests report it.
 
 Why: ``make demo`` (a real ROS run, read back from its bag), the offline runner
-(:mod:`hri_teleop.hardware.sim.lab`) and the integration tests all answer the same questions --
+(:mod:`hri_teleop.sim.lab`) and the integration tests all answer the same questions --
 was the object grasped, lifted, crushed; how hard was it squeezed; how long did the pad
 rumble; did the Franka see a single limit violation -- so the answers are computed once,
 here, from plain time series.

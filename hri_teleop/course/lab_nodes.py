@@ -223,7 +223,7 @@ def hand_z_m(timeout_s: float = 10.0) -> float:
     import rospy  # noqa: PLC0415 - ROS only in the cell that reads the joints
     from sensor_msgs.msg import JointState  # noqa: PLC0415
 
-    from hri_teleop.hardware.sim.kinematics import PandaKinematics  # noqa: PLC0415 - pinocchio loads slowly
+    from hri_teleop.sim.kinematics import PandaKinematics  # noqa: PLC0415 - pinocchio loads slowly
 
     try:
         state = rospy.wait_for_message(FRANKA_JOINT_STATES_TOPIC, JointState, timeout=timeout_s)

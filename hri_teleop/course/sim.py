@@ -11,12 +11,12 @@ from hri_teleop.core.attachment import Attachment
 from hri_teleop.core.paths import SCENARIOS
 from hri_teleop.core.run_record import format_summary, summarize
 from hri_teleop.core.teleop import TeleopParams
-from hri_teleop.hardware.sim.grasp_objects import OBJECTS
-from hri_teleop.hardware.sim.lab import run_lab
-from hri_teleop.hardware.sim.study import simulate_study
-from hri_teleop.hardware.sim.virtual_pad import parse_script
-from hri_teleop.hardware.sim.world import WorldConfig
 from hri_teleop.plots.common import lab_timeline as timeline
+from hri_teleop.sim.grasp_objects import OBJECTS
+from hri_teleop.sim.lab import run_lab
+from hri_teleop.sim.study import simulate_study
+from hri_teleop.sim.virtual_pad import parse_script
+from hri_teleop.sim.world import WorldConfig
 
 __all__ = ["run_lab", "parse_script", "WorldConfig", "OBJECTS", "Attachment", "SCENARIOS", "TeleopParams",
            "summarize", "format_summary", "timeline", "simulate_study"]

@@ -52,7 +52,7 @@ def open_gamepad(kind: str = "pygame", layout: Union[Layout, str, None] = None, 
 
         return PygamePad(layout, index, log=log)
     if name in ("virtual", "scripted"):
-        from hri_teleop.hardware.sim.virtual_pad import ScriptedPad, VirtualPad  # noqa: PLC0415 - as above
+        from hri_teleop.sim.virtual_pad import ScriptedPad, VirtualPad  # noqa: PLC0415 - as above
 
         clock = clock if clock is not None else _default_clock()
         if script:

@@ -1,7 +1,7 @@
 """The four actions of franka_gripper on the simulated hand: goal messages in, terminal states out.
 
 lab_sim and the lab twin's /franka_gripper serve the same actions with the same hand
-(:class:`hri_teleop.hardware.sim.hand.HandSim`): a goal becomes the hand's command here, and a
+(:class:`hri_teleop.sim.hand.HandSim`): a goal becomes the hand's command here, and a
 finished hand goal its actionlib end (succeeded, aborted or canceled) with franka_gripper's
 ``success`` and ``error`` fields, so both speak exactly as franka_gripper does.
 """
@@ -10,7 +10,8 @@ from __future__ import annotations
 
 from typing import Any, Dict, Tuple
 
-from hri_teleop.hardware.sim.gripper_goals import (
+from hri_teleop.ros import franka_gripper_msgs as fg
+from hri_teleop.sim.gripper_goals import (
     Command,
     GoalRecord,
     GoalStatus,
@@ -19,7 +20,6 @@ from hri_teleop.hardware.sim.gripper_goals import (
     MoveCommand,
     StopCommand,
 )
-from hri_teleop.ros import franka_gripper_msgs as fg
 
 __all__ = ["ACTIONS", "command_from_goal", "end_goal"]
 

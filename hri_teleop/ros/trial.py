@@ -43,13 +43,13 @@ from hri_teleop.core.experiment.sidecar import (
 from hri_teleop.core.experiment.tlx import SUBSCALES, TlxRatings, optional_tlx, store_tlx
 from hri_teleop.core.modes import HARDWARE_NODES, NODE_DEFAULT_PAD, Start, decide_mode, start_refusal
 from hri_teleop.core.run_record import LabRecord
-from hri_teleop.hardware.sim.grasp_objects import OBJECTS
-from hri_teleop.hardware.sim.operators import study_scenario
 from hri_teleop.plots.study import save_result_figure
 from hri_teleop.ros.bags import BagError
 from hri_teleop.ros.launch_inspect import LaunchInspectError, declared_args
 from hri_teleop.ros.master import MasterError, PrivateMaster, RunningMaster, run_reporting, started_here
 from hri_teleop.ros.teleop_demo import DEFAULT_TIMEOUT_S, record_from_bag, record_teleop_launch
+from hri_teleop.sim.grasp_objects import OBJECTS
+from hri_teleop.sim.operators import study_scenario
 
 __all__ = ["METADATA_TOPIC", "PADS", "trial_stem", "trial_seed", "record_trial", "load_trial", "load_trials", "analyse_folder",
            "lab_master",
@@ -315,7 +315,7 @@ def rehearse(participants: Sequence[str], objects: Sequence[str], out: Union[str
              ask: Callable[[str], str] = input, analyse: bool = True) -> Optional[StudyResult]:
     """Record a whole counterbalanced session in the simulated lab, then analyse it.
 
-    ``pad`` ``script``: simulated study participants (:func:`hri_teleop.hardware.sim.operators.study_scenario`,
+    ``pad`` ``script``: simulated study participants (:func:`hri_teleop.sim.operators.study_scenario`,
     seed :func:`trial_seed`, ``quick``: short trials); ``pygame``: you at a real pad, asked
     to press Enter before each trial.  One private roscore serves the whole session
     unless ``master`` is given.  ``resume`` skips the plan's trials already in ``out``.

@@ -51,7 +51,7 @@ from hri_teleop.core.gamepad.state import PadState
 from hri_teleop.core.gripper import GoalThrottle, usable_width_m
 from hri_teleop.core.limits import TwistLimiter
 from hri_teleop.hardware.gamepad import open_gamepad
-from hri_teleop.hardware.sim.sensor_profile import FSR_SENSOR_RATE_HZ, press_profile_count
+from hri_teleop.sim.sensor_profile import FSR_SENSOR_RATE_HZ, press_profile_count
 from hri_teleop.student.deprecation import importer_stacklevel, removed_in
 
 if TYPE_CHECKING:  # imported when first asked for (__getattr__ below): their modules import rospy

@@ -57,7 +57,7 @@ def _expected_hand() -> np.ndarray:
     """The hand link's pose (base frame) for Q by forward kinematics, in three.js's y-up world as meshcat draws it."""
     import pinocchio as pin
 
-    from hri_teleop.hardware.sim.kinematics import panda_urdf
+    from hri_teleop.sim.kinematics import panda_urdf
 
     model = pin.buildModelFromUrdf(str(panda_urdf()))
     data = model.createData()

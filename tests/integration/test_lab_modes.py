@@ -12,9 +12,9 @@ import pytest
 from hri_teleop.course import lab, lab_nodes
 from hri_teleop.course.errors import CourseError
 from hri_teleop.course.master_mode import NotStarted, master_mode
-from hri_teleop.hardware.sim.world import LAB_ARM_CONFIG
 from hri_teleop.ros.master import OWN_MASTER_ENV
 from hri_teleop.ros.master_api import running_nodes
+from hri_teleop.sim.world import LAB_ARM_CONFIG
 
 REPO = Path(__file__).resolve().parents[2]
 ANSWER_KEY = REPO / "solutions" / "hri_lab"

@@ -21,12 +21,12 @@ import yaml
 from hri_teleop.core import fsr
 from hri_teleop.core.attachment import Attachment
 from hri_teleop.core.joints import JOINT_ACCELERATION_DISCONTINUITY, JOINT_NAMES, JOINT_VELOCITY_DISCONTINUITY
-from hri_teleop.hardware.sim.arm import ACCELERATION_DISCONTINUITY, VELOCITY_DISCONTINUITY
-from hri_teleop.hardware.sim.grasp_objects import OBJECTS
-from hri_teleop.hardware.sim.hand_params import COMMAND_ABORTED
-from hri_teleop.hardware.sim.world import WorldConfig
 from hri_teleop.ros.bags import read_topics
 from hri_teleop.ros.master import PrivateMaster
+from hri_teleop.sim.arm import ACCELERATION_DISCONTINUITY, VELOCITY_DISCONTINUITY
+from hri_teleop.sim.grasp_objects import OBJECTS
+from hri_teleop.sim.hand_params import COMMAND_ABORTED
+from hri_teleop.sim.world import WorldConfig
 
 pytestmark = pytest.mark.ros
 

@@ -13,10 +13,10 @@ import pytest
 import yaml
 
 from hri_teleop.core.run_record import summarize
-from hri_teleop.hardware.sim.grasp_objects import OBJECTS
-from hri_teleop.hardware.sim.operators import random_operator, script_to_yaml_data
 from hri_teleop.ros import teleop_demo
 from hri_teleop.ros.teleop_demo import record_teleop_launch
+from hri_teleop.sim.grasp_objects import OBJECTS
+from hri_teleop.sim.operators import random_operator, script_to_yaml_data
 
 REPO = Path(__file__).resolve().parents[2]
 SCENARIOS = REPO / "hri_lab" / "scenarios"

@@ -37,16 +37,16 @@ from hri_teleop.core.attachment import Attachment
 from hri_teleop.core.config import load_teleop_config
 from hri_teleop.core.experiment.analysis import StudyResult
 from hri_teleop.core.run_record import LabRecord
-from hri_teleop.hardware.sim.config import world_config_from_dict
-from hri_teleop.hardware.sim.grasp_objects import OBJECTS
-from hri_teleop.hardware.sim.lab import run_lab
-from hri_teleop.hardware.sim.operators import squeeze_taps, study_operator, study_scenario
-from hri_teleop.hardware.sim.virtual_pad import parse_script
 from hri_teleop.plots.study import COLOURS, PANEL_TITLES
 from hri_teleop.ros import master as master_module
 from hri_teleop.ros.bags import read_topics
 from hri_teleop.ros.master import PrivateMaster, RunningMaster
 from hri_teleop.ros.trial import main, rehearse, trial_seed
+from hri_teleop.sim.config import world_config_from_dict
+from hri_teleop.sim.grasp_objects import OBJECTS
+from hri_teleop.sim.lab import run_lab
+from hri_teleop.sim.operators import squeeze_taps, study_operator, study_scenario
+from hri_teleop.sim.virtual_pad import parse_script
 
 pytestmark = pytest.mark.ros
 

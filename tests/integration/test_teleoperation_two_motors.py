@@ -12,7 +12,7 @@ import yaml
 from test_teleoperation_node import TELEOP  # tests/integration, on sys.path under pytest
 
 from hri_teleop.core.joints import JOINT_NAMES, PANDA_JOINT_LIMITS, READY_POSE_RAD, WARNING_MARGIN_RAD, WARNING_RUMBLE
-from hri_teleop.hardware.sim.virtual_pad import read_rumble_log
+from hri_teleop.sim.virtual_pad import read_rumble_log
 
 pytestmark = pytest.mark.ros
 

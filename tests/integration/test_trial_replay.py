@@ -14,9 +14,9 @@ import yaml
 
 from hri_teleop.core.experiment.metrics import TrialMeta
 from hri_teleop.course.widgets.arm3d import ArmView, read_joint_states
-from hri_teleop.hardware.sim.operators import study_scenario
 from hri_teleop.ros.bags import read_topics
 from hri_teleop.ros.trial import load_trials, record_trial
+from hri_teleop.sim.operators import study_scenario
 
 pytestmark = pytest.mark.ros
 

@@ -7,10 +7,10 @@ import yaml
 
 from hri_teleop.core.attachment import Attachment
 from hri_teleop.core.experiment.metrics import MetricsError, TrialMeta, trial_metrics
-from hri_teleop.hardware.sim.operators import study_scenario
 from hri_teleop.ros.bags import read_topics
 from hri_teleop.ros.master_api import running_nodes
 from hri_teleop.ros.trial import METADATA_TOPIC, load_trials, main, record_trial
+from hri_teleop.sim.operators import study_scenario
 
 pytestmark = pytest.mark.ros
 

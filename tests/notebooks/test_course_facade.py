@@ -103,7 +103,7 @@ def test_an_unknown_name_of_the_facade_is_an_attribute_error():
     ("from hri_teleop.course import lab, check\n", []),
     ("from hri_teleop.grading import grade_graph\n", ["imports hri_teleop.grading"]),
     ("from hri_teleop.course import score\n", ["imports score, which the facade does not offer"]),
-    ("import hri_teleop.hardware.sim.lab\n", ["imports hri_teleop.hardware.sim.lab"]),
+    ("import hri_teleop.sim.lab\n", ["imports hri_teleop.sim.lab"]),
     ("def f():\n    from hri_teleop.course.widgets import LivePlot\n", ["imports hri_teleop.course.widgets"]),
     ("!rostopic list\nimport yaml\n", []),
 ])

@@ -5,9 +5,9 @@ from __future__ import annotations
 from hypothesis import settings
 
 from hri_teleop.core.attachment import Attachment
-from hri_teleop.hardware.sim.grasp_objects import OBJECTS
-from hri_teleop.hardware.sim.hand import HandSim
-from hri_teleop.hardware.sim.hand_params import HandParams
+from hri_teleop.sim.grasp_objects import OBJECTS
+from hri_teleop.sim.hand import HandSim
+from hri_teleop.sim.hand_params import HandParams
 
 DT = 0.001  # the simulation node steps at 1 kHz
 TRAVEL = Attachment().piston_travel_m

@@ -12,7 +12,7 @@ from benchmarks.report import BenchError, BenchRow, format_row
 from benchmarks.stats import ForceStep, match_rumbles, period_stats, summarise_ms
 from hri_teleop.core.gamepad import GamepadError
 from hri_teleop.core.teleop import next_tick_s
-from hri_teleop.hardware.sim.virtual_pad import RumbleRecord, read_rumble_log, rumble_log_line
+from hri_teleop.sim.virtual_pad import RumbleRecord, read_rumble_log, rumble_log_line
 
 
 def test_each_step_is_answered_by_the_first_agreeing_rumble():

@@ -18,10 +18,10 @@ from hri_teleop.core.experiment.metrics import (
 )
 from hri_teleop.core.experiment.plan import counterbalanced_plan, read_plan, write_plan
 from hri_teleop.core.experiment.stats import paired_comparison
-from hri_teleop.hardware.sim.grasp_objects import OBJECTS
-from hri_teleop.hardware.sim.lab import run_lab
-from hri_teleop.hardware.sim.operators import study_operator
-from hri_teleop.hardware.sim.world import WorldConfig
+from hri_teleop.sim.grasp_objects import OBJECTS
+from hri_teleop.sim.lab import run_lab
+from hri_teleop.sim.operators import study_operator
+from hri_teleop.sim.world import WorldConfig
 
 REPO = Path(__file__).resolve().parents[2]
 CONFIG = load_teleop_config(REPO / "hri_lab" / "config" / "teleop.yaml")
@@ -123,9 +123,9 @@ def test_a_trial_without_sensor_samples_is_named_in_the_error():
 
 @pytest.mark.parametrize("obj", ["egg", "sponge", "block"])
 def test_a_quick_study_trial_grasps_as_the_full_one_in_half_the_time(obj):
-    from hri_teleop.hardware.sim.config import world_config_from_dict
-    from hri_teleop.hardware.sim.operators import study_scenario
-    from hri_teleop.hardware.sim.virtual_pad import parse_script
+    from hri_teleop.sim.config import world_config_from_dict
+    from hri_teleop.sim.operators import study_scenario
+    from hri_teleop.sim.virtual_pad import parse_script
 
     for condition, seed in (("feedback", 3), ("no_feedback", 0), ("no_feedback", 8), ("no_feedback", 1)):
         params = replace_params(feedback=(condition == "feedback"))
@@ -142,7 +142,7 @@ def test_a_quick_study_trial_grasps_as_the_full_one_in_half_the_time(obj):
 
 
 def test_study_scenarios_refuse_an_object_outside_the_simulations_set():
-    from hri_teleop.hardware.sim.operators import study_operator, study_scenario
+    from hri_teleop.sim.operators import study_operator, study_scenario
 
     with pytest.raises(ValueError, match="not in the simulation's set; use one of block, egg"):
         study_scenario("feedback", 1, "cup")

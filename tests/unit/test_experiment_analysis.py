@@ -18,12 +18,12 @@ from hri_teleop.core.experiment.analysis import (
 )
 from hri_teleop.core.experiment.metrics import MetricsError, TrialMeta
 from hri_teleop.core.experiment.tlx import TlxRatings
-from hri_teleop.hardware.sim.config import world_config_from_dict
-from hri_teleop.hardware.sim.lab import run_lab
-from hri_teleop.hardware.sim.operators import study_scenario
-from hri_teleop.hardware.sim.virtual_pad import parse_script
 from hri_teleop.plots.study import PANEL_TITLES, save_result_figure
 from hri_teleop.ros.trial import analyse_folder
+from hri_teleop.sim.config import world_config_from_dict
+from hri_teleop.sim.lab import run_lab
+from hri_teleop.sim.operators import study_scenario
+from hri_teleop.sim.virtual_pad import parse_script
 
 REPO = Path(__file__).resolve().parents[2]
 CONFIG = load_teleop_config(REPO / "hri_lab" / "config" / "teleop.yaml")

@@ -6,7 +6,7 @@ import pytest
 
 from hri_teleop.core.gamepad import GamepadError, PadState
 from hri_teleop.core.gamepad.stale import StaleInputWatch
-from hri_teleop.hardware.sim.virtual_pad import ScriptedPad, parse_script
+from hri_teleop.sim.virtual_pad import ScriptedPad, parse_script
 
 TIMEOUT_S = 1.0
 DEADZONE = 0.1

@@ -7,7 +7,7 @@ from test_gamepad_pygame import FakeJoystick, PygameError  # tests/unit, on sys.
 
 from hri_teleop.core.gamepad import RumbleRequests
 from hri_teleop.hardware.real.pygame_pad import PygamePad
-from hri_teleop.hardware.sim.virtual_pad import RumbleRecord, VirtualPad
+from hri_teleop.sim.virtual_pad import RumbleRecord, VirtualPad
 
 
 def test_each_motor_gets_its_own_request_when_it_changes():

@@ -10,7 +10,7 @@ from hypothesis import strategies as st
 
 from hri_teleop.core.gamepad import AXES, BUTTONS, Gamepad, GamepadError, PadState, load_layout
 from hri_teleop.hardware.gamepad import open_gamepad
-from hri_teleop.hardware.sim.virtual_pad import (
+from hri_teleop.sim.virtual_pad import (
     RumbleRecord,
     ScriptedPad,
     ScriptStep,

@@ -10,7 +10,7 @@ from hypothesis import strategies as st
 
 from hri_teleop.core.fsr import count_to_force, force_to_count
 from hri_teleop.core.mapping import map_force
-from hri_teleop.hardware.sim.sensor_profile import SensorProfileError, press_profile_count
+from hri_teleop.sim.sensor_profile import SensorProfileError, press_profile_count
 
 
 def samples(period_s=4.0, max_count=700, n=400, **kwargs):

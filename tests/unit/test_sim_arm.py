@@ -29,7 +29,7 @@ from hri_teleop.core.limits import (
     hold_at_robot_rate,
     limit_violations,
 )
-from hri_teleop.hardware.sim.arm import (
+from hri_teleop.sim.arm import (
     ACCELERATION_DISCONTINUITY,
     EVENT_IGNORED,
     EVENT_RECOVERED,

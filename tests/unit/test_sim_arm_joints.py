@@ -21,7 +21,7 @@ from hri_teleop.core.joints import (
 )
 from hri_teleop.core.limits import DEFAULT_LIMITS, TwistLimiter
 from hri_teleop.core.reflex import explain_reflex
-from hri_teleop.hardware.sim.arm import (
+from hri_teleop.sim.arm import (
     STATE_IDLE,
     STATE_MOVING,
     STATE_REFLEX,
@@ -30,9 +30,9 @@ from hri_teleop.hardware.sim.arm import (
     SimArmConfig,
     SimArmError,
 )
-from hri_teleop.hardware.sim.joint_motion import JointMotion
-from hri_teleop.hardware.sim.kinematics import PandaKinematics
-from hri_teleop.hardware.sim.world import LAB_ARM_CONFIG
+from hri_teleop.sim.joint_motion import JointMotion
+from hri_teleop.sim.kinematics import PandaKinematics
+from hri_teleop.sim.world import LAB_ARM_CONFIG
 
 RATE_HZ = 50.0
 JOINT_ERRORS = {JOINT_POSITION_LIMITS_VIOLATION, JOINT_VELOCITY_LIMITS_VIOLATION, JOINT_VELOCITY_DISCONTINUITY,

@@ -6,7 +6,7 @@ import statistics
 
 import pytest
 
-from hri_teleop.hardware.sim.board import HANDOUT_FIRMWARE_RATE_HZ, BoardConfig, BoardError, SensorBoard
+from hri_teleop.sim.board import HANDOUT_FIRMWARE_RATE_HZ, BoardConfig, BoardError, SensorBoard
 
 
 def _run(board: SensorBoard, count: int, seconds: float):

@@ -9,8 +9,8 @@ import pytest
 import yaml
 
 from hri_teleop.core.attachment import Attachment
-from hri_teleop.hardware.sim.board import HANDOUT_FIRMWARE_RATE_HZ, BoardConfig
-from hri_teleop.hardware.sim.config import (
+from hri_teleop.sim.board import HANDOUT_FIRMWARE_RATE_HZ, BoardConfig
+from hri_teleop.sim.config import (
     PARAM_ALIASES,
     SECTION_KEYS,
     TOP_KEYS,
@@ -22,9 +22,9 @@ from hri_teleop.hardware.sim.config import (
     world_config_from_dict,
     world_overrides_from_params,
 )
-from hri_teleop.hardware.sim.grasp_objects import OBJECTS, GraspObject
-from hri_teleop.hardware.sim.hand_params import HandParams
-from hri_teleop.hardware.sim.world import LAB_ARM_CONFIG, LabWorld, WorldConfig
+from hri_teleop.sim.grasp_objects import OBJECTS, GraspObject
+from hri_teleop.sim.hand_params import HandParams
+from hri_teleop.sim.world import LAB_ARM_CONFIG, LabWorld, WorldConfig
 
 REPO = Path(__file__).resolve().parents[2]
 SIM_YAML = REPO / "hri_lab" / "config" / "sim.yaml"

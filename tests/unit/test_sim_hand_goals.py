@@ -1,4 +1,4 @@
-"""The simulated Franka Hand (hri_teleop.hardware.sim.hand): its goals, limits and errors."""
+"""The simulated Franka Hand (hri_teleop.sim.hand): its goals, limits and errors."""
 
 from __future__ import annotations
 
@@ -14,18 +14,18 @@ from hypothesis import strategies as st
 from hri_teleop.core import attachment
 from hri_teleop.core.attachment import Attachment, AttachmentError
 from hri_teleop.core.teleop import GRIPPER_MAX_WIDTH_M
-from hri_teleop.hardware.sim import grasp_objects, gripper_goals, hand_params
-from hri_teleop.hardware.sim import hand as hand_module
-from hri_teleop.hardware.sim.grasp_objects import OBJECTS, GraspObject
-from hri_teleop.hardware.sim.gripper_goals import (
+from hri_teleop.sim import grasp_objects, gripper_goals, hand_params
+from hri_teleop.sim import hand as hand_module
+from hri_teleop.sim.grasp_objects import OBJECTS, GraspObject
+from hri_teleop.sim.gripper_goals import (
     GoalStatus,
     GraspCommand,
     HomingCommand,
     MoveCommand,
     StopCommand,
 )
-from hri_teleop.hardware.sim.hand import HandSim
-from hri_teleop.hardware.sim.hand_params import (
+from hri_teleop.sim.hand import HandSim
+from hri_teleop.sim.hand_params import (
     COMMAND_ABORTED,
     COMMAND_FAILED,
     MAX_FORCE_N,

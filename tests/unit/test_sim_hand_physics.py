@@ -1,4 +1,4 @@
-"""The simulated Franka Hand, object and FSR attachment (hri_teleop.hardware.sim.hand): the physics."""
+"""The simulated Franka Hand, object and FSR attachment (hri_teleop.sim.hand): the physics."""
 
 from __future__ import annotations
 
@@ -12,14 +12,14 @@ from hri_teleop.core import fsr
 from hri_teleop.core.attachment import Attachment
 from hri_teleop.core.gripper import GoalThrottle
 from hri_teleop.core.teleop import GRIPPER_MAX_WIDTH_M
-from hri_teleop.hardware.sim.grasp_objects import OBJECTS, holding_force_n, is_held
-from hri_teleop.hardware.sim.gripper_goals import (
+from hri_teleop.sim.grasp_objects import OBJECTS, holding_force_n, is_held
+from hri_teleop.sim.gripper_goals import (
     GraspCommand,
     MoveCommand,
     StopCommand,
 )
-from hri_teleop.hardware.sim.hand import HandSim
-from hri_teleop.hardware.sim.hand_params import (
+from hri_teleop.sim.hand import HandSim
+from hri_teleop.sim.hand_params import (
     GRAVITY_M_PER_S2,
     MAX_FORCE_N,
     MAX_SPEED_M_PER_S,

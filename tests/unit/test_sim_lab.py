@@ -13,11 +13,11 @@ from hypothesis import strategies as st
 
 from hri_teleop.core.config import load_teleop_config
 from hri_teleop.core.run_record import format_summary, summarize, time_above
-from hri_teleop.hardware.sim.grasp_objects import OBJECTS
-from hri_teleop.hardware.sim.lab import run_lab
-from hri_teleop.hardware.sim.operators import random_operator, script_to_yaml_data
-from hri_teleop.hardware.sim.virtual_pad import parse_script
-from hri_teleop.hardware.sim.world import WorldConfig
+from hri_teleop.sim.grasp_objects import OBJECTS
+from hri_teleop.sim.lab import run_lab
+from hri_teleop.sim.operators import random_operator, script_to_yaml_data
+from hri_teleop.sim.virtual_pad import parse_script
+from hri_teleop.sim.world import WorldConfig
 
 REPO = Path(__file__).resolve().parents[2]
 SCENARIOS = REPO / "hri_lab" / "scenarios"

@@ -5,8 +5,8 @@ from __future__ import annotations
 import pytest
 
 from hri_teleop.core.experiment.metrics import TrialMeta
-from hri_teleop.hardware.sim.study import StudyError, participant_codes, simulate_study, simulate_trial
-from hri_teleop.hardware.sim.virtual_pad import parse_script
+from hri_teleop.sim.study import StudyError, participant_codes, simulate_study, simulate_trial
+from hri_teleop.sim.virtual_pad import parse_script
 
 
 @pytest.mark.parametrize("bad", [1, 0, -3, True, 2.0, "4"])

@@ -7,10 +7,10 @@ import pytest
 from hri_teleop.core import fsr
 from hri_teleop.core.attachment import PISTON_TRAVEL_M
 from hri_teleop.core.limits import DEFAULT_LIMITS, TwistLimiter
-from hri_teleop.hardware.sim.board import BoardConfig
-from hri_teleop.hardware.sim.grasp_objects import OBJECTS
-from hri_teleop.hardware.sim.gripper_goals import MoveCommand
-from hri_teleop.hardware.sim.world import LabWorld, WorldConfig, WorldError
+from hri_teleop.sim.board import BoardConfig
+from hri_teleop.sim.grasp_objects import OBJECTS
+from hri_teleop.sim.gripper_goals import MoveCommand
+from hri_teleop.sim.world import LabWorld, WorldConfig, WorldError
 
 QUIET = BoardConfig(noise_counts=0.0)
 

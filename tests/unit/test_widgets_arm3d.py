@@ -28,8 +28,8 @@ from hri_teleop.course.widgets.arm3d import (
     ready_config,
     replay_frames,
 )
-from hri_teleop.hardware.sim.kinematics import PandaKinematics, panda_urdf
 from hri_teleop.ros.proc_table import descendants
+from hri_teleop.sim.kinematics import PandaKinematics, panda_urdf
 
 pin = pytest.importorskip("pinocchio")
 FINGERS = ("panda_finger_joint1", "panda_finger_joint2")

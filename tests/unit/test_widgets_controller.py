@@ -16,7 +16,7 @@ from hri_teleop.course.widgets.controller import (
     pad_svg,
     stick_dot_xy,
 )
-from hri_teleop.hardware.sim.virtual_pad import VirtualPad
+from hri_teleop.sim.virtual_pad import VirtualPad
 
 
 def test_holding_cross_closes_the_gripper_at_k_gripper_per_second_of_wall_time():

@@ -3,7 +3,7 @@
 It shows one joint configuration, follows ``/joint_states`` live (drawn at most 30 times a second
 on a :class:`~hri_teleop.course.widgets._base.Ticker`) or replays a trial's bag with a slider. The
 meshcat server is the kernel's child (``ros.master.ManagedProcess``): stopped when the widget is
-closed or the kernel exits. The URDF and meshes are example-robot-data's (``hardware.sim.kinematics``).
+closed or the kernel exits. The URDF and meshes are example-robot-data's (``sim.kinematics``).
 """
 
 from __future__ import annotations
@@ -215,7 +215,7 @@ def _panda_models() -> Tuple[Any, Any]:
     """The Panda's model (nine joints) and visual geometry from example-robot-data: parsed once per kernel."""
     import pinocchio as pin  # noqa: PLC0415 - pinocchio (0.2 s) only when a 3D view is built
 
-    from hri_teleop.hardware.sim.kinematics import panda_package_dir, panda_urdf  # noqa: PLC0415 - imports pinocchio
+    from hri_teleop.sim.kinematics import panda_package_dir, panda_urdf  # noqa: PLC0415 - imports pinocchio
 
     urdf = str(panda_urdf())
     try:
@@ -311,7 +311,7 @@ class ArmView(widgets.VBox):
             reason = str(caught[0].message).replace("\n", " ") if caught else "no link was sent"
             raise ArmViewError(f"the Panda's meshes did not load into the 3D view ({reason}); reinstall "
                                "example-robot-data with `make setup`")
-        from hri_teleop.hardware.sim.kinematics import TCP_FRAME  # noqa: PLC0415 - pinocchio is loaded by now
+        from hri_teleop.sim.kinematics import TCP_FRAME  # noqa: PLC0415 - pinocchio is loaded by now
 
         self._tcp_frame = model.getFrameId(TCP_FRAME)
         x, y, z = _CAMERA_M

@@ -36,7 +36,7 @@ from hri_teleop.course.widgets._base import (
     replace_in_cell,
 )
 from hri_teleop.hardware.gamepad import check_pad_rumble, open_gamepad
-from hri_teleop.hardware.sim.virtual_pad import VirtualPad
+from hri_teleop.sim.virtual_pad import VirtualPad
 
 __all__ = ["ControllerSnapshot", "ControllerModel", "stick_dot_xy", "button_roles", "pad_svg", "open_pad",
            "rumble_cue", "ControllerView"]

@@ -31,8 +31,8 @@ from hri_teleop.grading.cases.inputs import (
     public_teleop_parts_case,
     reference_parts,
 )
-from hri_teleop.hardware.sim.virtual_pad import ScriptedPad, parse_script
 from hri_teleop.ros.bags import read_topics, write_bag
+from hri_teleop.sim.virtual_pad import ScriptedPad, parse_script
 
 __all__ = ["TraceFileError", "TRACE_DIR", "TRACE_FILES", "write_traces", "read_mapping_trace", "read_parts_trace"]
 

@@ -57,7 +57,7 @@ from hri_teleop.grading.run.workspace import (
     REPO,
     find_package_root,
 )
-from hri_teleop.hardware.sim.sensor_profile import FSR_SENSOR_RATE_HZ
+from hri_teleop.sim.sensor_profile import FSR_SENSOR_RATE_HZ
 
 __all__ = [
     "CHECKS", "grade", "grade_robot_params", "grade_mapping_node", "grade_sensor_launch", "grade_teleoperation",

@@ -21,12 +21,11 @@ REFERENCE_MODULES: Dict[str, str] = {
     "hri_teleop.core.teleop": "Ex. 8's teleoperation rules",
     "hri_teleop.core.paramfile": "the lab's parameter files",
     "hri_teleop.grading": "the grader",
-    "hri_teleop.hardware.sim.lab": "the lab's reference nodes, simulated",
+    "hri_teleop.sim.lab": "the lab's reference nodes, simulated",
     # last term's paths of the same (hri_teleop.mapping is a shim of the student API again)
     "hri_teleop.mapping": "Ex. 5's mapping rule",
     "hri_teleop.teleop": "Ex. 8's teleoperation rules",
     "hri_teleop.paramfile": "the lab's parameter files",
-    "hri_teleop.sim.lab": "the lab's reference nodes, simulated",
 }
 #: names of the reference rules, wherever they are taken from
 REFERENCE_NAMES = frozenset({"map_force", "TeleopController", "TeleopCommand"})

@@ -1,5 +1,4 @@
-"""Simulated hardware for the lab at home: the Franka arm and hand, an object, the FSR attachment.
-
-Pure, deterministic physics and rules (no rospy, no clocks of their own): the simulation
-nodes step them at 1 kHz and wire them to the same topics and actions as the real robot.
+"""Simulated boards that speak the real Arduino's serial protocols (the firmware on simavr, a
+rosserial board on a pty), so the lab's serial bridge and rosserial_python cannot tell them
+from the board. The physics they report comes from the lock-step simulation (``hri_teleop.sim``).
 """

@@ -40,7 +40,7 @@ from hri_teleop.core.rosserial_frames import (
     encode_topic_info,
     frame,
 )
-from hri_teleop.hardware.sim.board import BoardConfig, SensorBoard
+from hri_teleop.sim.board import BoardConfig, SensorBoard
 
 __all__ = ["BoardStandInError", "REST_COUNT", "FULL_PRESS_COUNT", "PRESS_RAMP_S", "PARAM_TIMEOUT_S",
            "PUB_FORCE_ID", "Piston", "SketchBoard", "PtyBoard"]

@@ -2,7 +2,7 @@
 
 As franka_ros's franka_control it takes the velocity command (``cmd_vel``), serves
 ``/franka_control/error_recovery`` and publishes the seven joints; the project's simulated arm
-(:class:`hri_teleop.hardware.sim.arm.SimArm`, as lab_sim runs it) moves under the commands. With the
+(:class:`hri_teleop.sim.arm.SimArm`, as lab_sim runs it) moves under the commands. With the
 user stop engaged in the twin's folder (whichever franka_control runs reads it) commands are
 counted and the arm stays. Counts: twists, non-zero twists, error recoveries.
 """
@@ -27,11 +27,11 @@ from std_msgs.msg import Header
 from hri_teleop.core.config import DEFAULT_TWIST_TOPIC
 from hri_teleop.core.joints import FRANKA_JOINT_STATES_TOPIC, JOINT_NAMES
 from hri_teleop.core.reflex import ERROR_RECOVERY_ACTION
-from hri_teleop.hardware.sim.arm import SimArm
-from hri_teleop.hardware.sim.world import LAB_ARM_CONFIG
 from hri_teleop.ros import franka_msgs as fm
 from hri_teleop.ros.lab_twin.counts import TWIN_DIR_ENV, CountsFile, read_activated
 from hri_teleop.ros.params import fail, get_param, run_node
+from hri_teleop.sim.arm import SimArm
+from hri_teleop.sim.world import LAB_ARM_CONFIG
 
 __all__ = ["FrankaControlTwin", "main", "STATE_RATE_HZ", "LOOP_PERIOD_S", "ACTIVATED_POLL_S"]
 

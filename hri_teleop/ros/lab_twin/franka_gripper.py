@@ -2,7 +2,7 @@
 
 franka_gripper_node serves ``/franka_gripper/{move,grasp,homing,stop}`` and publishes
 ``/franka_gripper/joint_states`` (two finger joints, half the width each). Here the project's
-simulated hand (:class:`hri_teleop.hardware.sim.hand.HandSim`, as lab_sim runs it, without an
+simulated hand (:class:`hri_teleop.sim.hand.HandSim`, as lab_sim runs it, without an
 object) carries the goals out. Counts: goals received per action, and the width
 (:mod:`hri_teleop.ros.lab_twin.counts`).
 """
@@ -21,12 +21,12 @@ from std_msgs.msg import Header
 
 from hri_teleop.core.joints import FINGER_JOINT_NAMES
 from hri_teleop.core.limits import ROBOT_PERIOD_S
-from hri_teleop.hardware.sim.gripper_goals import GoalRecord
-from hri_teleop.hardware.sim.hand import HandSim
-from hri_teleop.hardware.sim.hand_params import HandSimError
 from hri_teleop.ros.gripper_actions import ACTIONS, command_from_goal, end_goal
 from hri_teleop.ros.lab_twin.counts import CountsFile
 from hri_teleop.ros.params import fail, get_param, run_node
+from hri_teleop.sim.gripper_goals import GoalRecord
+from hri_teleop.sim.hand import HandSim
+from hri_teleop.sim.hand_params import HandSimError
 
 __all__ = ["FrankaGripperTwin", "main", "PUBLISH_RATE_HZ", "LOOP_PERIOD_S"]
 

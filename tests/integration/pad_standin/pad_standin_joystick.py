@@ -34,7 +34,7 @@ class StandinJoystick:
     def __init__(self, script: str, log_path: Optional[str] = None) -> None:
         from hri_teleop.core.gamepad.layout import as_layout
         from hri_teleop.core.gamepad.state import PadState
-        from hri_teleop.hardware.sim.virtual_pad import ScriptedPad
+        from hri_teleop.sim.virtual_pad import ScriptedPad
 
         self._layout = as_layout(LAYOUT)
         self._pad = ScriptedPad(script, self._layout, name=NAME, clock=time.monotonic)

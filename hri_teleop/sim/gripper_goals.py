@@ -7,7 +7,7 @@ from enum import IntEnum
 from typing import Optional, Union
 
 from hri_teleop.core.checks import is_number
-from hri_teleop.hardware.sim.hand_params import DEFAULT_EPSILON_M, MAX_SPEED_M_PER_S, HandSimError
+from hri_teleop.sim.hand_params import DEFAULT_EPSILON_M, MAX_SPEED_M_PER_S, HandSimError
 
 __all__ = ["ACTION_NAMES", "add_note", "MoveCommand", "GraspCommand", "HomingCommand", "StopCommand", "Command", "GoalStatus", "GoalRecord",
            "HandState", "goal_problem"]

@@ -24,9 +24,9 @@ from hri_teleop.core.mapping import map_force
 from hri_teleop.core.reflex import explain_reflex
 from hri_teleop.core.run_record import LIFTED_M, LabRecord
 from hri_teleop.core.teleop import TeleopController, TeleopParams, motor_rumble
-from hri_teleop.hardware.sim.gripper_goals import GoalRecord, MoveCommand
-from hri_teleop.hardware.sim.virtual_pad import ScriptedPad, ScriptStep, load_script
-from hri_teleop.hardware.sim.world import LabWorld, WorldConfig
+from hri_teleop.sim.gripper_goals import GoalRecord, MoveCommand
+from hri_teleop.sim.virtual_pad import ScriptedPad, ScriptStep, load_script
+from hri_teleop.sim.world import LabWorld, WorldConfig
 
 __all__ = ["LabRunError", "ManagerParams", "run_lab"]
 

@@ -12,8 +12,8 @@ from typing import List, Optional, Tuple
 
 from hri_teleop.core.attachment import Attachment
 from hri_teleop.core.checks import is_finite_number
-from hri_teleop.hardware.sim.grasp_objects import GraspObject, holding_force_n
-from hri_teleop.hardware.sim.gripper_goals import (
+from hri_teleop.sim.grasp_objects import GraspObject, holding_force_n
+from hri_teleop.sim.gripper_goals import (
     ACTION_NAMES,
     Command,
     GoalRecord,
@@ -25,7 +25,7 @@ from hri_teleop.hardware.sim.gripper_goals import (
     add_note,
     goal_problem,
 )
-from hri_teleop.hardware.sim.hand_params import (
+from hri_teleop.sim.hand_params import (
     COMMAND_ABORTED,
     COMMAND_FAILED,
     GRAVITY_M_PER_S2,
@@ -174,7 +174,7 @@ class HandSim:
     def set_in_reach(self, in_reach: bool) -> None:
         """Tell the hand whether the object is horizontally between the fingers.
 
-        The hand models only the vertical; the caller (:class:`hri_teleop.hardware.sim.world.LabWorld`)
+        The hand models only the vertical; the caller (:class:`hri_teleop.sim.world.LabWorld`)
         knows where the hand and the object are in the plane.  An object out of reach is
         not between the fingers whatever the height; coming back into reach follows the
         same rule as coming down onto it (the fingers must be open wide enough).

@@ -4,7 +4,7 @@
 draws a seeded script with what stresses the limiter most (full stick reversals in one tick, mode
 toggles mid-motion, both gripper buttons, a lost pad, quitting while moving), and
 :func:`script_to_yaml_data` writes it for the node's ``~pad_script``, so the same operator runs
-offline (:func:`hri_teleop.hardware.sim.lab.run_lab`) and through the real node.
+offline (:func:`hri_teleop.sim.lab.run_lab`) and through the real node.
 """
 
 from __future__ import annotations
@@ -12,8 +12,8 @@ from __future__ import annotations
 import random
 from typing import Any, Dict, List
 
-from hri_teleop.hardware.sim.grasp_objects import OBJECTS
-from hri_teleop.hardware.sim.virtual_pad import ScriptStep
+from hri_teleop.sim.grasp_objects import OBJECTS
+from hri_teleop.sim.virtual_pad import ScriptStep
 
 __all__ = ["random_operator", "script_to_yaml_data", "study_operator", "study_scenario", "squeeze_taps"]
 
@@ -177,7 +177,7 @@ def study_scenario(condition: str, seed: int, object_name: str = "egg", *, quick
     if quick:
         # here, not at the top: the world loads pinocchio (the arm's joints), and ros.trial, so the
         # notebooks' widgets, import this module; a 3D view is what should pay for pinocchio
-        from hri_teleop.hardware.sim.world import LAB_ARM_CONFIG  # noqa: PLC0415
+        from hri_teleop.sim.world import LAB_ARM_CONFIG  # noqa: PLC0415
 
         approach_s = 1.2
         x, y, z = LAB_ARM_CONFIG.start_position_m

@@ -21,7 +21,7 @@ from hri_teleop.core.joints import (
     JointVector,
     joint_violations,
 )
-from hri_teleop.hardware.sim.kinematics import PandaKinematics, Vector
+from hri_teleop.sim.kinematics import PandaKinematics, Vector
 
 __all__ = ["JointMotion", "JointStep", "start_joints"]
 

@@ -3,7 +3,7 @@
 At home the arm and the hand share one physics: the object lifts only if the arm moves up while
 the hand grips it hard enough, and the board's count comes from the hand's piston. So
 :class:`LabWorld` steps them together at 1 kHz and keeps the horizontal geometry. Pure: no rospy,
-no clock; ``lab_sim.py`` and :mod:`hri_teleop.hardware.sim.lab` pass the time. The geometry:
+no clock; ``lab_sim.py`` and :mod:`hri_teleop.sim.lab` pass the time. The geometry:
 docs/simulation.md.
 """
 
@@ -18,12 +18,12 @@ from hri_teleop.core.checks import is_finite_number
 from hri_teleop.core.errors import HriTeleopError
 from hri_teleop.core.limits import ROBOT_PERIOD_S
 from hri_teleop.core.run_record import LIFTED_M
-from hri_teleop.hardware.sim.arm import SimArm, SimArmConfig
-from hri_teleop.hardware.sim.board import BoardConfig, SensorBoard
-from hri_teleop.hardware.sim.grasp_objects import GraspObject, is_held
-from hri_teleop.hardware.sim.gripper_goals import Command, GoalRecord
-from hri_teleop.hardware.sim.hand import HandSim
-from hri_teleop.hardware.sim.hand_params import HandParams
+from hri_teleop.sim.arm import SimArm, SimArmConfig
+from hri_teleop.sim.board import BoardConfig, SensorBoard
+from hri_teleop.sim.grasp_objects import GraspObject, is_held
+from hri_teleop.sim.gripper_goals import Command, GoalRecord
+from hri_teleop.sim.hand import HandSim
+from hri_teleop.sim.hand_params import HandParams
 
 __all__ = ["WorldError", "WorldConfig", "ObjectStatus", "LabWorld", "LAB_ARM_CONFIG"]
 
@@ -65,7 +65,7 @@ class WorldConfig:
                 raise WorldError(f"WorldConfig.{name} must be a {kind.__name__}, got {type(getattr(self, name)).__name__}")
         if self.object is not None and not isinstance(self.object, GraspObject):
             raise WorldError(f"WorldConfig.object must be a GraspObject or None, got {self.object!r}; "
-                             "e.g. hri_teleop.hardware.sim.grasp_objects.OBJECTS['egg']")
+                             "e.g. hri_teleop.sim.grasp_objects.OBJECTS['egg']")
         if not (is_finite_number(self.capture_radius_m) and self.capture_radius_m > 0):
             raise WorldError(f"capture_radius_m must be a positive distance in m, got {self.capture_radius_m!r}; e.g. 0.01")
         if not is_finite_number(self.table_z_m):

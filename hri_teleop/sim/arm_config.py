@@ -1,7 +1,7 @@
 """What the simulated Panda is told and what it reports: its settings, limit violations and events.
 
 :class:`SimArmConfig` holds every number the arm judges with and where it starts; the records are
-what a node logs or a test inspects. The arm itself: :mod:`hri_teleop.hardware.sim.arm`.
+what a node logs or a test inspects. The arm itself: :mod:`hri_teleop.sim.arm`.
 """
 
 from __future__ import annotations

@@ -20,13 +20,13 @@ from hri_teleop.core.checks import is_finite_number, is_int
 from hri_teleop.core.errors import HriTeleopError
 from hri_teleop.core.paths import LAB_CONFIG
 from hri_teleop.core.yamlfile import read_yaml
-from hri_teleop.hardware.sim.arm import SimArmConfig, SimArmError
-from hri_teleop.hardware.sim.board import HANDOUT_FIRMWARE_RATE_HZ, BoardConfig, BoardError
-from hri_teleop.hardware.sim.grasp_objects import OBJECTS, GraspObject
-from hri_teleop.hardware.sim.hand_params import HandParams, HandSimError
-from hri_teleop.hardware.sim.joint_motion import start_joints
-from hri_teleop.hardware.sim.kinematics import KinematicsError
-from hri_teleop.hardware.sim.world import LAB_ARM_CONFIG, WorldConfig, WorldError
+from hri_teleop.sim.arm import SimArmConfig, SimArmError
+from hri_teleop.sim.board import HANDOUT_FIRMWARE_RATE_HZ, BoardConfig, BoardError
+from hri_teleop.sim.grasp_objects import OBJECTS, GraspObject
+from hri_teleop.sim.hand_params import HandParams, HandSimError
+from hri_teleop.sim.joint_motion import start_joints
+from hri_teleop.sim.kinematics import KinematicsError
+from hri_teleop.sim.world import LAB_ARM_CONFIG, WorldConfig, WorldError
 
 __all__ = [
     "SimConfigError",

@@ -17,7 +17,7 @@ import numpy as np
 from hri_teleop.core.checks import is_finite_number
 from hri_teleop.core.joints import JointVector
 from hri_teleop.core.limits import ROBOT_PERIOD_S, CartesianLimits, Twist, TwistLimiter, Vec3
-from hri_teleop.hardware.sim.arm_config import (
+from hri_teleop.sim.arm_config import (
     ACCELERATION_DISCONTINUITY,
     AXES,
     EVENT_IGNORED,
@@ -39,8 +39,8 @@ from hri_teleop.hardware.sim.arm_config import (
     SimArmConfig,
     SimArmError,
 )
-from hri_teleop.hardware.sim.joint_motion import JointMotion, start_joints
-from hri_teleop.hardware.sim.kinematics import KinematicsError
+from hri_teleop.sim.joint_motion import JointMotion, start_joints
+from hri_teleop.sim.kinematics import KinematicsError
 
 __all__ = [
     "SimArmError", "SimArmConfig", "SimArm", "LimitViolation", "ArmEvent", "ArmPose", "VELOCITY_LIMITS_VIOLATION",

@@ -19,12 +19,12 @@ from hri_teleop.core.experiment.metrics import TrialMeta
 from hri_teleop.core.experiment.plan import counterbalanced_plan, trial_seed
 from hri_teleop.core.run_record import LabRecord
 from hri_teleop.core.teleop import TeleopParams
-from hri_teleop.hardware.sim.config import world_config_from_dict
-from hri_teleop.hardware.sim.grasp_objects import OBJECTS
-from hri_teleop.hardware.sim.lab import run_lab
-from hri_teleop.hardware.sim.operators import study_scenario
-from hri_teleop.hardware.sim.virtual_pad import ScriptStep, parse_script
 from hri_teleop.plots.study import save_result_figure
+from hri_teleop.sim.config import world_config_from_dict
+from hri_teleop.sim.grasp_objects import OBJECTS
+from hri_teleop.sim.lab import run_lab
+from hri_teleop.sim.operators import study_scenario
+from hri_teleop.sim.virtual_pad import ScriptStep, parse_script
 
 __all__ = ["StudyError", "participant_codes", "simulate_trial", "simulate_study"]
 

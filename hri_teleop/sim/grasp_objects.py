@@ -5,7 +5,7 @@ from __future__ import annotations
 from dataclasses import dataclass
 from typing import Dict, Optional
 
-from hri_teleop.hardware.sim.hand_params import GRAVITY_M_PER_S2, HandSimError, checked_param
+from hri_teleop.sim.hand_params import GRAVITY_M_PER_S2, HandSimError, checked_param
 
 __all__ = ["GraspObject", "OBJECTS", "holding_force_n", "is_held"]
 
