@@ -84,7 +84,8 @@ def pytest_collection_modifyitems(config: pytest.Config, items: list) -> None:
 @pytest.hookimpl(hookwrapper=True)
 def pytest_runtest_protocol(item: pytest.Item, nextitem: object) -> Iterator[None]:
     """With HRI_TEST_CPU_LOG=path: one JSON line per test of the CPU seconds it cost (this process and
-    the children it waited for: roscore, nodes, kernels), to see where a 2-core machine's time goes."""
+    the children it waited for: roscore, nodes, kernels), when it ran and on which worker, to see
+    where a 2-core machine's time goes."""
     path = os.environ.get("HRI_TEST_CPU_LOG")
     if not path:
         yield
@@ -96,10 +97,14 @@ def pytest_runtest_protocol(item: pytest.Item, nextitem: object) -> Iterator[Non
         own, kids = resource.getrusage(resource.RUSAGE_SELF), resource.getrusage(resource.RUSAGE_CHILDREN)
         return own.ru_utime + own.ru_stime + kids.ru_utime + kids.ru_stime
 
-    before = cpu_s()
+    import time
+
+    before, start = cpu_s(), time.time()
     yield
     with open(path, "a") as fh:
-        fh.write(json.dumps({"test": item.nodeid, "cpu_s": round(cpu_s() - before, 3)}) + "\n")
+        fh.write(json.dumps({"test": item.nodeid, "cpu_s": round(cpu_s() - before, 3), "start": round(start, 3),
+                             "end": round(time.time(), 3), "worker": os.environ.get("PYTEST_XDIST_WORKER", "")})
+                 + "\n")
 
 
 def _ros_env() -> dict:
