@@ -15,17 +15,17 @@ setup:
 
 # The whole lab simulated: teleoperation.launch sim:=true with the default scenario (~25 s).
 demo: setup
-	@$(ENV) $(PY) -m hri_teleop.ros.teleop_demo $(DEMO_ARGS)
+	@$(ENV) $(PY) -m hri_teleop.apps.demo $(DEMO_ARGS)
 
 # Preflight of a lab station (docs/lab-day.md): one line per part, ok or the fix, in under 10 s.
 # WALK=1 also walks through the pad's buttons, its rumble and a full press of the piston;
 # DOCTOR_ARGS="--port /dev/ttyACM1" names the Arduino's port. At home it checks the simulated lab.
 doctor: setup
-	@$(ENV) $(PY) -m hri_teleop.ros.doctor $(if $(filter-out 0,$(WALK)),--walk) $(DOCTOR_ARGS)
+	@$(ENV) $(PY) -m hri_teleop.apps.doctor $(if $(filter-out 0,$(WALK)),--walk) $(DOCTOR_ARGS)
 
 # Only the sensor stage (handout Ex. 6): sensor.launch with the simulated press profile.
 demo-sensor: setup
-	@$(ENV) $(PY) -m hri_teleop.ros.sensor_demo
+	@$(ENV) $(PY) -m hri_teleop.apps.demo_sensor
 
 # The lab twin (docs/lab-day.md, "Before the first session"): a master that looks like the lab PC's
 # (franka_control, franka_gripper, joint_state_publisher, serial_node with a rosserial board on a pty)
@@ -34,7 +34,7 @@ demo-sensor: setup
 # activate, deactivate, report on standard input; Ctrl-C stops everything.
 # LAB_TWIN_ARGS="--deactivated --publish-period-ms 300", or "--bare": only the master and the board.
 lab-twin: setup
-	@$(ENV) $(PY) -m hri_teleop.ros.lab_twin $(LAB_TWIN_ARGS)
+	@$(ENV) $(PY) -m hri_teleop.apps.lab_twin $(LAB_TWIN_ARGS)
 
 # TEST_JOBS test workers (default two per core: much of a worker's time is spent waiting on real
 # time -- a launch, a kernel, a simulated second. On the 2-core machine, from a fresh clone: two
@@ -92,13 +92,13 @@ clean:
 # Student code runs in bubblewrap; where it cannot, make grade refuses unless UNSANDBOXED=1
 # (the notebooks' kernels then run with the grader's rights; the output and report.html say so first).
 traces: setup
-	@$(ENV) $(PY) -m hri_teleop.grading.cli traces
+	@$(ENV) $(PY) -m hri_teleop.apps.grade traces
 
 templates: setup
-	@$(ENV) $(PY) -m hri_teleop.grading.cli templates
+	@$(ENV) $(PY) -m hri_teleop.apps.grade templates
 
 grade: setup
-	@$(ENV) $(PY) -m hri_teleop.grading.cli batch $(or $(DIR),notebooks/submitted) --out $(or $(OUT),out/grades) $(if $(JOBS),--jobs $(JOBS)) $(if $(TIMEOUT),--timeout $(TIMEOUT)) $(if $(CHECKS),--checks $(CHECKS)) $(if $(STUDENT),--student $(STUDENT)) $(if $(LATE),--late $(LATE)) $(if $(filter-out 0,$(REPORT)),--report-only) $(if $(filter-out 0,$(UNSANDBOXED)),--unsandboxed)
+	@$(ENV) $(PY) -m hri_teleop.apps.grade batch $(or $(DIR),notebooks/submitted) --out $(or $(OUT),out/grades) $(if $(JOBS),--jobs $(JOBS)) $(if $(TIMEOUT),--timeout $(TIMEOUT)) $(if $(CHECKS),--checks $(CHECKS)) $(if $(STUDENT),--student $(STUDENT)) $(if $(LATE),--late $(LATE)) $(if $(filter-out 0,$(REPORT)),--report-only) $(if $(filter-out 0,$(UNSANDBOXED)),--unsandboxed)
 
 # Gradescope (grading/README.md, section Gradescope): out/gradescope/autograder.zip with setup.sh and
 # run_autograder at its root, for a programming assignment on Gradescope's Ubuntu 22.04 base image.
@@ -106,7 +106,7 @@ grade: setup
 # uploaded notebooks with the grader's rights where Gradescope's container cannot run bubblewrap.
 .PHONY: gradescope
 gradescope: setup
-	@$(ENV) $(PY) -m hri_teleop.grading.gradescope build --out $(or $(OUT),out/gradescope) $(if $(CHECKS),--checks $(CHECKS)) $(if $(filter-out 0,$(UNSANDBOXED)),--unsandboxed)
+	@$(ENV) $(PY) -m hri_teleop.apps.gradescope build --out $(or $(OUT),out/gradescope) $(if $(CHECKS),--checks $(CHECKS)) $(if $(filter-out 0,$(UNSANDBOXED)),--unsandboxed)
 
 # Firmware (firmware/README.md): both Arduino sketches for the Uno with Debian's AVR
 # toolchain (flash and RAM use against 32 KB / 2 KB), and the simulated Uno (simavr) the
@@ -122,11 +122,11 @@ firmware: setup
 # them, and packs out/task4-student-bundle.tar.gz.
 .PHONY: release
 release: setup
-	@$(ENV) $(PY) -m hri_teleop.course release
+	@$(ENV) $(PY) -m hri_teleop.apps.course release
 
 # Notebooks (notebooks/, one per handout exercise): JupyterLab with the "hri-teleop" kernel
 # (.venv's Python in tools/env.sh's ROS shell, registered inside .venv); the widgets need
 # no extension build (ipywidgets 8, ipympl). LAB_ARGS=... go to jupyter lab, e.g. --no-browser.
 .PHONY: lab
 lab: setup
-	@$(ENV) $(PY) -m hri_teleop.course.labkernel $(LAB_ARGS)
+	@$(ENV) $(PY) -m hri_teleop.apps.lab $(LAB_ARGS)

@@ -59,7 +59,7 @@ def part_scores(results: Sequence[dict]) -> Dict[str, float]:
 
 
 def _grade(package: Path, out: Path, checks: Sequence[str], env: Dict[str, str]) -> Dict[str, float]:
-    argv = [sys.executable, "-m", "hri_teleop.grading.cli", "submission", str(package), "--json", "--out", str(out)]
+    argv = [sys.executable, "-m", "hri_teleop.apps.grade", "submission", str(package), "--json", "--out", str(out)]
     if checks:
         argv += ["--checks", ",".join(checks)]
     ran = subprocess.run(argv, capture_output=True, text=True, env=env, timeout=600, stdin=subprocess.DEVNULL)

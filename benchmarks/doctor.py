@@ -28,11 +28,11 @@ _REPORTED = re.compile(r"\((\d+(?:\.\d+)?) s\)\s*$")
 
 
 def doctor_s(options: BenchOptions) -> float:
-    """One ``python -m hri_teleop.ros.doctor`` at home with no master: the time it reports."""
+    """One ``python -m hri_teleop.apps.doctor`` at home with no master: the time it reports."""
     env = lab_shell_env()
     env.update({"HRI_MODE": "home", "ROS_MASTER_URI": f"http://127.0.0.1:{free_port()}/"})
     try:
-        proc = subprocess.run([sys.executable, "-m", "hri_teleop.ros.doctor"], env=env, capture_output=True,
+        proc = subprocess.run([sys.executable, "-m", "hri_teleop.apps.doctor"], env=env, capture_output=True,
                               text=True, timeout=HANG_S, cwd=REPO, stdin=subprocess.DEVNULL)
     except subprocess.TimeoutExpired:
         raise BenchError(f"make doctor did not end within {HANG_S:.0f} s; run it by hand to see where") from None

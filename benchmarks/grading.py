@@ -219,7 +219,7 @@ def measure_submission(work_dir: Path, runs: int = SUBMISSION_RUNS, checks: Sequ
             cache = work_dir / f"cache{index}"
             shutil.rmtree(cache, ignore_errors=True)
             env["XDG_CACHE_HOME"] = str(cache)
-        argv = [sys.executable, "-m", "hri_teleop.grading.cli", "submission", str(SOLUTIONS), "--out", str(out)]
+        argv = [sys.executable, "-m", "hri_teleop.apps.grade", "submission", str(SOLUTIONS), "--out", str(out)]
         if checks:
             argv += ["--checks", ",".join(checks)]
         progress(f"{label}: run {index}/{runs} ({', '.join(wanted)})")
@@ -360,7 +360,7 @@ def _batch_run(course: Path, plan: Sequence[Student], workers: int, checks: Sequ
                env: Mapping[str, str], progress: Progress) -> _BatchRun:
     """``hri-grade batch COURSE/submitted --out OUT --jobs N`` (make grade's command line), checked."""
     out = course.parent / "grades"
-    argv = [sys.executable, "-m", "hri_teleop.grading.cli", "batch", str(course / "submitted"), "--out", str(out),
+    argv = [sys.executable, "-m", "hri_teleop.apps.grade", "batch", str(course / "submitted"), "--out", str(out),
             "--jobs", str(workers)]
     if checks:
         argv += ["--checks", ",".join(checks)]

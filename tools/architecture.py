@@ -25,10 +25,12 @@ HOLDS: Dict[str, str] = {
     "plots": "the figures (matplotlib, Agg) demos, the study and the grader's feedback share",
     "sim": "the lock-step simulation, pure: Panda arm and joints, hand, object, board, world, scripted pad, operators, study",
     "hardware": "the boundary, real | simulated: real/ (pygame pad, serial board), sim/ (the board's serial protocols)",
-    "ros": "what the ROS shells share: parameters, clocks, private masters, bags, the kernel, demos, the lab twin",
+    "ros": "what the ROS shells share: parameters, clocks, private masters, bags, the kernel, the demos', the doctor's "
+           "and the trials' work, the lab twin's nodes",
     "student": "what students' files import, versioned (student-api.md)",
     "grading": "the autograder, one subpackage per step (below)",
     "course": "what notebooks import (a facade), the kernel's ROS node, widgets/, release tools",
+    "apps": "every command a person types (make targets, hri-grade, python -m): argument parsing and printing",
 }
 
 

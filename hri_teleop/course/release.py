@@ -126,7 +126,7 @@ def build_release(course_dir: PathLike = COURSE_DIR, archive: Optional[PathLike]
     course = Path(course_dir).resolve()
     problems = notebook_output_problems(source_notebooks(course))
     if problems:
-        raise CourseError("source notebooks have outputs (run `python -m hri_teleop.course strip`): "
+        raise CourseError("source notebooks have outputs (run `python -m hri_teleop.apps.course strip`): "
                           + "; ".join(problems[:5]))
     generate_assignments(course)
     release = course / "release"

@@ -5,17 +5,14 @@ recovery; or the simulation), the sensor board and its rate, ``/max_sensor_force
 and the machine the real robot needs (verdicts: :mod:`hri_teleop.core.doctor`). At home with no
 master it starts the simulated lab on a private roscore, checks it, and stops it.
 
-    python -m hri_teleop.ros.doctor [--walk] [--port P] [--no-sim]
+    python -m hri_teleop.apps.doctor [--walk] [--port P] [--no-sim]
 """
 
 from __future__ import annotations
 
-import argparse
 import contextlib
 import glob
 import os
-import select
-import sys
 import time
 from pathlib import Path
 from typing import Any, Callable, Dict, Iterator, List, NamedTuple, Optional, Sequence, Tuple
@@ -28,7 +25,6 @@ from hri_teleop.core.doctor import (
     Finding,
     board_rate_finding,
     calibration_finding,
-    exit_code,
     expected_board_hz,
     governor_finding,
     kernel_finding,
@@ -44,7 +40,7 @@ from hri_teleop.ros.master import MasterError, PrivateMaster, started_here
 from hri_teleop.ros.master_api import MasterApiError, master_call, master_reachable, master_uri, running_nodes
 
 __all__ = ["GRIPPER_ACTIONS", "BOARD_NODES", "check_master", "check_robot", "check_teleop", "check_board",
-           "check_machine", "home_simulation", "run_checks", "main", "SIM_READY_S"]
+           "check_machine", "home_simulation", "run_checks", "SIM_READY_S"]
 
 GRIPPER_ACTIONS = ("move", "grasp", "homing", "stop")
 #: Nodes that publish /pub_force, and which sketch (or stand-in) each means.
@@ -309,40 +305,3 @@ def _run_checks(mode: str, walk: bool, ask: Callable[[str], str], say: Callable[
     for finding in check_machine(mode):
         add(finding)
     return findings
-
-
-def _enter_pressed() -> bool:
-    """A line on standard input (Enter in a terminal, the widget's Skip, or its end) skips a step."""
-    ready, _w, _x = select.select([sys.stdin], [], [], 0)
-    if ready:
-        sys.stdin.readline()
-    return bool(ready)
-
-
-def _ask(prompt: str) -> str:
-    """The prompt on a line of its own (a widget reads it), the answer from standard input ("" at its end)."""
-    print(prompt, flush=True)
-    return sys.stdin.readline().strip()
-
-
-def main(argv: Optional[List[str]] = None) -> int:
-    parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
-    parser.add_argument("--walk", action="store_true",
-                        help="walk through the pad (press each button, feel the rumble) and a full press of the "
-                             "piston; answers and skips (Enter) come from standard input")
-    parser.add_argument("--port", action="append", default=None,
-                        help="the Arduino's serial port (default: every /dev/ttyACM* and /dev/ttyUSB*); repeatable")
-    parser.add_argument("--no-sim", action="store_true",
-                        help="at home with no master: do not start the simulated lab, only say that none runs")
-    args = parser.parse_args(argv)
-    started = time.monotonic()
-    findings = run_checks(walk=args.walk, ask=_ask, say=lambda line: print(line, flush=True), ports=args.port,
-                          simulate=not args.no_sim, skip=_enter_pressed)
-    failed = [f for f in findings if f.status == FAIL]
-    print(f"doctor: {len(findings) - len(failed)} of {len(findings)} ok or noted, {len(failed)} to fix "
-          f"({time.monotonic() - started:.1f} s)")
-    return exit_code(findings)
-
-
-if __name__ == "__main__":
-    sys.exit(main())

@@ -9,21 +9,19 @@ the range of /force_mapped, whether every value equals the mapping of its count,
 
 from __future__ import annotations
 
-import argparse
 import sys
 import time
 from dataclasses import dataclass
 from pathlib import Path
-from typing import Callable, Dict, List, Mapping, Optional, Tuple
+from typing import Callable, Dict, List, Mapping, Tuple
 
 import numpy as np
 
-from hri_teleop.core.config import lab_max_sensor_force
 from hri_teleop.core.mapping import map_force
 from hri_teleop.core.traces import pair_outputs, percentile_ms, rate_hz
 from hri_teleop.plots.common import sensor_timeline
 from hri_teleop.ros.bags import read_topics
-from hri_teleop.ros.master import MasterError, PrivateMaster, run_reporting
+from hri_teleop.ros.master import MasterError, PrivateMaster
 
 
 @dataclass(frozen=True)
@@ -115,20 +113,3 @@ def run(duration_s: float, max_sensor_force: int, rate_hz_param: float, out_dir:
     print("\n".join(lines))
     ok = pairing.pairs and pairing.unmatched_outputs == 0 and 0.0 <= values.min() and values.max() <= 1.0
     return 0 if ok else 1
-
-
-def main(argv: Optional[List[str]] = None) -> int:
-    parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
-    parser.add_argument("--duration", type=float, default=5.0, help="recording time, s")
-    parser.add_argument("--max-sensor-force", type=int, default=lab_max_sensor_force(),
-                        help="/max_sensor_force, ADC counts (default: hri_lab/config/calibration.yaml)")
-    parser.add_argument("--rate", type=float, default=50.0, help="FSR_sensor.py publish rate, Hz")
-    parser.add_argument("--press-max", type=int, default=800,
-                        help="top count of a simulated press; above --max-sensor-force shows the clipping")
-    parser.add_argument("--out", type=Path, default=Path("out"), help="folder for the bag and the plot")
-    args = parser.parse_args(argv)
-    return run_reporting(lambda: run(args.duration, args.max_sensor_force, args.rate, args.out, args.press_max), "demo")
-
-
-if __name__ == "__main__":
-    sys.exit(main())

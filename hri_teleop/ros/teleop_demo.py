@@ -9,7 +9,6 @@ timeline. With a real pad: ``roslaunch hri_lab teleoperation.launch sim:=true pa
 
 from __future__ import annotations
 
-import argparse
 import math
 import sys
 import time
@@ -23,7 +22,7 @@ from hri_teleop.core.run_record import LabRecord, format_summary, summarize
 from hri_teleop.core.yamlfile import read_yaml
 from hri_teleop.plots.common import lab_timeline
 from hri_teleop.ros.bags import read_topics
-from hri_teleop.ros.master import MasterError, PrivateMaster, run_reporting
+from hri_teleop.ros.master import MasterError, PrivateMaster
 
 #: What the demo records: the lab's topics (the twist as commanded, and as the simulated
 #: arm moved, /lab_sim/ee_twist) and the simulation's view of the object and the judge.
@@ -175,23 +174,3 @@ def run(scenario: Optional[Path], out_dir: Path, timeout_s: float, extra: Mappin
     print("\n".join(lines), flush=True)
     as_expected = summary.violations == 0 if expected is None else expected in summary.violation_counts
     return 0 if rec.ended_by == "quit" and as_expected else 1
-
-
-def main(argv: Optional[List[str]] = None) -> int:
-    parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
-    parser.add_argument("--scenario", type=Path, default=None,
-                        help="operator scenario YAML (default: hri_lab/scenarios/default.yaml)")
-    parser.add_argument("--object", default="", help="egg | block | heavy_block | sponge (default: the scenario's)")
-    parser.add_argument("--timeout", type=float, default=DEFAULT_TIMEOUT_S, help="give up after this many s")
-    parser.add_argument("--out", type=Path, default=Path("out"), help="folder for the bag and the plot")
-    args = parser.parse_args(argv)
-    if args.scenario is not None and not args.scenario.is_file():
-        print(f"demo: no scenario file {args.scenario}; give the path of a scenario YAML "
-              "(see hri_lab/scenarios/)", file=sys.stderr)
-        return 2
-    extra = {"object": args.object} if args.object else {}
-    return run_reporting(lambda: run(args.scenario, args.out, args.timeout, extra), "demo")
-
-
-if __name__ == "__main__":
-    sys.exit(main())

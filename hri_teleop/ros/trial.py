@@ -5,16 +5,14 @@ condition stored with the bag, or the analysis cannot tell trials apart. ``recor
 teleoperation.launch with the condition on a private or the lab's master and writes bag and sidecar;
 ``rehearse`` runs a whole session in the simulated lab. Masters and checks: docs/experiment.md.
 
-    python -m hri_teleop.ros.trial {plan,record,outcome,tlx,rehearse,analyse} --help
+    python -m hri_teleop.apps.trial {plan,record,outcome,tlx,rehearse,analyse} --help
 """
 
 from __future__ import annotations
 
-import argparse
 import os
 import re
 import subprocess
-import sys
 from pathlib import Path
 from typing import Any, Callable, Dict, List, Mapping, Optional, Sequence, Tuple, Union
 
@@ -30,30 +28,29 @@ from hri_teleop.core.experiment.analysis import (
     default_trials_folder,
     measure_trial,
 )
-from hri_teleop.core.experiment.metrics import CONDITIONS, MetricsError, TrialMeta
+from hri_teleop.core.experiment.metrics import MetricsError, TrialMeta
 from hri_teleop.core.experiment.plan import counterbalanced_plan, trial_seed, write_plan
 from hri_teleop.core.experiment.sidecar import (
     META_KEYS,
     meta_from_sidecar,
     read_sidecar,
     sidecar_data,
-    update_sidecar,
     write_sidecar,
 )
-from hri_teleop.core.experiment.tlx import SUBSCALES, TlxRatings, optional_tlx, store_tlx
+from hri_teleop.core.experiment.tlx import optional_tlx
 from hri_teleop.core.modes import HARDWARE_NODES, NODE_DEFAULT_PAD, Start, decide_mode, start_refusal
 from hri_teleop.core.run_record import LabRecord
 from hri_teleop.plots.study import save_result_figure
 from hri_teleop.ros.bags import BagError
 from hri_teleop.ros.launch_inspect import LaunchInspectError, declared_args
-from hri_teleop.ros.master import MasterError, PrivateMaster, RunningMaster, run_reporting, started_here
+from hri_teleop.ros.master import MasterError, PrivateMaster, RunningMaster, started_here
 from hri_teleop.ros.teleop_demo import DEFAULT_TIMEOUT_S, record_from_bag, record_teleop_launch
 from hri_teleop.sim.grasp_objects import OBJECTS
 from hri_teleop.sim.operators import study_scenario
 
 __all__ = ["METADATA_TOPIC", "PADS", "trial_stem", "trial_seed", "record_trial", "load_trial", "load_trials", "analyse_folder",
            "lab_master",
-           "launch_nodes", "rehearse", "main"]
+           "launch_nodes", "rehearse", "describe_trial"]
 
 METADATA_TOPIC = "/trial/metadata"
 #: How a rehearsal's participant operates: a simulated study participant (a seeded pad
@@ -269,7 +266,6 @@ def load_trials(folder: Union[str, Path]) -> List[LoadedTrial]:
 # --------------------------------------------------------------------------- a whole session
 
 
-
 def analyse_folder(folder: Union[str, Path, None] = None, *, figure: Union[str, Path, None, bool] = True,
                    csv_path: Union[str, Path, None, bool] = True, max_sensor_force: Optional[float] = None,
                    allow_unpaired: bool = False) -> StudyResult:
@@ -285,7 +281,7 @@ def analyse_folder(folder: Union[str, Path, None] = None, *, figure: Union[str, 
     trials = load_trials(folder)
     if not trials:
         raise MetricsError(f"{folder}: no trials in this folder (no *.yaml sidecar beside a *.bag); record some "
-                           f"(python -m hri_teleop.ros.trial rehearse --out {folder}) or give another folder")
+                           f"(python -m hri_teleop.apps.trial rehearse --out {folder}) or give another folder")
     figure_path = folder / FIGURE_NAME if figure is True else (Path(figure) if figure else None)
     result = analyse_trials(trials, max_sensor_force=max_sensor_force, allow_unpaired=allow_unpaired, folder=folder)
     if figure_path is not None:
@@ -294,16 +290,8 @@ def analyse_folder(folder: Union[str, Path, None] = None, *, figure: Union[str, 
         result.write_csv(folder / CSV_NAME if csv_path is True else Path(csv_path))
     return result
 
-def _participant_codes(given: Sequence[str]) -> List[str]:
-    if len(given) == 1 and given[0].isdigit():
-        n = int(given[0])
-        if not 1 <= n <= 99:
-            raise MetricsError(f"--participants {n}: give 1..99 participants, or their codes (P01 P02 ...)")
-        return [f"P{i:02d}" for i in range(1, n + 1)]
-    return list(given)
 
-
-def _describe_trial(trial: LoadedTrial) -> str:
+def describe_trial(trial: LoadedTrial) -> str:
     m = measure_trial(trial)
     what = "crushed" if m.crushed else ("lifted, intact" if m.lifted else "not lifted")
     return f"{what}; peak {m.peak_force_n:.2f} N, rumble {m.rumble_s:.1f} s, {m.duration_s:.1f} s"
@@ -362,7 +350,7 @@ def rehearse(participants: Sequence[str], objects: Sequence[str], out: Union[str
             record_trial(meta, out, sim=True, scenario=scenario, launch_args=launch_args, timeout_s=timeout_s,
                          master=on, operator=operator)
             loaded = load_trial(out / f"{trial_stem(meta)}.yaml")
-            progress(f"[rehearse] {k}/{len(todo)} {meta.label}: {_describe_trial(loaded)}")
+            progress(f"[rehearse] {k}/{len(todo)} {meta.label}: {describe_trial(loaded)}")
 
     if master is None:
         with PrivateMaster() as private:
@@ -374,156 +362,3 @@ def rehearse(participants: Sequence[str], objects: Sequence[str], out: Union[str
     result = analyse_folder(out)
     progress(result.report())
     return result
-
-
-# --------------------------------------------------------------------------- command line
-
-
-def _yes_no(text: str) -> bool:
-    value = text.strip().lower()
-    if value not in ("yes", "no", "true", "false"):
-        raise argparse.ArgumentTypeError(f"{text!r}: answer yes or no")
-    return value in ("yes", "true")
-
-
-def _launch_arg(text: str) -> Tuple[str, str]:
-    key, sep, value = text.partition(":=")
-    if not sep:
-        key, sep, value = text.partition("=")
-    if not sep or not key.strip():
-        raise argparse.ArgumentTypeError(f"{text!r}: write a launch argument as name:=value, e.g. robot_ip:=172.16.0.2")
-    return key.strip(), value.strip()
-
-
-def _add_master_options(p: argparse.ArgumentParser) -> None:
-    group = p.add_mutually_exclusive_group()
-    group.add_argument("--lab", action="store_true",
-                       help="record on the running master at $ROS_MASTER_URI (the lab PC's roscore)")
-    group.add_argument("--master-uri", default="", help="record on the running master at this URI")
-
-
-def _master_from(args: argparse.Namespace) -> Optional[RunningMaster]:
-    if args.lab or args.master_uri:
-        return lab_master(args.master_uri or None)
-    return None
-
-
-def _parser() -> argparse.ArgumentParser:
-    parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
-    sub = parser.add_subparsers(dest="command", required=True)
-    p = sub.add_parser("plan", help="write a counterbalanced trial plan (CSV)")
-    p.add_argument("--participants", nargs="+", required=True)
-    p.add_argument("--objects", nargs="+", required=True)
-    p.add_argument("--repetitions", type=int, default=1)
-    p.add_argument("--out", type=Path, default=Path("trials/plan.csv"))
-    r = sub.add_parser("record", help="run and record one trial")
-    r.add_argument("--participant", required=True)
-    r.add_argument("--trial", type=int, required=True)
-    r.add_argument("--object", required=True)
-    r.add_argument("--condition", choices=CONDITIONS, required=True)
-    r.add_argument("--sim", action="store_true", help="the simulated lab (home rehearsal)")
-    r.add_argument("--scenario", type=Path, default=None, help="with --sim: a scripted operator instead of a pad")
-    r.add_argument("--pad", default="", help="pygame (a real pad) or virtual; empty: the launch's default")
-    r.add_argument("--launch-arg", "-a", type=_launch_arg, action="append", default=[], metavar="NAME:=VALUE",
-                   help="more teleoperation.launch arguments, e.g. robot_ip:=172.16.0.2 max_sensor_force:=690")
-    r.add_argument("--timeout", type=float, default=120.0, help="longest trial, s")
-    r.add_argument("--out", type=Path, default=Path("trials"))
-    _add_master_options(r)
-    o = sub.add_parser("outcome", help="store the experimenter's judgement of a lab trial")
-    o.add_argument("sidecar", type=Path)
-    o.add_argument("--lifted", type=_yes_no, required=True)
-    o.add_argument("--crushed", type=_yes_no, required=True)
-    t = sub.add_parser("tlx", help="store the participant's raw NASA-TLX ratings (0..100, steps of 5) of a trial")
-    t.add_argument("sidecar", type=Path)
-    for s in SUBSCALES:
-        t.add_argument(f"--{s.key}", type=int, required=True, help=f"{s.question} (0 {s.low} .. 100 {s.high})")
-    h = sub.add_parser("rehearse", help="a whole counterbalanced session in the simulated lab, then the analysis")
-    h.add_argument("--participants", nargs="+", default=["3"], help="how many (P01, P02, ...) or their codes")
-    h.add_argument("--objects", nargs="+", default=["egg"], help="from the simulation's set (egg, sponge, block, ...)")
-    h.add_argument("--repetitions", type=int, default=1)
-    h.add_argument("--pad", choices=PADS, default="script",
-                   help="script: simulated participants (seeded pad scripts); pygame: you, with a real pad")
-    h.add_argument("--seed", type=int, default=0, help="base seed of the simulated participants")
-    h.add_argument("--quick", action="store_true",
-                   help="short trials (the arm starts low; 7 s of trial instead of 16 s)")
-    h.add_argument("--resume", action="store_true", help="record only the trials missing in --out")
-    h.add_argument("--timeout", type=float, default=120.0, help="longest trial, s")
-    h.add_argument("--out", type=Path, default=Path("trials"))
-    _add_master_options(h)
-    a = sub.add_parser("analyse", help="metrics table, rates, paired test and study.png of a folder of trials")
-    a.add_argument("folder", type=Path, nargs="?", default=None, help="default: $HRI_TRIALS or trials/")
-    a.add_argument("--figure", type=Path, default=None, help="PNG path (default: <folder>/study.png)")
-    a.add_argument("--max-sensor-force", type=float, default=None, help="override every trial's calibration")
-    a.add_argument("--allow-unpaired", action="store_true",
-                   help="leave participants with one condition out of the test")
-    return parser
-
-
-def main(argv: Optional[Sequence[str]] = None) -> int:
-    args = _parser().parse_args(argv)
-    try:
-        if args.command == "plan":
-            path = write_plan(counterbalanced_plan(args.participants, args.objects, args.repetitions), args.out)
-            print(f"trial plan: {path}")
-            return 0
-        if args.command == "outcome":
-            update_sidecar(args.sidecar, {"outcome": {"lifted": args.lifted, "crushed": args.crushed}})
-            print(f"{args.sidecar}: lifted {args.lifted}, crushed {args.crushed}")
-            return 0
-        if args.command == "tlx":
-            ratings = TlxRatings(**{s.key: getattr(args, s.key) for s in SUBSCALES})
-            store_tlx(args.sidecar, ratings)
-            print(f"{args.sidecar}: raw TLX {ratings.raw_tlx:.1f}")
-            return 0
-        if args.command == "analyse":
-            result = analyse_folder(args.folder, figure=args.figure or True, max_sensor_force=args.max_sensor_force,
-                                    allow_unpaired=args.allow_unpaired)
-            print(result.table())
-            print(result.report())
-            return 0
-        if args.command == "rehearse":
-            codes = _participant_codes(args.participants)
-
-            def run_session() -> int:
-                master = _master_from(args)
-                try:
-                    rehearse(codes, args.objects, args.out, repetitions=args.repetitions, pad=args.pad,
-                             seed=args.seed, quick=args.quick, resume=args.resume, master=master,
-                             timeout_s=args.timeout, progress=lambda m: print(m, flush=True))
-                finally:
-                    if master is not None:
-                        master.stop()
-                return 0
-
-            return run_reporting(run_session, "trial")
-        meta = TrialMeta(args.participant, args.object, args.condition, args.trial)
-        extra: Dict[str, object] = dict(args.launch_arg)
-        if args.pad:
-            extra["pad"] = args.pad
-
-        def run() -> int:
-            master = _master_from(args)
-            try:
-                bag, record = record_trial(meta, args.out, sim=args.sim, scenario=args.scenario, launch_args=extra,
-                                           timeout_s=args.timeout, master=master,
-                                           progress=lambda m: print(f"[trial] {m}", flush=True))
-            finally:
-                if master is not None:
-                    master.stop()
-            sidecar = bag.with_suffix(".yaml")
-            print(f"{meta.label}: {bag} ({record.duration_s():.1f} s, ended by {record.ended_by})")
-            if args.sim:
-                print(f"  {_describe_trial(load_trial(sidecar))}")
-            else:
-                print(f"  next: python -m hri_teleop.ros.trial outcome {sidecar} --lifted yes|no --crushed yes|no")
-            print(f"  questionnaire: the TLX widget, or python -m hri_teleop.ros.trial tlx {sidecar} --mental ...")
-            return 0
-
-        return run_reporting(run, "trial")
-    except (MetricsError, OSError) as exc:
-        print(f"trial: {exc}", file=sys.stderr)
-        return 2
-
-
-if __name__ == "__main__":
-    sys.exit(main())

@@ -1,6 +1,6 @@
 """Ex. 14's experiment in the lock-step lab: a counterbalanced study of simulated participants.
 
-The trials ``python -m hri_teleop.ros.trial rehearse`` records over ROS run here in ``run_lab``
+The trials ``python -m hri_teleop.apps.trial rehearse`` records over ROS run here in ``run_lab``
 (about 100 times faster) and are analysed by ``analyse_trials``, as recorded trials are. The Ex. 14
 notebook compares the conditions with it; the analysis notebook falls back to it without recorded
 trials. Participant ``i`` behaves as in a rehearsal with the same seed

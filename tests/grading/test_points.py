@@ -343,7 +343,7 @@ def test_a_check_in_a_graded_kernel_takes_the_students_seed_and_finds_the_files_
 # -- make check: the files' half -----------------------------------------------------------------------------
 
 def test_make_check_grades_the_checks_the_chosen_notebooks_show():
-    from hri_teleop.grading.files_check import checks_for, summary_lines
+    from hri_teleop.apps.files_check import checks_for, summary_lines
 
     assert checks_for("preparation") == ASSIGNMENT_CHECKS["preparation"]
     assert checks_for("lab", ["ex12"]) == ("teleoperation-launch", "catkin-package")

@@ -23,7 +23,7 @@ REPO = Path(__file__).resolve().parents[2]
 
 
 def _doctor(env: Dict[str, str], *args: str, stdin: str = "") -> subprocess.CompletedProcess:
-    return subprocess.run([sys.executable, "-m", "hri_teleop.ros.doctor", *args], env=env, input=stdin,
+    return subprocess.run([sys.executable, "-m", "hri_teleop.apps.doctor", *args], env=env, input=stdin,
                           capture_output=True, text=True, timeout=90, cwd=REPO)
 
 

@@ -178,7 +178,7 @@ def test_calibration_reads_the_maximum_from_the_board_without_ros(firmware, tmp_
     assert max(p.count for p in points) == MAX_SENSOR_FORCE
     link = tmp_path / "ttyACM0"
     with SimulatedUno(link, write_profile(points, tmp_path / "press.txt"), repeat_us=1_000_000):
-        proc = subprocess.run([sys.executable, "-m", "hri_teleop.hardware.real.calibrate", "--port", str(link), "--seconds", "1.5"],
+        proc = subprocess.run([sys.executable, "-m", "hri_teleop.apps.calibrate", "--port", str(link), "--seconds", "1.5"],
                               capture_output=True, text=True, timeout=60)
     assert proc.returncode == 0, proc.stdout + proc.stderr
     assert f"maximum count {MAX_SENSOR_FORCE}" in proc.stdout
@@ -188,7 +188,7 @@ def test_calibration_reads_the_maximum_from_the_board_without_ros(firmware, tmp_
 
 def test_calibration_names_a_missing_port_and_the_fix(tmp_path):
     port = tmp_path / "ttyACM9"
-    proc = subprocess.run([sys.executable, "-m", "hri_teleop.hardware.real.calibrate", "--port", str(port), "--seconds", "1"],
+    proc = subprocess.run([sys.executable, "-m", "hri_teleop.apps.calibrate", "--port", str(port), "--seconds", "1"],
                           capture_output=True, text=True, timeout=60)
     assert proc.returncode == 1
     assert proc.stderr.strip() == f"calibrate: no serial port {port}: plug the board in or pass --port ... " \

@@ -12,8 +12,8 @@ from pathlib import Path
 import pytest
 import yaml
 
+from hri_teleop.apps import demo
 from hri_teleop.core.run_record import summarize
-from hri_teleop.ros import teleop_demo
 from hri_teleop.ros.teleop_demo import record_teleop_launch
 from hri_teleop.sim.grasp_objects import OBJECTS
 from hri_teleop.sim.operators import random_operator, script_to_yaml_data
@@ -24,8 +24,8 @@ SCENARIOS = REPO / "hri_lab" / "scenarios"
 
 def test_make_demo_runs_the_default_scenario_lifts_the_egg_uncrushed_and_prints_the_summary(
         tmp_path, capsys, monkeypatch):
-    # `make demo` is teleop_demo.main: its own private roscore, the default scenario.
-    code = teleop_demo.main(["--out", str(tmp_path)])
+    # `make demo` is apps.demo.main: its own private roscore, the default scenario.
+    code = demo.main(["--out", str(tmp_path)])
     out = capsys.readouterr().out
     assert code == 0, out
     lines = {line.split()[0]: line for line in out.splitlines() if line.startswith("  ")}
@@ -43,7 +43,7 @@ def test_make_demo_runs_the_default_scenario_lifts_the_egg_uncrushed_and_prints_
 
 
 def test_make_demo_of_the_joint_limit_scenario_prints_libfrankas_error_and_says_it_was_expected(tmp_path, capsys):
-    code = teleop_demo.main(["--out", str(tmp_path), "--scenario", str(SCENARIOS / "joint_limit.yaml")])
+    code = demo.main(["--out", str(tmp_path), "--scenario", str(SCENARIOS / "joint_limit.yaml")])
     out = capsys.readouterr().out
     assert code == 0, out
     violations = next(line for line in out.splitlines() if "Franka limit violations" in line)

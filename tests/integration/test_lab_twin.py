@@ -222,7 +222,7 @@ def test_stop_leaves_nothing_running_and_the_last_counts_written(tmp_path):
 
 def test_make_doctor_finds_the_robot_and_the_board_ok_on_the_twin(lab_twin):
     env = dict(lab_twin.env, HRI_MODE="lab")
-    done = subprocess.run([sys.executable, "-m", "hri_teleop.ros.doctor", "--port", "/dev/hri-no-arduino"], env=env,
+    done = subprocess.run([sys.executable, "-m", "hri_teleop.apps.doctor", "--port", "/dev/hri-no-arduino"], env=env,
                           capture_output=True, text=True, timeout=WAIT_S, cwd=REPO)
     findings = {f.item: f for f in map(Finding.from_line, done.stdout.splitlines()) if f is not None}
     assert findings["robot"].status == OK, done.stdout
@@ -248,7 +248,7 @@ def test_the_pad_standin_makes_pygame_report_one_ps4_pad_following_the_script(tm
 
 def test_make_lab_twin_says_what_runs_takes_commands_and_stops_all_on_ctrl_c(tmp_path, ros_env):
     folder = tmp_path / "rehearsal"
-    proc = subprocess.Popen([sys.executable, "-m", "hri_teleop.ros.lab_twin", "--folder", str(folder)],
+    proc = subprocess.Popen([sys.executable, "-m", "hri_teleop.apps.lab_twin", "--folder", str(folder)],
                             env=dict(ros_env, PYTHONFAULTHANDLER="1"),
                             stdin=subprocess.PIPE, stdout=subprocess.PIPE, stderr=subprocess.STDOUT, text=True,
                             cwd=REPO, start_new_session=True)

@@ -208,7 +208,7 @@ def test_a_launch_by_hand_over_the_running_twins_robot_replaces_it_and_the_count
 
 def test_make_lab_twin_bare_says_what_to_export_and_each_node_a_launch_brings_up(tmp_path, ros_env):
     folder = tmp_path / "rehearsal"
-    proc = subprocess.Popen([sys.executable, "-m", "hri_teleop.ros.lab_twin", "--bare", "--folder", str(folder)],
+    proc = subprocess.Popen([sys.executable, "-m", "hri_teleop.apps.lab_twin", "--bare", "--folder", str(folder)],
                             env=ros_env, stdin=subprocess.DEVNULL, stdout=subprocess.PIPE, stderr=subprocess.STDOUT,
                             text=True, cwd=REPO, start_new_session=True)
     lines: "queue.Queue[str]" = queue.Queue()

@@ -189,7 +189,7 @@ def _files_points(output: str) -> tuple:
 
 def _checked_points() -> float:
     """The points of the checks the notebooks of CHECKED show (mapping-node, sensor-launch, graph)."""
-    from hri_teleop.grading.files_check import checks_for
+    from hri_teleop.apps.files_check import checks_for
     from hri_teleop.grading.points import check_points
 
     return sum(check_points(c) for a in ASSIGNMENTS for c in checks_for(a, CHECKED.split(",")))

@@ -33,6 +33,7 @@ import numpy as np
 import pytest
 import yaml
 
+from hri_teleop.apps.trial import main
 from hri_teleop.core.attachment import Attachment
 from hri_teleop.core.config import load_teleop_config
 from hri_teleop.core.experiment.analysis import StudyResult
@@ -41,7 +42,7 @@ from hri_teleop.plots.study import COLOURS, PANEL_TITLES
 from hri_teleop.ros import master as master_module
 from hri_teleop.ros.bags import read_topics
 from hri_teleop.ros.master import PrivateMaster, RunningMaster
-from hri_teleop.ros.trial import main, rehearse, trial_seed
+from hri_teleop.ros.trial import rehearse, trial_seed
 from hri_teleop.sim.config import world_config_from_dict
 from hri_teleop.sim.grasp_objects import OBJECTS
 from hri_teleop.sim.lab import run_lab
@@ -306,4 +307,4 @@ def test_a_fresh_analysis_notebook_offers_a_rehearsal_and_says_in_one_line_what_
     errors = [o for o in cells["metrics"].outputs if o.output_type == "error"]
     assert len(errors) == 1 and errors[0]["ename"] == "MetricsError"
     assert errors[0]["traceback"] == ["MetricsError: no trials to analyse; record some first "
-                                      "(python -m hri_teleop.ros.trial rehearse)"]
+                                      "(python -m hri_teleop.apps.trial rehearse)"]

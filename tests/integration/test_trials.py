@@ -5,11 +5,12 @@ from __future__ import annotations
 import pytest
 import yaml
 
+from hri_teleop.apps.trial import main
 from hri_teleop.core.attachment import Attachment
 from hri_teleop.core.experiment.metrics import MetricsError, TrialMeta, trial_metrics
 from hri_teleop.ros.bags import read_topics
 from hri_teleop.ros.master_api import running_nodes
-from hri_teleop.ros.trial import METADATA_TOPIC, load_trials, main, record_trial
+from hri_teleop.ros.trial import METADATA_TOPIC, load_trials, record_trial
 from hri_teleop.sim.operators import study_scenario
 
 pytestmark = pytest.mark.ros

@@ -142,7 +142,7 @@ def test_check_cells_show_each_part_of_the_grader_once_and_carry_no_points():
 def test_source_assignments_link_to_the_answer_key():
     for assignment in ASSIGNMENTS:
         link = COURSE_DIR / "source" / assignment / "hri_lab"
-        assert link.is_symlink(), f"{link}: must be a link to solutions/hri_lab (python -m hri_teleop.course link)"
+        assert link.is_symlink(), f"{link}: must be a link to solutions/hri_lab (python -m hri_teleop.apps.course link)"
         assert link.resolve() == SOLUTIONS.resolve()
         assert not os.path.isabs(os.readlink(link)), "a relative link, so the repository can move"
 

@@ -134,10 +134,10 @@ def test_opening_a_virtual_pad_does_not_import_pygame():
 
 
 def test_checker_cli_lists_layouts_and_reports_no_pad():
-    listed = subprocess.run([sys.executable, "-m", "hri_teleop.hardware.real.pad_check", "--list"],
+    listed = subprocess.run([sys.executable, "-m", "hri_teleop.apps.pad_check", "--list"],
                             capture_output=True, text=True, env=HEADLESS)
     assert listed.returncode == 0 and "dualshock4" in listed.stdout and "xbox" in listed.stdout
-    run = subprocess.run([sys.executable, "-m", "hri_teleop.hardware.real.pad_check", "--seconds", "0.1"],
+    run = subprocess.run([sys.executable, "-m", "hri_teleop.apps.pad_check", "--seconds", "0.1"],
                          capture_output=True, text=True, env=HEADLESS)
     assert run.returncode == 1
     assert run.stderr.strip().splitlines()[-1] == "error: " + NO_GAMEPAD_MESSAGE

@@ -117,7 +117,7 @@ class FakeTime:
 def test_pad_check_measures_the_longest_identical_run_of_a_held_stick(monkeypatch, capsys):
     from test_gamepad_pygame import FakeJoystick  # tests/unit, on sys.path under pytest
 
-    from hri_teleop.hardware.real import pad_check
+    from hri_teleop.apps import pad_check
     from hri_teleop.hardware.real.pygame_pad import PygamePad
 
     class Trembling(FakeJoystick):

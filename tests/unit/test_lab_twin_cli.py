@@ -4,8 +4,8 @@ from __future__ import annotations
 
 from typing import List, Tuple
 
+from hri_teleop.apps.lab_twin import handle
 from hri_teleop.hardware.sim.rosserial_board import BoardStandInError, Piston
-from hri_teleop.ros.lab_twin.cli import handle
 from hri_teleop.ros.lab_twin.report import TwinReport
 
 

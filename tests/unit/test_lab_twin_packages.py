@@ -10,7 +10,7 @@ import time
 import xml.etree.ElementTree as ET
 from pathlib import Path
 
-from hri_teleop.ros.lab_twin.cli import news
+from hri_teleop.apps.lab_twin import news
 from hri_teleop.ros.lab_twin.counts import (
     CountsFile,
     counts_path,

@@ -8,7 +8,7 @@ import subprocess
 import sys
 from pathlib import Path
 
-from hri_teleop.course.labkernel import lab_command
+from hri_teleop.apps.lab import lab_command
 from hri_teleop.ros.kernel import KERNEL_NAME, install_kernelspec, kernelspec
 
 REPO = Path(__file__).resolve().parents[2]
@@ -55,7 +55,7 @@ def test_make_lab_runs_setup_then_the_lab_module():
                          timeout=60)
     assert out.returncode == 0, out.stderr
     assert "tools/setup.sh" in out.stdout
-    assert "-m hri_teleop.course.labkernel --port=9999" in out.stdout
+    assert "-m hri_teleop.apps.lab --port=9999" in out.stdout
 
 
 def test_notebook_kernels_talk_over_private_unix_sockets_with_no_tcp_port_to_lose(tmp_path):

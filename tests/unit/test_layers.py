@@ -1,5 +1,5 @@
 """The layers are folders, and each imports only the layers below it (every import counts, those
-inside functions too): core < plots < sim < hardware < ros < grading < course, and student (what students'
+inside functions too): core < plots < sim < hardware < ros < grading < course < apps, and student (what students'
 files import) on ros, imported by nothing in the package but last term's import paths, thin shims
 over it (docs/architecture.md). The core imports no process, socket, thread, ROS, pygame, serial
 port or widget: only the standard library, numpy and yaml."""
@@ -23,6 +23,8 @@ ALLOWED: Dict[str, Set[str]] = {
     "grading": {"core", "hardware", "plots", "ros", "sim", "grading"},
     "course": {"core", "hardware", "plots", "ros", "sim", "grading", "course"},
     "student": {"core", "hardware", "plots", "ros", "sim", "student"},
+    # every command a person types: above every library, imported by none (test below)
+    "apps": {"core", "hardware", "plots", "ros", "sim", "grading", "course", "student", "apps"},
 }
 #: Last term's import paths (docs/student-api.md): shims of the student API until its version 2.0,
 #: outside the layer folders because that is where last term's templates looked; each imports only the student API.
@@ -96,7 +98,7 @@ def test_the_core_imports_only_the_standard_library_numpy_and_yaml():
      [("hri_teleop.sim.arm", "hri_teleop.course.nodes")]),
     ({"hri_teleop.plots.study": {"hri_teleop.sim.lab"}},
      [("hri_teleop.plots.study", "hri_teleop.sim.lab")]),
-    ({"hri_teleop.ros.trial": {"hri_teleop.core.fsr", "hri_teleop.sim.hand"}}, []),
+    ({"hri_teleop.apps.trial": {"hri_teleop.core.fsr", "hri_teleop.sim.hand"}}, []),
     ({"hri_teleop.core.teleop": {"hri_teleop.core.limits"}}, []),
     ({"hri_teleop.grading.batch.nbgrader_batch": {"hri_teleop.course.release"}},
      [("hri_teleop.grading.batch.nbgrader_batch", "hri_teleop.course.release")]),
@@ -120,3 +122,10 @@ def test_an_import_of_a_higher_layer_is_found(graph, expected):
 ])
 def test_a_foreign_import_in_the_core_is_found(source, expected):
     assert core_foreign_imports(source) == expected
+
+
+def test_no_library_module_imports_an_app():
+    """apps/ holds the commands; a library that needs one's work calls the library the app calls."""
+    graph = import_graph()
+    assert sorted((name, t) for name, targets in graph.items() if layer_of(name) != "apps"
+                  for t in targets if layer_of(t) == "apps") == []

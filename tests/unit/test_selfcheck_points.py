@@ -5,7 +5,7 @@ from __future__ import annotations
 import nbformat
 import pytest
 
-from hri_teleop.course.selfcheck import cell_points, find_notebooks
+from hri_teleop.apps.selfcheck import cell_points, find_notebooks
 
 
 def _cell(outputs, points=4):

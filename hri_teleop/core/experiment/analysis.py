@@ -1,6 +1,6 @@
 """Ex. 14's analysis: a folder of recorded trials in, metrics, rates, the paired test and the figure out.
 
-The analysis notebook, ``python -m hri_teleop.ros.trial analyse`` and the tests must compute the
+The analysis notebook, ``python -m hri_teleop.apps.trial analyse`` and the tests must compute the
 same numbers, so the notebook only calls :func:`analyse_trials` and reads its
 :class:`StudyResult`. What counts as success and how participants are paired: docs/experiment.md.
 Pure: reading a folder of bags is :func:`hri_teleop.ros.trial.analyse_folder`'s (rosbag).
@@ -69,11 +69,11 @@ def _outcome(trial: LoadedTrial) -> Tuple[Optional[bool], Optional[bool]]:
     if outcome is None:
         if trial.extra.get("sim") is False:
             raise MetricsError(f"{trial.sidecar}: a lab trial without the experimenter's outcome; enter it with "
-                               f"`python -m hri_teleop.ros.trial outcome {trial.sidecar} --lifted yes --crushed no`")
+                               f"`python -m hri_teleop.apps.trial outcome {trial.sidecar} --lifted yes --crushed no`")
         return None, None
     if not isinstance(outcome, Mapping) or not all(isinstance(outcome.get(k), bool) for k in ("lifted", "crushed")):
         raise MetricsError(f"{trial.sidecar}: outcome must be {{lifted: true|false, crushed: true|false}}, got "
-                           f"{outcome!r}; enter it again with `python -m hri_teleop.ros.trial outcome`")
+                           f"{outcome!r}; enter it again with `python -m hri_teleop.apps.trial outcome`")
     return bool(outcome["lifted"]), bool(outcome["crushed"])
 
 
@@ -207,7 +207,7 @@ def analyse_trials(trials: Sequence[LoadedTrial], *, max_sensor_force: Optional[
     ``max_sensor_force`` overrides every trial's stored calibration (count at full travel).
     """
     if not trials:
-        raise MetricsError("no trials to analyse; record some first (python -m hri_teleop.ros.trial rehearse)")
+        raise MetricsError("no trials to analyse; record some first (python -m hri_teleop.apps.trial rehearse)")
     seen: Dict[Tuple[str, int], Path] = {}
     for t in trials:
         key = (t.meta.participant, t.meta.trial)

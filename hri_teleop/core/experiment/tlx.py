@@ -2,7 +2,7 @@
 
 Raw TLX, without the pairwise weighting, takes a minute after each trial instead of five (why,
 and the scales: docs/experiment.md). Pure: :class:`hri_teleop.course.widgets.tlx.TlxWidget` is the
-form, ``python -m hri_teleop.ros.trial tlx`` the command line; both store
+form, ``python -m hri_teleop.apps.trial tlx`` the command line; both store
 :meth:`TlxRatings.to_dict` under ``tlx`` in the trial's sidecar.
 """
 

@@ -1,6 +1,6 @@
 """``make doctor`` in a notebook: the same checks, a table of ok / FAIL / note with the fix, and buttons for the walk.
 
-The checks run as ``python -m hri_teleop.ros.doctor`` in a child process: its rospy node, pygame
+The checks run as ``python -m hri_teleop.apps.doctor`` in a child process: its rospy node, pygame
 and a simulated lab it may start at home never touch the kernel's own. The walk-through's
 answers (skip, piston pressed, rumble felt) go to the child's standard input, as Enter would.
 """
@@ -20,7 +20,7 @@ from hri_teleop.core.doctor import FAIL, NOTE, OK, Finding
 
 __all__ = ["Doctor", "findings_html", "DOCTOR_MODULE"]
 
-DOCTOR_MODULE = "hri_teleop.ros.doctor"
+DOCTOR_MODULE = "hri_teleop.apps.doctor"
 _COLORS = {OK: "#1b7a1b", FAIL: "#b00020", NOTE: "#7a5b00"}
 
 

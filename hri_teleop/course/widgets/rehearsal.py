@@ -1,7 +1,7 @@
 """RehearsalOffer: a fresh analysis notebook offers to rehearse a study instead of failing.
 
 With no recorded trials in the folder, the widget says so and offers the rehearsal of
-``python -m hri_teleop.ros.trial rehearse --quick``: scripted participants in the simulated
+``python -m hri_teleop.apps.trial rehearse --quick``: scripted participants in the simulated
 lab over real ROS (a private roscore, teleoperation.launch sim:=true, rosbag), about 10 s a
 trial, written into the folder as the lab's trials are. With trials there, it says how
 many. The analysis cells then read the folder as they read a lab session.

@@ -109,7 +109,7 @@ def seed_from_metadata(path: Path) -> Optional[int]:
 def _hri_grade(package: Path, out: Path, checks: Sequence[str], seed: Optional[int], timeout_s: float,
                log: Path) -> Tuple[List[CheckResult], Optional[str]]:
     """(results, None) or ([], why it could not finish) for ``hri-grade submission`` on ``checks``."""
-    argv = [sys.executable, "-m", "hri_teleop.grading.cli", "submission", str(package), "--out", str(out),
+    argv = [sys.executable, "-m", "hri_teleop.apps.grade", "submission", str(package), "--out", str(out),
             "--checks", ",".join(checks)]
     if seed is not None:
         argv += ["--seed", str(seed)]

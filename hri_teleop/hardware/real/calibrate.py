@@ -4,15 +4,13 @@ With the ``fsr_serial`` sketch on the board, ``/max_sensor_force`` (the count wi
 pressed level with the housing) needs no roscore: press the piston fully a few times while it
 reads. :func:`calibration_max` is the rule (pure); :func:`read_counts` and :func:`main` the shell.
 
-    python -m hri_teleop.hardware.real.calibrate --port /dev/ttyACM0 --seconds 10
+    python -m hri_teleop.apps.calibrate --port /dev/ttyACM0 --seconds 10
 """
 
 from __future__ import annotations
 
-import argparse
-import sys
 import time
-from typing import Iterable, List, Optional
+from typing import Iterable, List
 
 import serial
 
@@ -20,7 +18,7 @@ from hri_teleop.core.checks import is_count
 from hri_teleop.core.errors import HriTeleopError
 from hri_teleop.core.serial_protocol import BAUD, MAX_COUNT, BoardStream, Sample, open_error_message
 
-__all__ = ["CalibrateError", "calibration_max", "read_counts", "main"]
+__all__ = ["CalibrateError", "calibration_max", "read_counts"]
 
 
 class CalibrateError(HriTeleopError, RuntimeError):
@@ -77,30 +75,3 @@ def read_counts(port: str, seconds: float, baud: int = BAUD) -> List[int]:
             f"no valid line from {port} in {seconds:g} s ({stream.counters.corrupt} corrupt): is the fsr_serial "
             f"sketch on the board at {baud} baud? (with the rosserial sketch, use rostopic echo /pub_force)")
     return counts
-
-
-def main(argv: Optional[List[str]] = None) -> int:
-    parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
-    parser.add_argument("--port", default="/dev/ttyACM0", help="the board's serial port (default /dev/ttyACM0)")
-    parser.add_argument("--seconds", type=float, default=10.0, help="how long to read, s (default 10)")
-    parser.add_argument("--baud", type=int, default=BAUD, help=f"the sketch's baud rate (default {BAUD})")
-    args = parser.parse_args(argv)
-    if not 0.0 < args.seconds <= 3600.0:
-        print(f"calibrate: --seconds must be in (0, 3600], got {args.seconds:g}; e.g. --seconds 10", file=sys.stderr)
-        return 2
-    print(f"calibrate: reading {args.port} for {args.seconds:g} s: press the piston level with the housing, "
-          "a few times", flush=True)
-    try:
-        counts = read_counts(args.port, args.seconds, args.baud)
-        maximum = calibration_max(counts)
-    except CalibrateError as exc:
-        print(f"calibrate: {exc}", file=sys.stderr)
-        return 1
-    print(f"calibrate: {len(counts)} samples, maximum count {maximum}")
-    print(f"use it as /max_sensor_force: roslaunch hri_lab teleoperation.launch max_sensor_force:={maximum}")
-    print(f"  (or `rosparam set /max_sensor_force {maximum}` while mapping_node runs)")
-    return 0
-
-
-if __name__ == "__main__":
-    sys.exit(main())

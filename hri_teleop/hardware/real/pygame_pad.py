@@ -162,7 +162,7 @@ class PygamePad:
             return ""
         name = getattr(joystick, "get_name", lambda: "gamepad")()
         return ("gamepad %r has %d axes and %d buttons but layout %r needs at least %d and %d: "
-                "set layout to the one for this pad (%s; `python -m hri_teleop.hardware.real.pad_check` shows "
+                "set layout to the one for this pad (%s; `python -m hri_teleop.apps.pad_check` shows "
                 "raw input)" % (name, axes, buttons, self._layout.name, self._layout.num_axes,
                                 self._layout.num_buttons, ", ".join(available_layouts())))
 

@@ -5,20 +5,17 @@ sends, without a board: ``firmware/sim/uno_sim`` runs the very ELF image behind 
 (firmware/README.md). Here :func:`force_profile` turns forces into A0 voltages through
 :mod:`hri_teleop.core.fsr`, and :class:`SimulatedUno` starts, unplugs, replugs and stops it.
 
-    python -m hri_teleop.hardware.sim.simavr_board --link /tmp/ttyFSR   # presses every few seconds
+    python -m hri_teleop.apps.simavr_board --link /tmp/ttyFSR   # presses every few seconds
 """
 
 from __future__ import annotations
 
-import argparse
 import fcntl
 import math
 import os
 import shutil
 import signal
 import subprocess
-import sys
-import tempfile
 import time
 from dataclasses import dataclass
 from pathlib import Path
@@ -274,37 +271,3 @@ class SimulatedUno:
 
     def __exit__(self, *exc: object) -> None:
         self.stop()
-
-
-def main(argv: Optional[List[str]] = None) -> int:
-    parser = argparse.ArgumentParser(description="Run the fsr_serial firmware on a simulated Uno, pressing its "
-                                                 "piston every few seconds.")
-    parser.add_argument("--link", type=Path, default=Path(tempfile.gettempdir()) / "ttyFSR",
-                        help="where the board's serial port appears (default: /tmp/ttyFSR)")
-    parser.add_argument("--max-count", type=int, default=700, help="count at the top of each press (default 700)")
-    parser.add_argument("--period-s", type=float, default=4.0, help="one press and release, s (default 4)")
-    args = parser.parse_args(argv)
-    try:
-        build_firmware()
-        with tempfile.TemporaryDirectory(prefix="hri-uno-") as tmp:
-            times, forces = press_forces(args.max_count, args.period_s)
-            profile = write_profile(force_profile(times, forces), Path(tmp) / "profile.txt")
-            board = SimulatedUno(args.link, profile, repeat_us=int(args.period_s * 1e6))
-            board.start(lambda a: subprocess.Popen(a, stdin=subprocess.DEVNULL))
-            print(f"simulated Uno on {args.link}: e.g. rosrun hri_lab serial_bridge.py _port:={args.link}, "
-                  f"or python -m hri_teleop.hardware.real.calibrate --port {args.link}; Ctrl-C ends it", flush=True)
-            try:
-                assert board.process is not None
-                board.process.wait()
-            except KeyboardInterrupt:
-                pass
-            finally:
-                board.stop()
-    except SimavrBoardError as exc:
-        print(f"simavr_board: {exc}", file=sys.stderr)
-        return 1
-    return 0
-
-
-if __name__ == "__main__":
-    sys.exit(main())

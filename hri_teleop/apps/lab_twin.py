@@ -5,7 +5,7 @@ standard input -- ``press 700 2``, ``activate``, ``deactivate``, ``report``, ``h
 (without standard input it runs until interrupted), and says in one line each node that comes up
 from the twin's packages, is replaced or stops. Ctrl-C stops all it started.
 
-    python -m hri_teleop.ros.lab_twin [--folder DIR] [--publish-period-ms N] [--deactivated] [--bare]
+    python -m hri_teleop.apps.lab_twin [--folder DIR] [--publish-period-ms N] [--deactivated] [--bare]
 """
 
 from __future__ import annotations

@@ -1,4 +1,4 @@
-"""``python -m hri_teleop.grading.gradescope build [--out DIR] [--checks a,b]``: the autograder zip."""
+"""``python -m hri_teleop.apps.gradescope build [--out DIR] [--checks a,b]``: the autograder zip."""
 
 from __future__ import annotations
 
@@ -14,7 +14,7 @@ from hri_teleop.grading.results import GradingError
 
 
 def main(argv: Optional[List[str]] = None) -> int:
-    parser = argparse.ArgumentParser(prog="python -m hri_teleop.grading.gradescope",
+    parser = argparse.ArgumentParser(prog="python -m hri_teleop.apps.gradescope",
                                      description="Build the Gradescope autograder zip (grading/README.md, Gradescope).")
     sub = parser.add_subparsers(dest="command", required=True)
     b = sub.add_parser("build", help="write autograder.zip")

@@ -4,7 +4,7 @@ A deliverable's points are the files' (:mod:`hri_teleop.grading.points`). After 
 grades ``<assignment>/hri_lab`` with the assignment's checks and prints the points per check, reusing the
 check cells' results where the same files give the same parts (``HRI_GRADE_RESULTS``): a check runs once.
 
-    python -m hri_teleop.grading.files_check FOLDER [--only ex05,ex12]
+    python -m hri_teleop.apps.files_check FOLDER [--only ex05,ex12]
 """
 
 from __future__ import annotations

@@ -3,7 +3,7 @@
 The kernelspec goes into ``.venv`` (``sys.prefix``), never the user's home, so removing
 ``.venv`` removes it.
 
-    python -m hri_teleop.course.labkernel [--install-only] [--notebooks FOLDER] [jupyter lab options...]
+    python -m hri_teleop.apps.lab [--install-only] [--notebooks FOLDER] [jupyter lab options...]
 """
 
 from __future__ import annotations

@@ -5,7 +5,7 @@ notebook runs top to bottom in its own ``hri-teleop`` kernel in its assignment f
 autograde runs it, and each autograded cell scores by nbgrader's rule (an error or stderr: 0; a
 number as the result: that many points; else full points). The notebooks are not written back.
 
-    python -m hri_teleop.course.selfcheck FOLDER [--only ex05,ex12] [--timeout 600]
+    python -m hri_teleop.apps.selfcheck FOLDER [--only ex05,ex12] [--timeout 600]
 """
 
 from __future__ import annotations

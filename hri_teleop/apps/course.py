@@ -1,4 +1,4 @@
-"""``python -m hri_teleop.course COMMAND``: release, link, strip, check, check-bundle."""
+"""``python -m hri_teleop.apps.course COMMAND``: release, link, strip, check, check-bundle."""
 
 from __future__ import annotations
 
@@ -24,7 +24,7 @@ __all__ = ["main"]
 
 
 def main(argv: Optional[List[str]] = None) -> int:
-    parser = argparse.ArgumentParser(prog="python -m hri_teleop.course", description="The nbgrader course of Task 4: release and check.")
+    parser = argparse.ArgumentParser(prog="python -m hri_teleop.apps.course", description="The nbgrader course of Task 4: release and check.")
     sub = parser.add_subparsers(dest="command", metavar="COMMAND")
     r = sub.add_parser("release", help="student versions + templates into notebooks/release/, checked, packed")
     r.add_argument("--archive", default=None, help="the .tar.gz (default: out/task4-student-bundle.tar.gz)")

@@ -1,4 +1,4 @@
-"""Check a gamepad and its layout: ``python -m hri_teleop.hardware.real.pad_check [--layout auto]``.
+"""Check a gamepad and its layout: ``python -m hri_teleop.apps.pad_check [--layout auto]``.
 
 Prints the pad's raw SDL indices next to the positional names the layout gives them, one
 line per change, so a new controller or driver can be checked (and a layout file written)
@@ -20,7 +20,7 @@ from hri_teleop.hardware.real.pygame_pad import PygamePad
 
 
 def _parser() -> argparse.ArgumentParser:
-    parser = argparse.ArgumentParser(prog="python -m hri_teleop.hardware.real.pad_check", description=__doc__.splitlines()[0])
+    parser = argparse.ArgumentParser(prog="python -m hri_teleop.apps.pad_check", description=__doc__.splitlines()[0])
     parser.add_argument("--layout", default=AUTO_LAYOUT,
                         help="layout name or YAML path (default: auto, identified from the pad)")
     parser.add_argument("--index", type=int, default=0, help="joystick index (default: 0)")
