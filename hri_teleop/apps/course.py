@@ -18,7 +18,7 @@ from hri_teleop.course.release import (
     source_notebooks,
     strip_outputs,
 )
-from hri_teleop.grading.batch.assignments import ASSIGNMENTS
+from hri_teleop.grading.assignments import ASSIGNMENTS
 
 __all__ = ["main"]
 

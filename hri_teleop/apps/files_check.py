@@ -15,7 +15,7 @@ import time
 from pathlib import Path
 from typing import Dict, List, Optional, Sequence, Tuple
 
-from hri_teleop.grading.batch.assignments import ASSIGNMENT_CHECKS, ASSIGNMENTS
+from hri_teleop.grading.assignments import ASSIGNMENT_CHECKS, ASSIGNMENTS
 from hri_teleop.grading.judge.checks import grade
 from hri_teleop.grading.points import CHECK_CELLS, check_points
 from hri_teleop.grading.results import CheckResult, GradingError

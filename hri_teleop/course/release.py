@@ -33,7 +33,7 @@ from hri_teleop.course.bundle import (
 )
 from hri_teleop.course.errors import CourseError
 from hri_teleop.course.nodes import STUDENT_PACKAGE
-from hri_teleop.grading.batch.assignments import ASSIGNMENTS, nbgrader_env
+from hri_teleop.grading.assignments import ASSIGNMENTS, nbgrader_env
 from hri_teleop.grading.cases.templates import generate_templates
 from hri_teleop.grading.run.workspace import DELIVERABLES
 from hri_teleop.ros.kernel import install_kernelspec, ipc_kernel_config

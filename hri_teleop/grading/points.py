@@ -15,7 +15,7 @@ from dataclasses import dataclass
 from pathlib import Path
 from typing import Any, Dict, Iterable, List, Mapping, Optional, Sequence, Tuple
 
-from hri_teleop.grading.batch.assignments import ASSIGNMENT_CHECKS
+from hri_teleop.grading.assignments import ASSIGNMENT_CHECKS
 from hri_teleop.grading.judge.compare_common import GRAPH, MAPPING, SENSOR_LAUNCH, TELEOP, TELEOP_LAUNCH
 from hri_teleop.grading.judge.package_check import CATKIN_PACKAGE
 from hri_teleop.grading.judge.robot_params import part_table

@@ -368,7 +368,7 @@ def test_make_grade_says_when_nbgrader_is_missing(course, tmp_path):
 def test_each_assignments_files_get_the_checks_its_notebooks_call():
     """make grade grades submitted/<student>/<assignment>/hri_lab with the checks that assignment's notebooks call."""
     from hri_teleop.course.release import COURSE_DIR
-    from hri_teleop.grading.batch.assignments import ASSIGNMENT_CHECKS, ASSIGNMENTS
+    from hri_teleop.grading.assignments import ASSIGNMENT_CHECKS, ASSIGNMENTS
     from hri_teleop.grading.judge.checks import CHECKS
 
     for assignment in ASSIGNMENTS:

@@ -18,7 +18,7 @@ from typing import Any, Dict, List, Tuple
 import pytest
 
 from hri_teleop.course.release import COURSE_DIR
-from hri_teleop.grading.batch.assignments import ASSIGNMENT_CHECKS, ASSIGNMENTS
+from hri_teleop.grading.assignments import ASSIGNMENT_CHECKS, ASSIGNMENTS
 from hri_teleop.grading.batch.class_results import score_columns, write_rows, write_summary
 from hri_teleop.grading.batch.finish import finish
 from hri_teleop.grading.batch.late import read_late_policy

@@ -29,7 +29,7 @@ from hri_teleop.course.bundle import (
 )
 from hri_teleop.course.nodes import STUDENT_PACKAGE
 from hri_teleop.course.release import prepare_course_copy, solution_texts
-from hri_teleop.grading.batch.assignments import ASSIGNMENTS
+from hri_teleop.grading.assignments import ASSIGNMENTS
 from hri_teleop.grading.cases.templates import make_answer
 from hri_teleop.ros.master import ManagedProcess, MasterError, RunningMaster, free_port
 from hri_teleop.ros.proc_table import descendants

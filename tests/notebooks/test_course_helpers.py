@@ -7,7 +7,7 @@ import pytest
 from hri_teleop import course
 from hri_teleop.course import cells, check, lab, release
 from hri_teleop.course.errors import CourseError
-from hri_teleop.grading.batch.assignments import ASSIGNMENTS
+from hri_teleop.grading.assignments import ASSIGNMENTS
 from hri_teleop.grading.judge.compare import TELEOP
 from hri_teleop.grading.results import CheckResult, Part
 

@@ -19,7 +19,7 @@ from hri_teleop.course.release import (
     strip_outputs,
     student_files,
 )
-from hri_teleop.grading.batch.assignments import ASSIGNMENTS
+from hri_teleop.grading.assignments import ASSIGNMENTS
 
 NOTEBOOKS = source_notebooks()
 EXERCISES = {"preparation": set(range(1, 8)), "lab": set(range(8, 16))}

@@ -26,7 +26,7 @@ from jupyter_core.paths import jupyter_config_path
 from traitlets.config import Config
 from traitlets.config.loader import ConfigFileNotFound, PyFileConfigLoader
 
-from hri_teleop.grading.batch.assignments import ASSIGNMENT_CHECKS, ASSIGNMENTS, nbgrader_env
+from hri_teleop.grading.assignments import ASSIGNMENT_CHECKS, ASSIGNMENTS, nbgrader_env
 from hri_teleop.grading.batch.class_results import (
     read_summary,
     score_columns,

@@ -17,7 +17,7 @@ from dataclasses import dataclass, field
 from pathlib import Path
 from typing import Any, Dict, Iterator, List, Optional, Sequence, Tuple
 
-from hri_teleop.grading.batch.assignments import ASSIGNMENTS
+from hri_teleop.grading.assignments import ASSIGNMENTS
 from hri_teleop.grading.batch.nbgrader_batch import autograde_one, nbgrader_job_env
 from hri_teleop.grading.cases.templates import empty_regions, has_markers
 from hri_teleop.grading.results import GradingError
