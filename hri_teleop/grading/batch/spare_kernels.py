@@ -237,7 +237,7 @@ class SpareProvisioner(LocalProvisioner):
         thread = threading.Thread(target=see_out, name=f"kernel-{self.pid}-ending", daemon=True,
                                   args=(self.process, self.pgid, float(self.parent.shutdown_wait_time)))
         thread.start()
-        _ending.append(thread)
+        _ending[:] = [*ending_kernels(), thread]  # the ones seen out are dropped: a batch of 300 keeps a few
         self.process = None  # ended for Jupyter: the shutdown goes on at once
 
     async def cleanup(self, restart: bool = False) -> None:
