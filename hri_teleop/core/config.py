@@ -21,6 +21,7 @@ from hri_teleop.core.gamepad import AUTO_LAYOUT, DEFAULT_LAYOUT, PAD_KINDS
 from hri_teleop.core.limits import DEFAULT_LIMITS, AxisLimits, CartesianLimits, LimitsError, TwistLimiter
 from hri_teleop.core.mapping import ADC_MAX_COUNT
 from hri_teleop.core.paths import LAB_CONFIG
+from hri_teleop.core.robot_file import panda_file
 from hri_teleop.core.teleop import (
     HANDOUT_BUTTONS,
     OPTIONAL_BUTTONS,
@@ -50,7 +51,7 @@ __all__ = [
 
 DEFAULT_PAD = "pygame"  # one of hri_teleop.core.gamepad.PAD_KINDS; DEFAULT_LAYOUT comes from there too
 #: The Cartesian velocity controller's command topic (geometry_msgs/Twist).
-DEFAULT_TWIST_TOPIC = "/cartesian_velocity_controller/cmd_vel"
+DEFAULT_TWIST_TOPIC: str = panda_file()["topics"]["twist_command"]
 #: The lab's teleoperation config in a checkout (what teleoperation.py reads by default).
 LAB_TELEOP_CONFIG = LAB_CONFIG / "teleop.yaml"
 #: The lab's calibration value, /max_sensor_force (Ex. 11), in one file (docs/instructors.md).

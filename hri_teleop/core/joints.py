@@ -14,6 +14,7 @@ from typing import Iterable, List, Optional, Sequence, Tuple
 
 from hri_teleop.core.checks import is_finite_number
 from hri_teleop.core.errors import HriTeleopError
+from hri_teleop.core.robot_file import panda_file
 
 __all__ = [
     "JointsError", "JointLimits", "PANDA_JOINT_LIMITS", "JOINT_NAMES", "FINGER_JOINT_NAMES", "FRANKA_JOINT_STATES_TOPIC",
@@ -26,23 +27,25 @@ __all__ = [
 
 JointVector = Tuple[float, float, float, float, float, float, float]
 
+# The Panda's names, limits and poses come from its robot profile (core/robots/franka_panda.yaml).
+_PANDA = panda_file()
 #: The arm's joint names, as franka_state_controller publishes them on ``joint_states``.
-JOINT_NAMES: Tuple[str, ...] = tuple(f"panda_joint{i}" for i in range(1, 8))
+JOINT_NAMES: Tuple[str, ...] = _PANDA["joints"]["names"]
 #: Where franka_state_controller publishes the arm's joints (lab_sim at home, the same name).
-FRANKA_JOINT_STATES_TOPIC = "/franka_state_controller/joint_states"
+FRANKA_JOINT_STATES_TOPIC: str = _PANDA["topics"]["arm_joint_states"]
 #: The Franka Hand's two finger joints (each moves half the opening), as franka_gripper publishes them.
-FINGER_JOINT_NAMES: Tuple[str, str] = ("panda_finger_joint1", "panda_finger_joint2")
+FINGER_JOINT_NAMES: Tuple[str, str] = _PANDA["gripper"]["finger_joints"]
 #: The Panda's "ready" pose (rad): the hand 0.31 m in front of the base, 0.49 m up, pointing down.
-READY_POSE_RAD: JointVector = (0.0, -math.pi / 4, 0.0, -3 * math.pi / 4, 0.0, math.pi / 2, math.pi / 4)
+READY_POSE_RAD: JointVector = _PANDA["joints"]["ready_pose_rad"]
 
 # libfranka's franka::Errors flags for the joint-side checks of a Cartesian motion generator
 # ("... after IK calculation"): what the robot reports when the joints, not the twist, break a limit.
-JOINT_POSITION_LIMITS_VIOLATION = "cartesian_motion_generator_joint_position_limits_violation"
-JOINT_VELOCITY_LIMITS_VIOLATION = "cartesian_motion_generator_joint_velocity_limits_violation"
+JOINT_POSITION_LIMITS_VIOLATION: str = _PANDA["errors"]["joint"]["position"]
+JOINT_VELOCITY_LIMITS_VIOLATION: str = _PANDA["errors"]["joint"]["velocity"]
 #: joint acceleration above its limit: "joint velocity ... is discontinuous after IK calculation"
-JOINT_VELOCITY_DISCONTINUITY = "cartesian_motion_generator_joint_velocity_discontinuity"
+JOINT_VELOCITY_DISCONTINUITY: str = _PANDA["errors"]["joint"]["acceleration"]
 #: joint jerk above its limit: "joint acceleration ... is discontinuous after IK calculation"
-JOINT_ACCELERATION_DISCONTINUITY = "cartesian_motion_generator_joint_acceleration_discontinuity"
+JOINT_ACCELERATION_DISCONTINUITY: str = _PANDA["errors"]["joint"]["jerk"]
 #: Which error each judged quantity raises, in the order they are judged.
 JOINT_ERRORS = (("position", JOINT_POSITION_LIMITS_VIOLATION), ("velocity", JOINT_VELOCITY_LIMITS_VIOLATION),
                 ("acceleration", JOINT_VELOCITY_DISCONTINUITY), ("jerk", JOINT_ACCELERATION_DISCONTINUITY))
@@ -92,13 +95,8 @@ class JointLimits:
 
 
 #: The Franka Panda's joint limits (Franka's control-parameter documentation, Panda table; FR3 differs).
-PANDA_JOINT_LIMITS = JointLimits(
-    position_min_rad=(-2.8973, -1.7628, -2.8973, -3.0718, -2.8973, -0.0175, -2.8973),
-    position_max_rad=(2.8973, 1.7628, 2.8973, -0.0698, 2.8973, 3.7525, 2.8973),
-    velocity_rad_per_s=(2.1750, 2.1750, 2.1750, 2.1750, 2.6100, 2.6100, 2.6100),
-    acceleration_rad_per_s2=(15.0, 7.5, 10.0, 12.5, 15.0, 20.0, 20.0),
-    jerk_rad_per_s3=(7500.0, 3750.0, 5000.0, 6250.0, 7500.0, 10000.0, 10000.0),
-)
+PANDA_JOINT_LIMITS = JointLimits(**{key: _PANDA["joints"][key] for key in (
+    "position_min_rad", "position_max_rad", "velocity_rad_per_s", "acceleration_rad_per_s2", "jerk_rad_per_s3")})
 
 
 @dataclass(frozen=True)

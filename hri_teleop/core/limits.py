@@ -15,6 +15,7 @@ from typing import List, Optional, Sequence, Tuple
 
 from hri_teleop.core.checks import is_positive_number
 from hri_teleop.core.errors import HriTeleopError
+from hri_teleop.core.robot_file import panda_file
 
 __all__ = [
     "LimitsError",
@@ -85,8 +86,10 @@ class CartesianLimits:
         return tuple(out)
 
 
-#: Franka Panda Cartesian limits (Franka's control-parameter documentation; FR3 differs).
-PANDA_LIMITS = CartesianLimits(AxisLimits(1.7, 13.0, 6500.0), AxisLimits(2.5, 25.0, 12500.0))
+#: Franka Panda Cartesian limits (Franka's control-parameter documentation; FR3 differs), from the
+#: robot profile (core/robots/franka_panda.yaml).
+PANDA_LIMITS = CartesianLimits(AxisLimits(**panda_file()["cartesian_limits"]["translation"]),
+                               AxisLimits(**panda_file()["cartesian_limits"]["rotation"]))
 
 #: The lab's defaults, well inside the Panda's.  Why these numbers:
 #:

@@ -17,21 +17,24 @@ from hri_teleop.core.joints import (
     JOINT_VELOCITY_DISCONTINUITY,
     JOINT_VELOCITY_LIMITS_VIOLATION,
 )
+from hri_teleop.core.robot_file import panda_file
 
 __all__ = ["ERROR_RECOVERY_ACTION", "ReflexCause", "CARTESIAN_VELOCITY_LIMITS_VIOLATION", "CARTESIAN_VELOCITY_DISCONTINUITY",
            "CARTESIAN_ACCELERATION_DISCONTINUITY", "NON_FINITE_COMMAND", "RECOVERY_HINT", "explain_cause",
            "explain_reflex"]
 
-#: ``|v|`` above the Cartesian velocity limit (franka::Errors field).
+# The names come from the robot profile (core/robots/franka_panda.yaml).
+_ERRORS = panda_file()["errors"]
 #: franka_control's error recovery action (franka_msgs/ErrorRecoveryAction); lab_sim serves it at home.
-ERROR_RECOVERY_ACTION = "/franka_control/error_recovery"
-CARTESIAN_VELOCITY_LIMITS_VIOLATION = "cartesian_motion_generator_velocity_limits_violation"
+ERROR_RECOVERY_ACTION: str = panda_file()["topics"]["error_recovery"]
+#: ``|v|`` above the Cartesian velocity limit (franka::Errors field).
+CARTESIAN_VELOCITY_LIMITS_VIOLATION: str = _ERRORS["cartesian"]["velocity"]
 #: ``|dv/dt|`` above the acceleration limit: "commanded velocity ... is discontinuous".
-CARTESIAN_VELOCITY_DISCONTINUITY = "cartesian_motion_generator_velocity_discontinuity"
+CARTESIAN_VELOCITY_DISCONTINUITY: str = _ERRORS["cartesian"]["acceleration"]
 #: ``|da/dt|`` above the jerk limit: "commanded acceleration ... is discontinuous".
-CARTESIAN_ACCELERATION_DISCONTINUITY = "cartesian_motion_generator_acceleration_discontinuity"
+CARTESIAN_ACCELERATION_DISCONTINUITY: str = _ERRORS["cartesian"]["jerk"]
 #: Not a franka::Errors flag: libfranka's std::invalid_argument "Commanding value is infinite or NaN.".
-NON_FINITE_COMMAND = "commanding_value_is_infinite_or_nan"
+NON_FINITE_COMMAND: str = _ERRORS["non_finite"]
 
 #: The last sentence of every explanation: how the lab gets the robot moving again.
 RECOVERY_HINT = ("Then recover: press options (start) on the pad, or the notebook's recover button "

@@ -27,6 +27,7 @@ from hri_teleop.core.limits import (
     TwistLimiter,
     check_command_rate,
 )
+from hri_teleop.core.robot_file import panda_file
 
 __all__ = [
     "TeleopError",
@@ -48,8 +49,8 @@ __all__ = [
     "ButtonPress",
 ]
 
-#: The Franka Hand opens from 0 to 0.08 m (docs/lab-facts.md).
-GRIPPER_MAX_WIDTH_M = 0.08
+#: The Franka Hand opens from 0 to 0.08 m (docs/lab-facts.md; the robot profile's gripper.max_width_m).
+GRIPPER_MAX_WIDTH_M: float = panda_file()["gripper"]["max_width_m"]
 
 _ZERO_TWIST: Twist = (0.0, 0.0, 0.0, 0.0, 0.0, 0.0)
 #: How the pad's two rumble motors are used (TeleopParams.rumble_motors; motor_rumble).

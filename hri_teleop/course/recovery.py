@@ -11,6 +11,7 @@ from typing import Any, List, Mapping
 
 from hri_teleop.core.modes import LAB
 from hri_teleop.core.reflex import ERROR_RECOVERY_ACTION, ReflexCause, explain_reflex
+from hri_teleop.core.robot_file import panda_file
 from hri_teleop.course.errors import CourseError
 from hri_teleop.course.lab_nodes import mode
 from hri_teleop.course.notebook_ros import current_session
@@ -21,7 +22,7 @@ __all__ = ["ARM_STATUS_TOPIC", "FRANKA_STATES_TOPIC", "ERROR_RECOVERY_ACTION", "
 #: lab_sim's arm status (diagnostic_msgs/DiagnosticStatus), with the reflex explained.
 ARM_STATUS_TOPIC = "/lab_sim/arm_status"
 #: franka_state_controller's robot state (franka_msgs/FrankaState) in the lab.
-FRANKA_STATES_TOPIC = "/franka_state_controller/franka_states"
+FRANKA_STATES_TOPIC: str = panda_file()["topics"]["robot_state"]
 #: franka_control's error recovery (franka_msgs/ErrorRecoveryAction), served by lab_sim at home.
 
 

@@ -34,6 +34,7 @@ from hri_teleop.core.doctor import (
     teleop_finding,
 )
 from hri_teleop.core.modes import HOME, LAB, ModeError, decide_mode, mode_from_env
+from hri_teleop.core.robot_file import panda_file
 from hri_teleop.hardware.real.board_probe import candidate_ports, probe_port
 from hri_teleop.ros.doctor_pad import pad_findings
 from hri_teleop.ros.master import MasterError, PrivateMaster, started_here
@@ -42,7 +43,8 @@ from hri_teleop.ros.master_api import MasterApiError, master_call, master_reacha
 __all__ = ["GRIPPER_ACTIONS", "BOARD_NODES", "check_master", "check_robot", "check_teleop", "check_board",
            "check_machine", "home_simulation", "run_checks", "SIM_READY_S"]
 
-GRIPPER_ACTIONS = ("move", "grasp", "homing", "stop")
+GRIPPER_ACTIONS: Tuple[str, ...] = panda_file()["gripper"]["actions"]  # the robot profile's
+GRIPPER_NAMESPACE: str = panda_file()["gripper"]["namespace"]
 #: Nodes that publish /pub_force, and which sketch (or stand-in) each means.
 BOARD_NODES = {"/serial_node": "rosserial", "/serial_bridge": "fsr_serial", "/FSR_sensor": "simulation",
                "/lab_sim": "simulation"}
@@ -77,7 +79,7 @@ class _RobotSide(NamedTuple):
     @classmethod
     def read(cls, publishers: Sequence[Any], subscribers: Sequence[Any]) -> "_RobotSide":
         listeners = [n for n in _nodes(subscribers, DEFAULT_TWIST_TOPIC) if not n.startswith("/record")]
-        present = [a for a in GRIPPER_ACTIONS if _nodes(publishers, f"/franka_gripper/{a}/status")]
+        present = [a for a in GRIPPER_ACTIONS if _nodes(publishers, f"{GRIPPER_NAMESPACE}/{a}/status")]
         return cls(listeners, present, bool(_nodes(publishers, "/franka_control/error_recovery/status")))
 
 

@@ -19,6 +19,8 @@ from hri_teleop.core.attachment import Attachment, AttachmentError
 from hri_teleop.core.checks import is_finite_number, is_int
 from hri_teleop.core.errors import HriTeleopError
 from hri_teleop.core.paths import LAB_CONFIG
+from hri_teleop.core.robot import PANDA, RobotFileError, RobotProfile, load_robot_profile
+from hri_teleop.core.robot_file import PANDA_FILE
 from hri_teleop.core.yamlfile import read_yaml
 from hri_teleop.sim.arm import SimArmConfig, SimArmError
 from hri_teleop.sim.board import HANDOUT_FIRMWARE_RATE_HZ, BoardConfig, BoardError
@@ -26,7 +28,7 @@ from hri_teleop.sim.grasp_objects import OBJECTS, GraspObject
 from hri_teleop.sim.hand_params import HandParams, HandSimError
 from hri_teleop.sim.joint_motion import start_joints
 from hri_teleop.sim.kinematics import KinematicsError
-from hri_teleop.sim.world import LAB_ARM_CONFIG, WorldConfig, WorldError
+from hri_teleop.sim.world import WorldConfig, WorldError, robot_arm, robot_hand
 
 __all__ = [
     "SimConfigError",
@@ -47,6 +49,8 @@ __all__ = [
 
 Layer = Tuple[Mapping[str, Any], str]  # (settings, where they come from)
 
+#: Where ``robot: NAME`` looks for NAME.yaml (the Panda's profile is there).
+ROBOTS = PANDA_FILE.parent
 #: The value of ``object`` that means "nothing to grasp" (YAML ``null`` means the same).
 NO_OBJECT = "none"
 
@@ -65,7 +69,7 @@ SECTION_KEYS: Dict[str, Tuple[str, ...]] = {
     "board": _BOARD_KEYS,
 }
 #: Every top-level key of sim.yaml (and of a scenario's ``world:``).
-TOP_KEYS: Tuple[str, ...] = ("object", "object_xy_m", "table_z_m", "capture_radius_m") + tuple(SECTION_KEYS)
+TOP_KEYS: Tuple[str, ...] = ("robot", "object", "object_xy_m", "table_z_m", "capture_radius_m") + tuple(SECTION_KEYS)
 #: The keys of a custom object (the fields of GraspObject).
 OBJECT_KEYS: Tuple[str, ...] = tuple(f.name for f in dataclasses.fields(GraspObject))
 _OBJECT_REQUIRED = ("width_m", "stiffness_n_per_m", "mass_kg", "friction_coefficient")
@@ -212,6 +216,7 @@ class _Builder:
         self.merged = merged
         self.origin = origin
         self.sources = list(sources)
+        self._robot: Optional[RobotProfile] = None
 
     # -- where ------------------------------------------------------------------------
 
@@ -321,6 +326,22 @@ class _Builder:
                                   "write it in quotes, e.g. name: \"cup\"")
         return value.strip()
 
+    def robot(self) -> RobotProfile:
+        """``robot:``: a profile's name in hri_teleop/core/robots/ or a YAML path (absent or null: the Panda)."""
+        if self._robot is None:
+            value = self.merged.get("robot")
+            if value is None:
+                self._robot = PANDA
+            else:
+                text = self.text("robot", value)
+                path = (ROBOTS / f"{text}.yaml" if "/" not in text and not text.endswith(".yaml")
+                        else Path(text).expanduser())
+                try:
+                    self._robot = PANDA if path.resolve() == PANDA_FILE else load_robot_profile(path)
+                except RobotFileError as exc:
+                    raise self.error("robot", f"robot: {exc}") from None
+        return self._robot
+
     def arm(self) -> SimArmConfig:
         values = self.section("arm")
         kwargs: Dict[str, Any] = {}
@@ -335,7 +356,7 @@ class _Builder:
         if "controller" in values:
             kwargs["controller"] = values["controller"]
         try:
-            arm = dataclasses.replace(LAB_ARM_CONFIG, **kwargs)
+            arm = dataclasses.replace(robot_arm(self.robot()), **kwargs)
         except SimArmError as exc:
             raise self.wrapped("arm", exc, ()) from None
         if arm.joints:
@@ -349,7 +370,7 @@ class _Builder:
         values = self.section("hand")
         kwargs = {key: self.number(f"hand.{key}", values[key]) for key in _HAND_KEYS if key in values}
         try:
-            return HandParams(**kwargs)
+            return robot_hand(self.robot(), **kwargs)
         except HandSimError as exc:
             raise self.wrapped("hand", exc, ("HandParams.",)) from None
 
@@ -388,6 +409,7 @@ class _Builder:
             "attachment": self.attachment(),
             "board": self.board(),
             "object": self.object(),
+            "robot": self.robot(),
         }
         merged = self.merged
         if merged.get("object_xy_m") is not None:
@@ -491,7 +513,8 @@ def describe(config: WorldConfig) -> str:
     board = config.board
     period_ms = 1000.0 / board.rate_hz
     start = config.arm.start_position_m
-    return (f"{what}; arm starts at ({start[0]:g}, {start[1]:g}, {start[2]:g}) m, command timeout "
+    robot = "" if config.robot is PANDA else f"robot {config.robot.name}; "
+    return (f"{robot}{what}; arm starts at ({start[0]:g}, {start[1]:g}, {start[2]:g}) m, command timeout "
             f"{config.arm.timeout_s:g} s; sensor board {board.rate_hz:g} Hz ({period_ms:.4g} ms), noise "
             f"{board.noise_counts:g} counts; piston {config.attachment.piston_travel_m * 1000:g} mm, "
             f"full travel {config.attachment.full_travel_count} counts")

@@ -6,15 +6,16 @@ from dataclasses import dataclass
 
 from hri_teleop.core.checks import checked_float
 from hri_teleop.core.errors import HriTeleopError
+from hri_teleop.core.robot_file import panda_file
 from hri_teleop.core.teleop import GRIPPER_MAX_WIDTH_M
 
 __all__ = ["checked_param", "HandSimError", "MAX_SPEED_M_PER_S", "MAX_FORCE_N", "MOVE_WIDTH_TOLERANCE_M", "MOVE_STALL_TIMEOUT_S",
            "DEFAULT_EPSILON_M", "GRAVITY_M_PER_S2", "COMMAND_FAILED", "COMMAND_ABORTED", "HandParams"]
 
-#: Largest speed of the width (m/s): franka_gripper's default_speed, frankx's max_speed.
-MAX_SPEED_M_PER_S = 0.1
-#: Largest force between the fingers (N): the handout's 70 N, the hand's continuous force.
-MAX_FORCE_N = 70.0
+#: Largest speed of the width (m/s): franka_gripper's default_speed, frankx's max_speed (robot profile).
+MAX_SPEED_M_PER_S: float = panda_file()["gripper"]["max_speed_m_per_s"]
+#: Largest force between the fingers (N): the handout's 70 N, the hand's continuous force (robot profile).
+MAX_FORCE_N: float = panda_file()["gripper"]["max_force_n"]
 #: A move that stalls this close to its width succeeds (m): franka_gazebo's default.
 MOVE_WIDTH_TOLERANCE_M = 0.001
 #: A move blocked for this long fails (s): "stalls for about 100 s" (franka_ros #281).

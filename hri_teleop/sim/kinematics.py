@@ -27,14 +27,16 @@ from hri_teleop.core.joints import (
     JointLimits,
     JointVector,
 )
+from hri_teleop.core.robot_file import panda_file
 
 __all__ = ["KinematicsError", "panda_urdf", "panda_package_dir", "PandaKinematics", "TCP_FRAME", "ELBOW_JOINT"]
 
+# The model, its tool frame and its elbow come from the robot profile (core/robots/franka_panda.yaml).
 #: The frame the lab's commands move: between the fingertips (franka_description's ``panda_hand_tcp``).
-TCP_FRAME = "panda_hand_tcp"
+TCP_FRAME: str = panda_file()["kinematics"]["tool_frame"]
 #: Franka's "elbow": the joint whose angle a Cartesian velocity command leaves as it is (index 2 = joint 3).
-ELBOW_JOINT = 2
-_URDF_SUFFIX = "robots/panda_description/urdf/panda.urdf"
+ELBOW_JOINT: int = panda_file()["kinematics"]["elbow_joint"] - 1
+_URDF_SUFFIX: str = panda_file()["kinematics"]["urdf"]
 Vector = npt.NDArray[np.float64]
 
 

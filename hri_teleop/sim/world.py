@@ -10,13 +10,14 @@ docs/simulation.md.
 from __future__ import annotations
 
 import math
-from dataclasses import dataclass, field
+from dataclasses import dataclass, field, replace
 from typing import List, Optional, Sequence, Tuple
 
 from hri_teleop.core.attachment import Attachment
 from hri_teleop.core.checks import is_finite_number
 from hri_teleop.core.errors import HriTeleopError
-from hri_teleop.core.limits import ROBOT_PERIOD_S
+from hri_teleop.core.limits import ROBOT_PERIOD_S, AxisLimits, CartesianLimits
+from hri_teleop.core.robot import PANDA, RobotProfile
 from hri_teleop.core.run_record import LIFTED_M
 from hri_teleop.sim.arm import SimArm, SimArmConfig
 from hri_teleop.sim.board import BoardConfig, SensorBoard
@@ -25,7 +26,8 @@ from hri_teleop.sim.gripper_goals import Command, GoalRecord
 from hri_teleop.sim.hand import HandSim
 from hri_teleop.sim.hand_params import HandParams
 
-__all__ = ["WorldError", "WorldConfig", "ObjectStatus", "LabWorld", "LAB_ARM_CONFIG"]
+__all__ = ["WorldError", "WorldConfig", "ObjectStatus", "LabWorld", "LAB_ARM_CONFIG", "robot_arm", "robot_hand",
+           "ROBOT_HAND_KEYS"]
 
 #: The arm as the lab world uses it: SimArm's defaults, with the workspace box where the Panda
 #: holds the hand down comfortably (x 0.3..0.55 m, y +-0.25 m, up to 0.55 m; beyond it the arm
@@ -39,6 +41,31 @@ __all__ = ["WorldError", "WorldConfig", "ObjectStatus", "LabWorld", "LAB_ARM_CON
 #: come within 0.06 rad of its lower limit and the teleoperation node would warn through the grasp.
 LAB_ARM_CONFIG = SimArmConfig(workspace_min_m=(0.3, -0.25, 0.015), workspace_max_m=(0.55, 0.25, 0.55),
                               start_position_m=(0.4, 0.0, 0.4867), timeout_s=0.3)
+
+
+#: The hand's settings a robot profile gives (sim.yaml sets them only to override the profile).
+ROBOT_HAND_KEYS = ("max_width_m", "max_speed_m_per_s", "max_force_n", "move_force_n", "initial_width_m")
+
+
+def robot_arm(robot: RobotProfile, base: SimArmConfig = LAB_ARM_CONFIG) -> SimArmConfig:
+    """``base`` judged with ``robot``'s Cartesian and joint limits; the gentle stop after a timeout
+    stays inside them (each of its numbers at most the robot's)."""
+    if robot == PANDA:
+        return base
+    stop = base.effective_stop_limits
+    hard = robot.cartesian_limits
+    gentle = CartesianLimits(*(AxisLimits(*(min(getattr(getattr(stop, g), k), getattr(getattr(hard, g), k))
+                                             for k in ("velocity", "acceleration", "jerk")))
+                               for g in ("translation", "rotation")))
+    return replace(base, limits=hard, joint_limits=robot.joint_limits, stop_limits=gentle)
+
+
+def robot_hand(robot: RobotProfile, **settings: float) -> HandParams:
+    """The simulated hand with ``robot``'s gripper range (it starts fully open), then ``settings``."""
+    grip = robot.gripper
+    defaults = dict(zip(ROBOT_HAND_KEYS, (grip.max_width_m, grip.max_speed_m_per_s, grip.max_force_n,
+                                          grip.max_force_n, grip.max_width_m)))
+    return HandParams(**{**defaults, **settings})
 
 
 class WorldError(HriTeleopError, ValueError):
@@ -57,10 +84,11 @@ class WorldConfig:
     table_z_m: float = 0.0
     capture_radius_m: float = 0.01
     board: BoardConfig = field(default_factory=BoardConfig)
+    robot: RobotProfile = PANDA  # what ``arm`` and ``hand`` were made from (robot_world)
 
     def __post_init__(self) -> None:
         for name, kind in (("arm", SimArmConfig), ("hand", HandParams), ("attachment", Attachment),
-                           ("board", BoardConfig)):
+                           ("board", BoardConfig), ("robot", RobotProfile)):
             if not isinstance(getattr(self, name), kind):
                 raise WorldError(f"WorldConfig.{name} must be a {kind.__name__}, got {type(getattr(self, name)).__name__}")
         if self.object is not None and not isinstance(self.object, GraspObject):

@@ -24,7 +24,7 @@ from hri_teleop.sim.config import (
 )
 from hri_teleop.sim.grasp_objects import OBJECTS, GraspObject
 from hri_teleop.sim.hand_params import HandParams
-from hri_teleop.sim.world import LAB_ARM_CONFIG, LabWorld, WorldConfig
+from hri_teleop.sim.world import LAB_ARM_CONFIG, ROBOT_HAND_KEYS, LabWorld, WorldConfig
 
 REPO = Path(__file__).resolve().parents[2]
 SIM_YAML = REPO / "hri_lab" / "config" / "sim.yaml"
@@ -59,7 +59,8 @@ def test_lab_sim_yaml_spells_out_every_setting():
     raw = yaml.safe_load(SIM_YAML.read_text())
     assert set(raw) == set(TOP_KEYS)
     for section, keys in SECTION_KEYS.items():
-        assert set(raw[section]) == set(keys), section
+        from_robot = set(ROBOT_HAND_KEYS) if section == "hand" else set()  # the robot profile's gripper range
+        assert set(raw[section]) == set(keys) - from_robot, section
 
 
 def test_default_sim_yaml_finds_the_lab_file_in_a_checkout():
