@@ -38,6 +38,18 @@ from hri_teleop.core.joints import (
     nearest_limit,
 )
 from hri_teleop.core.reflex import explain_reflex
+from hri_teleop.ros import franka_msgs as fm
+from hri_teleop.ros.clock import ClockError, NodeClock
+from hri_teleop.ros.gripper_actions import ACTIONS, command_from_goal, end_goal
+from hri_teleop.ros.params import (
+    fail,
+    get_name_param,
+    get_param,
+    package_file,
+    private_params,
+    refuse_beside_hardware,
+    run_node,
+)
 from hri_teleop.sim.arm import (
     ACCELERATION_DISCONTINUITY,
     EVENT_RECOVERED,
@@ -57,18 +69,6 @@ from hri_teleop.sim.config import (
 from hri_teleop.sim.gripper_goals import GoalRecord
 from hri_teleop.sim.hand_params import HandSimError
 from hri_teleop.sim.world import LabWorld, ObjectStatus
-from hri_teleop.ros import franka_msgs as fm
-from hri_teleop.ros.clock import ClockError, NodeClock
-from hri_teleop.ros.gripper_actions import ACTIONS, command_from_goal, end_goal
-from hri_teleop.ros.params import (
-    fail,
-    get_name_param,
-    get_param,
-    package_file,
-    private_params,
-    refuse_beside_hardware,
-    run_node,
-)
 
 #: Private parameters of the node itself; every other private parameter is a sim.yaml override.
 NODE_KEYS = ("config", "scenario", "twist_topic", "gripper_ns", "control_ns", "board", "frame_id", "gripper_rate_hz",

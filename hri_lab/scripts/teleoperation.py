@@ -52,6 +52,10 @@ from hri_teleop.core.teleop import (
     recovery_refusal,
 )
 from hri_teleop.hardware.gamepad import check_pad_rumble, open_gamepad
+from hri_teleop.ros.clock import ClockError, NodeClock
+from hri_teleop.ros.error_recovery import ErrorRecoveryRequester
+from hri_teleop.ros.joy import joy_message
+from hri_teleop.ros.params import fail, get_name_param, get_param, package_file, private_params, run_node
 from hri_teleop.sim.virtual_pad import (
     RUMBLE_LOG_HEADER,
     RumbleRecord,
@@ -59,10 +63,6 @@ from hri_teleop.sim.virtual_pad import (
     VirtualPad,
     rumble_log_line,
 )
-from hri_teleop.ros.clock import ClockError, NodeClock
-from hri_teleop.ros.error_recovery import ErrorRecoveryRequester
-from hri_teleop.ros.joy import joy_message
-from hri_teleop.ros.params import fail, get_name_param, get_param, package_file, private_params, run_node
 
 #: Private parameters of this node that are not part of the teleop configuration.
 NODE_ONLY_KEYS = ("config", "pad_script", "pad_index", "stop_timeout_s", "script_wait_s", "rumble_log",

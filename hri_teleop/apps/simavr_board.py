@@ -1,5 +1,6 @@
-"""The fsr_serial firmware on a simulated Uno (simavr), its piston pressed every few seconds: a board to
-try the serial bridge or the calibration on without an Arduino.
+"""The fsr_serial firmware on a simulated Uno (simavr), its piston pressed every few seconds.
+
+A board to try the serial bridge or the calibration on without an Arduino.
 
     python -m hri_teleop.apps.simavr_board [--link /tmp/ttyFSR] [--max-count 700] [--period-s 4]
 """
