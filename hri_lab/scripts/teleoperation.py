@@ -123,7 +123,7 @@ class TeleoperationNode:
         if not self.stop_timeout_s > 0:
             fail(f"parameter {name}/stop_timeout_s is {self.stop_timeout_s!r}; set it to a positive time in s, e.g. 3.0")
 
-        self.controller = TeleopController(params, self.config.limits)
+        self.controller = TeleopController(params, self.config.limits, self.config.robot.cartesian_limits)
         self.dt_s = 1.0 / params.rate_hz
         # Wall clock in the lab; /clock when the autograder owns the time (/use_sim_time).
         self.clock = NodeClock()

@@ -18,9 +18,10 @@ from typing import Any, Dict, Mapping, Optional, Tuple, Union
 from hri_teleop.core.checks import is_finite_number
 from hri_teleop.core.errors import HriTeleopError
 from hri_teleop.core.gamepad import AUTO_LAYOUT, DEFAULT_LAYOUT, PAD_KINDS
-from hri_teleop.core.limits import DEFAULT_LIMITS, AxisLimits, CartesianLimits, LimitsError, TwistLimiter
+from hri_teleop.core.limits import DEFAULT_LIMITS, PANDA_LIMITS, AxisLimits, CartesianLimits, LimitsError, TwistLimiter
 from hri_teleop.core.mapping import ADC_MAX_COUNT
 from hri_teleop.core.paths import LAB_CONFIG
+from hri_teleop.core.robot import PANDA, RobotFileError, RobotProfile, robot_named
 from hri_teleop.core.robot_file import panda_file
 from hri_teleop.core.teleop import (
     HANDOUT_BUTTONS,
@@ -85,7 +86,7 @@ _LIMIT_NAMES = ("velocity", "acceleration", "jerk")
 
 #: Every top-level key the teleop config may have.
 CONFIG_KEYS = tuple(sorted(list(_NUMBER_KEYS) + list(_STRING_KEYS) + list(_BOOL_KEYS) + list(_CHOICE_KEYS)
-                           + ["limits", "axes", "buttons"]))
+                           + ["limits", "axes", "buttons", "robot"]))
 
 
 class ConfigError(HriTeleopError, ValueError):
@@ -101,6 +102,7 @@ class TeleopConfig:
     layout: str  # "auto" (a real pad identifies itself), a shipped layout's name or a YAML path
     pad: str  # "pygame" | "virtual"
     twist_topic: str
+    robot: RobotProfile = PANDA  # ``robot:``: whose limits ``limits`` stay inside, and its twist topic
 
 
 def load_yaml(path: Union[str, Path]) -> Dict[str, Any]:
@@ -140,7 +142,7 @@ def _mapping(value: object, key: str, source: str, example: str) -> Mapping[str,
     return value
 
 
-def _limits_from(value: object, source: str) -> CartesianLimits:
+def _limits_from(value: object, source: str, hard: CartesianLimits = PANDA_LIMITS) -> CartesianLimits:
     groups = _mapping(value, "limits", source, "limits: {translation: {velocity: 0.25}}")
     built = {}
     for group in groups:
@@ -165,7 +167,7 @@ def _limits_from(value: object, source: str) -> CartesianLimits:
             raise ConfigError(f"{source}: limits.{group}: {exc}") from None
     limits = CartesianLimits(**built)
     try:
-        TwistLimiter(limits)  # checks them against the Panda's
+        TwistLimiter(limits, hard_limits=hard)  # checks them against the robot's
     except LimitsError as exc:
         raise ConfigError(f"{source}: {exc}") from None
     return limits
@@ -246,7 +248,15 @@ def teleop_config_from_dict(d: Mapping[str, Any], source: str = "<dict>") -> Tel
 
     if "axes" in d:
         kwargs["assignment"] = _axes_from(d["axes"], source)
-    limits = _limits_from(d["limits"], source) if "limits" in d else DEFAULT_LIMITS
+    try:
+        robot = robot_named(d.get("robot"))
+    except RobotFileError as exc:
+        raise ConfigError(f"{source}: robot: {exc}") from None
+    limits = _limits_from(d["limits"], source, robot.cartesian_limits) if "limits" in d else DEFAULT_LIMITS
+    try:
+        TwistLimiter(limits, hard_limits=robot.cartesian_limits)
+    except LimitsError as exc:
+        raise ConfigError(f"{source}: limits: {exc}") from None
 
     try:
         params = TeleopParams(**kwargs)
@@ -256,7 +266,9 @@ def teleop_config_from_dict(d: Mapping[str, Any], source: str = "<dict>") -> Tel
             if message.startswith(field_name + " "):
                 message = key + message[len(field_name):]
         raise ConfigError(f"{source}: {message}") from None
-    return TeleopConfig(params=params, limits=limits, layout=strings["layout"], pad=strings["pad"], twist_topic=strings["twist_topic"])
+    twist_topic = strings["twist_topic"] if "twist_topic" in d else robot.topics["twist_command"]
+    return TeleopConfig(params=params, limits=limits, layout=strings["layout"], pad=strings["pad"], twist_topic=twist_topic,
+                        robot=robot)
 
 
 def load_teleop_config(path: Union[str, Path], overrides: Optional[Mapping[str, Any]] = None,

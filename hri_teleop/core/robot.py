@@ -15,7 +15,7 @@ from hri_teleop.core.joints import JointLimits, JointVector
 from hri_teleop.core.limits import AxisLimits, CartesianLimits
 from hri_teleop.core.robot_file import PANDA_FILE, RobotFile, RobotFileError, panda_file, read_robot_file
 
-__all__ = ["GripperProfile", "RobotProfile", "PANDA", "load_robot_profile", "RobotFileError"]
+__all__ = ["GripperProfile", "RobotProfile", "PANDA", "ROBOTS", "load_robot_profile", "robot_named", "RobotFileError"]
 
 
 @dataclass(frozen=True)
@@ -81,3 +81,18 @@ def load_robot_profile(path: Union[str, Path]) -> RobotProfile:
 
 #: The lab's robot: the Franka Emika Panda with the Franka Hand (core/robots/franka_panda.yaml).
 PANDA = RobotProfile.from_file(panda_file(), str(PANDA_FILE))
+
+#: Where a profile given by name (``robot: franka_panda``) is looked up.
+ROBOTS = PANDA_FILE.parent
+
+
+def robot_named(value: object) -> RobotProfile:
+    """``value`` as sim.yaml and teleop.yaml write it: None (the Panda), a profile's name in
+    :data:`ROBOTS` or the path of a profile YAML (RobotFileError otherwise, in one line)."""
+    if value is None:
+        return PANDA
+    if not isinstance(value, str) or not value.strip():
+        raise RobotFileError(f"robot must be a profile's name (e.g. {PANDA.name}) or a path to one, got {value!r}")
+    text = value.strip()
+    path = ROBOTS / f"{text}.yaml" if "/" not in text and not text.endswith(".yaml") else Path(text).expanduser()
+    return PANDA if path.resolve() == PANDA_FILE else load_robot_profile(path)

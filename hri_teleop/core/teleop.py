@@ -21,6 +21,7 @@ from hri_teleop.core.gamepad.rumble import unit_intensity
 from hri_teleop.core.gamepad.stale import STALE_INPUT_TIMEOUT_S
 from hri_teleop.core.limits import (
     DEFAULT_LIMITS,
+    PANDA_LIMITS,
     CartesianLimits,
     LimitsError,
     Twist,
@@ -265,13 +266,15 @@ class TeleopCommand:
 class TeleopController:
     """Handout Ex. 8 as a state machine (mode, gripper width, quit) plus the twist limiter."""
 
-    def __init__(self, params: Optional[TeleopParams] = None, limits: CartesianLimits = DEFAULT_LIMITS) -> None:
+    def __init__(self, params: Optional[TeleopParams] = None, limits: CartesianLimits = DEFAULT_LIMITS,
+                 hard_limits: CartesianLimits = PANDA_LIMITS) -> None:
+        """``hard_limits``: the robot's (its profile's), which ``limits`` must stay inside."""
         self._params = params if params is not None else TeleopParams()
         if not isinstance(self._params, TeleopParams):
             raise TeleopError(f"params must be a TeleopParams, got {type(self._params).__name__}; build one with TeleopParams(...)")
         try:
-            self._limiter = TwistLimiter(limits)
-            check_command_rate(self._limiter.limits, self._params.rate_hz)
+            self._limiter = TwistLimiter(limits, hard_limits=hard_limits)
+            check_command_rate(self._limiter.limits, self._params.rate_hz, hard=hard_limits)
         except LimitsError as exc:
             raise TeleopError(str(exc)) from None
         self._mode = Mode.TRANSLATION

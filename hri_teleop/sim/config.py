@@ -19,8 +19,7 @@ from hri_teleop.core.attachment import Attachment, AttachmentError
 from hri_teleop.core.checks import is_finite_number, is_int
 from hri_teleop.core.errors import HriTeleopError
 from hri_teleop.core.paths import LAB_CONFIG
-from hri_teleop.core.robot import PANDA, RobotFileError, RobotProfile, load_robot_profile
-from hri_teleop.core.robot_file import PANDA_FILE
+from hri_teleop.core.robot import PANDA, RobotFileError, RobotProfile, robot_named
 from hri_teleop.core.yamlfile import read_yaml
 from hri_teleop.sim.arm import SimArmConfig, SimArmError
 from hri_teleop.sim.board import HANDOUT_FIRMWARE_RATE_HZ, BoardConfig, BoardError
@@ -49,8 +48,6 @@ __all__ = [
 
 Layer = Tuple[Mapping[str, Any], str]  # (settings, where they come from)
 
-#: Where ``robot: NAME`` looks for NAME.yaml (the Panda's profile is there).
-ROBOTS = PANDA_FILE.parent
 #: The value of ``object`` that means "nothing to grasp" (YAML ``null`` means the same).
 NO_OBJECT = "none"
 
@@ -329,17 +326,10 @@ class _Builder:
     def robot(self) -> RobotProfile:
         """``robot:``: a profile's name in hri_teleop/core/robots/ or a YAML path (absent or null: the Panda)."""
         if self._robot is None:
-            value = self.merged.get("robot")
-            if value is None:
-                self._robot = PANDA
-            else:
-                text = self.text("robot", value)
-                path = (ROBOTS / f"{text}.yaml" if "/" not in text and not text.endswith(".yaml")
-                        else Path(text).expanduser())
-                try:
-                    self._robot = PANDA if path.resolve() == PANDA_FILE else load_robot_profile(path)
-                except RobotFileError as exc:
-                    raise self.error("robot", f"robot: {exc}") from None
+            try:
+                self._robot = robot_named(self.merged.get("robot"))
+            except RobotFileError as exc:
+                raise self.error("robot", f"robot: {exc}") from None
         return self._robot
 
     def arm(self) -> SimArmConfig:

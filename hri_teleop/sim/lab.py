@@ -101,11 +101,12 @@ def run_lab(
         raise LabRunError(f"max_duration_s must be a positive number of seconds, got {max_duration_s!r}")
     if isinstance(steps, (str, Path)):
         steps = load_script(steps)
-    controller = TeleopController(params, limits)
+    world = world if world is not None else WorldConfig()
+    controller = TeleopController(params, limits, world.robot.cartesian_limits)
     dt = 1.0 / params.rate_hz
     ticks = [0]
     pad = ScriptedPad(steps, clock=lambda: ticks[0] * dt)
-    lab = LabWorld(world if world is not None else WorldConfig(), start_s=0.0)
+    lab = LabWorld(world, start_s=0.0)
     gripper = _Gripper(lab, manager)
     rumble_requests = RumbleRequests()
     joint_warning = JointStateWarning(JointLimitWatch())  # the node's warning, fed the arm's joints each tick

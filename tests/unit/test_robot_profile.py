@@ -31,8 +31,9 @@ def made_up_robot(tmp_path: Path, **changes: object) -> Path:
     """The Panda's file with other Cartesian and joint limits and another gripper: the 'Acme' arm."""
     data = yaml.safe_load(PANDA_FILE.read_text())
     data["name"] = "acme_arm"
-    data["cartesian_limits"]["translation"] = {"velocity": 0.5, "acceleration": 5.0, "jerk": 3000.0}
-    data["cartesian_limits"]["rotation"] = {"velocity": 1.0, "acceleration": 10.0, "jerk": 5000.0}
+    # lower than the Panda's, high enough that the lab's 50 Hz commands are no steps to it
+    data["cartesian_limits"]["translation"] = {"velocity": 0.5, "acceleration": 8.0, "jerk": 6000.0}
+    data["cartesian_limits"]["rotation"] = {"velocity": 1.0, "acceleration": 15.0, "jerk": 12000.0}
     data["joints"]["velocity_rad_per_s"] = [1.5] * 7
     data["joints"]["jerk_rad_per_s3"] = [4000.0] * 7
     data["gripper"].update({"namespace": "/acme_hand", "max_width_m": 0.07, "max_speed_m_per_s": 0.08,
@@ -142,3 +143,36 @@ def test_a_missing_profile_in_sim_yaml_names_the_key_and_the_file(tmp_path):
 
 def test_a_profile_named_without_a_path_is_looked_up_beside_the_pandas():
     assert load_world_config(default_sim_yaml(), {"robot": "franka_panda"}).robot == PANDA
+
+
+# --- the teleoperation node's config ---------------------------------------------------------------
+
+
+def test_the_teleop_config_keeps_its_limits_inside_the_robots(tmp_path):
+    from hri_teleop.core.config import ConfigError, teleop_config_from_dict
+    from hri_teleop.core.config import load_teleop_config as load
+
+    lab = REPO / "hri_lab" / "config" / "teleop.yaml"
+    assert load(lab).robot == PANDA and load(lab).twist_topic == "/cartesian_velocity_controller/cmd_vel"
+    acme = str(made_up_robot(tmp_path, topics__twist_command="/acme/cmd_vel"))
+    assert load(lab, {"robot": acme}).robot.name == "acme_arm"
+    # a config that names no twist_topic sends to the robot's velocity controller (teleop.yaml names one)
+    assert teleop_config_from_dict({"robot": acme}).twist_topic == "/acme/cmd_vel"
+    # 0.5 m/s is the made-up arm's velocity limit: the lab's 0.25 passes, 0.6 (inside the Panda's) does not
+    assert load(lab, {"robot": acme, "limits": {"translation": {"velocity": 0.5}}}).limits.translation.velocity == 0.5
+    with pytest.raises(ConfigError) as caught:
+        load(lab, {"robot": acme, "limits": {"translation": {"velocity": 0.6}}})
+    assert "translation.velocity=0.6 > 0.5" in str(caught.value) and "\n" not in str(caught.value)
+    assert load(lab, {"limits": {"translation": {"velocity": 0.6}}}).limits.translation.velocity == 0.6
+
+
+def test_a_robot_whose_limits_make_the_labs_50_hz_commands_steps_is_refused_by_the_controller(tmp_path):
+    """A jerk limit of 3000 m/s^3 lets a command change by 0.003 m/s per 1 ms cycle; the lab's limiter
+    changes it by 0.3 m/s^2 / 50 Hz = 0.006 m/s per message: the robot would see steps."""
+    from hri_teleop.core.teleop import TeleopController, TeleopError
+
+    acme = load_robot_profile(made_up_robot(tmp_path, cartesian_limits__translation={
+        "velocity": 0.5, "acceleration": 8.0, "jerk": 3000.0}))
+    with pytest.raises(TeleopError, match="sees as a step above its 0.003 m/s"):
+        TeleopController(CONFIG.params, CONFIG.limits, acme.cartesian_limits)
+    TeleopController(CONFIG.params, CONFIG.limits, load_robot_profile(made_up_robot(tmp_path)).cartesian_limits)
