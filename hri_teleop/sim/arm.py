@@ -126,8 +126,9 @@ class SimArm:
         self._joints: Optional[JointMotion] = None
         if config.joints:
             try:
-                start = start_joints(config.start_position_m, config.start_orientation_xyzw, config.joint_limits)
-                self._joints = JointMotion(start, config.joint_limits, config.rel_tol)
+                start = start_joints(config.start_position_m, config.start_orientation_xyzw, config.joint_limits,
+                                     config.model)
+                self._joints = JointMotion(start, config.joint_limits, config.rel_tol, config.model)
             except KinematicsError as exc:
                 raise SimArmError(f"start_position_m: {exc}") from None
 

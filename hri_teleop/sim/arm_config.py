@@ -24,13 +24,34 @@ from hri_teleop.core.reflex import (
     CARTESIAN_VELOCITY_LIMITS_VIOLATION as VELOCITY_LIMITS_VIOLATION,
 )
 from hri_teleop.core.reflex import NON_FINITE_COMMAND, ReflexCause
+from hri_teleop.core.robot import PANDA, RobotProfile
 
 __all__ = [
-    "SimArmError", "SimArmConfig", "LimitViolation", "ArmEvent", "ArmPose", "VELOCITY_LIMITS_VIOLATION",
+    "ArmModel", "PANDA_MODEL", "SimArmError", "SimArmConfig", "LimitViolation", "ArmEvent", "ArmPose", "VELOCITY_LIMITS_VIOLATION",
     "VELOCITY_DISCONTINUITY", "ACCELERATION_DISCONTINUITY", "NON_FINITE_COMMAND", "LIBFRANKA_ERROR_FOR",
     "CONTROLLERS", "GENTLE_STOP_LIMITS", "STATE_IDLE", "STATE_MOVING", "STATE_TIMEOUT", "STATE_REFLEX", "EVENT_REFLEX", "EVENT_TIMEOUT",
     "EVENT_WORKSPACE", "EVENT_RECOVERED", "EVENT_IGNORED", "AXES",
 ]
+
+@dataclass(frozen=True)
+class ArmModel:
+    """Which arm description the simulation loads (a robot profile's ``kinematics``): the URDF's path
+    inside example-robot-data, the frame the commands move, the joint (0-based) the IK keeps still,
+    and the arm's and the fingers' joint names as the URDF names them."""
+
+    urdf: str
+    tool_frame: str
+    elbow_index: int
+    joint_names: Tuple[str, ...]
+    finger_joints: Tuple[str, ...]
+
+    @classmethod
+    def of(cls, robot: RobotProfile) -> "ArmModel":
+        return cls(robot.urdf, robot.tool_frame, robot.elbow_joint - 1, robot.joint_names, robot.gripper.finger_joints)
+
+
+#: The Panda's, from its profile.
+PANDA_MODEL = ArmModel.of(PANDA)
 
 #: Which libfranka error a violated Cartesian limit raises, keyed by the limit's name in AxisLimits.
 LIBFRANKA_ERROR_FOR: Dict[str, str] = {
@@ -132,6 +153,7 @@ class SimArmConfig:
       and the first after rest; slower commands are interpolated over their interval (up to 0.1 s).
     * ``joints`` True: the seven joints move and are judged; False leaves the hand alone,
       judged on its twist only (tests of the Cartesian judge, scenes far outside the reach).
+    * ``model``: the arm description the joints follow (the robot profile's kinematics).
     """
 
     limits: CartesianLimits = PANDA_LIMITS
@@ -146,6 +168,7 @@ class SimArmConfig:
     controller: str = "interpolate"
     command_period_s: float = 0.02
     joints: bool = True
+    model: ArmModel = PANDA_MODEL
 
     def __post_init__(self) -> None:
         if not isinstance(self.joint_limits, JointLimits):

@@ -351,8 +351,10 @@ class _Builder:
             raise self.wrapped("arm", exc, ()) from None
         if arm.joints:
             try:
-                start_joints(arm.start_position_m, arm.start_orientation_xyzw, arm.joint_limits)
+                start_joints(arm.start_position_m, arm.start_orientation_xyzw, arm.joint_limits, arm.model)
             except KinematicsError as exc:
+                if "robot profile" in str(exc):  # its description, not the start pose
+                    raise self.error("robot", f"robot: {exc}") from None
                 raise SimConfigError(f"{self.source_of('arm.start_position_m')}: arm.start_position_m: {exc}") from None
         return arm
 

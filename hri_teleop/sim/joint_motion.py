@@ -21,6 +21,7 @@ from hri_teleop.core.joints import (
     JointVector,
     joint_violations,
 )
+from hri_teleop.sim.arm_config import PANDA_MODEL, ArmModel
 from hri_teleop.sim.kinematics import PandaKinematics, Vector
 
 __all__ = ["JointMotion", "JointStep", "start_joints"]
@@ -31,17 +32,17 @@ JointStep = Tuple[str, int, float, float]
 
 @lru_cache(maxsize=64)
 def start_joints(position_m: Tuple[float, float, float], orientation_xyzw: Tuple[float, float, float, float],
-                 limits: JointLimits = PANDA_JOINT_LIMITS) -> JointVector:
+                 limits: JointLimits = PANDA_JOINT_LIMITS, arm: ArmModel = PANDA_MODEL) -> JointVector:
     """The joints of a start pose, found from the ready pose (cached: many arms start alike)."""
-    return PandaKinematics(limits).inverse(position_m, orientation_xyzw, seed=READY_POSE_RAD)
+    return PandaKinematics(limits, arm).inverse(position_m, orientation_xyzw, seed=READY_POSE_RAD)
 
 
 class JointMotion:
     """The seven joints: where they are, the joint velocity the command asks of them, and the judge."""
 
     def __init__(self, start_rad: Sequence[float], limits: JointLimits = PANDA_JOINT_LIMITS,
-                 rel_tol: float = 1e-9) -> None:
-        self.kinematics = PandaKinematics(limits)
+                 rel_tol: float = 1e-9, arm: ArmModel = PANDA_MODEL) -> None:
+        self.kinematics = PandaKinematics(limits, arm)
         self.limits = limits
         self.rel_tol = rel_tol
         self.q: Vector = np.array(start_rad, dtype=float)

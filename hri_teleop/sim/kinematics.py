@@ -20,23 +20,20 @@ import pinocchio as pin
 
 from hri_teleop.core.errors import HriTeleopError
 from hri_teleop.core.joints import (
-    FINGER_JOINT_NAMES,
-    JOINT_NAMES,
     PANDA_JOINT_LIMITS,
     READY_POSE_RAD,
     JointLimits,
     JointVector,
 )
-from hri_teleop.core.robot_file import panda_file
+from hri_teleop.sim.arm_config import PANDA_MODEL, ArmModel
 
 __all__ = ["KinematicsError", "panda_urdf", "panda_package_dir", "PandaKinematics", "TCP_FRAME", "ELBOW_JOINT"]
 
 # The model, its tool frame and its elbow come from the robot profile (core/robots/franka_panda.yaml).
 #: The frame the lab's commands move: between the fingertips (franka_description's ``panda_hand_tcp``).
-TCP_FRAME: str = panda_file()["kinematics"]["tool_frame"]
+TCP_FRAME: str = PANDA_MODEL.tool_frame
 #: Franka's "elbow": the joint whose angle a Cartesian velocity command leaves as it is (index 2 = joint 3).
-ELBOW_JOINT: int = panda_file()["kinematics"]["elbow_joint"] - 1
-_URDF_SUFFIX: str = panda_file()["kinematics"]["urdf"]
+ELBOW_JOINT: int = PANDA_MODEL.elbow_index
 Vector = npt.NDArray[np.float64]
 
 
@@ -44,17 +41,18 @@ class KinematicsError(HriTeleopError, RuntimeError):
     """The Panda model cannot be loaded, or a pose cannot be reached (the message names the fix)."""
 
 
-def panda_urdf() -> Path:
-    """The Panda's URDF as example-robot-data installs it."""
+def panda_urdf(urdf: str = PANDA_MODEL.urdf) -> Path:
+    """The URDF at ``urdf`` (default: the Panda's) as example-robot-data installs it."""
     try:
         files = importlib.metadata.files("example-robot-data") or []
     except importlib.metadata.PackageNotFoundError:
-        files = []
+        raise KinematicsError("the Panda's description is missing: example-robot-data is not installed; run "
+                              "`make setup` (or pip install example-robot-data)") from None
     for entry in files:
-        if str(entry).endswith(_URDF_SUFFIX):
+        if str(entry).endswith(urdf):
             return Path(str(entry.locate()))
-    raise KinematicsError("the Panda's description is missing: example-robot-data is not installed; run "
-                          "`make setup` (or pip install example-robot-data)")
+    raise KinematicsError(f"the robot profile's kinematics.urdf {urdf!r} is not in example-robot-data; name a "
+                          "URDF it installs (the Panda's: robots/panda_description/urdf/panda.urdf)")
 
 
 def panda_package_dir() -> Path:
@@ -62,15 +60,15 @@ def panda_package_dir() -> Path:
     return panda_urdf().parents[4]
 
 
-@lru_cache(maxsize=1)
-def _arm_model() -> Any:
-    """The seven-joint arm (fingers locked open): loaded once per process."""
+@lru_cache(maxsize=4)
+def _arm_model(arm: ArmModel) -> Any:
+    """The seven-joint arm (fingers locked open): loaded once per process and description."""
     try:
-        full = pin.buildModelFromUrdf(str(panda_urdf()))
+        full = pin.buildModelFromUrdf(str(panda_urdf(arm.urdf)))
     except (RuntimeError, ValueError) as exc:
         raise KinematicsError(f"pinocchio cannot read the Panda's URDF ({exc}); reinstall example-robot-data "
                               "with `make setup`") from None
-    fingers = [full.getJointId(name) for name in FINGER_JOINT_NAMES]
+    fingers = [full.getJointId(name) for name in arm.finger_joints]
     return pin.buildReducedModel(full, fingers, pin.neutral(full))
 
 
@@ -85,16 +83,20 @@ def _quaternion_xyzw(rotation: Vector) -> Tuple[float, float, float, float]:
 class PandaKinematics:
     """Forward kinematics and the twist-to-joint-velocity map of the arm, one instance per arm."""
 
-    def __init__(self, limits: JointLimits = PANDA_JOINT_LIMITS) -> None:
-        self.model = _arm_model()
-        if tuple(self.model.names)[1:] != JOINT_NAMES:
-            raise KinematicsError(f"the Panda model's joints are {tuple(self.model.names)[1:]}, not {JOINT_NAMES}; "
-                                  "reinstall example-robot-data with `make setup`")
+    def __init__(self, limits: JointLimits = PANDA_JOINT_LIMITS, arm: ArmModel = PANDA_MODEL) -> None:
+        self.model = _arm_model(arm)
+        if tuple(self.model.names)[1:] != arm.joint_names:
+            raise KinematicsError(f"the model's joints are {tuple(self.model.names)[1:]}, not the robot profile's "
+                                  f"{arm.joint_names}; name the URDF's joints in joints.names")
         self.data = self.model.createData()
-        self.frame = self.model.getFrameId(TCP_FRAME)
+        if not self.model.existFrame(arm.tool_frame):
+            raise KinematicsError(f"the URDF {arm.urdf} has no frame {arm.tool_frame!r} (the robot profile's "
+                                  "kinematics.tool_frame); name one of its frames, e.g. panda_hand_tcp")
+        self.frame = self.model.getFrameId(arm.tool_frame)
+        self.elbow = arm.elbow_index
         self.limits = limits
         self._system = np.zeros((7, 7))
-        self._system[6, ELBOW_JOINT] = 1.0
+        self._system[6, self.elbow] = 1.0
         self._rhs = np.zeros(7)
         self._q: Optional[Vector] = None
 
@@ -168,7 +170,7 @@ class PandaKinematics:
             if error < 1e-10:
                 break
             jacobian = pin.getFrameJacobian(self.model, self.data, self.frame, pin.LOCAL_WORLD_ALIGNED)
-            system = np.vstack([jacobian, np.eye(7)[ELBOW_JOINT]])
+            system = np.vstack([jacobian, np.eye(7)[self.elbow]])
             step = system.T @ np.linalg.solve(system @ system.T + 1e-4 * np.eye(7), np.append(np.clip(e, -0.05, 0.05), 0.0))
             q = np.clip(q + step, low, high)
         if error > 1e-6:

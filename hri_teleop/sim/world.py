@@ -20,6 +20,7 @@ from hri_teleop.core.limits import ROBOT_PERIOD_S, AxisLimits, CartesianLimits
 from hri_teleop.core.robot import PANDA, RobotProfile
 from hri_teleop.core.run_record import LIFTED_M
 from hri_teleop.sim.arm import SimArm, SimArmConfig
+from hri_teleop.sim.arm_config import ArmModel
 from hri_teleop.sim.board import BoardConfig, SensorBoard
 from hri_teleop.sim.grasp_objects import GraspObject, is_held
 from hri_teleop.sim.gripper_goals import Command, GoalRecord
@@ -57,7 +58,7 @@ def robot_arm(robot: RobotProfile, base: SimArmConfig = LAB_ARM_CONFIG) -> SimAr
     gentle = CartesianLimits(*(AxisLimits(*(min(getattr(getattr(stop, g), k), getattr(getattr(hard, g), k))
                                              for k in ("velocity", "acceleration", "jerk")))
                                for g in ("translation", "rotation")))
-    return replace(base, limits=hard, joint_limits=robot.joint_limits, stop_limits=gentle)
+    return replace(base, limits=hard, joint_limits=robot.joint_limits, stop_limits=gentle, model=ArmModel.of(robot))
 
 
 def robot_hand(robot: RobotProfile, **settings: float) -> HandParams:

@@ -176,3 +176,30 @@ def test_a_robot_whose_limits_make_the_labs_50_hz_commands_steps_is_refused_by_t
     with pytest.raises(TeleopError, match="sees as a step above its 0.003 m/s"):
         TeleopController(CONFIG.params, CONFIG.limits, acme.cartesian_limits)
     TeleopController(CONFIG.params, CONFIG.limits, load_robot_profile(made_up_robot(tmp_path)).cartesian_limits)
+
+
+# --- the arm's description comes from the profile too --------------------------------------------
+
+
+def test_the_simulated_joints_follow_the_profiles_tool_frame(tmp_path):
+    """The same start position for the hand frame instead of the fingertips' TCP: the IK solves
+    another pose, so the joints differ (the flange sits 10 cm higher up the arm)."""
+    from hri_teleop.sim.arm import SimArm
+
+    panda = load_world_config(default_sim_yaml())
+    flange = load_world_config(default_sim_yaml(), {"robot": str(made_up_robot(tmp_path, kinematics__tool_frame="panda_hand"))})
+    assert flange.arm.model.tool_frame == "panda_hand"
+    q_tcp, q_hand = SimArm(panda.arm).joint_positions, SimArm(flange.arm).joint_positions
+    assert max(abs(a - b) for a, b in zip(q_tcp, q_hand)) > 0.05
+
+
+@pytest.mark.parametrize("change, words", [
+    ({"kinematics__urdf": "robots/acme/urdf/acme.urdf"}, "kinematics.urdf 'robots/acme/urdf/acme.urdf' is not in"),
+    ({"kinematics__tool_frame": "acme_tool"}, "has no frame 'acme_tool'"),
+    ({"joints__names": [f"acme_joint{i}" for i in range(1, 8)]}, "name the URDF's joints in joints.names"),
+])
+def test_a_description_the_urdf_does_not_hold_is_named_in_one_line(tmp_path, change, words):
+    with pytest.raises(SimConfigError) as caught:
+        load_world_config(default_sim_yaml(), {"robot": str(made_up_robot(tmp_path, **change))})
+    message = str(caught.value)
+    assert message.startswith("overrides: robot") and words in message and "\n" not in message
