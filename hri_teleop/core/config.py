@@ -253,6 +253,10 @@ def teleop_config_from_dict(d: Mapping[str, Any], source: str = "<dict>") -> Tel
     except RobotFileError as exc:
         raise ConfigError(f"{source}: robot: {exc}") from None
     limits = _limits_from(d["limits"], source, robot.cartesian_limits) if "limits" in d else DEFAULT_LIMITS
+    kwargs["gripper_max_width_m"] = robot.gripper.max_width_m
+    for key in ("width_max", "initial_width"):  # unset: the robot's hand fully open
+        if key not in d:
+            kwargs[_NUMBER_KEYS[key][0]] = robot.gripper.max_width_m
     try:
         TwistLimiter(limits, hard_limits=robot.cartesian_limits)
     except LimitsError as exc:

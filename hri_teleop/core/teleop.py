@@ -183,6 +183,8 @@ class TeleopParams:
     # Two rumble motors: "split" = the force on the low-frequency (strong, left) motor, the joint
     # warning on the high-frequency (weak, right) one; "combined" = both feel the larger (one motor).
     rumble_motors: str = "split"
+    # How wide the robot's hand opens (m): its robot profile's gripper.max_width_m (the Panda's 0.08).
+    gripper_max_width_m: float = GRIPPER_MAX_WIDTH_M
 
     def __post_init__(self) -> None:
         for f in fields(self):
@@ -205,10 +207,12 @@ class TeleopParams:
                 raise TeleopError(f"{name} must be >= 0, got {getattr(p, name)!r}; use the axis assignment to invert a direction")
         if not 0.0 <= p.deadzone < 1.0:
             raise TeleopError(f"deadzone must be in [0, 1), got {p.deadzone!r}; 0.1 ignores the first tenth of stick travel")
-        if not 0.0 <= p.width_min_m <= p.width_max_m <= GRIPPER_MAX_WIDTH_M:
+        if not p.gripper_max_width_m > 0.0:
+            raise TeleopError(f"gripper_max_width_m must be > 0 m, got {p.gripper_max_width_m!r}; the Franka Hand's is 0.08")
+        if not 0.0 <= p.width_min_m <= p.width_max_m <= p.gripper_max_width_m:
             raise TeleopError(
-                f"gripper widths must satisfy 0 <= width_min_m <= width_max_m <= {GRIPPER_MAX_WIDTH_M} m, "
-                f"got {p.width_min_m!r} .. {p.width_max_m!r}; the Franka Hand opens 0 .. 0.08 m"
+                f"gripper widths must satisfy 0 <= width_min_m <= width_max_m <= {p.gripper_max_width_m:g} m, "
+                f"got {p.width_min_m!r} .. {p.width_max_m!r}; the robot's hand opens 0 .. {p.gripper_max_width_m:g} m"
             )
         if not p.width_min_m <= p.initial_width_m <= p.width_max_m:
             raise TeleopError(

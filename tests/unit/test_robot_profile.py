@@ -155,13 +155,14 @@ def test_the_teleop_config_keeps_its_limits_inside_the_robots(tmp_path):
     lab = REPO / "hri_lab" / "config" / "teleop.yaml"
     assert load(lab).robot == PANDA and load(lab).twist_topic == "/cartesian_velocity_controller/cmd_vel"
     acme = str(made_up_robot(tmp_path, topics__twist_command="/acme/cmd_vel"))
-    assert load(lab, {"robot": acme}).robot.name == "acme_arm"
+    fit = {"robot": acme, "width_max": 0.07, "initial_width": 0.07}  # its 70 mm hand
+    assert load(lab, fit).robot.name == "acme_arm"
     # a config that names no twist_topic sends to the robot's velocity controller (teleop.yaml names one)
     assert teleop_config_from_dict({"robot": acme}).twist_topic == "/acme/cmd_vel"
     # 0.5 m/s is the made-up arm's velocity limit: the lab's 0.25 passes, 0.6 (inside the Panda's) does not
-    assert load(lab, {"robot": acme, "limits": {"translation": {"velocity": 0.5}}}).limits.translation.velocity == 0.5
+    assert load(lab, {**fit, "limits": {"translation": {"velocity": 0.5}}}).limits.translation.velocity == 0.5
     with pytest.raises(ConfigError) as caught:
-        load(lab, {"robot": acme, "limits": {"translation": {"velocity": 0.6}}})
+        load(lab, {**fit, "limits": {"translation": {"velocity": 0.6}}})
     assert "translation.velocity=0.6 > 0.5" in str(caught.value) and "\n" not in str(caught.value)
     assert load(lab, {"limits": {"translation": {"velocity": 0.6}}}).limits.translation.velocity == 0.6
 
@@ -203,3 +204,17 @@ def test_a_description_the_urdf_does_not_hold_is_named_in_one_line(tmp_path, cha
         load_world_config(default_sim_yaml(), {"robot": str(made_up_robot(tmp_path, **change))})
     message = str(caught.value)
     assert message.startswith("overrides: robot") and words in message and "\n" not in message
+
+
+def test_the_teleop_width_range_is_the_robots_hand(tmp_path):
+    from hri_teleop.core.config import ConfigError
+    from hri_teleop.core.config import load_teleop_config as load
+
+    lab = REPO / "hri_lab" / "config" / "teleop.yaml"
+    acme = str(made_up_robot(tmp_path))  # a 70 mm hand
+    assert load(lab).params.gripper_max_width_m == 0.08
+    with pytest.raises(ConfigError) as caught:  # teleop.yaml's 0.08 m does not fit it
+        load(lab, {"robot": acme})
+    assert "width_max_m <= 0.07 m" in str(caught.value) and "\n" not in str(caught.value)
+    config = load(lab, {"robot": acme, "width_max": 0.07, "initial_width": 0.07})
+    assert (config.params.width_max_m, config.params.gripper_max_width_m) == (0.07, 0.07)
