@@ -29,7 +29,6 @@ from sensor_msgs.msg import JointState
 from std_msgs.msg import Float32, Float64, Header, Int16, UInt32
 from std_srvs.srv import Trigger, TriggerResponse
 
-from hri_teleop.core.config import DEFAULT_TWIST_TOPIC
 from hri_teleop.core.joints import (
     FINGER_JOINT_NAMES,
     FRANKA_JOINT_STATES_TOPIC,
@@ -109,9 +108,11 @@ class LabSimNode:
         overrides = world_overrides_from_params(private_params(), f"{name} private parameters", NODE_KEYS)
         self.config = load_world_config(config_path, overrides, f"{name} private parameters",
                                         scenario=scenario or None)
-        twist_topic = get_name_param("~twist_topic", DEFAULT_TWIST_TOPIC)
-        gripper_ns = get_name_param("~gripper_ns", "/franka_gripper", namespace=True)
-        control_ns = get_name_param("~control_ns", "/franka_control", namespace=True)
+        robot = self.config.robot  # sim.yaml's robot: its topics and action namespaces are the defaults
+        twist_topic = get_name_param("~twist_topic", robot.topics["twist_command"])
+        gripper_ns = get_name_param("~gripper_ns", robot.gripper.namespace, namespace=True)
+        control_ns = get_name_param("~control_ns", robot.topics["error_recovery"].rsplit("/", 1)[0] or "/",
+                                    namespace=True)
         self.board_on = get_param("~board", True, kind=bool)
         self.frame_id = get_param("~frame_id", "panda_link0", kind=str)
         periods = {}

@@ -467,3 +467,27 @@ def test_the_error_recovery_namespace_is_a_parameter(session):
     assert "/lab_sim_nj" not in master.subscribers("/franka_control/error_recovery/goal")
     assert node.stop() == 0, node.output()
     assert "error recovery on /nj_control/error_recovery" in node.output()
+
+
+def test_with_another_robots_profile_the_node_serves_its_names(session, tmp_path):
+    """_robot:=FILE (sim.yaml's robot:): the hand's actions, the twist and the error recovery under the
+    profile's names, and its limits judged (the log line names the robot)."""
+    from hri_teleop.core.robot_file import PANDA_FILE
+
+    data = yaml.safe_load(PANDA_FILE.read_text())
+    data["name"] = "acme_arm"
+    data["gripper"]["namespace"] = "/acme_hand"
+    data["topics"].update({"twist_command": "/acme/cmd_vel", "error_recovery": "/acme_control/error_recovery"})
+    profile = tmp_path / "acme_arm.yaml"
+    profile.write_text(yaml.safe_dump(data))
+    master = session.master
+    node = master.run([str(LAB_SIM), "__name:=lab_sim_acme", "_board:=false", "_object:=none", f"_robot:={profile}"],
+                      "lab_sim_acme")
+    master.wait_for(lambda: bool(master.subscribers("/acme/cmd_vel")) or not node.running, 30,
+                    "lab_sim_acme to subscribe the profile's twist topic (the last thing it sets up)")
+    assert node.running, node.output()
+    assert "/lab_sim_acme" in master.subscribers("/acme_hand/move/goal")
+    assert "/lab_sim_acme" in master.subscribers("/acme_control/error_recovery/goal")
+    assert "/lab_sim_acme" not in master.subscribers("/franka_gripper/move/goal")
+    assert node.stop() == 0, node.output()
+    assert "robot acme_arm" in node.output()
