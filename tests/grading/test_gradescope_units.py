@@ -9,6 +9,7 @@ from pathlib import Path
 import pytest
 
 from hri_teleop.core.paths import REPO
+from hri_teleop.course.bundle import solution_texts
 from hri_teleop.grading.gradescope.build import build_zip
 from hri_teleop.grading.gradescope.container import CONFIG_NAME, Config, load_config, seed_from_metadata
 from hri_teleop.grading.gradescope.layout import find_upload
@@ -194,29 +195,6 @@ def test_the_zip_has_both_scripts_at_its_root_and_no_answer_key(tmp_path):
 
 # -- the course's notebooks ---------------------------------------------------------------------
 
-def _solution_answers(notebook: dict) -> set:
-    """Lines only the answers of the notebook's solution cells have (not also in its other cells)."""
-    answers, others = set(), set()
-    for cell in notebook["cells"]:
-        text = "".join(cell["source"]) if isinstance(cell["source"], list) else cell["source"]
-        meta = cell.get("metadata", {}).get("nbgrader", {})
-        lines = [line.strip() for line in text.split("\n")]
-        if meta.get("solution") and "BEGIN SOLUTION" in text:
-            inside = False
-            for line in lines:
-                if "SOLUTION" in line:
-                    inside = "BEGIN SOLUTION" in line
-                elif inside:
-                    answers.add(line)
-                else:
-                    others.add(line)
-        elif meta.get("solution"):
-            answers.update(lines)
-        else:
-            others.update(lines)
-    return {line for line in answers - others if len(line) > 3}
-
-
 def test_the_zip_carries_every_course_notebook_with_its_tests_and_none_of_its_answers(tmp_path):
     target = build_zip(tmp_path, ["robot-params"])
     sources = sorted((REPO / "notebooks" / "source").glob("*/*.ipynb"))
@@ -224,11 +202,13 @@ def test_the_zip_carries_every_course_notebook_with_its_tests_and_none_of_its_an
         shipped = {n: zf.read(n).decode() for n in zf.namelist() if n.startswith("course/source/")}
         assert "course/nbgrader_config.py" in zf.namelist()
     assert sorted(shipped) == [f"course/source/{p.parent.name}/{p.name}" for p in sources]
+    regions = solution_texts(course_dir=REPO / "notebooks")  # the leak check's own reading of the regions
     looked_for = 0
     for path in sources:
         source = json.loads(path.read_text())
         text = shipped[f"course/source/{path.parent.name}/{path.name}"]
-        answers = _solution_answers(source)
+        answers = {line.strip() for where, lines in regions.items() if where.startswith(f"{path}#")
+                   for line in lines if len(line.strip()) > 3}
         looked_for += len(answers)
         kept = json.loads(text)["cells"]
         lines = {line.strip() for c in kept for line in "".join(c["source"]).split("\n")}
