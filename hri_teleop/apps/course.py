@@ -79,3 +79,7 @@ def main(argv: Optional[List[str]] = None) -> int:
         print(f"course: {exc}", file=sys.stderr)
         return 1
 
+
+
+if __name__ == "__main__":
+    sys.exit(main())

@@ -132,3 +132,7 @@ def main(argv: Optional[List[str]] = None) -> int:
     args = parser.parse_args(argv)
     signal.signal(signal.SIGTERM, signal.default_int_handler)  # a kill stops all it started, as Ctrl-C does
     return run_reporting(lambda: _run(args, sys.stdin), "lab-twin")
+
+
+if __name__ == "__main__":
+    sys.exit(main())
