@@ -257,10 +257,11 @@ def teleop_config_from_dict(d: Mapping[str, Any], source: str = "<dict>") -> Tel
     for key in ("width_max", "initial_width"):  # unset: the robot's hand fully open
         if key not in d:
             kwargs[_NUMBER_KEYS[key][0]] = robot.gripper.max_width_m
-    try:
-        TwistLimiter(limits, hard_limits=robot.cartesian_limits)
-    except LimitsError as exc:
-        raise ConfigError(f"{source}: limits: {exc}") from None
+    if "limits" not in d:  # _limits_from checked given limits against the robot already
+        try:
+            TwistLimiter(limits, hard_limits=robot.cartesian_limits)
+        except LimitsError as exc:
+            raise ConfigError(f"{source}: limits: {exc}") from None
 
     try:
         params = TeleopParams(**kwargs)
