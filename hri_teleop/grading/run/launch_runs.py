@@ -74,7 +74,7 @@ def run_teleop_launch_sim(session: Session, plan: TeleopLaunchSimPlan) -> Teleop
     for topic in plan.record:
         recorder.add(topic)
     launch = session.start_student(["roslaunch", "--wait", plan.launch_file, plan.params_launch], "roslaunch",
-                                   clock.student_env() if clock else None)
+                                   clock.student_env(session.folder) if clock else None)
     teleop = plan.teleop_node
     started = now()
     up = wait_for(lambda: teleop in session.master.node_names() or not launch.running, plan.start_timeout_s, 0.05)

@@ -12,8 +12,10 @@ from __future__ import annotations
 import math
 import threading
 import time
-from typing import Any, Callable, Dict, List, Protocol, Sequence, Set, Tuple
+from pathlib import Path
+from typing import Any, Callable, Dict, List, Optional, Protocol, Sequence, Set, Tuple
 
+from hri_teleop.grading.run.clock_sleep import student_clock_env
 from hri_teleop.hardware.gamepad import PAD_CLOCK_ENV
 from hri_teleop.ros.master import MasterError, PrivateMaster
 from hri_teleop.ros.proc_table import busy_threads, process_trees
@@ -159,8 +161,10 @@ class GraderClock:
         return self._now_ns / 1e9
 
     @staticmethod
-    def student_env() -> Dict[str, str]:
-        return {PAD_CLOCK_ENV: "ros"}  # the virtual pad's script on ROS time, as the node's loop
+    def student_env(folder: Optional[Path], pythonpath: str = "") -> Dict[str, str]:
+        """The virtual pad's script on ROS time, as the node's loop; time.sleep in the student's
+        files below ``folder`` on it too (:mod:`hri_teleop.grading.run.clock_sleep`)."""
+        return {PAD_CLOCK_ENV: "ros", **(student_clock_env(folder, pythonpath) if folder is not None else {})}
 
     def wait_for_listener(self, nodes: Set[str], proc: Any, timeout_s: float) -> bool:
         """Until one of ``nodes`` subscribes /clock (then the latched time reached it)."""

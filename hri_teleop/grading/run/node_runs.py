@@ -171,7 +171,7 @@ def run_sensor_launch(session: Session, plan: SensorLaunchPlan) -> SensorLaunchO
         supplied.append("/max_sensor_force")
     extra: List[Any] = []
     launch = session.start_student(["roslaunch", "--wait", plan.launch_file], "roslaunch",
-                                   clock.student_env() if clock else None)
+                                   clock.student_env(session.folder) if clock else None)
     if plan.run_fsr_sensor:
         extra.append(session.master.run([session.python, plan.fsr_sensor], "grader_FSR_sensor"))
         supplied.append("FSR_sensor.py")
@@ -238,7 +238,7 @@ def run_teleop_node(session: Session, plan: TeleopNodePlan) -> TeleopNodeObserva
     # wait_for_robot), and a width published before its connection was counted would be lost.
     for topic in record[1:] if clock else record:
         recorder.add(topic)
-    proc = session.start_student(argv, "teleoperation", clock.student_env() if clock else None)
+    proc = session.start_student(argv, "teleoperation", clock.student_env(session.folder) if clock else None)
     nodes, sub, pub, ok = wait_for_node(session, proc, plan.start_timeout_s, lambda s, p: bool(p))
     problem = "" if ok else start_problem(proc, plan.start_timeout_s, "advertising a topic")
     if ok and clock is not None and record:

@@ -112,7 +112,11 @@ class Session:
 
     def start_student(self, argv: List[str], name: str, extra_env: Optional[Dict[str, str]] = None) -> Any:
         assert self.folder is not None
-        proc = StudentProcess(argv, self.folder, dict(self.student_env(), **(extra_env or {})),
+        env = self.student_env()
+        extra = dict(extra_env or {})
+        if "PYTHONPATH" in extra:  # the extra folders first, the session's after them
+            extra["PYTHONPATH"] = os.pathsep.join(p for p in (extra["PYTHONPATH"], env.get("PYTHONPATH", "")) if p)
+        proc = StudentProcess(argv, self.folder, dict(env, **extra),
                               self.dir / "logs" / f"{name}.log", self.limits, uid=self.uid, nested=True)
         self.started.append(proc)
         return proc

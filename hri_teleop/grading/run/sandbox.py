@@ -156,7 +156,7 @@ def _student_argv(argv: Sequence[str], folder: Path, nested: bool, exe: str = ""
 _ENV_KEYS = {"PATH", "HOME", "LANG", "LANGUAGE", "TERM", "TMPDIR", "PYTHONPATH", "PYTHONUNBUFFERED",
              "PYTHONDONTWRITEBYTECODE", "PYTHONIOENCODING", "LD_LIBRARY_PATH", "CMAKE_PREFIX_PATH",
              "PKG_CONFIG_PATH", "MPLBACKEND", "SDL_VIDEODRIVER", "SDL_AUDIODRIVER", "PYGAME_HIDE_SUPPORT_PROMPT",
-             "HRI_PAD_CLOCK"}
+             "HRI_PAD_CLOCK", "HRI_CLOCK_SLEEP_ROOT"}
 _ENV_PREFIXES = ("ROS", "LC_")
 
 
