@@ -62,6 +62,32 @@ LONGEST_FIRST = [
 ]
 
 
+def pytest_configure(config: pytest.Config) -> None:
+    from hri_teleop.ros.proc_table import start_ticks
+
+    config._hri_started_ticks = start_ticks(os.getpid()) or 0  # type: ignore[attr-defined]
+
+
+def pytest_sessionfinish(session: pytest.Session, exitstatus: int) -> None:
+    """The run's controller (not an xdist worker): fail the run when it left a process behind."""
+    if hasattr(session.config, "workerinput"):
+        return
+    from leftovers import reap
+
+    left = reap(REPO, getattr(session.config, "_hri_started_ticks", 0))
+    if left:
+        session.config._hri_leftovers = left  # type: ignore[attr-defined]
+        session.exitstatus = pytest.ExitCode.TESTS_FAILED
+
+
+def pytest_terminal_summary(terminalreporter, exitstatus: int, config: pytest.Config) -> None:
+    left = getattr(config, "_hri_leftovers", [])
+    if left:
+        terminalreporter.section("processes the run left behind (killed now)", red=True)
+        for pid, command in left:
+            terminalreporter.write_line(f"{pid}: {command[:300]}")
+
+
 def pytest_collection_modifyitems(config: pytest.Config, items: list) -> None:
     """Put the longest modules first (see LONGEST_FIRST); the rest keep their order after them."""
     rank = {name: index for index, name in enumerate(LONGEST_FIRST)}

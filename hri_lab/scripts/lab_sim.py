@@ -49,6 +49,7 @@ from hri_teleop.ros.params import (
     refuse_beside_hardware,
     run_node,
 )
+from hri_teleop.ros.stop_signals import init_node
 from hri_teleop.sim.arm import (
     ACCELERATION_DISCONTINUITY,
     EVENT_RECOVERED,
@@ -510,7 +511,7 @@ class LabSimNode:
 
 
 def main() -> int:
-    rospy.init_node("lab_sim")
+    init_node("lab_sim")  # SIGINT/SIGTERM handled outside the handler (hri_teleop.ros.stop_signals)
     refuse_beside_hardware("the simulated Franka lab_sim.py")
     node = LabSimNode()
     return node.run()

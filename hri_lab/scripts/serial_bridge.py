@@ -26,6 +26,7 @@ from hri_teleop.core.serial_protocol import (
     open_error_message,
 )
 from hri_teleop.ros.params import fail, get_param, run_node
+from hri_teleop.ros.stop_signals import init_node
 
 PORT_HINT = "port:=... (roslaunch) or _port:=... (rosrun)"
 
@@ -158,7 +159,7 @@ class Bridge:
 
 
 def main() -> int:
-    rospy.init_node("serial_bridge")
+    init_node("serial_bridge")  # SIGINT/SIGTERM handled outside the handler (hri_teleop.ros.stop_signals)
     name = rospy.get_name()
     port = get_param("~port", "/dev/ttyACM0", kind=str, fix="set it to the board's port, e.g. _port:=/dev/ttyACM0")
     baud = get_param("~baud", BAUD, kind=int, fix=f"set it to the sketch's baud rate, e.g. _baud:={BAUD}")

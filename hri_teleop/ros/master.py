@@ -9,37 +9,37 @@ masters one after another.
 
 from __future__ import annotations
 
-import atexit
 import os
 import shutil
-import signal
 import socket
-import subprocess
 import sys
 import tempfile
-import threading
 import time
 import xmlrpc.client
 from pathlib import Path
 from typing import Any, Callable, Dict, List, Mapping, Optional, Sequence, Set, Tuple
 
-from hri_teleop.core.errors import HriTeleopError
 from hri_teleop.core.paths import REPO
 from hri_teleop.ros.master_api import MasterApiError, master_call
 from hri_teleop.ros.master_core import PORT_TAKEN, core_params, rosmaster_argv, rosout_argv, rosout_program
 from hri_teleop.ros.proc_table import descendants
+from hri_teleop.ros.processes import (
+    LIVE_PROCESSES,
+    ManagedProcess,
+    MasterError,
+    interrupt_nodes,
+    stop_all,
+    stop_side_by_side,
+)
 
-
-class MasterError(HriTeleopError, RuntimeError):
-    """A ROS master or a process on it could not be started or did not answer."""
-
+__all__ = ["OWN_MASTER_ENV", "Registrations", "started_here", "lab_shell_env", "finds_hri_lab", "free_port",
+           "PrivateMaster", "RunningMaster", "run_reporting",
+           # where the callers have always imported them from (hri_teleop.ros.processes)
+           "LIVE_PROCESSES", "ManagedProcess", "MasterError", "interrupt_nodes", "stop_all", "stop_side_by_side"]
 
 #: (topic or service, [node, ...]): one entry of the master's getSystemState.
 Registrations = List[Tuple[str, List[str]]]
 
-#: The processes this module started that still run (what :func:`stop_all` stops at exit).
-LIVE_PROCESSES: "Set[ManagedProcess]" = set()
-_HOOKED: List[bool] = []
 #: Set for the processes a PrivateMaster's owner starts: "URI PID" of the master (its rosmaster's pid).
 OWN_MASTER_ENV = "HRI_OWN_MASTER"
 #: The masters this process started (URI -> its roscore): :func:`started_here` asks it.
@@ -80,55 +80,6 @@ def started_here(uri: str, env: Optional[Mapping[str, str]] = None, timeout_s: f
     return pid == root or pid in descendants(root)
 
 
-def stop_all() -> None:
-    """What is still running when Python exits (a notebook kernel closing): the nodes side by
-    side, then the masters killed -- after the nodes, nobody reads them, and a kernel whose
-    exit takes 2 s stalls the notebook's restart (and nbgrader, once per notebook)."""
-    live = list(LIVE_PROCESSES)
-    interrupt_nodes()
-    stop_side_by_side([proc for proc in live if not proc.is_master])
-    for proc in live:
-        if proc.is_master:
-            proc.kill()
-
-
-def _track(proc: "ManagedProcess") -> None:
-    """Remember a live process; the first one registers :func:`stop_all` as the exit hook
-    (on use, not on import: importing this module changes nothing)."""
-    if not LIVE_PROCESSES and not _HOOKED:
-        atexit.register(stop_all)
-        _HOOKED.append(True)
-    LIVE_PROCESSES.add(proc)
-
-
-def interrupt_nodes() -> None:
-    """SIGINT every live process but the masters, without waiting: their shutdowns overlap
-    with whatever the caller does next (a kernel's own rospy shutdown takes 0.6 s)."""
-    for proc in list(LIVE_PROCESSES):
-        if not proc.is_master:
-            proc.interrupt()
-
-
-def _stop_all_then_die(signum: int, _frame: object) -> None:
-    stop_all()
-    signal.signal(signum, signal.SIG_DFL)
-    os.kill(os.getpid(), signum)
-
-
-def _stop_children_on_sigterm() -> None:
-    """On SIGTERM, stop every child first, then die of SIGTERM as before.
-
-    Why: children run in sessions of their own (so a stop reaches what they spawn), which
-    also means they outlive a parent killed by SIGTERM -- a ``kill``, a CI or job-runner
-    timeout -- since Python's default SIGTERM action skips the exit hook. Only from the
-    main thread, and never over a handler the program installed itself.
-    """
-    if threading.current_thread() is not threading.main_thread():
-        return
-    if signal.getsignal(signal.SIGTERM) is signal.SIG_DFL:
-        signal.signal(signal.SIGTERM, _stop_all_then_die)
-
-
 def lab_shell_env(base: Optional[Mapping[str, str]] = None, venv_bin: Optional[Path] = None,
                   package_root: Optional[Path] = None) -> Dict[str, str]:
     """The environment ``tools/env.sh`` gives, for processes started from Python.
@@ -162,15 +113,6 @@ def finds_hri_lab(entry: str) -> bool:
         folder.name == "hri_lab" and (folder / "package.xml").is_file())
 
 
-def stop_side_by_side(procs: Sequence[Any]) -> None:
-    """``proc.stop()`` of each at once (threads): their grace periods overlap instead of adding up."""
-    threads = [threading.Thread(target=proc.stop, daemon=True) for proc in procs if proc.running]
-    for thread in threads:
-        thread.start()
-    for thread in threads:
-        thread.join()
-
-
 def free_port() -> int:
     """A TCP port nobody listens on right now (the kernel's choice, never 11311)."""
     while True:
@@ -179,122 +121,6 @@ def free_port() -> int:
             port = int(sock.getsockname()[1])
         if port != 11311:
             return port
-
-
-class ManagedProcess:
-    """A child process in its own process group, with its output kept in a log file."""
-
-    def __init__(self, argv: Sequence[str], env: Mapping[str, str], log_path: Path,
-                 cwd: Optional[Path] = None, is_master: bool = False) -> None:
-        self.argv = list(argv)
-        self.log_path = log_path
-        #: A roscore: stopped after everything else at exit, and killed rather than asked.
-        self.is_master = is_master
-        self._interrupted = False
-        log_path.parent.mkdir(parents=True, exist_ok=True)
-        self._log = open(log_path, "wb")
-        if shutil.which(self.argv[0], path=env.get("PATH")) is None and not os.path.exists(self.argv[0]):
-            self._log.close()
-            raise MasterError(
-                f"{self.argv[0]} not found on PATH: run 'make setup' (it installs ROS 1) "
-                "or source tools/env.sh"
-            )
-        self.popen = subprocess.Popen(
-            self.argv, env=dict(env), cwd=str(cwd) if cwd else None,
-            stdin=subprocess.DEVNULL, stdout=self._log, stderr=subprocess.STDOUT,
-            start_new_session=True,
-        )
-        self.pgid = self.popen.pid  # start_new_session: the child leads its own group
-        _track(self)
-        _stop_children_on_sigterm()
-
-    @property
-    def running(self) -> bool:
-        return self.popen.poll() is None
-
-    @property
-    def anything_left(self) -> bool:
-        """True while any process of this one's group (itself or what it spawned) lives."""
-        return _group_alive(self.pgid)
-
-    def output(self) -> str:
-        """Everything the process printed so far (stdout and stderr)."""
-        if not self._log.closed:
-            self._log.flush()
-        return self.log_path.read_text(errors="replace")
-
-    def stop(self, timeout_s: float = 10.0) -> Optional[int]:
-        """SIGINT the whole group (how ROS tools shut down cleanly), then escalate."""
-        try:
-            pgid = os.getpgid(self.popen.pid)
-        except ProcessLookupError:
-            pgid = None
-        for sig, wait_s in ((signal.SIGINT, timeout_s), (signal.SIGTERM, 3.0), (signal.SIGKILL, 3.0)):
-            if sig == signal.SIGINT and self._interrupted:
-                pass  # interrupt() sent it: a second SIGINT would cut a clean shutdown short
-            elif pgid is not None:
-                try:
-                    os.killpg(pgid, sig)
-                except ProcessLookupError:
-                    pass
-            deadline = time.monotonic() + wait_s
-            try:
-                self.popen.wait(timeout=wait_s)
-            except subprocess.TimeoutExpired:
-                continue
-            # The leader is gone, but its children may still be finishing (rosbag's
-            # wrapper exits before the recorder has closed the bag): give them the
-            # rest of this step's time before escalating.
-            while pgid is not None and _group_alive(pgid) and time.monotonic() < deadline:
-                time.sleep(0.02)
-            if pgid is None or not _group_alive(pgid):
-                break
-        LIVE_PROCESSES.discard(self)
-        if not self._log.closed:
-            self._log.close()
-        return self.popen.returncode
-
-    def interrupt(self) -> None:
-        """SIGINT the group now without waiting (stop() then only waits): many shut down at once."""
-        if self._interrupted or not self.running:
-            return
-        self._interrupted = True
-        try:
-            os.killpg(os.getpgid(self.popen.pid), signal.SIGINT)
-        except ProcessLookupError:
-            pass
-
-    def kill(self) -> Optional[int]:
-        """SIGKILL the whole group and every descendant at once: for what nobody needs a clean exit
-        of (a grading master). roslaunch starts its nodes in sessions of their own (roscore's
-        rosmaster and rosout too), so killing the group alone would orphan them."""
-        family = [self.popen.pid, *descendants(self.popen.pid)]
-        try:
-            os.killpg(os.getpgid(self.popen.pid), signal.SIGKILL)
-        except ProcessLookupError:
-            pass
-        for pid in family:
-            try:
-                os.kill(pid, signal.SIGKILL)
-            except ProcessLookupError:
-                pass
-        return self.stop(timeout_s=3.0)
-
-    def wait(self, timeout_s: float) -> Optional[int]:
-        try:
-            return self.popen.wait(timeout=timeout_s)
-        except subprocess.TimeoutExpired:
-            return None
-
-
-def _group_alive(pgid: int) -> bool:
-    try:
-        os.killpg(pgid, 0)
-    except ProcessLookupError:
-        return False
-    except PermissionError:
-        return True
-    return True
 
 
 class PrivateMaster:

@@ -10,7 +10,7 @@ import os
 from typing import Dict, List, Optional, Sequence, Tuple
 
 __all__ = ["STUDENT_UID_BASE", "proc_stat", "proc_table", "process_trees", "descendants", "uid_process_count",
-           "busy_threads"]
+           "start_ticks", "ProcessIds", "busy_threads"]
 
 
 def proc_stat(path: str) -> Optional[Tuple[int, bytes]]:
@@ -77,6 +77,34 @@ def uid_process_count(uid: int) -> int:
 def descendants(root: int) -> List[int]:
     """Every live (not zombie) process below ``root`` now (Linux /proc)."""
     return [pid for pid in process_trees([root]) if pid != root]
+
+
+def start_ticks(pid: int) -> Optional[int]:
+    """When ``pid`` started (clock ticks since boot); None once it ended or became a zombie."""
+    try:
+        with open(f"/proc/{pid}/stat", "rb") as fh:
+            stat = fh.read()
+        fields = stat[stat.rindex(b")") + 2:].split()
+        return None if fields[0] in (b"Z", b"X") else int(fields[19])
+    except (OSError, ValueError, IndexError):
+        return None
+
+
+class ProcessIds:
+    """Processes known by pid and start time: a pid the system reuses later is not one of them."""
+
+    def __init__(self, pids: Sequence[int]) -> None:
+        self.started = {pid: start_ticks(pid) for pid in pids}
+
+    def alive(self) -> List[int]:
+        return [pid for pid, ticks in self.started.items() if ticks is not None and start_ticks(pid) == ticks]
+
+    def signal(self, sig: int) -> None:
+        for pid in self.alive():
+            try:
+                os.kill(pid, sig)
+            except (ProcessLookupError, PermissionError):
+                pass
 
 
 def busy_threads(pids: Sequence[int]) -> int:

@@ -30,6 +30,7 @@ from hri_teleop.core.reflex import ERROR_RECOVERY_ACTION
 from hri_teleop.ros import franka_msgs as fm
 from hri_teleop.ros.lab_twin.counts import TWIN_DIR_ENV, CountsFile, read_activated
 from hri_teleop.ros.params import fail, get_param, run_node
+from hri_teleop.ros.stop_signals import init_node
 from hri_teleop.sim.arm import SimArm
 from hri_teleop.sim.world import LAB_ARM_CONFIG
 
@@ -157,7 +158,7 @@ class FrankaControlTwin:
 
 
 def main() -> int:
-    rospy.init_node("franka_control")
+    init_node("franka_control")  # SIGINT/SIGTERM handled outside the handler (hri_teleop.ros.stop_signals)
     counts = CountsFile.from_env(rospy.get_name())
     try:
         return FrankaControlTwin(counts).run()

@@ -24,6 +24,7 @@ from hri_teleop.core.limits import ROBOT_PERIOD_S
 from hri_teleop.ros.gripper_actions import ACTIONS, command_from_goal, end_goal
 from hri_teleop.ros.lab_twin.counts import CountsFile
 from hri_teleop.ros.params import fail, get_param, run_node
+from hri_teleop.ros.stop_signals import init_node
 from hri_teleop.sim.gripper_goals import GoalRecord
 from hri_teleop.sim.hand import HandSim
 from hri_teleop.sim.hand_params import HandSimError
@@ -125,7 +126,7 @@ class FrankaGripperTwin:
 
 
 def main() -> int:
-    rospy.init_node("franka_gripper")
+    init_node("franka_gripper")  # SIGINT/SIGTERM handled outside the handler (hri_teleop.ros.stop_signals)
     counts = CountsFile.from_env(rospy.get_name())
     try:
         return FrankaGripperTwin(counts).run()

@@ -18,6 +18,7 @@ from std_msgs.msg import Header
 from hri_teleop.core.joints import FRANKA_JOINT_STATES_TOPIC
 from hri_teleop.ros.lab_twin.counts import CountsFile
 from hri_teleop.ros.params import fail, get_param, run_node
+from hri_teleop.ros.stop_signals import init_node
 
 __all__ = ["SOURCES", "RATE_HZ", "merge", "main"]
 
@@ -48,7 +49,7 @@ def merge(latest: Dict[str, JointState]) -> Optional[Joints]:
 
 
 def main() -> int:
-    rospy.init_node("joint_state_publisher")
+    init_node("joint_state_publisher")  # SIGINT/SIGTERM handled outside the handler (hri_teleop.ros.stop_signals)
     counts = CountsFile.from_env(rospy.get_name())
     rate_hz = get_param("~rate", RATE_HZ, kind=float)
     if not 0.0 < rate_hz <= 1000.0:

@@ -38,6 +38,7 @@ from hri_teleop.core.rosserial_frames import (
 )
 from hri_teleop.ros.lab_twin.counts import TWIN_BOARD_PORT_ENV, CountsFile
 from hri_teleop.ros.params import fail, get_param, run_node
+from hri_teleop.ros.stop_signals import init_node
 
 __all__ = ["RosserialHost", "param_answer", "main", "SYNC_TIMEOUT_S"]
 
@@ -193,7 +194,7 @@ def open_port(port: str, baud: int) -> int:
 
 
 def main() -> int:
-    rospy.init_node("serial_node")
+    init_node("serial_node")  # SIGINT/SIGTERM handled outside the handler (hri_teleop.ros.stop_signals)
     port = get_param("~port", "/dev/ttyUSB0", kind=str)
     baud = get_param("~baud", ROSSERIAL_BAUD, kind=int)
     if baud not in _BAUDS:
