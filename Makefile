@@ -45,6 +45,14 @@ TEST_JOBS ?= $(shell echo $$(( $$(nproc 2>/dev/null || echo 1) * 2 )))
 test: setup
 	@$(ENV) $(PY) -m pytest -q -p no:cacheprovider --durations=30 $(if $(filter-out 0,$(TEST_JOBS)),-n $(TEST_JOBS) --dist loadfile --no-loadscope-reorder) $(PYTEST_ARGS)
 
+# The student bundle's container for real (tests/container): a Debian base from debootstrap, the
+# bundle's `make image`, `make check` inside, JupyterLab through `docker compose up` in a browser.
+# Needs dockerd, debootstrap and docker-compose (Debian: docker.io debootstrap docker-compose);
+# not part of `make test` (about 10 minutes, and it downloads what a student's first build does).
+.PHONY: test-container
+test-container: setup
+	@$(ENV) HRI_TEST_CONTAINER=1 $(PY) -m pytest -q -p no:cacheprovider -s tests/container $(PYTEST_ARGS)
+
 # Benchmarks (README "Performance"): force-to-rumble latency, twist timing, simulation speed,
 # grading throughput and determinism, notebooks and setup, make doctor; each row beside its reference
 # from the same run and its machine (CPU, cores, Python, load average, idle or busy).

@@ -16,7 +16,12 @@ if TYPE_CHECKING:
 # Hypothesis judges each example's duration by default (200 ms): on a busy machine that is a
 # speed assertion. No test judges time; a hung example is caught by pytest's own guards.
 settings.register_profile("hri-teleop", deadline=None)
-settings.load_profile("hri-teleop")
+# The Python 3.8 run (unit/test_python38_compatible.py) asks whether the code runs there at all: each
+# property's code paths, not another 100 random examples the 3.11 run already tried.
+COMPAT_EXAMPLES = 10
+COMPAT = os.environ.get("HRI_TEST_COMPAT") == "1"
+settings.register_profile("compat", deadline=None, max_examples=COMPAT_EXAMPLES)
+settings.load_profile("compat" if COMPAT else "hri-teleop")
 
 REPO = Path(__file__).resolve().parents[1]
 
@@ -105,6 +110,22 @@ def pytest_collection_modifyitems(config: pytest.Config, items: list) -> None:
         return rank.get(name, len(rank))
 
     items.sort(key=key)  # stable: within a module, and among the rest, the order stays
+    if os.environ.get("HRI_TEST_CONTAINER") != "1":
+        later = pytest.mark.skip(reason="the container's test takes minutes and downloads a Debian base: "
+                                        "`make test-container` runs it")
+        for item in items:
+            if item.get_closest_marker("container"):
+                item.add_marker(later)
+    if COMPAT:
+        for item in items:  # a test's own @settings(max_examples=...) too
+            _cap_examples(getattr(item, "obj", None))
+
+
+def _cap_examples(test: object) -> None:
+    """At most COMPAT_EXAMPLES examples for a property test (hypothesis keeps its settings on the test)."""
+    own = getattr(test, "_hypothesis_internal_use_settings", None)
+    if own is not None and own.max_examples > COMPAT_EXAMPLES:
+        test._hypothesis_internal_use_settings = settings(own, max_examples=COMPAT_EXAMPLES)  # type: ignore[attr-defined]
 
 
 @pytest.hookimpl(hookwrapper=True)

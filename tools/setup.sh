@@ -45,7 +45,12 @@ if [ -n "${HRI_SETUP_APT_PACKAGES:-}" ]; then read -r -a apt_packages <<<"$HRI_S
 uid="$(id -u)"
 [ -z "${HRI_SETUP_PRETEND_UID:-}" ] || uid="$HRI_SETUP_PRETEND_UID"
 
-if [ -f /opt/ros/noetic/setup.sh ]; then
+if [ -n "${CONDA_PREFIX:-}" ] && [ -x "$CONDA_PREFIX/bin/python" ] && "$CONDA_PREFIX/bin/python" -c 'import rospy' 2>/dev/null; then
+  # A conda environment made from environment.yml (RoboStack's ROS Noetic), active: its Python
+  # has rospy; install nothing from apt (macOS, or a Linux without apt).
+  say "using ROS from the conda environment $CONDA_PREFIX"
+  system_python="$CONDA_PREFIX/bin/python"
+elif [ -f /opt/ros/noetic/setup.sh ]; then
   # The lab PCs: ROS Noetic is installed; use it and install nothing from apt.
   say "using ROS Noetic from /opt/ros/noetic"
   set +u; . /opt/ros/noetic/setup.sh; set -u
@@ -66,7 +71,7 @@ else
   done
   if [ "${#missing[@]}" -gt 0 ]; then
     if ! command -v apt-get >/dev/null 2>&1; then
-      say "missing ${missing[*]} and no apt-get: this setup supports Debian/Ubuntu; on other systems use the conda environment in environment.yml" >&2
+      say "missing ${missing[*]} and no apt-get: on a system without apt, make the conda environment of environment.yml (mamba env create -f environment.yml), activate it (mamba activate hri-teleop), then run 'make setup' again; or use the container (README)" >&2
       exit 1
     fi
     if [ "$uid" -eq 0 ]; then

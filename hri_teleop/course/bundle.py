@@ -27,15 +27,17 @@ from hri_teleop.grading.cases.templates import (
 )
 
 __all__ = ["TOOLKIT_FILES", "LAB_DELIVERABLES", "INSTRUCTOR_ONLY", "BUNDLE_FILES", "build_toolkit",
-           "assemble_bundle", "pack_bundle", "deliverable_copies", "toolkit_leaks", "answer_files", "solution_texts",
+           "BUNDLE_TOP", "assemble_bundle", "pack_bundle", "deliverable_copies", "toolkit_leaks", "answer_files", "solution_texts",
            "bundle_leaks", "distinctive", "read_notebook"]
 
 PathLike = Union[str, Path]
 #: the bundle's own README.md and Makefile (committed; copied into the bundle's top folder)
 BUNDLE_FILES = REPO / "notebooks" / "bundle"
 
+#: the bundle's top files: its commands, its README, and the container (make image, docker compose, a devcontainer)
+BUNDLE_TOP = ("README.md", "Makefile", "Dockerfile", "compose.yaml", ".dockerignore", ".devcontainer")
 #: what of this project the student's toolkit holds (relative to the project root)
-TOOLKIT_FILES = ("pyproject.toml", "constraints.txt", "LICENSE", "hri_teleop", "hri_lab", "grading/traces", "tools/setup.sh", "tools/env.sh",
+TOOLKIT_FILES = ("pyproject.toml", "constraints.txt", "environment.yml", "LICENSE", "hri_teleop", "hri_lab", "grading/traces", "tools/setup.sh", "tools/env.sh",
                  "tools/kernel.sh", "docs", "firmware/arduino_code_force_node", "notebooks/experiment")
 #: the lab's completed deliverables (and the CMakeLists whose lines are Ex. 9's answer): instructors only
 LAB_DELIVERABLES = ("hri_lab/scripts/mapping_node.py", "hri_lab/scripts/teleoperation.py",
@@ -76,15 +78,18 @@ def build_toolkit(target: PathLike, repo: PathLike = REPO) -> Path:
 
 
 def assemble_bundle(release: PathLike, target: PathLike, assignments: Sequence[str], repo: PathLike = REPO) -> Path:
-    """The bundle's top folder: the released assignments, README.md, Makefile and toolkit/."""
+    """The bundle's top folder: the released assignments, :data:`BUNDLE_TOP` and toolkit/."""
     target = Path(target)
     if target.exists():
         shutil.rmtree(target)
     target.mkdir(parents=True)
     for assignment in assignments:
         shutil.copytree(Path(release) / assignment, target / assignment, symlinks=False, ignore=_IGNORE)
-    for name in ("README.md", "Makefile"):
-        shutil.copy2(BUNDLE_FILES / name, target / name)
+    for name in BUNDLE_TOP:
+        if (BUNDLE_FILES / name).is_dir():
+            shutil.copytree(BUNDLE_FILES / name, target / name)
+        else:
+            shutil.copy2(BUNDLE_FILES / name, target / name)
     build_toolkit(target / "toolkit", repo)
     return target
 

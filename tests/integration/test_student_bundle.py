@@ -17,6 +17,7 @@ from pathlib import Path
 from typing import Dict, Optional
 
 import pytest
+from bundle_helpers import copy_answer_key, files_points, notebook_points
 
 from hri_teleop.core.paths import SOLUTIONS
 from hri_teleop.course.bundle import (
@@ -111,28 +112,6 @@ def test_the_leak_check_finds_a_deliverable_copied_into_the_toolkit(unpacked, co
     assert any(LAB_DELIVERABLES[0] in leak for leak in leaks)
 
 
-def _copy_answer_key(bundle: Path, course: Path) -> None:
-    """What a student who knows every answer hands in: the answer key's files and solution cells."""
-    for assignment in ASSIGNMENTS:
-        package = bundle / assignment / STUDENT_PACKAGE
-        for where, text in answer_files().items():
-            relative = Path(where).relative_to(SOLUTIONS)
-            if (package / relative).is_file():
-                (package / relative).write_text(text)
-                if relative.suffix == ".py":
-                    (package / relative).chmod(0o755)
-        for notebook in (bundle / assignment).glob("ex*.ipynb"):
-            source = json.loads((course / "source" / assignment / notebook.name).read_text())
-            answers = {c["metadata"]["nbgrader"]["grade_id"]: c["source"] for c in source["cells"]
-                       if c.get("metadata", {}).get("nbgrader", {}).get("solution")}
-            student = json.loads(notebook.read_text())
-            for cell in student["cells"]:
-                grade_id = cell.get("metadata", {}).get("nbgrader", {}).get("grade_id")
-                if grade_id in answers:
-                    cell["source"] = answers[grade_id]
-            notebook.write_text(json.dumps(student))
-
-
 def _student_env() -> dict:
     """Only the machine's own PATH: no project .venv, no ROS_PACKAGE_PATH pointing at this checkout."""
     env = {k: v for k, v in os.environ.items() if not k.startswith(("ROS_", "VIRTUAL_ENV", "PYTHON", "HRI_"))}
@@ -168,25 +147,6 @@ def test_the_installed_toolkit_holds_no_answer(installed, course):
     assert toolkit_leaks(installed / "toolkit", solution_texts(SOLUTIONS, course), answer_files()) == []
 
 
-def _points(output: str) -> dict:
-    """notebook -> (points, possible) of make check's notebook lines."""
-    scores = {}
-    for line in output.splitlines():
-        if line.strip().endswith(")") and "points (" in line and ".ipynb ... " in line:
-            name = line.split("/")[1].split(".ipynb")[0]
-            got, most = line.split(" ... ")[1].split(" points")[0].split("/")
-            scores[name.strip()] = (float(got), float(most))
-    return scores
-
-
-def _files_points(output: str) -> tuple:
-    """(points, possible) of make check's line for the files (the checks' points are the files')."""
-    line = next(line for line in output.splitlines() if line.endswith("points for your files, beside the "
-                                                                        "notebooks' autograded points above"))
-    got, most = line.split("check: ")[1].split(" points")[0].split("/")
-    return float(got), float(most)
-
-
 def _checked_points() -> float:
     """The points of the checks the notebooks of CHECKED show (mapping-node, sensor-launch, graph)."""
     from hri_teleop.apps.files_check import checks_for
@@ -199,9 +159,9 @@ def test_untouched_the_bundle_scores_zero(installed, home):
     bundle = _copy(installed, home, "untouched")
     done = _make(bundle, "check", f"ONLY={CHECKED}", timeout=1200)
     assert done.returncode == 0, done.stdout[-3000:] + done.stderr[-3000:]
-    scores = _points(done.stdout)
+    scores = notebook_points(done.stdout)
     assert len(scores) == 3 and all(got == 0 for got, _most in scores.values()), done.stdout
-    assert _files_points(done.stdout) == (0, _checked_points()), done.stdout
+    assert files_points(done.stdout) == (0, _checked_points()), done.stdout
 
 
 def test_with_the_answer_key_copied_in_the_bundle_gets_full_marks_even_run_on_the_lab_pcs_master(
@@ -209,15 +169,15 @@ def test_with_the_answer_key_copied_in_the_bundle_gets_full_marks_even_run_on_th
     """On the lab PC (here its twin: ROS_MASTER_URI points at it, nothing else set) make check still
     grades on private masters: Ex. 10's scripted pad and simulated robot never reach the real ones."""
     bundle = _copy(installed, home, "answers")
-    _copy_answer_key(bundle, course)
+    copy_answer_key(bundle, course)
     on_the_lab_pc = {"ROS_MASTER_URI": lab_twin.master_uri, "HRI_OWN_MASTER": ""}
     done = _make(bundle, "check", f"ONLY={CHECKED},ex10", timeout=1200, extra_env=on_the_lab_pc)
     assert done.returncode == 0, done.stdout[-3000:] + done.stderr[-3000:]
     assert f"check: grading on private masters (ROS_MASTER_URI={lab_twin.master_uri} is not used)" in done.stdout
-    scores = _points(done.stdout)  # the check cells' notebooks show 0/0: their points are the files'
+    scores = notebook_points(done.stdout)  # the check cells' notebooks show 0/0: their points are the files'
     assert len(scores) == 4 and all(got == most for got, most in scores.values()), done.stdout
     assert scores["ex10_teleoperate_robot"][1] > 0, done.stdout
-    assert _files_points(done.stdout) == (_checked_points(),) * 2 > (0, 0), done.stdout
+    assert files_points(done.stdout) == (_checked_points(),) * 2 > (0, 0), done.stdout
     report = lab_twin.report()
     assert report.nonzero_twists == 0 and sum(report.gripper_goals.values()) == 0, report.lines()
     assert report.pub_force_publishers == ["/serial_node"], report.lines()
@@ -400,7 +360,7 @@ def _lab_only(shell: _Shell, command: str, bundle: Path) -> None:
 
 def test_the_readmes_terminal_lines_work_as_written(installed, course, home, tmp_path):
     bundle = _copy(installed, home, "terminal")
-    _copy_answer_key(bundle, course)
+    copy_answer_key(bundle, course)
     blocks = _terminal_blocks((bundle / "README.md").read_text(encoding="utf-8"))
     commands = [_command(line) for _sub, lines in blocks for line in lines]
     assert [h for h in HANDOUT_LINES if not any(c.startswith(h) for c in commands)] == []

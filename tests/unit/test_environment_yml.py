@@ -36,6 +36,6 @@ def test_conda_pip_dependencies_equal_pyproject_dependencies():
 
 def test_conda_environment_brings_ros_noetic_from_robostack():
     env = yaml.safe_load((REPO / "environment.yml").read_text())
-    assert "robostack-staging" in env["channels"]
+    assert env["channels"][0] == "robostack-noetic"  # RoboStack's Noetic channel (robostack-staging was its old name)
     names = [d for d in env["dependencies"] if isinstance(d, str)]
     assert "ros-noetic-ros-core" in names

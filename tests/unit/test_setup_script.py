@@ -34,3 +34,26 @@ def test_a_second_run_only_checks():
     assert second.returncode == 0, second.stderr
     said = second.stdout + second.stderr
     assert "installing" not in said and "creating" not in said, said
+
+
+def test_in_an_active_conda_environment_with_rospy_it_uses_its_python_and_installs_nothing_from_apt(tmp_path):
+    """environment.yml's route: no apt; a package missing from apt would fail the apt path."""
+    (tmp_path / "bin").mkdir()
+    (tmp_path / "bin" / "python").symlink_to("/usr/bin/python3")  # Debian's, which has rospy
+    proc = _run(CONDA_PREFIX=str(tmp_path), HRI_SETUP_APT_PACKAGES="hri-teleop-no-such-package",
+                HRI_SETUP_PRETEND_UID="1000")
+    assert proc.returncode == 0, proc.stderr
+    assert f"using ROS from the conda environment {tmp_path}" in proc.stdout
+    assert "apt-get" not in proc.stdout + proc.stderr
+
+
+def test_a_conda_environment_without_rospy_is_not_taken_for_ros(tmp_path):
+    (tmp_path / "bin").mkdir()
+    fake = tmp_path / "bin" / "python"
+    fake.write_text("#!/bin/sh\nexit 1\n")
+    fake.chmod(0o755)
+    proc = _run(CONDA_PREFIX=str(tmp_path), HRI_SETUP_APT_PACKAGES="hri-teleop-no-such-package",
+                HRI_SETUP_PRETEND_UID="1000")
+    assert "conda environment" not in proc.stdout
+    if not Path("/opt/ros/noetic/setup.sh").exists():
+        assert proc.returncode != 0 and "install -y hri-teleop-no-such-package" in proc.stderr
