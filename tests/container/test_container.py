@@ -1,7 +1,8 @@
 """The student bundle's container, built and run for real: a base made from Debian's packages
 (debootstrap, docker import: no image registry is needed), the bundle's own `make image` on it,
 `make check` inside (untouched 0 points, the answer key full marks), and `docker compose up`'s
-JupyterLab opened from the host in headless Chromium (a notebook runs, a widget renders).
+JupyterLab opened from the host in headless Chromium (a notebook runs, a widget renders, the 3D
+view loads the Panda from the container's meshcat through the published ports).
 
 `make test-container` runs it (it takes minutes and downloads what a student downloads); it
 skips in one line where Docker cannot run.
@@ -145,7 +146,16 @@ def _compose() -> list:
 NOTEBOOK_CELLS = [
     "import os\nprint('in the container', os.path.exists('/.dockerenv'), os.getcwd())",
     "from hri_teleop.course.widgets import FsrExplorer\nFsrExplorer(4.0)",
+    "from hri_teleop.course.widgets import ArmView\nArmView()",  # its meshcat server: the ports 7000-7009
 ]
+#: meshcat's scene in the 3D view's iframe: the hand's meshes loaded, a WebGL canvas.
+_SCENE = """
+const hand = viewer.scene_tree.find(['meshcat', 'panda', 'visuals', 'panda_hand_0']).object;
+const meshes = [];
+hand.traverse(o => { if (o.isMesh) meshes.push(o); });
+const canvas = document.querySelector('canvas');
+return {meshes: meshes.length, webgl: !!canvas && (!!canvas.getContext('webgl2') || !!canvas.getContext('webgl'))};
+"""
 
 _SLIDER = """
 const slider = document.querySelector('.jp-OutputArea-output .widget-slider');
@@ -196,7 +206,8 @@ def test_docker_compose_up_serves_jupyterlab_to_the_hosts_browser_and_a_notebook
 
         options = webdriver.ChromeOptions()
         options.binary_location = CHROMIUM
-        for flag in [*CHROMIUM_FLAGS, f"--user-data-dir={tmp_path / 'chromium'}"]:
+        # WebGL without a GPU (the 3D view): Chromium's SwiftShader, which it allows only when asked.
+        for flag in [*CHROMIUM_FLAGS, "--enable-unsafe-swiftshader", f"--user-data-dir={tmp_path / 'chromium'}"]:
             options.add_argument(flag)
         driver = webdriver.Chrome(service=Service(CHROMEDRIVER), options=options)
         driver.set_script_timeout(30)
@@ -210,6 +221,17 @@ def test_docker_compose_up_serves_jupyterlab_to_the_hosts_browser_and_a_notebook
                      "the FSR explorer's slider to render", poll_s=0.5)
         assert "in the container True /course/preparation" in shown["text"], shown["text"][:500]
         assert "Traceback" not in shown["text"]
+        # The 3D view: its iframe loads meshcat from the container through the published port.
+        from selenium.webdriver.common.by import By
+
+        iframe = wait(lambda: driver.find_elements(By.CSS_SELECTOR, ".jp-OutputArea-output iframe"), 90,
+                      "the 3D view's iframe")[0]
+        assert re.match(r"http://127\.0\.0\.1:700\d/static/", iframe.get_attribute("src")), iframe.get_attribute("src")
+        driver.switch_to.frame(iframe)
+        scene = wait(lambda: (lambda r: r if r["meshes"] > 0 else None)(driver.execute_script(_SCENE)), 90,
+                     "meshcat in the container to load the hand's meshes", poll_s=0.5)
+        assert scene["webgl"], scene
+        driver.switch_to.default_content()
     finally:
         if driver is not None:
             driver.quit()

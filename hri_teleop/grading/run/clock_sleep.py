@@ -73,7 +73,10 @@ class _Sleeper:
         published, before = _published(rospy), getattr(self.local, "published", None)
         self.local.published = published
         now_ns = rospy.rostime.get_rostime().to_nsec()
-        duration_ns = int(float(seconds) * 1e9)
+        try:
+            duration_ns = int(float(seconds) * 1e9)
+        except (TypeError, ValueError, OverflowError):  # not a number, nan, inf: time.sleep's own error
+            return self.original(seconds)
         if duration_ns < 0 or now_ns == 0 or not follows_clock(published, before):
             return self.original(seconds)  # time.sleep's own error; no clock yet; nothing to wait for
         until_ns = deadline_ns(now_ns, getattr(self.local, "last_wake_ns", None), duration_ns)
