@@ -21,6 +21,10 @@ apt_packages=(
   python3-diagnostic-msgs python3-std-srvs
   python3-actionlib python3-actionlib-msgs python3-genpy
   rospack-tools rosbash catkin python3-venv catkin-lint bubblewrap
+  # System libraries the pip wheels load and do not carry: pinocchio (the simulated Panda, the 3D
+  # view) needs libgomp and libquadmath, pygame's mixer glib. Present on most desktops, not on a
+  # minimal system (a container's base: the simulated arm failed to import there).
+  libgomp1 libquadmath0 libglib2.0-0
   # `make firmware` and its tests: the Uno's toolchain and Arduino core, simavr with its
   # library (the simulated Uno), a host compiler (the harness, the sketches' host tests).
   gcc-avr avr-libc binutils-avr arduino-core-avr simavr libsimavr-dev gcc g++ make
@@ -35,6 +39,7 @@ if [ "$edition" = student ]; then
     python3-diagnostic-msgs python3-std-srvs
     python3-actionlib python3-actionlib-msgs python3-genpy
     rospack-tools rosbash catkin python3-venv bubblewrap
+    libgomp1 libquadmath0 libglib2.0-0
   )
 fi
 # `make lab`'s browser test (tests/integration/test_jupyterlab_browser.py): headless Chromium

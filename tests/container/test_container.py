@@ -43,8 +43,9 @@ pytestmark = pytest.mark.container
 BASE = "hri-teleop-test-base:bookworm"
 IMAGE = "hri-teleop-course"
 MIRROR = "http://deb.debian.org/debian"
-#: The notebooks `make check` runs in the container: one node check and its notebook.
-CHECKED = "ex05"
+#: The notebooks `make check` runs in the container: a node check, and the simulated Panda (pinocchio,
+#: which needs system libraries a minimal base lacks) driven by the student's teleoperation node.
+CHECKED = "ex05,ex10"
 
 
 def _docker(*args: str, timeout_s: float = 60, check: bool = True, **kw) -> subprocess.CompletedProcess:
@@ -130,6 +131,7 @@ def test_in_the_container_make_check_gives_the_untouched_bundle_zero_and_the_ans
     answered = _make_check(bundle, image)
     scores = notebook_points(answered)
     assert scores and all(got == most for got, most in scores.values()), answered
+    assert scores["ex10_teleoperate_robot"][1] > 0, answered  # the simulated Panda ran in the container
     assert files_points(answered) == (most, most), answered
     print(f"\ncontainer: two make check runs in {time.monotonic() - started:.0f} s; files {most:.0f} points")
 
