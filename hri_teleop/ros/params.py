@@ -22,6 +22,7 @@ from hri_teleop.core.errors import HriTeleopError
 from hri_teleop.core.modes import HARDWARE_NODES
 from hri_teleop.ros.master import started_here
 from hri_teleop.ros.master_api import MasterApiError, master_uri, running_nodes
+from hri_teleop.ros.stop_signals import finish_stop
 
 _MISSING = object()
 
@@ -177,6 +178,12 @@ def run_node(main: Callable[[], Optional[int]]) -> None:
         code = int(exc.code if isinstance(exc.code, int) else EXIT_BAD_INPUT)
     except (KeyboardInterrupt, rospy.ROSInterruptException):
         code = 0
+    except rospy.ROSException:
+        # rospy closes the topics before it says it is shut down: a stop signal handled in a thread
+        # (hri_teleop.ros.stop_signals) can close one under the loop's publish. That is the stop.
+        if not rospy.core.is_shutdown_requested():
+            raise
+        code = 0
     except Exception as exc:
         if not is_project_error(exc):
             raise
@@ -184,6 +191,7 @@ def run_node(main: Callable[[], Optional[int]]) -> None:
         code = EXIT_BAD_INPUT
     if _exit_code is not None:
         code = _exit_code
+    finish_stop()  # a shutdown a stop signal started in a thread ends before the process does
     if not rospy.is_shutdown():
         rospy.signal_shutdown("node finished")
     sys.exit(code)

@@ -3,9 +3,9 @@
 rospy's handler runs rospy's whole shutdown in the main thread, at whatever line the signal
 interrupted. Inside ``Publisher.publish`` that thread holds a lock the shutdown then waits for:
 the node hangs, and every later SIGINT or SIGTERM runs into the same wait (a lab_sim outlived
-its test by two hours). Here the handler only sets an event; a thread waiting for it shuts
-rospy down, and the main loop ends at its next ``rospy.is_shutdown()``. A second signal ends
-the process at once.
+its test by two hours). Here the handler only sets an event; a thread shuts rospy down; the loop
+ends at its next ``is_shutdown()`` (or meets a topic rospy closed: ``run_node`` takes that as the
+stop). A second signal ends the process at once.
 """
 
 from __future__ import annotations
@@ -13,9 +13,12 @@ from __future__ import annotations
 import os
 import signal
 import threading
-from typing import Any, Callable, List, Optional
+from typing import Any, Callable, List, Optional, Tuple
 
-__all__ = ["init_node", "stop_on_signals"]
+__all__ = ["init_node", "stop_on_signals", "finish_stop"]
+
+#: Each installed watch: its event (a signal came) and the thread that then shuts rospy down.
+_WATCHES: List[Tuple[threading.Event, threading.Thread]] = []
 
 
 def stop_on_signals(shutdown: Optional[Callable[[str], None]] = None) -> threading.Event:
@@ -42,10 +45,20 @@ def stop_on_signals(shutdown: Optional[Callable[[str], None]] = None) -> threadi
         received.append(signal.Signals(signum).name)
         stop.set()
 
-    threading.Thread(target=watch, name="stop_on_signals", daemon=True).start()
+    watcher = threading.Thread(target=watch, name="stop_on_signals", daemon=True)
+    watcher.start()
+    _WATCHES.append((stop, watcher))
     signal.signal(signal.SIGINT, handler)
     signal.signal(signal.SIGTERM, handler)
     return stop
+
+
+def finish_stop(timeout_s: float = 5.0) -> None:
+    """Wait (at most ``timeout_s``) for a shutdown a signal started: the node's registrations are
+    gone from the master before its process ends, as when rospy's handler ran it."""
+    for stop, watcher in _WATCHES:
+        if stop.is_set():
+            watcher.join(timeout_s)
 
 
 def init_node(name: str, **kwargs: Any) -> threading.Event:

@@ -86,3 +86,45 @@ def test_a_bug_still_shows_its_traceback():
         run_node(main)
     """)
     assert proc.returncode != 0 and "ZeroDivisionError" in proc.stderr and "Traceback" in proc.stderr
+
+
+def test_a_publish_to_a_topic_rospy_closed_while_it_shuts_down_ends_the_node_with_status_0():
+    """A stop signal shuts rospy down in a thread (ros/stop_signals.py); rospy closes the topics before it
+    says it is shut down, so the loop's publish can meet a closed topic: that is the stop, not a failure."""
+    done = _run("""
+        import threading
+        import rospy
+
+        closing, raised = threading.Event(), threading.Event()
+
+        def close_all(reason):  # as rospy's own pre-shutdown hook, which closes every topic
+            closing.set()
+            raised.wait(10)
+
+        rospy.core.add_preshutdown_hook(close_all)
+
+        def main():
+            threading.Thread(target=rospy.signal_shutdown, args=("signal SIGINT",), daemon=True).start()
+            closing.wait(10)
+            assert rospy.core.is_shutdown_requested() and not rospy.is_shutdown()
+            try:
+                raise rospy.ROSException("publish() to a closed topic")
+            finally:
+                raised.set()
+
+        run_node(main)
+    """)
+    assert done.returncode == 0, done.stderr
+    assert "Traceback" not in done.stderr
+
+
+def test_the_same_error_from_rospy_outside_a_shutdown_shows_its_traceback():
+    done = _run("""
+        import rospy
+
+        def main():
+            raise rospy.ROSException("publish() to a closed topic")
+
+        run_node(main)
+    """)
+    assert done.returncode == 1 and "ROSException: publish() to a closed topic" in done.stderr

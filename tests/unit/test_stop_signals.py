@@ -71,3 +71,27 @@ def test_a_second_signal_ends_a_node_whose_shutdown_hangs():
     assert done.stdout.split("\n")[0] == "still here"
     assert "not ended" not in done.stdout
     assert done.returncode == -signal.SIGTERM
+
+
+def test_the_node_ends_only_once_the_shutdown_a_signal_started_has_finished():
+    """run_node waits for it: a node's registrations leave the master before its process ends."""
+    script = textwrap.dedent("""
+        import os, signal, time
+        from hri_teleop.ros.params import run_node
+        from hri_teleop.ros.stop_signals import stop_on_signals
+
+        def slow_shutdown(reason):
+            time.sleep(0.5)
+            print("shut down after", reason, flush=True)
+
+        def main():
+            stop = stop_on_signals(slow_shutdown)
+            os.kill(os.getpid(), signal.SIGTERM)
+            stop.wait(10)
+            return 0  # the loop ends at once; the shutdown is still running in its thread
+
+        run_node(main)
+    """)
+    done = subprocess.run([sys.executable, "-c", script], capture_output=True, text=True, timeout=60)
+    assert done.returncode == 0, done.stderr
+    assert done.stdout.strip() == "shut down after signal SIGTERM"
