@@ -16,7 +16,7 @@ from typing import List, Tuple
 from hri_teleop.ros.proc_table import proc_table, start_ticks
 
 #: Parents an orphan is handed to (pid 1 or a subreaper).
-INITS = {"init", "systemd", "tini", "docker-init", "dumb-init", "bash", "sh"}
+INITS = {"init", "systemd", "tini", "docker-init", "dumb-init"}
 
 
 def _comm(pid: int) -> str:
@@ -37,7 +37,7 @@ def leftovers(repo: Path, since_ticks: int) -> List[Tuple[int, str]]:
     """(pid, command line) of orphans of this checkout started at or after ``since_ticks``."""
     found = []
     for pid, (ppid, state) in proc_table().items():
-        if state in (b"Z", b"X") or pid == os.getpid() or not (ppid == 1 or _comm(ppid) in INITS - {"bash", "sh"}):
+        if state in (b"Z", b"X") or pid == os.getpid() or not (ppid == 1 or _comm(ppid) in INITS):
             continue
         ticks = start_ticks(pid)
         command = _cmdline(pid)
