@@ -40,6 +40,8 @@ if [ "$edition" = student ]; then
     python3-actionlib python3-actionlib-msgs python3-genpy
     rospack-tools rosbash catkin python3-venv bubblewrap
     libgomp1 libquadmath0 libglib2.0-0
+    # pip builds the simulated arm's compiled cycle with it (without, the arm runs in Python, slower)
+    gcc libc6-dev
   )
 fi
 # `make lab`'s browser test (tests/integration/test_jupyterlab_browser.py): headless Chromium

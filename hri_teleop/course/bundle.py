@@ -37,7 +37,7 @@ BUNDLE_FILES = REPO / "notebooks" / "bundle"
 #: the bundle's top files: its commands, its README, and the container (make image, docker compose, a devcontainer)
 BUNDLE_TOP = ("README.md", "Makefile", "Dockerfile", "compose.yaml", ".dockerignore", ".devcontainer")
 #: what of this project the student's toolkit holds (relative to the project root)
-TOOLKIT_FILES = ("pyproject.toml", "constraints.txt", "environment.yml", "LICENSE", "hri_teleop", "hri_lab", "grading/traces", "tools/setup.sh", "tools/env.sh",
+TOOLKIT_FILES = ("pyproject.toml", "setup.py", "constraints.txt", "environment.yml", "LICENSE", "hri_teleop", "hri_lab", "grading/traces", "tools/setup.sh", "tools/env.sh",
                  "tools/kernel.sh", "docs", "firmware/arduino_code_force_node", "notebooks/experiment")
 #: the lab's completed deliverables (and the CMakeLists whose lines are Ex. 9's answer): instructors only
 LAB_DELIVERABLES = ("hri_lab/scripts/mapping_node.py", "hri_lab/scripts/teleoperation.py",
@@ -54,7 +54,8 @@ _MIN_LEAK_CHARS = 8
 #: (``scripts/teleoperation.py``, ``!rostopic type /pub_force``) is named by the handout too.
 _MIN_EMBEDDED_CHARS = 24
 _CODE_MARK = re.compile(r"[=(){}\[\]<>]")
-_IGNORE = shutil.ignore_patterns("__pycache__", "*.pyc", "*.egg-info", ".ipynb_checkpoints", "catkin_ws")
+# (``*.so``: the simulated arm's compiled cycle is built by the student's own pip, never shipped)
+_IGNORE = shutil.ignore_patterns("__pycache__", "*.pyc", "*.so", "*.egg-info", ".ipynb_checkpoints", "catkin_ws")
 
 
 def build_toolkit(target: PathLike, repo: PathLike = REPO) -> Path:

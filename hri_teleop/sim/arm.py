@@ -9,6 +9,7 @@ the model and its sources: docs/simulation.md.
 
 from __future__ import annotations
 
+import ctypes
 import math
 from typing import Dict, List, Optional, Sequence, Tuple
 
@@ -39,6 +40,7 @@ from hri_teleop.sim.arm_config import (
     SimArmConfig,
     SimArmError,
 )
+from hri_teleop.sim.arm_kernel import STATE_SIZE, TRACE_WIDTH, doubles, kernel
 from hri_teleop.sim.joint_motion import JointMotion, start_joints
 from hri_teleop.sim.kinematics import KinematicsError
 
@@ -131,6 +133,20 @@ class SimArm:
                 self._joints = JointMotion(start, config.joint_limits, config.rel_tol, config.model)
             except KinematicsError as exc:
                 raise SimArmError(f"start_position_m: {exc}") from None
+        self._kernel = kernel()
+        self._k_state = (ctypes.c_double * STATE_SIZE)()
+        self._k_trace = (ctypes.c_double * (TRACE_WIDTH * 64))()
+        self._k_params = doubles([self._dt, self._timeout_s, float(self._interpolate), *self._bounds, *self._lo,
+                                  *self._hi, float(self._joints is not None)])
+        self._k_joints: Optional[ctypes._Pointer[ctypes.c_double]] = None
+        self._k_consts: Optional[ctypes._Pointer[ctypes.c_double]] = None
+        if self._joints is not None:
+            if self._joints.consts is None:
+                self._kernel = None  # an arm the C does not know: every cycle in Python
+            else:
+                as_doubles = ctypes.POINTER(ctypes.c_double)
+                self._k_joints = self._joints.state.ctypes.data_as(as_doubles)
+                self._k_consts = self._joints.consts.ctypes.data_as(as_doubles)
 
     # --- inputs -----------------------------------------------------------------------
 
@@ -225,13 +241,62 @@ class SimArm:
         """
         if not is_finite_number(now_s, numpy=True):
             raise SimArmError(f"now_s must be a finite time in seconds, got {now_s!r}")
+        n = int(math.floor((float(now_s) - self._time_s) / self._dt + 1e-6))
+        self.run_cycles(n)
+        return max(n, 0)
+
+    def run_cycles(self, count: int, trace: Optional[List[float]] = None) -> None:
+        """Run the next ``count`` cycles; with ``trace``, append the position (m) and velocity
+        (m/s, rad/s) after each, 9 numbers per cycle (what the world's hand needs of the arm).
+
+        The compiled cycle (:mod:`hri_teleop.sim.arm_kernel`) runs the cycles without an event;
+        the Python cycle runs the others, and all of them where the C is not built.
+        """
         t0 = self._time_s
         dt = self._dt
-        n = int(math.floor((float(now_s) - t0) / dt + 1e-6))
-        cycle = self._cycle
-        for k in range(1, n + 1):
-            cycle(t0 + k * dt)
-        return max(n, 0)
+        k = 1
+        run = self._kernel.run if self._kernel is not None else None
+        while k <= count:
+            if run is not None and self._mode == _RUN and self._held_finite:
+                self._pack()
+                buffer = self._trace_buffer(count - k + 1) if trace is not None else None
+                after = run(self._k_state, self._k_params, self._k_joints, self._k_consts, t0, k, count, buffer)
+                if after > k:
+                    self._unpack()
+                    if buffer is not None and trace is not None:
+                        trace.extend(buffer[0:TRACE_WIDTH * (after - k)])
+                    k = after
+                    if k > count:
+                        break
+            self._cycle(t0 + k * dt)
+            if trace is not None:
+                trace.extend(self._position)
+                trace.extend(self._velocity)
+            k += 1
+
+    def _trace_buffer(self, cycles: int) -> "ctypes.Array[ctypes.c_double]":
+        if len(self._k_trace) < TRACE_WIDTH * cycles:
+            self._k_trace = (ctypes.c_double * (TRACE_WIDTH * cycles))()
+        return self._k_trace
+
+    def _pack(self) -> None:
+        """The Cartesian state into the C's array (arm_cycle.c's layout)."""
+        held_time = self._held_time_s
+        self._k_state[0:STATE_SIZE] = [
+            self._time_s, *self._position, *self._quat, *self._held, math.nan if held_time is None else held_time,
+            *self._commanded, *self._accel, *self._velocity, *self._ramp_from, self._ramp_start_s, self._ramp_s,
+            *(1.0 if w else 0.0 for w in self._wall)]
+
+    def _unpack(self) -> None:
+        """What the C's cycles changed (the joints' state it changed in place)."""
+        v = self._k_state[0:STATE_SIZE]
+        self._time_s = v[0]
+        self._position = (v[1], v[2], v[3])
+        self._quat = (v[4], v[5], v[6], v[7])
+        self._commanded = (v[15], v[16], v[17], v[18], v[19], v[20])
+        self._accel = (v[21], v[22], v[23], v[24], v[25], v[26])
+        self._velocity = (v[27], v[28], v[29], v[30], v[31], v[32])
+        self._wall[:] = [w != 0.0 for w in v[41:47]]
 
     # --- the 1 kHz cycle (plain floats: this runs 1000 times per simulated second) ------
 

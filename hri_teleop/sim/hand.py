@@ -445,6 +445,11 @@ class HandSim:
         hand_a = hand_az_m_per_s2
         if hand_a is not None and not is_finite_number(hand_a, numpy=True):
             raise HandSimError(f"step: hand_az_m_per_s2 must be a finite acceleration in m/s^2 or None, got {hand_a!r}")
+        return self.advance(now, float(hand_v), None if hand_a is None else float(hand_a))
+
+    def advance(self, now: float, hand_v: float, hand_a: Optional[float] = None) -> bool:
+        """:meth:`step` for a caller whose times and velocities come from the simulation itself
+        (floats, finite, never back in time): the world's 1 kHz loop, which checks nothing twice."""
         dt = now - self._now
         if dt <= 0.0:
             return self._moves_with_hand
@@ -493,7 +498,7 @@ class HandSim:
         if mode >= _MOVE and mode != _GRASP_HOLD:
             self._advance_goal(mode, w_next, held_back, now)
         # 5. The object's vertical motion.
-        self._vertical(dt, float(hand_v), None if hand_a is None else float(hand_a))
+        self._vertical(dt, hand_v, hand_a)
         return self._moves_with_hand
 
     def _advance_goal(self, mode: int, w: float, held_back: bool, now: float) -> None:

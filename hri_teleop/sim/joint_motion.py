@@ -22,6 +22,7 @@ from hri_teleop.core.joints import (
     joint_violations,
 )
 from hri_teleop.sim.arm_config import PANDA_MODEL, ArmModel
+from hri_teleop.sim.arm_kernel import JOINT_CONST_SIZE, JOINT_STATE_SIZE, JOINT_TYPES
 from hri_teleop.sim.kinematics import PandaKinematics, Vector
 
 __all__ = ["JointMotion", "JointStep", "start_joints"]
@@ -45,10 +46,13 @@ class JointMotion:
         self.kinematics = PandaKinematics(limits, arm)
         self.limits = limits
         self.rel_tol = rel_tol
-        self.q: Vector = np.array(start_rad, dtype=float)
-        self.velocity: Vector = np.zeros(7)        # what the joints did in the last cycle (rad/s)
-        self._commanded: Vector = np.zeros(7)      # the IK of the commanded twist, last accepted cycle
-        self._acceleration: Vector = np.zeros(7)   # its backward difference
+        # one array, in arm_cycle.c's layout, so that the compiled cycle works on it in place
+        self.state: Vector = np.zeros(JOINT_STATE_SIZE)
+        self.q: Vector = self.state[0:7]               # the joint angles (rad)
+        self.velocity: Vector = self.state[7:14]       # what the joints did in the last cycle (rad/s)
+        self._commanded: Vector = self.state[14:21]    # the IK of the commanded twist, last accepted cycle
+        self._acceleration: Vector = self.state[21:28]  # its backward difference
+        self.q[:] = np.asarray(start_rad, dtype=float)
         tol = 1.0 + rel_tol
         self._low = np.array(limits.position_min_rad)
         self._high = np.array(limits.position_max_rad)
@@ -56,6 +60,31 @@ class JointMotion:
         self._a_max = np.array(limits.acceleration_rad_per_s2) * tol
         self._j_max = np.array(limits.jerk_rad_per_s3) * tol
         self._rhs = np.zeros((7, 2))  # row 7: the elbow stays still
+        self.consts: Optional[Vector] = self._kernel_constants()
+
+    def _kernel_constants(self) -> Optional[Vector]:
+        """The limits and the chain in arm_cycle.c's layout; None when the C cannot follow this arm
+        (not a chain of seven revolute joints ending in the tool frame's joint)."""
+        model = self.kinematics.model
+        if list(model.parents) != [0, 0, 1, 2, 3, 4, 5, 6] or model.nq != 7:
+            return None
+        if model.frames[self.kinematics.frame].parentJoint != 7:
+            return None
+        chain: List[float] = []
+        for i in range(1, 8):
+            kind = model.joints[i].shortname()
+            if kind not in JOINT_TYPES:
+                return None
+            axis = (np.eye(3)[JOINT_TYPES[kind]] if JOINT_TYPES[kind] < 3
+                    else np.asarray(model.joints[i].extract().axis, dtype=float))
+            placement = model.jointPlacements[i]
+            chain += [float(JOINT_TYPES[kind]), *axis.tolist(), *placement.rotation.reshape(9).tolist(),
+                      *placement.translation.tolist()]
+        frame = model.frames[self.kinematics.frame].placement
+        values = [*self._low, *self._high, *self._v_max, *self._a_max, *self._j_max, float(self.kinematics.elbow),
+                  *chain, *frame.rotation.reshape(9).tolist(), *frame.translation.tolist()]
+        out: Vector = np.array(values, dtype=float)
+        return out if out.size == JOINT_CONST_SIZE else None
 
     @property
     def positions(self) -> JointVector:
@@ -68,9 +97,9 @@ class JointMotion:
 
     def stop(self) -> None:
         """The robot stopped (a reflex, or recovery): the joints are at rest."""
-        self._commanded = np.zeros(7)
-        self._acceleration = np.zeros(7)
-        self.velocity = np.zeros(7)
+        self._commanded[:] = 0.0
+        self._acceleration[:] = 0.0
+        self.velocity[:] = 0.0
 
     def step(self, commanded: Sequence[float], position_m: Sequence[float],
              rotation: Optional[Vector], dt: float) -> List[JointStep]:
@@ -104,10 +133,10 @@ class JointMotion:
         ok = ((next_q >= self._low) & (next_q <= self._high) & (np.abs(commanded_dq) <= self._v_max)
               & (np.abs(acceleration) <= self._a_max) & (np.abs(jerk) <= self._j_max))
         if ok.all():
-            self._commanded = commanded_dq
-            self._acceleration = acceleration
-            self.velocity = applied_dq
-            self.q = next_q
+            self._commanded[:] = commanded_dq
+            self._acceleration[:] = acceleration
+            self.velocity[:] = applied_dq
+            self.q[:] = next_q
             return []
         # the slow path, once per reflex: core.joints' judge names each broken limit (same tests as above)
         return [(v.error, v.joint, v.value, v.limit)

@@ -176,14 +176,20 @@ class LabWorld:
         t0 = arm.time_s
         n = int(math.floor((float(now_s) - t0) / ROBOT_PERIOD_S + 1e-6))
         samples: List[Tuple[float, int]] = []
+        # the arm reads nothing of the rest: its cycles first (mostly compiled), then the hand along them
+        trace: List[float] = []
+        arm.run_cycles(n, trace)
+        has_object = hand.object is not None
+        due_s = board.next_sample_s
         for k in range(1, n + 1):
             t = t0 + k * ROBOT_PERIOD_S
-            arm.step(t)
-            if hand.object is not None:
-                self._horizontal(arm.position_m, arm.velocity)
-            hand.step(t, arm.velocity[2])
-            if board.due(t):
+            row = 9 * (k - 1)
+            if has_object:
+                self._horizontal(trace[row], trace[row + 1], trace[row + 3], trace[row + 4])
+            hand.advance(t, trace[row + 5])
+            if t + 1e-6 >= due_s:  # board.due(t), its 1 us of slack
                 samples.append((t, board.sample(hand.fsr_count, t)))
+                due_s = board.next_sample_s
             self._track()
         return samples
 
@@ -192,13 +198,13 @@ class LabWorld:
         dy = position[1] - self._obj_xy[1]
         return dx * dx + dy * dy <= self.config.capture_radius_m ** 2
 
-    def _horizontal(self, position: Sequence[float], velocity: Sequence[float]) -> None:
+    def _horizontal(self, x_m: float, y_m: float, vx_m_per_s: float, vy_m_per_s: float) -> None:
         hand = self.hand
         if hand.object_between_fingers and hand.grip_force_n > 0.0:
             # Squeezed: it goes where the hand goes (sideways; up and down is the hand's business).
-            self._obj_xy[0] += velocity[0] * ROBOT_PERIOD_S
-            self._obj_xy[1] += velocity[1] * ROBOT_PERIOD_S
-        hand.set_in_reach(self._in_reach(position))
+            self._obj_xy[0] += vx_m_per_s * ROBOT_PERIOD_S
+            self._obj_xy[1] += vy_m_per_s * ROBOT_PERIOD_S
+        hand.set_in_reach(self._in_reach((x_m, y_m)))
 
     def _track(self) -> None:
         hand = self.hand
