@@ -155,8 +155,10 @@ if [ "$edition" != student ]; then
   fi
 fi
 
+# .venv's install also builds the simulated arm's compiled cycle: a changed C file reinstalls it too
+want_venv="$want-$(cat setup.py hri_teleop/sim/arm_cycle.c 2>/dev/null | sha256sum | cut -c1-16)"
 have="$(cat "$stamp" 2>/dev/null || true)"
-if [ "$want" != "$have" ] || ! "$venv/bin/python" -c 'import hri_teleop' 2>/dev/null; then
+if [ "$want_venv" != "$have" ] || ! "$venv/bin/python" -c 'import hri_teleop' 2>/dev/null; then
   # Ubuntu 20.04's pip 20.0 cannot install a pyproject-only project in editable mode.
   if ! "$venv/bin/python" -c 'import sys, pip; sys.exit(tuple(map(int, pip.__version__.split(".")[:2])) < (21, 3))' 2>/dev/null; then
     say "upgrading pip in .venv (editable installs need pip >= 21.3)"
@@ -165,7 +167,7 @@ if [ "$want" != "$have" ] || ! "$venv/bin/python" -c 'import hri_teleop' 2>/dev/
   say "installing hri-teleop and its dependencies into .venv"
   if [ "$edition" = student ]; then extras=""; else extras="[test]"; fi
   "$venv/bin/python" -m pip install -q --disable-pip-version-check ${pins[@]+"${pins[@]}"} -e ".$extras"
-  echo "$want" > "$stamp"
+  echo "$want_venv" > "$stamp"
 fi
 
 # Noetic machines may lack catkin_lint (not part of ros-noetic-desktop): take it from PyPI.
