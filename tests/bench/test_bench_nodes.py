@@ -12,6 +12,7 @@ import math
 import re
 import subprocess
 import sys
+from typing import List
 
 import pytest
 
@@ -56,8 +57,14 @@ def test_twists_are_recorded_idle_and_loaded(tmp_path):
 
 
 def test_simulation_rows_time_the_lab_the_arm_and_the_hand(tmp_path):
-    row, arm, hand = sim_speed.run(BenchOptions(out_dir=tmp_path, smoke=True), _log)
+    said: List[str] = []
+    row, arm, hand = sim_speed.run(BenchOptions(out_dir=tmp_path, smoke=True), said.append)
     _check_row(row)
+    # the same scenarios with the arm's cycle in Python, and the profile of one run, in the same output
+    assert row.values["python_cycle_rtf_median"] > 0 and arm.values["python_cycle_us"] > 0
+    assert sum("sim (Python arm cycle): " in m for m in said) == 3
+    profile = [m for m in said if m.startswith("sim profile (default, own time): ")]
+    assert len(profile) == 8 and any("world.py" in m or "hand.py" in m for m in profile)
     assert row.ratio == row.values["rtf_median"]
     assert row.values["runs"] == 3 and row.values["simulated_s"] > 30.0  # the three scenarios, once each
     assert row.ratio == pytest.approx(row.values["rtf_median"])
