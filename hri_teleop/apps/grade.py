@@ -49,6 +49,8 @@ def _parser() -> argparse.ArgumentParser:
                            help="file with the lab's live graph (read if it exists, else written)")
         if name == "submission":
             p.add_argument("--checks", default="", help="comma-separated subset of checks (default: all)")
+            p.add_argument("--jobs", type=int, default=None,
+                           help="checks run at once (default: the CPU count; make grade gives 1, it runs submissions at once)")
     b = sub.add_parser("batch", help="grade every submission in a folder, several at once")
     b.add_argument("path", nargs="?", default=str(_REPO / "notebooks" / "submitted"),
                    help="folder of submissions, one subfolder per student (default: notebooks/submitted); "
@@ -137,7 +139,8 @@ def main(argv: Optional[List[str]] = None) -> int:
             if unknown:
                 raise GradingError(f"unknown check(s) {', '.join(unknown)}; use {', '.join(CHECKS)}")
             results = grade_submission(args.path, seed=args.seed, out_dir=out_dir, checks=checks or tuple(CHECKS),
-                                       graph_cache=Path(args.graph_cache) if args.graph_cache else None)
+                                       graph_cache=Path(args.graph_cache) if args.graph_cache else None,
+                                       jobs=args.jobs if args.jobs is not None else max(1, os.cpu_count() or 1))
         elif args.command == "graph":
             results = [grade(args.command, args.path, seed=args.seed, out_dir=out_dir,
                              graph_cache=Path(args.graph_cache) if args.graph_cache else None)]

@@ -2,12 +2,14 @@
 
 from __future__ import annotations
 
+import threading
 import time
 
 import pytest
 from grading_helpers import REPO, SOLUTIONS
 
 from hri_teleop.grading import (
+    GradingError,
     feedback_text,
     grade_mapping_node,
     grade_robot_params,
@@ -16,13 +18,17 @@ from hri_teleop.grading import (
 )
 from hri_teleop.grading.cases.templates import generate_templates
 from hri_teleop.grading.judge.checks import CHECKS
+from hri_teleop.grading.judge.harness import CheckRun, closing_scratch, start_check
 
 pytestmark = pytest.mark.ros
 
 
-def test_solutions_pass_every_check_with_full_marks(tmp_path):
+def test_solutions_pass_every_check_with_full_marks_graded_two_checks_at_a_time(tmp_path):
+    """Side by side (hri-grade submission's default on a 2-core machine): each check keeps its own
+    scratch folder, sandbox and master while the others start and end, and the results come back
+    in the checks' order."""
     started = time.monotonic()
-    results = grade_submission(SOLUTIONS, out_dir=tmp_path, graph_cache=tmp_path / "graph.json")
+    results = grade_submission(SOLUTIONS, out_dir=tmp_path, graph_cache=tmp_path / "graph.json", jobs=2)
     assert [r.check for r in results] == list(CHECKS)
     assert all(r.passed for r in results), feedback_text(results)
     assert all(r.max_score > 0 for r in results)
@@ -48,3 +54,31 @@ def test_the_generated_templates_are_gradable_and_say_what_to_fill_in(tmp_path):
     assert teleop.parts[0].passed, feedback_text([teleop])  # it imports
     for part in teleop.parts[1:5]:
         assert not part.passed and "NotImplementedError" in part.message and "YOUR CODE HERE" in part.message
+
+
+def test_grade_submission_refuses_zero_jobs(tmp_path):
+    with pytest.raises(GradingError, match="at least 1"):
+        grade_submission(SOLUTIONS, out_dir=tmp_path, jobs=0)
+
+
+def test_a_check_that_ends_closes_only_the_scratch_folders_of_its_own_thread(tmp_path):
+    """closing_scratch used to close every open run: a check graded beside another lost its folder."""
+    opened: dict = {}
+    other_may_end, other_ended = threading.Event(), threading.Event()
+
+    @closing_scratch
+    def other_check() -> None:
+        run, _ = start_check("robot-params", SOLUTIONS, tmp_path / "other", 1)
+        opened["other"] = run
+        other_may_end.wait(30)
+
+    thread = threading.Thread(target=lambda: (other_check(), other_ended.set()))
+    mine, _ = start_check("mapping-node", SOLUTIONS, tmp_path / "mine", 1)
+    thread.start()
+    other_may_end.set()
+    thread.join(30)
+    assert other_ended.is_set() and isinstance(mine, CheckRun)
+    assert opened["other"].closed and not opened["other"].session_dir.exists()
+    assert not mine.closed and mine.session_dir.is_dir()  # still there for this thread's check
+    mine.close()
+    assert not mine.session_dir.exists()

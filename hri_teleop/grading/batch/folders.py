@@ -101,7 +101,9 @@ def select_student(available: Sequence[str], wanted: Optional[str], folder: Path
 
 def _hri_grade_argv(folder: Path, out: Path, graph_cache: Optional[Path], checks: Optional[Sequence[str]],
                     seed: Optional[int] = None) -> List[str]:
-    argv = [sys.executable, "-m", "hri_teleop.apps.grade", "submission", str(folder), "--json", "--out", str(out)]
+    # one check at a time: make grade runs submissions side by side already
+    argv = [sys.executable, "-m", "hri_teleop.apps.grade", "submission", str(folder), "--json", "--out", str(out),
+            "--jobs", "1"]
     if seed is not None:
         argv += ["--seed", str(seed)]
     if graph_cache is not None:

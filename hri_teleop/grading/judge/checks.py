@@ -36,6 +36,7 @@ from hri_teleop.grading.judge.harness import (
 from hri_teleop.grading.judge.package_check import grade_catkin_package
 from hri_teleop.grading.judge.robot_params import compare_robot_params
 from hri_teleop.grading.results import CheckResult, GradingError, feedback_text, not_judged
+from hri_teleop.grading.run.jobs import run_all
 from hri_teleop.grading.run.records import (
     ClockedObservation,
     LaunchParseResult,
@@ -297,21 +298,45 @@ def grade(check: str, path: PathLike, **kwargs: Any) -> CheckResult:
     return CHECKS[check](path, **kwargs)
 
 
+#: The checks that run ROS sessions, longest first: side by side, the longest starts first.
+LONGEST_FIRST = ("teleoperation-launch", "teleoperation", "mapping-node", "sensor-launch", "graph")
+
+
 def grade_submission(folder: PathLike, *, seed: Optional[int] = None, out_dir: Optional[PathLike] = None,
-                     graph_cache: Optional[PathLike] = None, checks: Sequence[str] = tuple(CHECKS)) -> List[CheckResult]:
-    """Every check on one student's package (missing files give failed checks, not errors)."""
+                     graph_cache: Optional[PathLike] = None, checks: Sequence[str] = tuple(CHECKS),
+                     jobs: int = 1) -> List[CheckResult]:
+    """Every check on one student's package (missing files give failed checks, not errors), ``jobs``
+    checks at a time (each has its own sandbox, master and clock: the verdicts do not depend on it)."""
     folder = Path(folder).expanduser()
     if not folder.is_dir():
         raise GradingError(f"{folder}: not a folder; give the student's hri_lab package folder (or their submission)")
+    if jobs < 1:
+        raise GradingError(f"--jobs {jobs}: give how many checks may run at once, at least 1")
     root = find_package_root(folder)
     seed = C.default_seed(root) if seed is None else seed
-    results = []
-    for check in checks:
+
+    def one(check: str) -> Callable[[], CheckResult]:
         kwargs: Dict[str, Any] = {"seed": seed, "out_dir": out_dir}
         if check == "graph":
             kwargs["graph_cache"] = graph_cache
-        results.append(CHECKS[check](root, **kwargs))
-    return results
+        return lambda: CHECKS[check](root, **kwargs)
+
+    if jobs == 1:
+        return [one(check)() for check in checks]
+    order = sorted(checks, key=lambda c: LONGEST_FIRST.index(c) if c in LONGEST_FIRST else len(LONGEST_FIRST))
+    done: Dict[str, CheckResult] = {}
+    failed: List[BaseException] = []
+
+    def collect(check: str, result: Optional[CheckResult], error: Optional[BaseException]) -> None:
+        if error is not None:
+            failed.append(error)
+        elif result is not None:
+            done[check] = result
+
+    run_all([(check, one(check)) for check in order], jobs, collect)
+    if failed:
+        raise failed[0]
+    return [done[check] for check in checks]
 
 
 # -- for notebooks: assertions with the student's messages -----------------------------------------

@@ -14,6 +14,7 @@ import signal
 import subprocess
 import sys
 import tempfile
+import threading
 import time
 from pathlib import Path
 from typing import Any, Callable, Dict, List, Optional, Sequence, Tuple, Type, TypeVar, Union
@@ -76,7 +77,14 @@ def grader_shell_env(package_path: str = "") -> Dict[str, str]:
     return env
 
 
-_OPEN_RUNS: "List[CheckRun]" = []
+class _OpenRuns(threading.local):
+    """The scratch runs this thread opened (checks graded side by side close their own only)."""
+
+    def __init__(self) -> None:
+        self.runs: "List[CheckRun]" = []
+
+
+_OPEN = _OpenRuns()
 
 
 def closing_scratch(check: Callable[..., CheckResult]) -> Callable[..., CheckResult]:
@@ -86,7 +94,7 @@ def closing_scratch(check: Callable[..., CheckResult]) -> Callable[..., CheckRes
         try:
             return check(*args, **kwargs)
         finally:
-            for run in list(_OPEN_RUNS):
+            for run in list(_OPEN.runs):
                 run.close()
     return wrapper
 
@@ -136,7 +144,7 @@ class CheckRun:
             self.out_dir.mkdir(parents=True, exist_ok=True)
         self.uid = student_uid()
         self.closed = False
-        _OPEN_RUNS.append(self)
+        _OPEN.runs.append(self)
         self.space: Workspace = prepare_workspace(submission, self.session_dir, self.uid, single_file, key,
                                                   reference=reference)
         self.started = time.monotonic()
@@ -146,8 +154,8 @@ class CheckRun:
         if self.closed:
             return
         self.closed = True
-        if self in _OPEN_RUNS:
-            _OPEN_RUNS.remove(self)
+        if self in _OPEN.runs:
+            _OPEN.runs.remove(self)
         logs = self.session_dir / "logs"
         if logs.is_dir() and self.keep_logs:
             target = self.out_dir / "logs"

@@ -7,15 +7,29 @@ the wrong slope: the wrong range), which is what a student needs to find the mis
 
 from __future__ import annotations
 
+import functools
 import math
+import threading
 from pathlib import Path
-from typing import Any, List, Optional, Sequence, Tuple
+from typing import Any, Callable, List, Optional, Sequence, Tuple, TypeVar
 
 from hri_teleop.grading.cases.inputs import MappingCase
 from hri_teleop.grading.judge.compare_common import as_float
 from hri_teleop.grading.run.records import MappingRun
 
 __all__ = ["expected_vs_actual", "mapping_plot", "series_plot", "timeline"]
+
+F = TypeVar("F", bound=Callable[..., Any])
+# pyplot keeps one registry of figures: checks graded side by side (grade_submission's jobs) draw one at a time
+_DRAWING = threading.RLock()
+
+
+def _one_at_a_time(draw: F) -> F:
+    @functools.wraps(draw)
+    def locked(*args: Any, **kwargs: Any) -> Any:
+        with _DRAWING:
+            return draw(*args, **kwargs)
+    return locked  # type: ignore[return-value]
 
 
 def _finite(values: Sequence[object]) -> List[float]:
@@ -30,6 +44,7 @@ def _finite(values: Sequence[object]) -> List[float]:
     return out
 
 
+@_one_at_a_time
 def expected_vs_actual(path: Path, title: str, x: Sequence[float], expected: Sequence[float],
                        actual: Sequence[Optional[float]], xlabel: str, ylabel: str,
                        inputs: Optional[Sequence[float]] = None, input_label: str = "",
@@ -91,6 +106,7 @@ def series_plot(plot_dir: Optional[Path], name: str, title: str, expected: List[
 Series = Sequence[Tuple[float, Optional[float]]]
 
 
+@_one_at_a_time
 def timeline(path: Path, title: str, panels: Sequence[Tuple[str, Sequence[Tuple[str, Series]]]]) -> str:
     """Panels of (label, [(legend, [(t_s, value), ...]), ...]) stacked on one time axis; returns the path.
 
