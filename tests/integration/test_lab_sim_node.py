@@ -497,3 +497,19 @@ def test_with_another_robots_profile_the_node_serves_its_names(session, tmp_path
     assert "/lab_sim_acme" not in master.subscribers("/franka_gripper/move/goal")
     assert node.stop() == 0, node.output()
     assert "robot acme_arm" in node.output()
+
+
+def test_on_the_grader_clock_a_command_that_comes_before_its_tick_waits_for_it(ros_master):
+    """Under /clock a twist can reach lab_sim before the /clock update of its tick (a busy machine
+    delays the update): lab_sim waits for the tick, however late, instead of applying the command
+    on top of the one before. It used to give up after 50 ms: under load the grader's teleoperation
+    launch then saw the arm's path shift by one cycle (L12, loaded: max height 0.074412 m for 0.074444 m)."""
+    ros_master.set_param("/use_sim_time", True)
+    node = ros_master.run([str(LAB_SIM), "_object:=none", "_board:=false"], "lab_sim_clock")
+    probe = ros_master.run([str(HERE / "command_before_tick.py"), "_delay_s:=0.3"], "command_before_tick")
+    code = probe.wait(120)
+    node.stop()
+    assert code == 0, probe.output()
+    answers = json.loads(probe.output().strip().splitlines()[-1])
+    assert answers["first"] == pytest.approx(1.0, abs=1e-9)
+    assert answers["second"] == pytest.approx(1.01, abs=1e-9), answers  # the old code: 1.0, after 50 ms
