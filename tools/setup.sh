@@ -156,7 +156,7 @@ if [ "$edition" != student ]; then
 fi
 
 # .venv's install also builds the simulated arm's compiled cycle: a changed C file reinstalls it too
-want_venv="$want-$(cat setup.py hri_teleop/sim/arm_cycle.c 2>/dev/null | sha256sum | cut -c1-16)"
+want_venv="$want-$( (cat setup.py hri_teleop/sim/arm_cycle.c 2>/dev/null || true) | sha256sum | cut -c1-16)"
 have="$(cat "$stamp" 2>/dev/null || true)"
 if [ "$want_venv" != "$have" ] || ! "$venv/bin/python" -c 'import hri_teleop' 2>/dev/null; then
   # Ubuntu 20.04's pip 20.0 cannot install a pyproject-only project in editable mode.

@@ -16,7 +16,7 @@ from functools import lru_cache
 from pathlib import Path
 from typing import Iterator, List, Optional
 
-__all__ = ["ArmKernel", "kernel", "kernel_library", "python_cycles", "STATE_SIZE", "PARAM_SIZE", "JOINT_STATE_SIZE",
+__all__ = ["ArmKernel", "kernel", "kernel_library", "load_library", "python_cycles", "STATE_SIZE", "PARAM_SIZE", "JOINT_STATE_SIZE",
            "JOINT_CONST_SIZE", "TRACE_WIDTH", "JOINT_TYPES"]
 
 #: Sizes of the four arrays the C takes (arm_cycle.c's enums; a library of another layout is not loaded).
@@ -56,7 +56,8 @@ class ArmKernel:
 
 
 @lru_cache(maxsize=1)
-def _load() -> Optional[ArmKernel]:
+def load_library() -> Optional[ArmKernel]:
+    """The built library, loaded once; None when absent, broken or of another layout."""
     path = kernel_library()
     if path is None:
         return None
@@ -76,7 +77,7 @@ def kernel() -> Optional[ArmKernel]:
     """The compiled cycle, or None: not built here, or the Python path chosen (HRI_SIM_KERNEL=python)."""
     if _forced_python[0] or os.environ.get("HRI_SIM_KERNEL", "") == "python":
         return None
-    return _load()
+    return load_library()
 
 
 @contextmanager

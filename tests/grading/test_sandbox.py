@@ -5,6 +5,7 @@ from __future__ import annotations
 import os
 import signal
 import sys
+import threading
 from pathlib import Path
 
 import pytest
@@ -117,3 +118,50 @@ def test_bubblewrap_is_used_for_a_checkout_whose_python_lies_under_tmp(tmp_path)
     assert out.returncode == 0, out.stderr
     assert out.stdout.strip() == "''", f"python under /tmp: {out.stdout.strip()}"
     assert sys.executable  # the test's own interpreter is not the one probed
+
+
+def test_checks_graded_side_by_side_get_uids_of_their_own_and_one_ending_leaves_the_other_running(tmp_path):
+    """A check's end kills every process of its uid: two threads of one grader (hri-grade submission's
+    checks side by side) shared one uid, so one check's end killed the other's node (I13: the
+    answer key's mapping node SIGKILLed before it subscribed)."""
+    uids: dict = {}
+
+    def in_thread(name: str, body) -> None:
+        thread = threading.Thread(target=lambda: uids.__setitem__(name, body()))
+        thread.start()
+        thread.join(60)
+
+    in_thread("a", student_uid)
+    in_thread("b", student_uid)
+    main_uid = student_uid()
+    if main_uid is None:
+        pytest.skip("not root: student code runs as the grader's own uid")
+    assert len({main_uid, uids["a"], uids["b"]}) == 3
+    folder = tmp_path / "student"
+    folder.mkdir()
+    folder.chmod(0o755)
+    (folder / "sleep.py").write_text("import time\ntime.sleep(60)\n")
+    running = {}
+
+    def start_sleeper():
+        uid = student_uid()
+        proc = StudentProcess([sys.executable, str(folder / "sleep.py")], folder, {"PATH": os.environ["PATH"]},
+                              tmp_path / "a.log", DEFAULT_LIMITS, uid=uid, nested=True, network=False)
+        running["proc"] = proc
+        return uid
+
+    def start_and_stop_another():
+        uid = student_uid()
+        proc = StudentProcess([sys.executable, "-c", "pass"], folder, {"PATH": os.environ["PATH"]},
+                              tmp_path / "b.log", DEFAULT_LIMITS, uid=uid, nested=True, network=False)
+        proc.wait(20)
+        proc.stop()  # kills every process of its uid
+        return uid
+
+    in_thread("sleeper", start_sleeper)
+    in_thread("other", start_and_stop_another)
+    sleeper = running["proc"]
+    try:
+        assert sleeper.running, "the other check's end killed this check's process"
+    finally:
+        sleeper.stop()

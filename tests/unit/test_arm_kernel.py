@@ -103,24 +103,24 @@ def test_a_library_of_another_layout_or_a_broken_file_is_not_loaded(monkeypatch,
     broken = tmp_path / "_arm_cycle.broken.so"
     broken.write_bytes(b"not a shared library")
     monkeypatch.setattr(arm_kernel, "kernel_library", lambda: broken)
-    arm_kernel._load.cache_clear()
+    arm_kernel.load_library.cache_clear()
     try:
         assert kernel() is None
         arm = SimArm(LAB_ARM_CONFIG)  # and the arm runs in Python
         arm.command((0.01, 0, 0, 0, 0, 0), 0.0)
         assert arm.run_until(0.05) == 50 and arm.position_m[0] > LAB_ARM_CONFIG.start_position_m[0]
     finally:
-        arm_kernel._load.cache_clear()
+        arm_kernel.load_library.cache_clear()
 
 
 def test_the_layout_check_refuses_sizes_that_differ(monkeypatch):
     monkeypatch.setattr(arm_kernel, "STATE_SIZE", arm_kernel.STATE_SIZE + 1)
-    arm_kernel._load.cache_clear()
+    arm_kernel.load_library.cache_clear()
     try:
-        assert arm_kernel._load() is None
+        assert arm_kernel.load_library() is None
     finally:
         monkeypatch.undo()
-        arm_kernel._load.cache_clear()
+        arm_kernel.load_library.cache_clear()
     assert kernel() is not None
 
 

@@ -25,7 +25,7 @@ __all__ = ["SOURCE_PATHS", "SCRIPTS", "zip_members", "build_zip"]
 #: What of the checkout goes into the zip (folders whole, less caches).
 SOURCE_PATHS: Tuple[str, ...] = ("hri_teleop", "hri_lab", "grading/traces", "tools/setup.sh", "tools/env.sh",
                                  "tools/kernel.sh",
-                                 "pyproject.toml", "constraints.txt", "README.md")
+                                 "pyproject.toml", "setup.py", "constraints.txt", "README.md")
 #: The two files Gradescope needs at the zip's root.
 SCRIPTS: Tuple[str, ...] = ("setup.sh", "run_autograder")
 _FILES = Path(__file__).resolve().parent / "files"

@@ -9,12 +9,14 @@ grading/README.md ("Sandbox"). :func:`sandbox_mode` says which mode is in use.
 
 from __future__ import annotations
 
+import itertools
 import os
 import shutil
 import signal
 import subprocess
 import sys
 import tempfile
+import threading
 import time
 from dataclasses import dataclass
 from pathlib import Path
@@ -114,11 +116,27 @@ def sandbox_mode(warn: bool = True, stream: Optional[TextIO] = None) -> str:
     return "limits-only" if problem else "bwrap"
 
 
+#: uids of one grading process' threads are this far apart (above any pid: the kernel's largest pid_max).
+UID_SLOT_SPAN = 1 << 22
+_slots = itertools.count(1)
+_thread_slot = threading.local()
+
+
 def student_uid() -> Optional[int]:
-    """An unprivileged uid for this grading process' student code, or None when not root."""
+    """An unprivileged uid for the student code of this grading process and thread, or None when not root.
+
+    Its own uid per thread: checks graded side by side (``grade_submission(jobs=...)``) must not
+    share one, since a check's end kills every process of its uid and the process limit counts
+    per uid. The main thread's is ``STUDENT_UID_BASE + pid``, as a process grading alone has.
+    """
     if os.geteuid() != 0:
         return None
-    return STUDENT_UID_BASE + os.getpid()
+    if threading.current_thread() is threading.main_thread():
+        return STUDENT_UID_BASE + os.getpid()
+    slot = getattr(_thread_slot, "slot", None)
+    if slot is None:
+        slot = _thread_slot.slot = next(_slots)
+    return STUDENT_UID_BASE + os.getpid() + slot * UID_SLOT_SPAN
 
 
 def session_argv(argv: Sequence[str], session_dir: Path, readonly_extra: Sequence[Path] = ()) -> List[str]:
