@@ -6,6 +6,7 @@ import os
 import signal
 import sys
 import threading
+import time
 from pathlib import Path
 
 import pytest
@@ -19,6 +20,15 @@ from hri_teleop.grading.run.sandbox import (
     describe_exit,
     student_uid,
 )
+
+
+def wait_until(condition, timeout_s: float) -> bool:
+    deadline = time.monotonic() + timeout_s
+    while not condition():
+        if time.monotonic() > deadline:
+            return False
+        time.sleep(0.02)
+    return True
 
 
 @pytest.fixture
@@ -141,27 +151,34 @@ def test_checks_graded_side_by_side_get_uids_of_their_own_and_one_ending_leaves_
     folder.mkdir()
     folder.chmod(0o755)
     (folder / "sleep.py").write_text("import time\ntime.sleep(60)\n")
-    running = {}
+    started, other_ended = threading.Event(), threading.Event()
+    seen = {}
 
-    def start_sleeper():
-        uid = student_uid()
+    def sleeper_check() -> None:
+        # the whole check in its own thread, as grade_submission runs it: a child started by a
+        # thread is ended when that thread ends (bubblewrap's --die-with-parent follows the thread)
         proc = StudentProcess([sys.executable, str(folder / "sleep.py")], folder, {"PATH": os.environ["PATH"]},
-                              tmp_path / "a.log", DEFAULT_LIMITS, uid=uid, nested=True, network=False)
-        running["proc"] = proc
-        return uid
+                              tmp_path / "a.log", DEFAULT_LIMITS, uid=student_uid(), nested=True, network=False)
+        try:
+            seen["up"] = wait_until(lambda: proc.process_count() > 0, 30)
+            started.set()
+            other_ended.wait(60)
+            seen["running"] = proc.running
+        finally:
+            proc.stop()
 
-    def start_and_stop_another():
-        uid = student_uid()
+    def other_check() -> None:
         proc = StudentProcess([sys.executable, "-c", "pass"], folder, {"PATH": os.environ["PATH"]},
-                              tmp_path / "b.log", DEFAULT_LIMITS, uid=uid, nested=True, network=False)
+                              tmp_path / "b.log", DEFAULT_LIMITS, uid=student_uid(), nested=True, network=False)
         proc.wait(20)
         proc.stop()  # kills every process of its uid
-        return uid
 
-    in_thread("sleeper", start_sleeper)
-    in_thread("other", start_and_stop_another)
-    sleeper = running["proc"]
+    sleeper = threading.Thread(target=sleeper_check)
+    sleeper.start()
     try:
-        assert sleeper.running, "the other check's end killed this check's process"
+        assert started.wait(60) and seen["up"]
+        in_thread("other", other_check)
     finally:
-        sleeper.stop()
+        other_ended.set()
+        sleeper.join(60)
+    assert seen["running"], "the other check's end killed this check's process"
