@@ -47,6 +47,10 @@ def wait_for(condition: Callable[[], bool], timeout_s: float, poll_s: float = 0.
 class Recorder:
     """Subscribes to topics of any type and keeps (time, type, decoded value) per topic."""
 
+    #: Longest wait for an ended node's last messages, s of wall time (they are read within
+    #: milliseconds; a publisher that vanished without closing its socket costs rospy's 1 s retry).
+    DRAIN_TIMEOUT_S = 5.0
+
     def __init__(self, clock: Callable[[], float] = time.monotonic) -> None:
         import rospy  # noqa: PLC0415 - ROS only in a session (the waits import without it)
 
@@ -56,6 +60,7 @@ class Recorder:
         self.messages: Dict[str, List[Tuple[float, str, Any]]] = {}
         self.lock = threading.Lock()
         self.event = threading.Event()
+        self.closed = False
 
     def add(self, topic: str) -> None:
         if topic in self.subs:
@@ -72,6 +77,8 @@ class Recorder:
         kind = msg._connection_header.get("type", "")
         value = _decode(kind, msg._buff)
         with self.lock:
+            if self.closed:  # rospy still hands over the rest of a batch it read before the close
+                return
             self.messages[topic].append((now, kind, value))
         self.event.set()
 
@@ -83,7 +90,16 @@ class Recorder:
         with self.lock:
             return list(self.messages.get(topic, [])[index:])
 
+    def drain(self, timeout_s: float) -> bool:
+        """Once the publishers have ended: until every message they sent has been read (rospy drops a
+        connection only after reading its socket to the end, callbacks included), at most ``timeout_s``
+        of wall time. Closing before that loses an ended node's last messages, or not, at random."""
+        return wait_for(lambda: all(sub.get_num_connections() == 0 for sub in self.subs.values()), timeout_s, 0.002)
+
     def close(self) -> None:
+        """Nothing more is recorded from here on."""
+        with self.lock:
+            self.closed = True
         for sub in self.subs.values():
             sub.unregister()
         self.subs.clear()

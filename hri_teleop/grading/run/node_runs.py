@@ -293,6 +293,7 @@ def run_teleop_node(session: Session, plan: TeleopNodePlan) -> TeleopNodeObserva
     proc.stop()
     stop_force.set()
     feeder.join(1.0)
+    recorder.drain(Recorder.DRAIN_TIMEOUT_S)  # the node has ended: what it sent last is read, in every run
     recorder.close()
     return TeleopNodeObservation(
         problem=problem, quit_in_time=exited, clock="real time" if clock is None or clock.paced else "grader",

@@ -250,6 +250,12 @@ class Teleoperation:
                 else:
                     rospy.sleep(1.0 / self.rate)
             self.send()
+            # One more period before the node ends: rospy sends a message from a thread of its
+            # own, and a node that ends at once can end before its last command went out.
+            if rate is not None:
+                rate.sleep()
+            else:
+                rospy.sleep(1.0 / self.rate)
         except rospy.ROSException:
             pass  # rospy already shut down (rosnode kill): nothing can be published any more
         self.pad.rumble(0.0, 0.0)
