@@ -56,6 +56,9 @@ class BoardConfig:
 class SensorBoard:
     """Samples a count at a fixed rate and adds ADC noise (the model: docs/simulation.md)."""
 
+    #: A sample is due this long before its instant, s: times summed from 1 ms steps round below it.
+    DUE_SLACK_S = 1e-6
+
     def __init__(self, config: Optional[BoardConfig] = None, start_s: float = 0.0) -> None:
         self.config = config if config is not None else BoardConfig()
         if not isinstance(self.config, BoardConfig):
@@ -73,8 +76,8 @@ class SensorBoard:
         return self._start_s + self._k * self.config.period_s
 
     def due(self, now_s: float) -> bool:
-        """Whether a sample is due at ``now_s`` (1 us of slack absorbs rounding)."""
-        return now_s + 1e-6 >= self.next_sample_s
+        """Whether a sample is due at ``now_s`` (``DUE_SLACK_S`` absorbs rounding)."""
+        return now_s + self.DUE_SLACK_S >= self.next_sample_s
 
     def sample(self, count: int, now_s: float) -> int:
         """The count the board sends for a true count ``count`` at ``now_s``; schedules the next one.

@@ -180,14 +180,14 @@ class LabWorld:
         trace: List[float] = []
         arm.run_cycles(n, trace)
         has_object = hand.object is not None
-        due_s = board.next_sample_s
+        due_s, slack_s = board.next_sample_s, board.DUE_SLACK_S
         for k in range(1, n + 1):
             t = t0 + k * ROBOT_PERIOD_S
             row = 9 * (k - 1)
             if has_object:
                 self._horizontal(trace[row], trace[row + 1], trace[row + 3], trace[row + 4])
             hand.advance(t, trace[row + 5])
-            if t + 1e-6 >= due_s:  # board.due(t), its 1 us of slack
+            if t + slack_s >= due_s:  # board.due(t), without a call per millisecond
                 samples.append((t, board.sample(hand.fsr_count, t)))
                 due_s = board.next_sample_s
             self._track()

@@ -65,6 +65,13 @@ def test_a_late_board_skips_missed_samples_instead_of_bursting():
     assert not board.due(0.059) and board.due(0.06)
 
 
+def test_a_sample_is_due_from_one_microsecond_before_its_instant():
+    board = SensorBoard(BoardConfig(rate_hz=100.0, noise_counts=0.0))
+    board.sample(1, 0.0)  # the next one at 0.01 s
+    assert board.due(0.01 - 1e-6)
+    assert not board.due(0.01 - 1.5e-6)
+
+
 @pytest.mark.parametrize("kwargs, expected", [
     (dict(rate_hz=0), "rate_hz must be in (0, 1000]"),
     (dict(rate_hz=float("nan")), "rate_hz"),

@@ -23,7 +23,8 @@ from typing import Any, Dict, List, Mapping, Optional, Sequence, Tuple
 
 from hri_teleop.core.errors import HriTeleopError
 from hri_teleop.core.paths import REPO
-from hri_teleop.ros.proc_table import STUDENT_UID_BASE, uid_process_count
+from hri_teleop.grading.run.sandbox import student_uid
+from hri_teleop.ros.proc_table import uid_process_count
 
 __all__ = ["POLICY_ENV", "SCRATCH_BYTES", "PROCESSES", "CHANNEL", "CHECK_RESULTS", "HIDDEN_ROOTS", "ERROR_MARK",
            "KernelBoxError", "KernelPolicy", "Box", "mount_rules", "kernel_environment", "box_uid",
@@ -67,8 +68,8 @@ class KernelBoxError(HriTeleopError, RuntimeError):
 
 
 def box_uid() -> Optional[int]:
-    """As root: an unprivileged uid for what this process starts; None otherwise."""
-    return STUDENT_UID_BASE + os.getpid() if os.geteuid() == 0 else None
+    """As root: an unprivileged uid for what this process (and thread) starts; None otherwise."""
+    return student_uid()
 
 
 @dataclass(frozen=True)
