@@ -7,6 +7,7 @@ import shutil
 import subprocess
 import sys
 import time
+import uuid
 
 from leftovers import leftovers, reap
 
@@ -24,15 +25,18 @@ def _orphan(tmp_path, marker: str) -> int:
 
 
 def test_an_orphan_of_the_checkout_started_during_the_run_is_killed_and_named(tmp_path):
+    """Reaped under a path of its own inside the checkout: the other worker's processes are of the
+    checkout too, and one whose roslaunch is ending is an orphan for a moment (a run saw one here)."""
     from conftest import REPO
 
     since = start_ticks(os.getpid()) or 0
-    pid = _orphan(tmp_path, str(REPO / "marker"))
+    own = REPO / f"marker-{uuid.uuid4().hex}"
+    pid = _orphan(tmp_path, str(own))
     deadline = time.monotonic() + 10
     while pid not in [p for p, _ in leftovers(REPO, since)] and time.monotonic() < deadline:
-        time.sleep(0.02)  # until the shell has exited
-    left = reap(REPO, since, grace_s=0.2)
-    assert [p for p, _c in left] == [pid] and str(REPO / "marker") in left[0][1]
+        time.sleep(0.02)  # until the shell has exited: then an orphan of the checkout
+    left = reap(own, since, grace_s=0.2)
+    assert [p for p, _c in left] == [pid] and str(own) in left[0][1]
     gone_by = time.monotonic() + 10
     while start_ticks(pid) is not None and time.monotonic() < gone_by:
         time.sleep(0.02)
