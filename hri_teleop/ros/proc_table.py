@@ -10,7 +10,7 @@ import os
 from typing import Dict, List, Optional, Sequence, Tuple
 
 __all__ = ["STUDENT_UID_BASE", "proc_stat", "proc_table", "process_trees", "descendants", "uid_process_count",
-           "start_ticks", "ProcessIds", "busy_threads"]
+           "start_ticks", "ignores_signal", "ProcessIds", "busy_threads"]
 
 
 def proc_stat(path: str) -> Optional[Tuple[int, bytes]]:
@@ -88,6 +88,20 @@ def start_ticks(pid: int) -> Optional[int]:
         return None if fields[0] in (b"Z", b"X") else int(fields[19])
     except (OSError, ValueError, IndexError):
         return None
+
+
+def ignores_signal(pid: int, sig: int) -> bool:
+    """Whether ``pid`` ignores ``sig`` (its SigIgn mask): a child started while its parent
+    ignored SIGINT (a job in the background of a script, a CI runner) ignores it too, unless it
+    installs a handler of its own, as rospy does and rosmaster does not."""
+    try:
+        with open(f"/proc/{pid}/status", "rb") as fh:
+            for line in fh:
+                if line.startswith(b"SigIgn:"):
+                    return bool(int(line.split()[1], 16) >> (sig - 1) & 1)
+    except (OSError, ValueError, IndexError):
+        pass
+    return False
 
 
 class ProcessIds:

@@ -18,7 +18,7 @@ from pathlib import Path
 from typing import Any, List, Mapping, Optional, Sequence, Set
 
 from hri_teleop.core.errors import HriTeleopError
-from hri_teleop.ros.proc_table import ProcessIds, descendants
+from hri_teleop.ros.proc_table import ProcessIds, descendants, ignores_signal
 
 
 class MasterError(HriTeleopError, RuntimeError):
@@ -131,7 +131,7 @@ class ManagedProcess:
         return self.log_path.read_text(errors="replace")
 
     def stop(self, timeout_s: float = 10.0) -> Optional[int]:
-        """SIGINT the whole group (how ROS tools shut down cleanly), then escalate.
+        """SIGINT the whole group (how ROS tools shut down cleanly; SIGTERM where the leader ignores SIGINT), then escalate.
 
         SIGTERM and SIGKILL also reach every process that was below this one when the stop began:
         roslaunch's nodes run in sessions of their own, and a node that hangs in its shutdown
@@ -142,7 +142,9 @@ class ManagedProcess:
         except ProcessLookupError:
             pgid = None
         family = ProcessIds(descendants(self.popen.pid))
-        for sig, wait_s in ((signal.SIGINT, timeout_s), (signal.SIGTERM, 3.0), (signal.SIGKILL, 3.0)):
+        # A leader that ignores SIGINT (inherited: see ignores_signal) would only wait out the timeout.
+        asks = signal.SIGTERM if ignores_signal(self.popen.pid, signal.SIGINT) else signal.SIGINT
+        for sig, wait_s in ((asks, timeout_s), (signal.SIGTERM, 3.0), (signal.SIGKILL, 3.0)):
             if sig == signal.SIGINT and self._interrupted:
                 pass  # interrupt() sent it: a second SIGINT would cut a clean shutdown short
             elif pgid is not None:
