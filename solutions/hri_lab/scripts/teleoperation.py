@@ -242,20 +242,15 @@ class Teleoperation:
         self.cartesian_velocity = [0.0] * 6
         self.rumble = 0.0
         deadline = rospy.get_time() + STOP_TIMEOUT  # ROS time, as the loop's
+        period = rate.sleep if rate is not None else lambda: rospy.sleep(1.0 / self.rate)
         try:
             while any(v != 0.0 for v in self.limiter.velocity) and rospy.get_time() < deadline:
                 self.send()
-                if rate is not None:
-                    rate.sleep()
-                else:
-                    rospy.sleep(1.0 / self.rate)
+                period()
             self.send()
             # One more period before the node ends: rospy sends a message from a thread of its
             # own, and a node that ends at once can end before its last command went out.
-            if rate is not None:
-                rate.sleep()
-            else:
-                rospy.sleep(1.0 / self.rate)
+            period()
         except rospy.ROSException:
             pass  # rospy already shut down (rosnode kill): nothing can be published any more
         self.pad.rumble(0.0, 0.0)
