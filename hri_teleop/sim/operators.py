@@ -99,6 +99,12 @@ FULL_APPROACH_S = 4.6
 CLOSE_MARGIN_M = 0.012
 #: A tap holds cross this long (s): two ticks at 50 Hz, 1.6 mm at k_gripper 0.04 m/s.
 TAP_HOLD_S = 0.04
+#: The careful (feedback) participant taps once a second, feeling each tap before the next. From a
+#: tap to its rumble takes 0.24-0.28 s through the lab's nodes (the hand's move is 0.24 s of it; 12
+#: trials measured, idle and beside two CPU hogs); at 0.5 s a stalled node on a busy PC let one tap
+#: too many through and cracked the egg. A real-time trial cannot own the clock, so the margin is
+#: the period: 0.7 s.
+FEEDBACK_TAP_PERIOD_S = 1.0
 
 
 def study_operator(condition: str, seed: int, *, object_width_m: float = 0.044, approach_s: float = FULL_APPROACH_S,
@@ -109,8 +115,8 @@ def study_operator(condition: str, seed: int, *, object_width_m: float = 0.044, 
     Both conditions approach the same way (right stick down for ``approach_s``) and close
     fast to ``object_width_m`` + 12 mm (56 mm for the 44 mm egg).  Then:
 
-    * ``feedback``: taps cross (1.6 mm a tap) until the pad rumbles above 0.9 -- the
-      default scenario's careful operator;
+    * ``feedback``: taps cross (1.6 mm a tap) once a second until the pad rumbles above
+      0.9 -- the default scenario's careful operator;
     * ``no_feedback``: cannot feel the piston, so judges by eye: 6 to 9 taps, drawn with
       the seed and biased towards squeezing too much (7 taps land in the piston's window;
       6 hold too lightly and the egg slips, 8 or more crush it).
@@ -142,8 +148,8 @@ def study_operator(condition: str, seed: int, *, object_width_m: float = 0.044, 
     steps.append(ScriptStep(t, "release", ("south",)))
     t = round(t + 0.5, 2)
     if condition == "feedback":
-        steps.append(ScriptStep(t, "tap", ("south",), hold_s=TAP_HOLD_S, every_s=0.5, condition="rumble", above=0.9,
-                                max_wait_s=20.0))
+        steps.append(ScriptStep(t, "tap", ("south",), hold_s=TAP_HOLD_S, every_s=FEEDBACK_TAP_PERIOD_S,
+                                condition="rumble", above=0.9, max_wait_s=20.0))
         t = round(t + 0.5, 2)
     else:
         for _ in range(rng.choice((6, 7, 8, 8, 9)) - skip_taps):
