@@ -182,3 +182,34 @@ def test_checks_graded_side_by_side_get_uids_of_their_own_and_one_ending_leaves_
         other_ended.set()
         sleeper.join(60)
     assert seen["running"], "the other check's end killed this check's process"
+
+
+_SLOW_TO_END = """import os, signal, subprocess, sys, time
+def asked(sig, frame):
+    open(os.path.join(os.path.dirname(__file__), "asked"), "w").write(str(sig))
+    time.sleep(30)  # a node whose shutdown takes its time
+signal.signal(signal.SIGINT, asked)
+signal.signal(signal.SIGTERM, asked)
+# a child in a session of its own, as roslaunch starts its nodes
+subprocess.Popen([sys.executable, "-c", "import time; time.sleep(60)"], start_new_session=True)
+open(os.path.join(os.path.dirname(__file__), "up"), "w").write("1")
+time.sleep(60)
+"""
+
+
+def test_a_run_whose_verdict_is_recorded_is_killed_without_being_asked_and_leaves_nothing(tmp_path):
+    """kill() (a clean run of a check, everything judged recorded) sends no SIGINT: a node's shutdown
+    (rospy's 0.5 s poll, or one that takes its time) is not waited for; its children go too."""
+    folder = tmp_path / "student"
+    folder.mkdir()
+    uid = student_uid()
+    if uid is not None:
+        os.chown(folder, uid, uid)
+    (folder / "x.py").write_text(_SLOW_TO_END)
+    proc = StudentProcess([sys.executable, str(folder / "x.py")], folder, {"PATH": os.environ["PATH"]},
+                          tmp_path / "x.log", DEFAULT_LIMITS, uid=uid, nested=True, network=False)
+    assert wait_until(lambda: (folder / "up").exists() or not proc.running, 30) and proc.running, proc.output_tail()
+    assert proc.kill() == -signal.SIGKILL
+    assert not (folder / "asked").exists(), "kill() asked the node to end first"
+    if uid is not None:
+        assert proc.process_count() == 0, "its child outlived the kill"

@@ -162,7 +162,9 @@ def run_teleop_launch_sim(session: Session, plan: TeleopLaunchSimPlan) -> Teleop
     recorder.close()
     exited = not launch.running
 
-    stop_side_by_side([launch, *extra, lab])  # their shutdowns overlap (0.7 s one after another)
+    # Everything judged is recorded: a run that started cleanly ends at once (its nodes' clean
+    # shutdown took 0.7 s); one with a start problem gets its grace, for the output it explains.
+    stop_side_by_side([launch, *extra, lab], kill=not problem)
     publishers, subscribers = _connections(pubs, subs, IGNORED_TOPICS)
     return TeleopLaunchSimObservation(
         supplied=supplied, problem=problem, nodes=sorted(nodes), quit_in_time=quit_in_time,

@@ -60,6 +60,7 @@ def run_mapping_node(session: Session, plan: MappingNodePlan) -> MappingNodeObse
         session.master.set_param("/max_sensor_force", case.max_sensor_force)
         proc = session.start_student([session.python, plan.script], f"mapping_node-{index}")
         nodes, sub, pub, ok = wait_for_node(session, proc, plan.start_timeout_s, lambda s, p: bool(s))
+        session.phase(f"{case.label}: subscribed")
         if ok and not pub:  # subscribed; give it a moment to advertise too
             nodes, sub, pub, _ = wait_for_node(session, proc, 2.0, lambda s, p: bool(p))
         in_topic = in_type = out_topic = out_type = ""
@@ -80,7 +81,9 @@ def run_mapping_node(session: Session, plan: MappingNodePlan) -> MappingNodeObse
                 if connected and out_topic:
                     wait_for(functools.partial(_counted_by_node, session, sorted(nodes), out_topic), 5.0)
                 if connected:
+                    session.phase(f"{case.label}: connected")
                     responses = _lockstep(publisher, recorder, out_topic, case.counts, proc, plan.response_timeout_s)
+                    session.phase(f"{case.label}: answered")
                 recorder.close()
                 publisher.unregister()
             nodes2, sub2, pub2, _ = wait_for_node(session, proc, 0.0, lambda s, p: True)
@@ -89,7 +92,11 @@ def run_mapping_node(session: Session, plan: MappingNodePlan) -> MappingNodeObse
         exited = not proc.running
         if exited and not problem:
             problem = f"{describe_exit(proc.returncode)} while counts were being published"
-        proc.stop()
+        if connected and out_topic and not problem:
+            proc.kill()  # every answer recorded; its exit is never explained, so no grace (rospy's 0.5 s poll)
+        else:
+            proc.stop()
+        session.phase(f"{case.label}: ended")
         runs.append(MappingRun(label=case.label, max_sensor_force=case.max_sensor_force, counts=case.counts,
                                responses=responses, input_topic=in_topic, input_type=in_type, output_topic=out_topic,
                                output_type=out_type, connected=connected,
@@ -201,7 +208,7 @@ def run_sensor_launch(session: Session, plan: SensorLaunchPlan) -> SensorLaunchO
     if ok and exited:
         problem = f"roslaunch {describe_exit(launch.returncode)} while /force_mapped was recorded"
 
-    stop_side_by_side([launch, *extra])
+    stop_side_by_side([launch, *extra], kill=not problem)  # a clean run's record is complete: no grace needed
     return SensorLaunchObservation(
         supplied=supplied, problem=problem, nodes=nodes,
         clock="grader" if clock is not None and not clock.paced else "real time",

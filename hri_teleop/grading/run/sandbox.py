@@ -315,6 +315,21 @@ class StudentProcess:
             self._log.close()
         return self.returncode
 
+    def kill(self) -> Optional[int]:
+        """SIGKILL at once, then the leftovers: for a run whose verdict is recorded (no clean exit needed)."""
+        try:
+            os.killpg(self.popen.pid, signal.SIGKILL)
+        except (ProcessLookupError, PermissionError):
+            pass
+        try:
+            self.popen.wait(timeout=2.0)
+        except subprocess.TimeoutExpired:
+            pass
+        self.kill_leftovers()
+        if not self._log.closed:
+            self._log.close()
+        return self.returncode
+
     def kill_leftovers(self) -> None:
         """Whatever it spawned that left its group: the group, and (own uid) every process of the uid."""
         try:
