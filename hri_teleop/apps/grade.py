@@ -23,7 +23,7 @@ from hri_teleop.grading.batch.late import LateError
 from hri_teleop.grading.batch.nbgrader_batch import grade_course, refresh_course
 from hri_teleop.grading.cases.templates import TemplateError, generate_templates
 from hri_teleop.grading.cases.tracefiles import TRACE_DIR, write_traces
-from hri_teleop.grading.judge.checks import CHECKS, grade, grade_submission
+from hri_teleop.grading.judge.checks import CHECKS, default_check_jobs, grade, grade_submission
 from hri_teleop.grading.results import CheckResult, GradingError, feedback_text, gradescope_json
 from hri_teleop.grading.run.sandbox import SandboxError, sandbox_mode
 from hri_teleop.grading.run.workspace import WorkspaceError
@@ -50,7 +50,7 @@ def _parser() -> argparse.ArgumentParser:
         if name == "submission":
             p.add_argument("--checks", default="", help="comma-separated subset of checks (default: all)")
             p.add_argument("--jobs", type=int, default=None,
-                           help="checks run at once (default: the CPU count; make grade gives 1, it runs submissions at once)")
+                           help="checks run at once (default: the CPU count + 1; make grade gives 1, it runs submissions at once)")
     b = sub.add_parser("batch", help="grade every submission in a folder, several at once")
     b.add_argument("path", nargs="?", default=str(_REPO / "notebooks" / "submitted"),
                    help="folder of submissions, one subfolder per student (default: notebooks/submitted); "
@@ -140,7 +140,7 @@ def main(argv: Optional[List[str]] = None) -> int:
                 raise GradingError(f"unknown check(s) {', '.join(unknown)}; use {', '.join(CHECKS)}")
             results = grade_submission(args.path, seed=args.seed, out_dir=out_dir, checks=checks or tuple(CHECKS),
                                        graph_cache=Path(args.graph_cache) if args.graph_cache else None,
-                                       jobs=args.jobs if args.jobs is not None else max(1, os.cpu_count() or 1))
+                                       jobs=args.jobs if args.jobs is not None else default_check_jobs(os.cpu_count()))
         elif args.command == "graph":
             results = [grade(args.command, args.path, seed=args.seed, out_dir=out_dir,
                              graph_cache=Path(args.graph_cache) if args.graph_cache else None)]

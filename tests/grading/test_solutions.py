@@ -17,18 +17,20 @@ from hri_teleop.grading import (
     grade_teleoperation,
 )
 from hri_teleop.grading.cases.templates import generate_templates
-from hri_teleop.grading.judge.checks import CHECKS
+from hri_teleop.grading.judge.checks import CHECKS, default_check_jobs
 from hri_teleop.grading.judge.harness import CheckRun, closing_scratch, start_check
 
 pytestmark = pytest.mark.ros
 
 
-def test_solutions_pass_every_check_with_full_marks_graded_two_checks_at_a_time(tmp_path):
+def test_solutions_pass_every_check_with_full_marks_graded_three_checks_at_a_time(tmp_path):
     """Side by side (hri-grade submission's default on a 2-core machine): each check keeps its own
     scratch folder, sandbox and master while the others start and end, and the results come back
     in the checks' order."""
     started = time.monotonic()
-    results = grade_submission(SOLUTIONS, out_dir=tmp_path, graph_cache=tmp_path / "graph.json", jobs=2)
+    jobs = default_check_jobs(2)
+    assert jobs == 3
+    results = grade_submission(SOLUTIONS, out_dir=tmp_path, graph_cache=tmp_path / "graph.json", jobs=jobs)
     assert [r.check for r in results] == list(CHECKS)
     assert all(r.passed for r in results), feedback_text(results)
     assert all(r.max_score > 0 for r in results)
@@ -54,6 +56,10 @@ def test_the_generated_templates_are_gradable_and_say_what_to_fill_in(tmp_path):
     assert teleop.parts[0].passed, feedback_text([teleop])  # it imports
     for part in teleop.parts[1:5]:
         assert not part.passed and "NotImplementedError" in part.message and "YOUR CODE HERE" in part.message
+
+
+def test_by_default_one_check_more_than_cores_runs_at_once_and_at_least_two():
+    assert [default_check_jobs(n) for n in (None, 0, 1, 2, 8)] == [2, 2, 2, 3, 9]
 
 
 def test_grade_submission_refuses_zero_jobs(tmp_path):

@@ -61,20 +61,29 @@ def run_teleop_launch_sim(session: Session, plan: TeleopLaunchSimPlan) -> Teleop
         supplied.append("/max_sensor_force")
     # Before anything reads /use_sim_time; time starts once every node is up and connected.
     clock = GraderClock(session, started=False) if plan.clock == "grader" else None
+    now = clock.now if clock else time.monotonic
+
+    def start_launch() -> Any:
+        recorder = Recorder(now)  # before the launch: nothing it publishes is missed
+        for topic in plan.record:
+            recorder.add(topic)
+        return recorder, session.start_student(["roslaunch", "--wait", plan.launch_file, plan.params_launch],
+                                               "roslaunch", clock.student_env(session.folder) if clock else None)
+
     lab = session.master.run([session.python, *plan.lab_sim], "grader_lab_sim")
+    # On the grader's clock time stands still until everything is connected, so the launch starts
+    # beside lab_sim (1 s sooner); in real time the operator's script must meet a ready lab.
+    early = start_launch() if clock is not None else None
     ready = wait_for(lambda: "/lab_sim" in session.master.subscribers(plan.twist_topic) or not lab.running,
                   plan.start_timeout_s, 0.05)
     session.phase("lab_sim up")
     if not ready or not lab.running:
         out = lab.output()[-1500:]
-        lab.stop()
+        if early is not None:
+            early[0].close()
+        stop_side_by_side([lab] + ([early[1]] if early is not None else []))
         return TeleopLaunchSimObservation(session_error=f"the simulated lab did not start: {out}")
-    now = clock.now if clock else time.monotonic
-    recorder = Recorder(now)
-    for topic in plan.record:
-        recorder.add(topic)
-    launch = session.start_student(["roslaunch", "--wait", plan.launch_file, plan.params_launch], "roslaunch",
-                                   clock.student_env(session.folder) if clock else None)
+    recorder, launch = early if early is not None else start_launch()
     teleop = plan.teleop_node
     started = now()
     up = wait_for(lambda: teleop in session.master.node_names() or not launch.running, plan.start_timeout_s, 0.05)
