@@ -37,15 +37,20 @@ def tmp_path():
     yield from open_folder("hri-sandbox-test-")
 
 
-def _run(tmp_path: Path, code: str, limits: Limits = DEFAULT_LIMITS, timeout_s: float = 20.0):
+def _start(tmp_path: Path, code: str, limits: Limits = DEFAULT_LIMITS) -> StudentProcess:
+    """``code`` as student/x.py, started as the grader starts a student's node (own uid where root)."""
     folder = tmp_path / "student"
     folder.mkdir(exist_ok=True)
     uid = student_uid()
     if uid is not None:
         os.chown(folder, uid, uid)
     (folder / "x.py").write_text(code)
-    proc = StudentProcess([sys.executable, str(folder / "x.py")], folder, {"PATH": os.environ["PATH"]},
+    return StudentProcess([sys.executable, str(folder / "x.py")], folder, {"PATH": os.environ["PATH"]},
                           tmp_path / "x.log", limits, uid=uid, nested=True, network=False)
+
+
+def _run(tmp_path: Path, code: str, limits: Limits = DEFAULT_LIMITS, timeout_s: float = 20.0):
+    proc = _start(tmp_path, code, limits)
     code = proc.wait(timeout_s)
     proc.stop()
     return code, proc
@@ -200,16 +205,10 @@ time.sleep(60)
 def test_a_run_whose_verdict_is_recorded_is_killed_without_being_asked_and_leaves_nothing(tmp_path):
     """kill() (a clean run of a check, everything judged recorded) sends no SIGINT: a node's shutdown
     (rospy's 0.5 s poll, or one that takes its time) is not waited for; its children go too."""
+    proc = _start(tmp_path, _SLOW_TO_END)
     folder = tmp_path / "student"
-    folder.mkdir()
-    uid = student_uid()
-    if uid is not None:
-        os.chown(folder, uid, uid)
-    (folder / "x.py").write_text(_SLOW_TO_END)
-    proc = StudentProcess([sys.executable, str(folder / "x.py")], folder, {"PATH": os.environ["PATH"]},
-                          tmp_path / "x.log", DEFAULT_LIMITS, uid=uid, nested=True, network=False)
     assert wait_until(lambda: (folder / "up").exists() or not proc.running, 30) and proc.running, proc.output_tail()
     assert proc.kill() == -signal.SIGKILL
     assert not (folder / "asked").exists(), "kill() asked the node to end first"
-    if uid is not None:
+    if proc.uid is not None:
         assert proc.process_count() == 0, "its child outlived the kill"

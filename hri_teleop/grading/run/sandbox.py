@@ -20,7 +20,7 @@ import threading
 import time
 from dataclasses import dataclass
 from pathlib import Path
-from typing import Callable, Dict, List, Mapping, Optional, Sequence, TextIO
+from typing import Callable, Dict, List, Mapping, Optional, Sequence, TextIO, Tuple
 
 from hri_teleop.core.errors import HriTeleopError
 from hri_teleop.ros.proc_table import STUDENT_UID_BASE, uid_process_count
@@ -299,7 +299,15 @@ class StudentProcess:
 
     def stop(self, grace_s: float = 3.0) -> Optional[int]:
         """SIGINT the group (how ROS nodes end cleanly), then SIGTERM, then SIGKILL; kill leftovers."""
-        for sig, wait_s in ((signal.SIGINT, grace_s), (signal.SIGTERM, 1.0), (signal.SIGKILL, 2.0)):
+        return self._end(((signal.SIGINT, grace_s), (signal.SIGTERM, 1.0), (signal.SIGKILL, 2.0)))
+
+    def kill(self) -> Optional[int]:
+        """SIGKILL at once, then the leftovers: for a run whose verdict is recorded (no clean exit needed)."""
+        return self._end(((signal.SIGKILL, 2.0),))
+
+    def _end(self, steps: Sequence[Tuple[int, float]]) -> Optional[int]:
+        """Each (signal, wait in s) to the group until it has ended; then its leftovers; the log closed."""
+        for sig, wait_s in steps:
             if self.popen.poll() is not None:
                 break
             try:
@@ -310,21 +318,6 @@ class StudentProcess:
                 self.popen.wait(timeout=wait_s)
             except subprocess.TimeoutExpired:
                 continue
-        self.kill_leftovers()
-        if not self._log.closed:
-            self._log.close()
-        return self.returncode
-
-    def kill(self) -> Optional[int]:
-        """SIGKILL at once, then the leftovers: for a run whose verdict is recorded (no clean exit needed)."""
-        try:
-            os.killpg(self.popen.pid, signal.SIGKILL)
-        except (ProcessLookupError, PermissionError):
-            pass
-        try:
-            self.popen.wait(timeout=2.0)
-        except subprocess.TimeoutExpired:
-            pass
         self.kill_leftovers()
         if not self._log.closed:
             self._log.close()
