@@ -65,9 +65,16 @@ IGNORES_SIGINT = textwrap.dedent("""
 """)
 
 
+#: Sets SIGINT as asked, then execs the script: the child's start is the same whatever this test
+#: process inherited (a run started in the background of a script ignores SIGINT, and a shell cannot
+#: undo that: L23 failed when its worker had not yet run a test that installs a handler).
+_EXEC_WITH_SIGINT = ("import os, signal, sys; signal.signal(signal.SIGINT, "
+                     "signal.SIG_IGN if sys.argv[1] == 'ignored' else signal.SIG_DFL); "
+                     "os.execv(sys.executable, [sys.executable, '-c', sys.argv[2]])")
+
+
 def _started(tmp_path, script: str, ignore_sigint: bool) -> ManagedProcess:
-    trap = 'trap "" INT; ' if ignore_sigint else ""  # the shell's way to start a job with SIGINT ignored
-    argv = ["sh", "-c", trap + 'exec "$0" -c "$1"', sys.executable, script]
+    argv = [sys.executable, "-c", _EXEC_WITH_SIGINT, "ignored" if ignore_sigint else "default", script]
     proc = ManagedProcess(argv, dict(os.environ), tmp_path / f"child-{ignore_sigint}.log")
     deadline = time.monotonic() + 60
     while "ready" not in proc.output() and time.monotonic() < deadline:
