@@ -338,7 +338,7 @@ def _expect(command: str, master, started: list):
     if command == "roslaunch hri_lab sensor.launch":
         replaced = [p for c, p in started if c in ("rosrun hri_lab FSR_sensor.py", "rosrun hri_lab mapping_node.py")]
         launched = publishes("/mapping_node", "/force_mapped", "/pub_force")
-        return ("the launch's FSR_sensor and mapping_node (replacing the rosrun ones) to connect",
+        return ("the launch's FSR_sensor and mapping_node (the rosrun ones stopped first) to connect",
                 lambda: launched() and "/FSR_sensor" in master.publishers("/pub_force")
                 and not any(p.running for p in replaced))
     if command.startswith("rosrun hri_lab teleoperation.py"):
@@ -383,6 +383,13 @@ def test_the_readmes_terminal_lines_work_as_written(installed, course, home, tmp
                 elif subsection == "In the lab":
                     _lab_only(shell, command, bundle)
                 else:
+                    # "(Ctrl-C the two above first)": as the README says. Left running, two nodes replaced
+                    # by name at once can lose their connection to each other (rospy drops the first
+                    # of two subscriptions with one caller id; L26 waited 120 s for /pub_force).
+                    asked = re.search(r"Ctrl-C the (one|two|three) above first", line)
+                    if asked:
+                        for _c, earlier in started[-("one", "two", "three").index(asked.group(1)) - 1:]:
+                            earlier.stop()
                     run = re.sub(r"^roscore\b", f"roscore -p {port}", line)  # a private master, never 11311
                     proc = ManagedProcess(["bash", "-c", run], shell.env, tmp_path / f"line{len(started)}.log",
                                           cwd=shell.cwd)
