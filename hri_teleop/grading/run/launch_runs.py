@@ -7,7 +7,7 @@ reference pipeline gives the graph Ex. 15 is judged against.
 from __future__ import annotations
 
 import time
-from typing import Any, Dict, List, Sequence, Set, Tuple
+from typing import Any, Dict, List, Optional, Sequence, Set, Tuple
 
 from hri_teleop.grading.run.lockstep import (
     GraderClock,
@@ -62,28 +62,32 @@ def run_teleop_launch_sim(session: Session, plan: TeleopLaunchSimPlan) -> Teleop
     # Before anything reads /use_sim_time; time starts once every node is up and connected.
     clock = GraderClock(session, started=False) if plan.clock == "grader" else None
     now = clock.now if clock else time.monotonic
+    recorder: Optional[Recorder] = None
+    launch: Any = None
 
-    def start_launch() -> Any:
-        recorder = Recorder(now)  # before the launch: nothing it publishes is missed
+    def start_launch() -> Tuple[Recorder, Any]:
+        rec = Recorder(now)  # before the launch: nothing it publishes is missed
         for topic in plan.record:
-            recorder.add(topic)
-        return recorder, session.start_student(["roslaunch", "--wait", plan.launch_file, plan.params_launch],
-                                               "roslaunch", clock.student_env(session.folder) if clock else None)
+            rec.add(topic)
+        return rec, session.start_student(["roslaunch", "--wait", plan.launch_file, plan.params_launch],
+                                          "roslaunch", clock.student_env(session.folder) if clock else None)
 
     lab = session.master.run([session.python, *plan.lab_sim], "grader_lab_sim")
     # On the grader's clock time stands still until everything is connected, so the launch starts
     # beside lab_sim (1 s sooner); in real time the operator's script must meet a ready lab.
-    early = start_launch() if clock is not None else None
+    if clock is not None:
+        recorder, launch = start_launch()
     ready = wait_for(lambda: "/lab_sim" in session.master.subscribers(plan.twist_topic) or not lab.running,
                   plan.start_timeout_s, 0.05)
     session.phase("lab_sim up")
     if not ready or not lab.running:
         out = lab.output()[-1500:]
-        if early is not None:
-            early[0].close()
-        stop_side_by_side([lab] + ([early[1]] if early is not None else []))
+        if recorder is not None:
+            recorder.close()
+        stop_side_by_side([p for p in (lab, launch) if p is not None])
         return TeleopLaunchSimObservation(session_error=f"the simulated lab did not start: {out}")
-    recorder, launch = early if early is not None else start_launch()
+    if recorder is None:
+        recorder, launch = start_launch()
     teleop = plan.teleop_node
     started = now()
     up = wait_for(lambda: teleop in session.master.node_names() or not launch.running, plan.start_timeout_s, 0.05)
