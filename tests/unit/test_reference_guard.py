@@ -2,6 +2,9 @@
 
 from __future__ import annotations
 
+import gc
+import sys
+import threading
 from pathlib import Path
 
 import pytest
@@ -71,3 +74,54 @@ def test_the_refusal_is_one_line_with_the_file_the_uses_and_the_fix():
     assert message == ("mapping_node.py uses the lab's reference implementation (line 3: from hri_teleop.core.mapping "
                        "import map_force; line 9: .map_force; line 10: .map_force): the exercise is to write that "
                        "rule yourself; remove the import and write it in your file")
+
+
+class _Finalizer:
+    """Cyclic garbage whose finalizer, the first time it runs inside ``ast.parse``, lets another thread
+    read a student file and waits for it: what a Popen or socket finalizer did in the grader when the
+    checks ran side by side. Outside a parse it leaves new garbage behind, so the collector keeps one at hand."""
+
+    def __init__(self, record: dict) -> None:
+        self.record = record
+        self.cycle = self
+
+    def __del__(self) -> None:
+        record = self.record
+        if not record["armed"]:
+            return
+        record["runs"] += 1
+        frame = sys._getframe(1)
+        inside_parse = False
+        while frame is not None:
+            if frame.f_code.co_name == "parse" and frame.f_code.co_filename.endswith("ast.py"):
+                inside_parse = True
+            frame = frame.f_back
+        if inside_parse and not record["inside_parse"]:
+            record["inside_parse"] += 1
+            other = threading.Thread(target=lambda: record["other"].append(reference_uses(record["source"])))
+            other.start()
+            other.join(timeout=60)  # hang guard only: the other parse takes milliseconds
+            return
+        _Finalizer(record)
+
+
+def test_two_checks_reading_student_files_at_once_both_get_their_answer_even_when_a_finalizer_runs_mid_parse():
+    """L28 (3 checks side by side): Python 3.11's ast keeps one recursion counter for all threads, so a
+    parse that another thread's parse interrupted (through a finalizer run by the collector) raised
+    'SystemError: AST constructor recursion depth mismatch' and the whole submission's grading failed."""
+    source = (ROOT / "solutions/hri_lab/scripts/teleoperation.py").read_text() + "\nimport hri_teleop.core.teleop\n"
+    record = {"armed": True, "runs": 0, "inside_parse": 0, "other": [], "source": source}
+    thresholds = gc.get_threshold()
+    gc.set_threshold(1)
+    try:
+        _Finalizer(record)
+        uses = reference_uses(source)
+    finally:
+        record["armed"] = False
+        gc.set_threshold(*thresholds)
+        gc.collect()
+    expected = [f"line {source.count(chr(10))}: import hri_teleop.core.teleop"]
+    assert uses == expected
+    assert record["runs"] > 0, "the collector never ran: the test would show nothing"
+    assert record["inside_parse"] == 0, "a finalizer ran inside the grader's parse"
+    assert record["other"] in ([], [expected])

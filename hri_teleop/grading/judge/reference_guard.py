@@ -11,6 +11,8 @@ too) is refused with that line and what to write instead. The templates' given c
 from __future__ import annotations
 
 import ast
+import gc
+import threading
 from typing import Dict, List
 
 __all__ = ["REFERENCE_MODULES", "REFERENCE_NAMES", "reference_uses", "refusal"]
@@ -72,10 +74,32 @@ def _attribute_hit(dotted: str) -> str:
     return dotted if parts[0] == "hri_teleop" and REFERENCE_NAMES & set(parts[1:]) else ""
 
 
+#: one parse at a time: the collector's pause below must not be undone by another check's parse
+_PARSE_LOCK = threading.Lock()
+
+
+def _parse_alone(source: str) -> ast.Module:
+    """``ast.parse`` that no other thread's parse can interleave with, as checks run side by side.
+
+    Python 3.11's ast keeps one recursion counter for all threads; a finalizer run by the collector
+    mid-parse hands the GIL to another thread, whose parse resets the counter, and the first one
+    fails with ``SystemError: AST constructor recursion depth mismatch``. With the collector paused
+    nothing but the parse runs until it returns.
+    """
+    with _PARSE_LOCK:
+        collecting = gc.isenabled()
+        gc.disable()
+        try:
+            return ast.parse(source)
+        finally:
+            if collecting:
+                gc.enable()
+
+
 def reference_uses(source: str) -> List[str]:
     """``line N: <what>`` for every use of a reference module or rule in a Python file's text."""
     try:
-        tree = ast.parse(source)
+        tree = _parse_alone(source)
     except SyntaxError:
         return []  # the check reports the syntax error itself
     hits: List[str] = []
