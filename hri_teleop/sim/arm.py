@@ -189,8 +189,7 @@ class SimArm:
             # never shorter than the node's period: a message that comes late and the next on time
             # (a busy machine) must not turn into a ramp of a few ms
             period = self._config.command_period_s
-            self._ramp_s = max(min(max(since, period), 0.1) if since <= self._timeout_s else period,
-                               self._rate_limited_s(self._ramp_from, values))
+            self._ramp_s = min(max(since, period), 0.1) if since <= self._timeout_s else period
             self._arrived_s = now_s
         self._held = values
         self._held_finite = all(math.isfinite(c) for c in values)
@@ -199,16 +198,6 @@ class SimArm:
             self._mode = _RUN
             self._stopper = None
         return True
-
-    def _rate_limited_s(self, start: Sequence[float], end: Sequence[float]) -> float:
-        """The shortest ramp from ``start`` to ``end`` within the controller's acceleration bounds (0: none)."""
-        need = 0.0
-        for bound, axes in ((self._config.max_ramp_acceleration_m_per_s2, range(3)),
-                            (self._config.max_ramp_acceleration_rad_per_s2, range(3, 6))):
-            change = math.sqrt(sum((end[i] - start[i]) ** 2 for i in axes))
-            if bound is not None and math.isfinite(change):
-                need = max(need, change / bound)
-        return need
 
     def recover(self, now_s: float) -> bool:
         """Clear a reflex (like franka's ErrorRecoveryAction); the arm starts again from rest.

@@ -151,10 +151,6 @@ class SimArmConfig:
       until the next (each change reaches the robot as a step within 1 ms).
     * ``command_period_s`` 0.02 s: the shortest interpolation (the teleoperation node's 50 Hz),
       and the first after rest; slower commands are interpolated over their interval (up to 0.1 s).
-    * ``max_ramp_acceleration_m_per_s2`` / ``max_ramp_acceleration_rad_per_s2``: the interpolation
-      never changes the output faster than this (a rate limiter, as libfranka's in franka_control);
-      ``None``: no bound. Late commands that reach a busy machine's controller at once would else
-      ramp within one command period and jerk the joints into a reflex the real arm never shows.
     * ``joints`` True: the seven joints move and are judged; False leaves the hand alone,
       judged on its twist only (tests of the Cartesian judge, scenes far outside the reach).
     * ``model``: the arm description the joints follow (the robot profile's kinematics).
@@ -171,8 +167,6 @@ class SimArmConfig:
     joint_limits: JointLimits = PANDA_JOINT_LIMITS
     controller: str = "interpolate"
     command_period_s: float = 0.02
-    max_ramp_acceleration_m_per_s2: Optional[float] = None
-    max_ramp_acceleration_rad_per_s2: Optional[float] = None
     joints: bool = True
     model: ArmModel = PANDA_MODEL
 
@@ -188,11 +182,6 @@ class SimArmConfig:
         if not (is_positive_number(self.command_period_s) and self.command_period_s <= 0.1):
             raise SimArmError(f"command_period_s must be in (0, 0.1] s, got {self.command_period_s!r}; "
                               "e.g. 0.02 (the teleoperation node's 50 Hz)")
-        for name in ("max_ramp_acceleration_m_per_s2", "max_ramp_acceleration_rad_per_s2"):
-            bound = getattr(self, name)
-            if bound is not None and not is_positive_number(bound):
-                raise SimArmError(f"{name} must be a positive number or None (no bound), got {bound!r}; "
-                                  "e.g. 0.5 m/s^2 and 1.0 rad/s^2, above the teleoperation node's own ramps")
         if not isinstance(self.limits, CartesianLimits):
             raise SimArmError(f"limits must be a CartesianLimits, got {type(self.limits).__name__}; "
                               "use hri_teleop.core.limits.PANDA_LIMITS")

@@ -52,7 +52,7 @@ Layer = Tuple[Mapping[str, Any], str]  # (settings, where they come from)
 NO_OBJECT = "none"
 
 _ARM_KEYS = ("start_position_m", "start_orientation_xyzw", "workspace_min_m", "workspace_max_m", "timeout_s",
-             "controller", "max_ramp_acceleration_m_per_s2", "max_ramp_acceleration_rad_per_s2")
+             "controller")
 _HAND_KEYS = tuple(f.name for f in dataclasses.fields(HandParams))
 _AttachmentKey = Literal["piston_travel_m", "spring_n_per_m"]
 _ATTACHMENT_KEYS: Tuple[_AttachmentKey, ...] = ("piston_travel_m", "spring_n_per_m")
@@ -341,9 +341,8 @@ class _Builder:
         if "start_orientation_xyzw" in values:
             kwargs["start_orientation_xyzw"] = self.vector("arm.start_orientation_xyzw",
                                                            values["start_orientation_xyzw"], 4)
-        for key in ("timeout_s", "max_ramp_acceleration_m_per_s2", "max_ramp_acceleration_rad_per_s2"):
-            if key in values:
-                kwargs[key] = self.number(f"arm.{key}", values[key])
+        if "timeout_s" in values:
+            kwargs["timeout_s"] = self.number("arm.timeout_s", values["timeout_s"])
         if "controller" in values:
             kwargs["controller"] = values["controller"]
         try:

@@ -40,12 +40,8 @@ __all__ = ["WorldError", "WorldConfig", "ObjectStatus", "LabWorld", "LAB_ARM_CON
 #: It starts 40 cm in front of the base (the ready pose's hand is at 31 cm): from there the hand reaches
 #: the table with every joint at least 0.35 rad from its limits; below the ready pose joint 4 would
 #: come within 0.06 rad of its lower limit and the teleoperation node would warn through the grasp.
-#: Its controller ramps no faster than 0.5 m/s^2 and 1 rad/s^2 (franka_control's rate limiter): the
-#: teleoperation node's own ramps stay below that, and late commands that arrive together stop the arm
-#: smoothly instead of jerking joint 2 into a reflex (measured: 7472 rad/s^3 against its 3750 without it).
 LAB_ARM_CONFIG = SimArmConfig(workspace_min_m=(0.3, -0.25, 0.015), workspace_max_m=(0.55, 0.25, 0.55),
-                              start_position_m=(0.4, 0.0, 0.4867), timeout_s=0.3,
-                              max_ramp_acceleration_m_per_s2=0.5, max_ramp_acceleration_rad_per_s2=1.0)
+                              start_position_m=(0.4, 0.0, 0.4867), timeout_s=0.3)
 
 
 #: The hand's settings a robot profile gives (sim.yaml sets them only to override the profile).
