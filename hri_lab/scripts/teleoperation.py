@@ -53,6 +53,7 @@ from hri_teleop.core.teleop import (
 )
 from hri_teleop.hardware.gamepad import check_pad_rumble, open_gamepad
 from hri_teleop.ros.clock import ClockError, NodeClock
+from hri_teleop.ros.commands import command_publisher
 from hri_teleop.ros.error_recovery import ErrorRecoveryRequester
 from hri_teleop.ros.joy import joy_message
 from hri_teleop.ros.params import fail, get_name_param, get_param, package_file, private_params, run_node
@@ -159,7 +160,7 @@ class TeleoperationNode:
         self._quit_logged = False
         self.last_command: Optional[TeleopCommand] = None
 
-        self.twist_pub = rospy.Publisher(self.config.twist_topic, Twist, queue_size=1)
+        self.twist_pub = command_publisher(self.config.twist_topic, Twist, params.rate_hz)  # every tick, in order
         self.width_pub = rospy.Publisher("gripper_width", Float32, queue_size=1)
         self.joy_pub = rospy.Publisher("joy", Joy, queue_size=1)
         self.rumble_pub = rospy.Publisher("~rumble", Float32, queue_size=1)

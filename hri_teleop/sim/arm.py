@@ -183,13 +183,16 @@ class SimArm:
             # interval since the last one (the first after rest: command_period_s).
             since = now_s - self._arrived_s if self._arrived_s is not None else self._config.command_period_s
             self._ramp_from = self._commanded
+            under_way_end_s = self._ramp_start_s + self._ramp_s
             # from the next cycle on: a caller that commands first and runs the cycles up to now
             # after (a lock-step loop) gets them ramped, as a held command would reach them all
             self._ramp_start_s = min(now_s, self._time_s)
             # never shorter than the node's period: a message that comes late and the next on time
-            # (a busy machine) must not turn into a ramp of a few ms
+            # (a busy machine) must not turn into a ramp of a few ms; nor ending before the ramp under
+            # way: commands a stalled subscriber hands over at once keep the first one's pace
             period = self._config.command_period_s
-            self._ramp_s = min(max(since, period), 0.1) if since <= self._timeout_s else period
+            ramp_s = min(max(since, period), 0.1) if since <= self._timeout_s else period
+            self._ramp_s = max(ramp_s, under_way_end_s - self._ramp_start_s)
             self._arrived_s = now_s
         self._held = values
         self._held_finite = all(math.isfinite(c) for c in values)

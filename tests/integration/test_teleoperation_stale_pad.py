@@ -44,7 +44,7 @@ def test_a_pad_frozen_mid_deflection_ramps_the_twist_to_zero_and_resumes_when_it
     vx = [m.linear.x for _, m in msgs]
     dt = 1.0 / P.rate_hz
     twists = [(m.linear.x, m.linear.y, m.linear.z, m.angular.x, m.angular.y, m.angular.z) for _, m in msgs]
-    assert judged_violations(msgs, twists) == []
+    assert judged_violations(twists) == []
 
     # held by a hand for longer than stale_input_timeout before the freeze: full speed, no stop
     first_full = next(i for i, v in enumerate(vx) if v == pytest.approx(P.k_trans, abs=1e-9))

@@ -93,19 +93,22 @@ def test_the_controller_reaches_a_command_one_interval_after_it_arrived():
     assert arm.commanded_velocity[2] == pytest.approx(0.015)
     arm.run_until(0.060)
     assert arm.commanded_velocity[2] == 0.02 and arm.violations == ()
-    # a message late and the next on time: still spread over the node's 20 ms, not the 2 ms between them
+    # a message late and the next right after: not over the 2 ms between them, nor the node's 20 ms,
+    # until the late one's ramp would have ended: 32 ms (since 0.030 s) from the arm's 0.060 s, 0.092 s
     arm.command((0.0, 0.0, 0.021, 0.0, 0.0, 0.0), 0.062)
     arm.run_until(0.064)
     before = arm.commanded_velocity[2]
     arm.command((0.0, 0.0, 0.022, 0.0, 0.0, 0.0), 0.064)  # 2 ms after the one before
     arm.run_until(0.065)
-    assert arm.commanded_velocity[2] - before == pytest.approx((0.022 - before) / 20)
-    arm.run_until(0.084)
-    assert arm.commanded_velocity[2] == 0.022
+    assert arm.commanded_velocity[2] - before == pytest.approx((0.022 - before) / 28)
+    arm.run_until(0.091)
+    assert arm.commanded_velocity[2] < 0.022 - 1e-6
+    arm.run_until(0.092)
+    assert arm.commanded_velocity[2] == pytest.approx(0.022, abs=1e-12)
     # a lock-step loop commands first and runs the cycles up to the command's time after: they ramp too
-    arm.command((0.0, 0.0, 0.0, 0.0, 0.0, 0.0), 0.104)  # 40 ms after the last: from the arm's 0.084 s on
+    arm.command((0.0, 0.0, 0.0, 0.0, 0.0, 0.0), 0.104)  # 40 ms after the last: from the arm's 0.092 s on
     arm.run_until(0.104)
-    assert arm.commanded_velocity[2] == pytest.approx(0.022 * (1 - 20 / 40))
+    assert arm.commanded_velocity[2] == pytest.approx(0.022 * (1 - 12 / 40))
     assert arm.time_s == pytest.approx(0.104) and arm.violations == ()
 
 
