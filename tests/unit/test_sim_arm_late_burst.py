@@ -23,33 +23,58 @@ HAND_ONLY = SimArmConfig(joints=False, timeout_s=1.0)
 X = 0  # the axis these hand-only cases drive
 
 
-def _descend_then_late_burst() -> LabWorld:
-    """The teleoperation node's ramps (0.006 m/s per 20 ms tick) down to -0.09 m/s and back to -0.0416 m/s
-    below 6 cm (where the hand was), 0.23 s with no command (both nodes starved), then the burst at once."""
+def _near_the_table(speed_m_per_s: float):
+    """The lab's world after the teleoperation node's ramps (0.006 m/s per 20 ms tick) down to -0.09 m/s
+    and back to ``speed_m_per_s`` below 6 cm (where the hand was in the loaded run); and the time."""
     world = LabWorld(load_world_config(default_sim_yaml()))
     t, v = 0.0, 0.0
-    for target in (-0.09, -0.0416):
+    for target in (-0.09, speed_m_per_s):
         while abs(v - target) > 1e-12 or (target == -0.09 and world.arm.position_m[2] > 0.06):
             v = max(v - 0.006, target) if target < v else min(v + 0.006, target)
             t += 0.02
             world.advance(t)
             world.command_twist((0.0, 0.0, v, 0.0, 0.0, 0.0), t)
     assert world.arm.position_m[2] < 0.06 and world.arm.reflex_errors == ()
-    t += 0.23
+    return world, t
+
+
+def _burst_then_on_time(world: LabWorld, t: float, burst_m_per_s) -> LabWorld:
+    """The burst's twists at one instant ``t``, then the node's ramp on to zero on time, for 0.6 s."""
     world.advance(t)
-    for vz in LATE_BURST_M_PER_S:
+    for vz in burst_m_per_s:
         world.command_twist((0.0, 0.0, vz, 0.0, 0.0, 0.0), t)
-    for _ in range(20):
+    vz = burst_m_per_s[-1]
+    for _ in range(30):
         t += 0.02
+        vz = min(vz + 0.006, 0.0)
         world.advance(t)
-        world.command_twist((0.0,) * 6, t)
+        world.command_twist((0.0, 0.0, vz, 0.0, 0.0, 0.0), t)
     return world
+
+
+def _descend_then_late_burst() -> LabWorld:
+    """0.23 s with no command at -0.0416 m/s (both nodes starved), then the recorded burst at once."""
+    world, t = _near_the_table(-0.0416)
+    return _burst_then_on_time(world, t + 0.23, LATE_BURST_M_PER_S)
 
 
 def test_the_labs_arm_stops_without_a_reflex_when_late_commands_arrive_at_once():
     world = _descend_then_late_burst()
     assert world.arm.reflex_errors == ()
     assert world.arm.velocity[2] == pytest.approx(0.0, abs=1e-9)
+
+
+@pytest.mark.parametrize("speed_m_per_s", [-0.0416, -0.09])
+@pytest.mark.parametrize("stalled_ticks", [1, 4, 8, 14])
+def test_every_tick_of_a_stall_delivered_at_once_stops_the_arm_without_a_reflex(stalled_ticks, speed_m_per_s):
+    """The node kept ramping to zero (0.006 m/s a tick) while lab_sim heard nothing; then all of it at once.
+
+    The old controller ramped to the burst's last twist in 20 ms: a reflex from 4 ticks (80 ms) on.
+    """
+    world, t = _near_the_table(speed_m_per_s)
+    ramp = [min(speed_m_per_s + 0.006 * (k + 1), 0.0) for k in range(stalled_ticks)]
+    world = _burst_then_on_time(world, t + 0.02 * stalled_ticks, ramp)
+    assert world.arm.reflex_errors == ()
 
 
 def _send(arm: SimArm, vx: float, at_s: float) -> None:
