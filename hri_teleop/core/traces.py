@@ -32,7 +32,8 @@ class Pairing:
     pairs: List[Tuple[float, float, float, float]]  # (t_in_s, value_in, t_out_s, value_out)
     unmatched_outputs: int
     dropped_inputs: int
-    unjudged_outputs: int = 0  # arrived before any input was recorded: their cause is unknown
+    unjudged_outputs: int = 0  # their cause is unknown (the edges, and a duplicate or a lost input inside)
+    outside_outputs: int = 0  # of the unjudged, those before the first or after the last match (the edges)
 
     @property
     def latencies_s(self) -> npt.NDArray[np.float64]:
@@ -64,8 +65,9 @@ def pair_outputs(inputs: Trace, outputs: Trace, expected: Callable[[float], floa
     where they would align are ``unmatched_outputs``: wrong. Unpaired outputs before the
     first or after the last match, or equal to a neighbouring input's mapping, are
     ``unjudged_outputs``: their inputs may not have been recorded (so a duplicated output
-    is not caught; a wrong value is). Inputs inside the matched span with no output are
-    ``dropped_inputs``.
+    is not caught; a wrong value is). Of those, ``outside_outputs`` lie at the edges: how
+    many depends on the latency while the recorder connected, not on the node. Inputs inside
+    the matched span with no output are ``dropped_inputs``.
     """
     want = [float(expected(v)) for _, v in inputs]
     levels = sorted(set(want))
@@ -86,15 +88,17 @@ def pair_outputs(inputs: Trace, outputs: Trace, expected: Callable[[float], floa
             paired_out.add(k)
     pairs.sort(key=lambda p: p[2])
     if not blocks:
-        return Pairing(pairs=[], unmatched_outputs=0, dropped_inputs=0, unjudged_outputs=len(outputs))
+        return Pairing(pairs=[], unmatched_outputs=0, dropped_inputs=0, unjudged_outputs=len(outputs),
+                       outside_outputs=len(outputs))
     first_k, last_k = blocks[0].b, blocks[-1].b + blocks[-1].size - 1
     first_j, last_j = blocks[0].a, blocks[-1].a + blocks[-1].size - 1
-    unmatched = unjudged = 0
+    unmatched = unjudged = outside = 0
     for k in range(len(outputs)):
         if k in paired_out:
             continue
         if not first_k < k < last_k:
             unjudged += 1
+            outside += 1
             continue
         # Between two matched runs: an input lost by the recorder looks like this too, so an
         # output equal to the mapping of an input where it would align is not called wrong.
@@ -108,7 +112,7 @@ def pair_outputs(inputs: Trace, outputs: Trace, expected: Callable[[float], floa
             unmatched += 1
     dropped = (last_j - first_j + 1) - len(pairs)
     return Pairing(pairs=pairs, unmatched_outputs=unmatched, dropped_inputs=max(0, dropped),
-                   unjudged_outputs=unjudged)
+                   unjudged_outputs=unjudged, outside_outputs=outside)
 
 
 def percentile_ms(values_s: npt.NDArray[np.float64], q: float) -> float:

@@ -47,6 +47,7 @@ def test_an_output_before_the_first_recorded_input_is_unjudged_not_wrong():
     outputs = [(0.99, 0.5), (1.001, 1.0), (2.001, 2.0), (2.5, 0.9)]
     pairing = pair_outputs(inputs, outputs, expected=lambda v: v / 10.0)
     assert pairing.unjudged_outputs == 2  # 0.5 and 0.9 have no recorded input to judge them by
+    assert pairing.outside_outputs == 2  # both at the edges
     assert len(pairing.pairs) == 2
 
 
@@ -56,6 +57,7 @@ def test_a_duplicated_output_is_unjudged_like_a_lost_input():
     pairing = pair_outputs(inputs, outputs, expected=lambda v: v / 10.0)
     assert len(pairing.pairs) == 3  # the extra one is indistinguishable from a lost input
     assert pairing.unjudged_outputs == 1 and pairing.unmatched_outputs == 0
+    assert pairing.outside_outputs == 0  # inside the matched span: a test can bound these
 
 
 def test_a_message_lost_in_the_middle_does_not_shift_the_rest():
@@ -74,3 +76,17 @@ def test_a_wrong_value_in_the_middle_is_caught():
     outputs[2] = (2.001, 0.3 // 1)  # integer division: 0.0
     pairing = pair_outputs(inputs, outputs, expected=lambda v: v / 10.0)
     assert pairing.unmatched_outputs == 1
+
+
+def test_outputs_whose_inputs_came_before_the_recording_are_outside_however_many():
+    """A slow node at the start of a recording: its first outputs answer inputs nobody recorded."""
+    inputs = [(1.0 + 0.02 * k, float(k)) for k in range(10)]
+    late = [(1.0 + 0.02 * k + 0.001, (k - 4) / 10.0) for k in range(14)]  # 4 outputs of unrecorded inputs -4..-1
+    pairing = pair_outputs(inputs, late, expected=lambda v: v / 10.0)
+    assert len(pairing.pairs) == 10 and pairing.unmatched_outputs == 0
+    assert pairing.unjudged_outputs == 4 and pairing.outside_outputs == 4
+
+
+def test_no_output_matched_means_every_output_is_outside():
+    pairing = pair_outputs([(1.0, 1.0)], [(1.001, 0.5), (1.002, 0.6)], expected=lambda v: v / 10.0)
+    assert pairing.pairs == [] and pairing.outside_outputs == 2 and pairing.unjudged_outputs == 2
