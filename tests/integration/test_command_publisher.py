@@ -49,7 +49,9 @@ def test_ticks_published_back_to_back_all_reach_the_subscriber_in_order(ros_mast
     pub = ros_master.run([sys.executable, "-c", PUBLISHER, "50"], "burst")
     try:
         seen = lambda: [float(v) for v in re.findall(r"^(-?\d+\.\d+)$", echo.output(), re.M)]  # noqa: E731
-        ros_master.wait_for(lambda: float(TICKS - 1) in seen() or not pub.running, 60, "the last tick to arrive")
+        # the publisher says so after its last publish() returned, which may be after the echo printed it
+        ros_master.wait_for(lambda: ("published" in pub.output() and float(TICKS - 1) in seen()) or not pub.running,
+                            60, "the publisher to finish and its last tick to arrive")
         assert "published" in pub.output(), pub.output()
         assert seen() == [float(k) for k in range(TICKS)]
     finally:
