@@ -287,12 +287,3 @@ def test_a_folder_of_packages_is_refused_too_without_bubblewrap(tmp_path):
     assert code != 0 and len(ours) == 1, stderr
     assert ours[0].startswith("hri-grade: bubblewrap cannot sandbox the students' files here"), stderr
     assert "UNSANDBOXED=1" in ours[0] and not (tmp_path / "grades" / "grades.csv").exists(), stderr
-
-
-def test_mount_rules_decide_each_folder_by_the_deepest_rule_above_it():
-    from hri_teleop.grading.run.kernel_box import mount_rules
-
-    rules = mount_rules(["/home", "/tmp", "/home/prof"], ["/home/prof/hri", "/home", "/home/prof/.venv", "/usr"],
-                        ["/home/prof/hri/solutions", "/tmp/course", "/home/prof/hri/notebooks/submitted"])
-    assert rules == [("hide", "/home"), ("hide", "/tmp"), ("show", "/home/prof/.venv"), ("show", "/home/prof/hri"),
-                     ("hide", "/home/prof/hri/solutions"), ("hide", "/home/prof/hri/notebooks/submitted")]

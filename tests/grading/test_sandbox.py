@@ -92,15 +92,18 @@ def test_a_hang_is_stopped_by_the_caller_and_cpu_time_is_capped(tmp_path):
 
 @pytest.mark.skipif(bool(bwrap_problem()), reason="bubblewrap not usable here: the grader runs with limits only")
 def test_with_bubblewrap_only_the_own_folder_is_writable_and_there_is_no_network(tmp_path):
-    outside = tmp_path / "outside.txt"
+    outside = tmp_path / "outside.txt"  # beside the student's folder, in the machine's /tmp
+    shown = Path(sys.prefix) / "hri-outside.txt"  # in a folder the box shows (read-only)
     code, proc = _run(tmp_path, f"import socket\nopen('mine.txt', 'w').write('ok')\n"
-                                f"try:\n    open({str(outside)!r}, 'w')\nexcept OSError as e:\n    print('write', e.errno)\n"
+                                f"open({str(outside)!r}, 'w').write('in the box')\n"
+                                f"try:\n    open({str(shown)!r}, 'w')\nexcept OSError as e:\n    print('write', e.errno)\n"
                                 "s = socket.socket()\ntry:\n    s.connect(('1.1.1.1', 80))\nexcept OSError as e:\n"
                                 "    print('net', e.errno)\n")
     out = proc.output_tail()
     assert code == 0, out
     assert (tmp_path / "student" / "mine.txt").read_text() == "ok"
-    assert not outside.exists() and "write 30" in out  # EROFS
+    assert not outside.exists(), "the box's /tmp is its own: nothing reaches the machine's"
+    assert not shown.exists() and "write 30" in out  # EROFS
     assert "net " in out
 
 
@@ -108,7 +111,9 @@ def test_student_code_sees_only_the_variables_ros_and_python_need():
     from hri_teleop.grading.run.sandbox import student_environment
 
     env = student_environment({"PATH": "/bin", "ROS_MASTER_URI": "http://127.0.0.1:1/", "LC_ALL": "C",
-                               "GITHUB_TOKEN": "secret", "AWS_SECRET_ACCESS_KEY": "x", "HOME": "/root"})
+                               "GITHUB_TOKEN": "secret", "AWS_SECRET_ACCESS_KEY": "x", "HOME": "/root",
+                               "ROS_SECRET_TOKEN": "x", "LC_CANVAS_TOKEN": "x", "HRI_CANVAS_TOKEN": "x",
+                               "PYTHON_KEYRING_PASSWORD": "x"})
     assert env == {"PATH": "/bin", "ROS_MASTER_URI": "http://127.0.0.1:1/", "LC_ALL": "C", "HOME": "/root"}
 
 

@@ -18,16 +18,16 @@ import subprocess
 import sys
 import time
 import uuid
-from dataclasses import dataclass
+from dataclasses import dataclass, replace
 from typing import Any, Dict, List, Mapping, Optional, Sequence, Tuple
 
 from hri_teleop.core.errors import HriTeleopError
-from hri_teleop.core.paths import REPO
-from hri_teleop.grading.run.sandbox import student_uid
+from hri_teleop.grading.run.sandbox import STUDENT_ENV, student_uid
+from hri_teleop.grading.run.view import View, toolkit_view, under, view_argv
 from hri_teleop.ros.proc_table import uid_process_count
 
-__all__ = ["POLICY_ENV", "SCRATCH_BYTES", "PROCESSES", "CHANNEL", "CHECK_RESULTS", "HIDDEN_ROOTS", "ERROR_MARK",
-           "KernelBoxError", "KernelPolicy", "Box", "mount_rules", "kernel_environment", "box_uid",
+__all__ = ["POLICY_ENV", "SCRATCH_BYTES", "PROCESSES", "CHANNEL", "CHECK_RESULTS", "ERROR_MARK",
+           "KernelBoxError", "KernelPolicy", "Box", "KERNEL_ENV", "kernel_view", "kernel_environment", "box_uid",
            "launch", "main"]
 
 #: Set (to a :class:`KernelPolicy` as JSON) in the environment of nbgrader's autograde: its kernels are boxed.
@@ -43,21 +43,20 @@ CHANNEL = "/run/hri-kernel"
 CHANNEL_BYTES = 16 * 1024 ** 2
 #: Where the box holds its copy of this submission's stored check results (make grade's files job).
 CHECK_RESULTS = CHANNEL + "/check-results"
-#: Folders a kernel never sees (besides the grader's home, and the course and OUT that make grade adds).
-HIDDEN_ROOTS = ("/home", "/root", "/tmp", "/var/tmp", "/run", "/mnt", "/media", "/srv")
-#: Checkout folders a kernel never sees: the answer key, the instructor's course, make's outputs.
-REPO_HIDDEN = ("solutions", "notebooks", "out")
+#: The box's own /tmp (a tmpfs).
+TMP_BYTES = 64 * 1024 ** 2
 #: Lines the launcher prints when the box cannot start start with this (the grader quotes them).
 ERROR_MARK = "kernel sandbox: "
 _READY_TIMEOUT_S = 20.0     # bwrap sets up the box in milliseconds; this only guards a hang
 _POLL_S = 0.005
 _PR_SET_PDEATHSIG = 1
 _SOCKETS = ("shell_port", "iopub_port", "stdin_port", "control_port", "hb_port")
-# The kernel's environment: what Python, ROS, Jupyter's kernel and the notebooks read; never the grader's tokens.
-_ENV_KEYS = {"PATH", "LANG", "LANGUAGE", "TERM", "TZ", "LD_LIBRARY_PATH", "CMAKE_PREFIX_PATH", "PKG_CONFIG_PATH",
-             "MPLBACKEND", "SDL_VIDEODRIVER", "SDL_AUDIODRIVER", "PYGAME_HIDE_SUPPORT_PROMPT", "OPENBLAS_NUM_THREADS",
-             "OMP_NUM_THREADS", "MKL_NUM_THREADS"}
-_ENV_PREFIXES = ("ROS", "LC_", "PYTHON", "HRI_", "NBGRADER_", "CATKIN")
+#: The kernel's environment, by exact name: what Python, ROS, Jupyter's kernel, the notebooks and their check
+#: cells read (grading/README.md, "Notebooks' kernels"); never the grader's tokens or keys, whatever their names.
+KERNEL_ENV = frozenset(STUDENT_ENV | {
+    "TZ", "OPENBLAS_NUM_THREADS", "OMP_NUM_THREADS", "MKL_NUM_THREADS", "NBGRADER_EXECUTION", "HRI_MODE",
+    "HRI_NOTEBOOK_FAST", "HRI_GRADE_SEED", "HRI_GRADE_RESULTS", "HRI_GRADE_SANDBOX", "HRI_GRADE_CLOCK",
+    "HRI_SIM_KERNEL", "HRI_TRIALS", "CATKIN_SHELL"})
 # Run inside the box before the kernel: the launcher ignores SIGINT (Jupyter's interrupt goes to the whole
 # process group, bwrap included), the kernel must take it again.
 _RESET_SIGINT = "import os, signal, sys; signal.signal(signal.SIGINT, signal.SIG_DFL); os.execvp(sys.argv[1], sys.argv[1:])"
@@ -74,8 +73,8 @@ def box_uid() -> Optional[int]:
 
 @dataclass(frozen=True)
 class KernelPolicy:
-    """What one submission's kernels get: ``hidden`` folders of the instructor's (the course, OUT; added to
-    :data:`HIDDEN_ROOTS`), ``check_results`` the host folder of this submission's stored check results
+    """What one submission's kernels get: ``hidden`` folders of the instructor's (the course, OUT: masked
+    should they lie inside what the box shows, :func:`kernel_view`), ``check_results`` the host folder of this submission's stored check results
     (copied into the box), the scratch quota and the process limit. ``own_proc`` False: the box shows the
     machine's /proc instead of mounting its own (in a container that forbids the mount: Gradescope's)."""
 
@@ -102,48 +101,14 @@ class KernelPolicy:
                 from None
 
 
-def _under(path: str, folder: str) -> bool:
-    return path == folder or path.startswith(folder.rstrip("/") + "/")
-
-
-def mount_rules(hidden: Sequence[str], shown: Sequence[str], hidden_inside: Sequence[str]) -> List[Tuple[str, str]]:
-    """("hide" | "show", path) in the order to mount them, so that the deepest rule above a path decides it.
-
-    ``hidden``: the instructor's folders; ``shown``: what the kernel needs that lies in them (the
-    toolkit, its Python), read-only; ``hidden_inside``: folders hidden again inside those (the answer key,
-    the course, OUT). A rule that changes nothing (a folder hidden inside a hidden one, one shown that is
-    not hidden) is left out. Pure: the caller keeps only paths that exist.
-    """
-    rules: Dict[str, str] = {}
-    for tier, (kind, paths) in enumerate((("hide", hidden), ("show", shown), ("hide", hidden_inside))):
-        for raw in paths:
-            path = os.path.normpath(raw)
-            if tier == 1 and any(_under(os.path.normpath(h), path) for h in hidden):
-                continue  # a folder at or above a hidden one (PYTHONPATH=$HOME, say) would show all of it
-            rules[path] = kind
-    ordered: List[Tuple[str, str]] = []
-    for path in sorted(rules, key=lambda p: (p.count("/"), p)):
-        above = [p for p in rules if p != path and _under(path, p)]
-        nearest = max(above, key=len) if above else None
-        if (rules[nearest] if nearest else "show") != rules[path]:
-            ordered.append((rules[path], path))
-    return ordered
-
-
 def kernel_environment(env: Mapping[str, str], home: str, tmp: str) -> Dict[str, str]:
-    """The kernel's environment: what it needs of ``env``, HOME and TMPDIR in its scratch folder, and
-    JPY_PARENT_PID 1: its parent is the box's init, pid 1 (Jupyter's pid would look gone to ipykernel's
-    parent poller, which then ends the kernel; 1 turns the poller off, and the box ends with its launcher)."""
-    kept = {k: v for k, v in env.items() if (k in _ENV_KEYS or k.startswith(_ENV_PREFIXES)) and k != POLICY_ENV}
+    """The kernel's environment: the variables of :data:`KERNEL_ENV` that ``env`` has (an exact list: no prefix
+    lets a token through), HOME and TMPDIR in its scratch folder, and JPY_PARENT_PID 1: its parent is the box's
+    init, pid 1 (Jupyter's pid would look gone to ipykernel's parent poller, which then ends the kernel; 1 turns
+    the poller off, and the box ends with its launcher)."""
+    kept = {k: v for k, v in env.items() if k in KERNEL_ENV}
     kept.update({"HOME": home, "TMPDIR": tmp, "USER": "student", "LOGNAME": "student", "JPY_PARENT_PID": "1"})
     return kept
-
-
-def _search_path_entries(env: Mapping[str, str]) -> List[str]:
-    found = []
-    for key in ("PATH", "PYTHONPATH", "ROS_PACKAGE_PATH", "CMAKE_PREFIX_PATH", "LD_LIBRARY_PATH", "PKG_CONFIG_PATH"):
-        found += [p for p in env.get(key, "").split(os.pathsep) if os.path.isabs(p)]
-    return found
 
 
 def _reachable(path: str, uid: Optional[int]) -> bool:
@@ -165,61 +130,26 @@ def _reachable(path: str, uid: Optional[int]) -> bool:
         parent = os.path.dirname(parent)
 
 
-def _homes(env: Mapping[str, str]) -> List[str]:
-    """The grader's home folder(s): $HOME and the account's."""
-    import pwd  # noqa: PLC0415 - Unix only: imported where it runs
-
-    found = [env.get("HOME", "")]
-    try:
-        found.append(pwd.getpwuid(os.geteuid()).pw_dir)
-    except KeyError:
-        pass
-    return [h for h in found if os.path.isabs(h) and os.path.normpath(h) != "/"]
-
-
-def _rules(policy: KernelPolicy, env: Mapping[str, str], uid: Optional[int]) -> List[Tuple[str, str]]:
-    exe = os.path.realpath(sys.executable)
-    shown = [str(REPO), sys.prefix, sys.base_prefix, os.path.dirname(os.path.dirname(exe))]
-    # the kernel's Python is this one (.pth files included); python -m puts the folder it runs in first
-    shown += [p for p in sys.path if os.path.isabs(p) and os.path.realpath(p) != os.path.realpath(os.getcwd())]
-    shown += _search_path_entries(env)
-    inside = [str(REPO / name) for name in REPO_HIDDEN] + list(policy.hidden)
-    rules = mount_rules([*HIDDEN_ROOTS, *_homes(env)], [os.path.realpath(p) for p in shown],
-                        [os.path.realpath(p) for p in inside])
-    kept: List[Tuple[str, str]] = []
-    for kind, path in rules:
-        above = [p for k, p in kept if _under(path, p)]
-        in_tmpfs = bool(above) and dict((p, k) for k, p in kept)[max(above, key=len)] == "hide"
-        # bwrap, as the box's user, reads a shown folder on the host, and mounts a hidden one where it is
-        # (in a tmpfs of its own, or on the host): a folder that user cannot reach needs no hiding.
-        if os.path.isdir(path) and (_reachable(path, uid) or (kind == "hide" and in_tmpfs)):
-            kept.append((kind, path))
-    return kept
+def kernel_view(policy: KernelPolicy, env: Mapping[str, str], uid: Optional[int]) -> View:
+    """What a kernel's box shows (:func:`hri_teleop.grading.run.view.toolkit_view`: the system, Python and the
+    toolkit without the answers, read-only; nothing else), with ``policy.hidden`` masked where it lies inside
+    a shown folder, and only what the box's user can reach (bwrap, as that user, reads what it binds)."""
+    view = toolkit_view(env)
+    hidden = tuple(h for h in map(os.path.normpath, policy.hidden) if any(under(h, s) for s in view.shown))
+    return replace(view, shown=tuple(p for p in view.shown if _reachable(p, uid)),
+                   masked_files=tuple(p for p in view.masked_files if _reachable(p, uid)),
+                   masked_folders=tuple(p for p in (*view.masked_folders, *hidden) if _reachable(p, uid)))
 
 
-def _in_hidden(path: str, rules: Sequence[Tuple[str, str]]) -> bool:
-    above = [(p, k) for k, p in rules if _under(path, p)]
-    return bool(above) and max(above, key=lambda pk: len(pk[0]))[1] == "hide"
-
-
-def _bwrap_argv(exe: str, rules: Sequence[Tuple[str, str]], cwd: str, policy: KernelPolicy, marker: str,
+def _bwrap_argv(exe: str, view: View, cwd: str, policy: KernelPolicy, marker: str,
                 info_fd: int, block_fd: int) -> List[str]:
+    proc = ["--proc", "/proc"] if policy.own_proc else ["--ro-bind", "/proc", "/proc"]
     argv = [exe, "--unshare-user", "--unshare-pid", "--unshare-net", "--unshare-ipc", "--unshare-uts",
-            "--unshare-cgroup-try", "--die-with-parent", "--cap-drop", "ALL",
-            "--ro-bind", "/", "/", "--dev", "/dev", *(["--proc", "/proc"] if policy.own_proc else
-                                                     ["--ro-bind", "/proc", "/proc"]),
-            "--size", str(SHM_BYTES), "--tmpfs", "/dev/shm"]
-    for kind, path in rules:
-        argv += ["--tmpfs", path] if kind == "hide" else ["--ro-bind", path, path]
-    for mount_point in (cwd, CHANNEL):
-        if _in_hidden(mount_point, rules) or not os.path.isdir(mount_point):
-            argv += ["--dir", mount_point]
-    for kind, path in rules:
-        if kind == "hide":
-            argv += ["--remount-ro", path]
-    argv += ["--remount-ro", "/dev", "--size", str(policy.scratch_bytes), "--tmpfs", cwd,
-             "--size", str(CHANNEL_BYTES), "--tmpfs", CHANNEL, "--dir", marker, "--chdir", cwd,
-             "--info-fd", str(info_fd), "--block-fd", str(block_fd)]
+            "--unshare-cgroup-try", "--die-with-parent", "--cap-drop", "ALL", *view_argv(view, proc, TMP_BYTES),
+            "--size", str(SHM_BYTES), "--tmpfs", "/dev/shm", "--remount-ro", "/dev",
+            "--size", str(policy.scratch_bytes), "--tmpfs", cwd, "--size", str(CHANNEL_BYTES), "--tmpfs", CHANNEL,
+            "--remount-ro", "/", "--dir", marker, "--chdir", cwd,
+            "--info-fd", str(info_fd), "--block-fd", str(block_fd)]
     return argv
 
 
@@ -291,7 +221,7 @@ class Box:
         info_r, info_w = os.pipe()
         block_r, self._block_w = os.pipe()
         nproc = policy.processes + (uid_process_count(os.geteuid()) if self.uid is None else 0)
-        argv = _bwrap_argv(exe, _rules(policy, env, self.uid), cwd, policy, self.marker, info_w, block_r)
+        argv = _bwrap_argv(exe, kernel_view(policy, env, self.uid), cwd, policy, self.marker, info_w, block_r)
         argv += ["--", sys.executable, "-I", "-S", "-c", _RESET_SIGINT, *command]
         home = os.path.join(cwd, ".home")
         self.env = kernel_environment(env, home, os.path.join(cwd, ".tmp"))

@@ -23,13 +23,16 @@ from pathlib import Path
 from typing import Callable, Dict, List, Mapping, Optional, Sequence, TextIO, Tuple
 
 from hri_teleop.core.errors import HriTeleopError
+from hri_teleop.grading.run.view import toolkit_view, view_argv
 from hri_teleop.ros.proc_table import STUDENT_UID_BASE, uid_process_count
 
 __all__ = ["SandboxError", "Limits", "DEFAULT_LIMITS", "sandbox_mode", "bwrap_problem", "session_argv",
-           "StudentProcess", "student_uid", "student_environment", "OUTPUT_CAP_BYTES", "describe_exit"]
+           "StudentProcess", "student_uid", "STUDENT_ENV", "student_environment", "OUTPUT_CAP_BYTES", "describe_exit"]
 
 #: Largest output (stdout + stderr, and any one file) a student process may write.
 OUTPUT_CAP_BYTES = 2 * 1024 * 1024
+#: A student process' own /tmp (a tmpfs: memory, and only as much as it writes).
+TMP_BYTES = 64 * 1024 * 1024
 _MODE_ENV = "HRI_GRADE_SANDBOX"
 
 
@@ -154,9 +157,12 @@ def session_argv(argv: Sequence[str], session_dir: Path, readonly_extra: Sequenc
     return wrapped + list(argv)
 
 
-def _student_argv(argv: Sequence[str], folder: Path, nested: bool, exe: str = "", network: bool = True) -> List[str]:
-    """bubblewrap for one student process: its folder writable, the rest read-only (/tmp too:
-    TMPDIR points into the folder), no capabilities.
+def _student_argv(argv: Sequence[str], folder: Path, nested: bool, exe: str = "", network: bool = True,
+                  env: Optional[Mapping[str, str]] = None) -> List[str]:
+    """bubblewrap for one student process: its folder writable, and of the rest only what it runs on
+    (:func:`hri_teleop.grading.run.view.toolkit_view`: the system, Python, the toolkit without the answers,
+    and the ROS workspace around its folder) read-only; /tmp its own (TMPDIR points into the folder
+    anyway), no capabilities.
 
     ``nested``: inside a session sandbox, whose /proc cannot be mounted again from a user
     namespace; the session's /proc is bound instead (the student's own PID namespace still
@@ -166,21 +172,32 @@ def _student_argv(argv: Sequence[str], folder: Path, nested: bool, exe: str = ""
     exe = exe or shutil.which("bwrap") or "bwrap"
     proc = ["--ro-bind", "/proc", "/proc"] if nested else ["--proc", "/proc"]
     net = [] if network else ["--unshare-net"]
+    env = env if env is not None else os.environ
+    # the catkin-free workspace the grader built around the student's package (stand-ins, ros_intro)
+    around = [str(folder.parent)] if str(folder.parent) in env.get("ROS_PACKAGE_PATH", "").split(":") else []
+    view = toolkit_view(env, writable=[str(folder)], extra_shown=around, cwd=str(folder))
     return [exe, "--unshare-user", "--unshare-pid", "--unshare-ipc", "--unshare-uts", *net, "--die-with-parent",
-            "--cap-drop", "ALL", "--ro-bind", "/", "/", "--dev", "/dev", *proc,
-            "--bind", str(folder), str(folder), "--chdir", str(folder), "--"] + list(argv)
+            "--cap-drop", "ALL", *view_argv(view, proc, TMP_BYTES), "--remount-ro", "/",
+            "--chdir", str(folder), "--"] + list(argv)
 
 
-_ENV_KEYS = {"PATH", "HOME", "LANG", "LANGUAGE", "TERM", "TMPDIR", "PYTHONPATH", "PYTHONUNBUFFERED",
-             "PYTHONDONTWRITEBYTECODE", "PYTHONIOENCODING", "LD_LIBRARY_PATH", "CMAKE_PREFIX_PATH",
-             "PKG_CONFIG_PATH", "MPLBACKEND", "SDL_VIDEODRIVER", "SDL_AUDIODRIVER", "PYGAME_HIDE_SUPPORT_PROMPT",
-             "HRI_PAD_CLOCK", "HRI_CLOCK_SLEEP_ROOT"}
-_ENV_PREFIXES = ("ROS", "LC_")
+#: A student process' environment, by exact name: what Python and ROS need. An exact list, not prefixes: the
+#: grader's own variables (a token named ROS_..., an HRI_CANVAS_TOKEN) stay with it.
+STUDENT_ENV = frozenset({
+    "PATH", "HOME", "LANG", "LANGUAGE", "TERM", "TMPDIR", "PYTHONPATH", "PYTHONUNBUFFERED", "PYTHONDONTWRITEBYTECODE",
+    "PYTHONIOENCODING", "LD_LIBRARY_PATH", "CMAKE_PREFIX_PATH", "PKG_CONFIG_PATH", "MPLBACKEND", "SDL_VIDEODRIVER",
+    "SDL_AUDIODRIVER", "PYGAME_HIDE_SUPPORT_PROMPT", "HRI_PAD_CLOCK", "HRI_CLOCK_SLEEP_ROOT",
+    "LC_ALL", "LC_CTYPE", "LC_NUMERIC", "LC_MESSAGES",
+    "ROS_MASTER_URI", "ROS_HOSTNAME", "ROS_IP", "ROS_PACKAGE_PATH", "ROS_DISTRO", "ROS_ROOT", "ROS_ETC_DIR",
+    "ROS_VERSION", "ROS_PYTHON_VERSION", "ROS_HOME", "ROS_LOG_DIR", "ROS_NAMESPACE", "ROS_LANG_DISABLE",
+    "ROSCONSOLE_CONFIG_FILE", "ROSCONSOLE_FORMAT", "ROSCONSOLE_STDOUT_LINE_BUFFERED", "ROS_PYTHON_LOG_CONFIG_FILE",
+    "ROSLISP_PACKAGE_DIRECTORIES", "ROSOUT_DISABLE_FILE_LOGGING",
+})
 
 
 def student_environment(env: Mapping[str, str]) -> Dict[str, str]:
-    """Only what ROS and Python need: the grader's other variables (tokens, keys) stay with it."""
-    return {k: v for k, v in env.items() if k in _ENV_KEYS or k.startswith(_ENV_PREFIXES)}
+    """Only what ROS and Python need (:data:`STUDENT_ENV`): the grader's other variables stay with it."""
+    return {k: v for k, v in env.items() if k in STUDENT_ENV}
 
 
 def _preexec(limits: Limits, uid: Optional[int], nproc: int) -> Callable[[], None]:
@@ -249,7 +266,7 @@ class StudentProcess:
         self.started_s = time.monotonic()
         self._wrapped = not bwrap_problem()
         self.popen = subprocess.Popen(
-            self.argv if bwrap_problem() else _student_argv(self.argv, self.folder, nested, network=network),
+            self.argv if bwrap_problem() else _student_argv(self.argv, self.folder, nested, network=network, env=env),
             env=dict(env), cwd=str(self.folder),
             stdin=subprocess.DEVNULL, stdout=self._log, stderr=subprocess.STDOUT,
             preexec_fn=_preexec(limits, uid, nproc), close_fds=True,

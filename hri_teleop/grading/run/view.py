@@ -1,0 +1,150 @@
+"""What student code sees of the machine when graded: a list of what is shown, never a list of what is hidden.
+
+A box that binds the whole machine read-only and hides some folders leaves everything nobody thought of
+in sight: the checkout's ``.git`` (``git show HEAD:solutions/...``), the answer key, the course's test
+cells, other students' work, the gradebook, the grader's home. So a box (a student process, a notebook's
+kernel) starts from an empty root and is given, read-only, only what it runs on:
+
+* the system (``/usr`` and the links into it, ``/etc``, ``/opt`` where ROS Noetic lives, ``/sys``);
+* the Python that runs it (its prefix, its base prefix and the folders of its ``sys.path``);
+* the toolkit: ``hri_teleop`` (without the Gradescope course it ships), the lab's package ``hri_lab``
+  with the files students write masked (an empty file in their place), and the public reference traces;
+* the search paths of its environment (PATH, ROS_PACKAGE_PATH, ...) where they lead to none of the above's
+  neighbours (the checkout's root, a home, /tmp);
+* its own folders, which the caller adds (writable where the caller says).
+
+Everything else (homes, /tmp, /srv, /mnt, the rest of the checkout, a course, an output folder) is not
+there at all. The rules are pure functions of paths and flags; :func:`view_argv` turns them into bubblewrap
+arguments.
+"""
+
+from __future__ import annotations
+
+import os
+import sys
+from dataclasses import dataclass
+from typing import Dict, List, Mapping, Optional, Sequence, Tuple
+
+from hri_teleop.core.paths import REPO
+
+__all__ = ["SYSTEM", "TOOLKIT_SHOWN", "TOOLKIT_MASKED", "FOLDERS_MASKED", "SEARCH_PATH_KEYS", "View", "toolkit_view",
+           "under", "shown_search_paths", "view_argv"]
+
+#: The machine's own software, shown read-only (a link among them is made again as the same link).
+SYSTEM = ("/usr", "/bin", "/sbin", "/lib", "/lib32", "/lib64", "/libx32", "/etc", "/opt", "/sys")
+#: What of the checkout student code runs on (relative to the checkout).
+TOOLKIT_SHOWN = ("hri_teleop", "hri_lab", "grading/traces")
+#: Files of the checkout that stay out of sight inside what is shown: what students write (the lab's
+#: completed deliverables and the CMakeLists whose lines are Ex. 9's answer).
+TOOLKIT_MASKED = ("hri_lab/scripts/mapping_node.py", "hri_lab/scripts/teleoperation.py",
+                  "hri_lab/launch/sensor.launch", "hri_lab/launch/teleoperation.launch",
+                  "hri_lab/config/robot_params.yaml", "hri_lab/CMakeLists.txt", "hri_lab/graph.yaml")
+#: Folders of the checkout masked inside what is shown: the Gradescope course (its notebooks' hidden tests).
+FOLDERS_MASKED = ("hri_teleop/grading/gradescope",)
+#: Environment variables whose folders a box may need (a ROS install elsewhere, a catkin workspace).
+SEARCH_PATH_KEYS = ("PATH", "PYTHONPATH", "ROS_PACKAGE_PATH", "CMAKE_PREFIX_PATH", "LD_LIBRARY_PATH",
+                    "PKG_CONFIG_PATH", "ROS_ROOT", "ROS_ETC_DIR")
+#: Never shown, nor anything above them: shown search paths below them are refused.
+_NEVER = ("/home", "/root", "/tmp", "/var/tmp", "/run", "/mnt", "/media", "/srv", "/proc", "/dev")
+
+
+def under(path: str, folder: str) -> bool:
+    """Whether ``path`` is ``folder`` or inside it (by whole components: /srvdata is not under /srv)."""
+    path, folder = os.path.normpath(path), os.path.normpath(folder)
+    return path == folder or folder == "/" or path.startswith(folder + "/")
+
+
+@dataclass(frozen=True)
+class View:
+    """A box's view of the machine: ``shown`` read-only, ``masked_files`` empty, ``masked_folders`` empty,
+    ``links`` (path, target) made as links, ``writable`` bound read-write (the caller's own folders)."""
+
+    shown: Tuple[str, ...]
+    masked_files: Tuple[str, ...] = ()
+    masked_folders: Tuple[str, ...] = ()
+    links: Tuple[Tuple[str, str], ...] = ()
+    writable: Tuple[str, ...] = ()
+
+
+def shown_search_paths(env: Mapping[str, str], repo: str, allowed_in_repo: Sequence[str],
+                       keys: Sequence[str] = SEARCH_PATH_KEYS) -> List[str]:
+    """The absolute folders of ``env``'s search paths a box may see: none at or above the checkout, a home or
+    /tmp (``PYTHONPATH=$HOME`` would show all of it), and inside the checkout only ``allowed_in_repo``."""
+    found: List[str] = []
+    for key in keys:
+        for entry in env.get(key, "").split(os.pathsep):
+            if not os.path.isabs(entry):
+                continue
+            entry = os.path.normpath(entry)
+            if entry == "/" or under(repo, entry) or any(under(entry, n) or under(n, entry) for n in _NEVER):
+                continue
+            if under(entry, repo) and not any(under(entry, a) for a in allowed_in_repo):
+                continue
+            if entry not in found:
+                found.append(entry)
+    return found
+
+
+def _python_folders(cwd: str) -> List[str]:
+    """The running Python's prefixes and its ``sys.path`` folders (never the folder it runs in)."""
+    exe = os.path.realpath(sys.executable)
+    folders = [sys.prefix, sys.base_prefix, os.path.dirname(os.path.dirname(exe))]
+    folders += [p for p in sys.path if os.path.isabs(p) and os.path.realpath(p) != os.path.realpath(cwd)]
+    return [os.path.normpath(p) for p in folders]
+
+
+def toolkit_view(env: Mapping[str, str], writable: Sequence[str] = (), extra_shown: Sequence[str] = (),
+                 repo: Optional[str] = None, cwd: Optional[str] = None) -> View:
+    """The view of a box that runs student code with this toolkit: :data:`SYSTEM`, the running Python, the
+    checkout's :data:`TOOLKIT_SHOWN` (with :data:`TOOLKIT_MASKED` and :data:`FOLDERS_MASKED` out of sight),
+    ``env``'s search paths, ``extra_shown`` read-only and ``writable`` read-write. Only existing paths."""
+    root = os.path.normpath(repo if repo is not None else str(REPO))
+    in_repo = [os.path.join(root, p) for p in TOOLKIT_SHOWN]
+    python = [p for p in _python_folders(cwd or os.getcwd()) if p != "/"]
+    links: List[Tuple[str, str]] = []
+    shown: List[str] = []
+    for path in SYSTEM:
+        if os.path.islink(path):
+            links.append((path, os.readlink(path)))
+        elif os.path.isdir(path):
+            shown.append(path)
+    # the Python's folders inside the checkout (its .venv) are shown; any other part of the checkout is not
+    python_ok = [p for p in python if not under(root, p)]
+    candidates = python_ok + in_repo + shown_search_paths(env, root, in_repo + python_ok) + list(extra_shown)
+    for path in candidates:
+        path = os.path.realpath(path)  # /bin in PATH is /usr/bin, which the links above already lead to
+        if os.path.isdir(path) and not any(under(path, s) for s in shown):
+            shown = [s for s in shown if not under(s, path)] + [path]
+    masked_files = [os.path.join(root, p) for p in TOOLKIT_MASKED if os.path.isfile(os.path.join(root, p))]
+    masked_folders = [os.path.join(root, p) for p in FOLDERS_MASKED if os.path.isdir(os.path.join(root, p))]
+    return View(tuple(sorted(shown)), tuple(masked_files), tuple(masked_folders), tuple(links),
+                tuple(os.path.normpath(w) for w in writable))
+
+
+def view_argv(view: View, proc: Sequence[str] = ("--proc", "/proc"), tmp_bytes: int = 0) -> List[str]:
+    """bubblewrap arguments that build ``view`` on an empty root: links, read-only binds (shallowest first),
+    the masks, /dev and ``proc``, a private /tmp (of ``tmp_bytes`` when given), the writable binds; the root
+    itself is left for the caller, who adds its own mounts and then ``--remount-ro /``."""
+    argv: List[str] = []
+    for path, target in view.links:
+        argv += ["--symlink", target, path]
+    for path in sorted(view.shown, key=lambda p: (p.count("/"), p)):
+        argv += ["--ro-bind", path, path]
+    for path in view.masked_files:
+        argv += ["--ro-bind", "/dev/null", path]
+    for path in view.masked_folders:
+        argv += ["--tmpfs", path, "--remount-ro", path]
+    argv += ["--dev", "/dev", *proc]
+    argv += (["--size", str(tmp_bytes)] if tmp_bytes else []) + ["--tmpfs", "/tmp"]
+    for path in view.writable:
+        argv += ["--bind", path, path]
+    return argv
+
+
+def mount_points(view: View) -> Dict[str, str]:
+    """Each path the view mounts -> how ("ro", "rw", "mask", "link"): for tests and the threat model."""
+    kinds: Dict[str, str] = {p: "ro" for p in view.shown}
+    kinds.update({p: "mask" for p in (*view.masked_files, *view.masked_folders)})
+    kinds.update({p: "link" for p, _t in view.links})
+    kinds.update({p: "rw" for p in view.writable})
+    return kinds
