@@ -14,12 +14,13 @@ import os
 import sys
 import tempfile
 import time
+import traceback
 from dataclasses import dataclass, replace
 from pathlib import Path
 from typing import Any, Dict, List, Optional, Sequence, Tuple
 
 from hri_teleop.grading.cases.inputs import seed_for, student_seed
-from hri_teleop.grading.gradescope.layout import find_upload
+from hri_teleop.grading.gradescope.layout import find_upload, printable
 from hri_teleop.grading.gradescope.notebooks import COURSE, NOTEBOOKS_TIMEOUT_S, NotebookTests, grade_notebooks
 from hri_teleop.grading.gradescope.report import Unjudged, results_payload
 from hri_teleop.grading.judge.checks import CHECKS
@@ -28,7 +29,7 @@ from hri_teleop.grading.run.jobs import run_job
 from hri_teleop.grading.run.kernel_sandbox import KernelPolicy
 
 __all__ = ["CONFIG_NAME", "CHECKS_ENV", "Config", "load_config", "load_config_checks", "student_from_metadata",
-           "seed_from_metadata", "grade_upload", "main"]
+           "seed_from_metadata", "grade_upload", "not_graded", "write_results", "main"]
 
 #: The autograder's settings, at the zip's root (written by ``make gradescope``).
 CONFIG_NAME = "gradescope.json"
@@ -166,8 +167,27 @@ def grade_upload(submission: Path, work: Path, config: Config, seed: Optional[in
                            notebook_tests=graded.tests, notebooks_unjudged=graded.unjudged)
 
 
+def not_graded(reason: str) -> Dict[str, Any]:
+    """results.json of an upload that could not be graded: score 0 and ``reason`` in one line."""
+    line = printable(" ".join(reason.split()))[:500]
+    return {"score": 0.0, "tests": [], "visibility": "visible", "stdout_visibility": "hidden",
+            "output_format": "text", "output": f"Not graded: {line}"}
+
+
+def write_results(results_file: Path, payload: Dict[str, Any]) -> None:
+    """``payload`` as results.json: valid UTF-8 JSON whatever bytes the upload's names held."""
+    text = json.dumps(payload, indent=2, ensure_ascii=False)
+    results_file.write_bytes(text.encode("utf-8", "replace"))
+
+
 def main(argv: Optional[Sequence[str]] = None) -> int:
-    """run_autograder: grade /autograder/submission into /autograder/results/results.json (``--root`` elsewhere)."""
+    """run_autograder: grade /autograder/submission into /autograder/results/results.json (``--root`` elsewhere).
+
+    Whatever the upload holds, results.json is written: an upload that cannot be opened (GradingError) gets
+    its one-line reason; a grader crash a one-line "not graded" (its traceback goes to the scratch folder's
+    crash.log, for course staff)."""
+    if hasattr(sys.stdout, "reconfigure"):  # a file name's stray bytes printed must not stop the run
+        sys.stdout.reconfigure(errors="backslashreplace")
     args = list(sys.argv[1:] if argv is None else argv)
     root = Path(args[args.index("--root") + 1]) if "--root" in args else Path("/autograder")
     results_file = root / "results" / "results.json"
@@ -184,9 +204,14 @@ def main(argv: Optional[Sequence[str]] = None) -> int:
             seed = seed_for(root / "submission")
         payload = grade_upload(root / "submission", work, config, seed, root / "source" / COURSE, hidden=(root,))
     except GradingError as exc:  # an upload that cannot be opened: one line for the student
-        payload = {"score": 0.0, "tests": [], "visibility": "visible", "stdout_visibility": "hidden",
-                   "output": f"Not graded: {exc}"}
-    results_file.write_text(json.dumps(payload, indent=2), encoding="utf-8")
+        payload = not_graded(str(exc))
+    except Exception as exc:  # noqa: BLE001 - whatever the upload does to the grader, results.json is written
+        crash = work / "crash.log"
+        crash.write_text(traceback.format_exc(), encoding="utf-8", errors="backslashreplace")
+        print(f"run_autograder: the grader stopped with {type(exc).__name__}; its traceback is in {crash}", flush=True)
+        payload = not_graded(f"the autograder stopped with {type(exc).__name__} on this upload; course staff will "
+                             "look at it (upload your hri_lab folder, zipped or as it is, to try again)")
+    write_results(results_file, payload)
     print(f"run_autograder: score {payload['score']:g}, {len(payload['tests'])} tests, scratch files in {work}")
     return 0
 

@@ -8,23 +8,29 @@ deliverables, fills what it lacks from files of the same name elsewhere, and say
 
 from __future__ import annotations
 
+import os
 import shutil
 import stat
 import zipfile
+import zlib
 from dataclasses import dataclass, field
 from pathlib import Path, PurePosixPath
 from typing import Dict, List, Optional, Sequence, Tuple
 
 from hri_teleop.grading.results import GradingError
+from hri_teleop.grading.run.untrusted_files import copy_tree
 from hri_teleop.grading.run.workspace import DELIVERABLES
 
-__all__ = ["Upload", "PACKAGE_FILES", "MAX_UNPACKED_BYTES", "MAX_ZIP_DEPTH", "find_upload", "is_junk"]
+__all__ = ["Upload", "PACKAGE_FILES", "MAX_UNPACKED_BYTES", "MAX_UPLOAD_FILES", "MAX_ZIP_DEPTH", "find_upload",
+           "is_junk", "printable"]
 
 #: Files of the student's package the checks read: the deliverables and what catkin-package judges.
 PACKAGE_FILES: Tuple[str, ...] = tuple(DELIVERABLES.values()) + ("CMakeLists.txt", "package.xml",
                                                                   "scripts/gripper_manager.py")
 #: An upload that unpacks to more than this is refused (a zip bomb must not fill the grader's disk).
 MAX_UNPACKED_BYTES = 200 * 1024 * 1024
+#: ... and one that holds more files than this (zips inside zips counted in).
+MAX_UPLOAD_FILES = 5000
 #: Zips inside zips are opened this deep (the upload itself is depth 0).
 MAX_ZIP_DEPTH = 3
 _JUNK_DIRS = {"__MACOSX", ".git", ".ipynb_checkpoints", "__pycache__", ".idea", ".vscode", "build", "devel"}
@@ -47,8 +53,73 @@ def is_junk(relative: PurePosixPath) -> bool:
             or relative.name.startswith("._") or relative.name in _JUNK_DIRS)
 
 
-def _extract(archive: Path, into: Path, budget: List[int]) -> None:
-    """Unpack ``archive`` into ``into``: no member outside it, junk left out, unix modes kept."""
+class _Budget:
+    """What the rest of the upload may still unpack to: bytes and files (a zip bomb stops here)."""
+
+    def __init__(self) -> None:
+        self.bytes = MAX_UNPACKED_BYTES
+        self.files = MAX_UPLOAD_FILES
+
+    def take(self, size: int, where: str) -> None:
+        self.bytes -= size
+        self.files -= 1
+        if self.bytes < 0:
+            raise GradingError(f"{where} unpacks to more than {MAX_UNPACKED_BYTES // 2**20} MB; upload only your "
+                               "hri_lab folder (no bags, builds or videos)")
+        if self.files < 0:
+            raise GradingError(f"{where} holds more than {MAX_UPLOAD_FILES} files; upload only your hri_lab folder "
+                               "(no builds, no virtual environments)")
+
+
+def printable(text: str) -> str:
+    """``text`` with what is not valid UTF-8 (a file name's stray bytes) shown as U+FFFD, for notes and JSON."""
+    return text.encode("utf-8", "surrogateescape").decode("utf-8", "replace")
+
+
+def _left_out(where: str, skipped: Sequence[Tuple[str, str]]) -> List[str]:
+    """One note naming what of ``where`` was not unpacked, and why (the first few)."""
+    if not skipped:
+        return []
+    shown = "; ".join(f"{printable(name)} ({why})" for name, why in skipped[:5])
+    more = f" and {len(skipped) - 5} more" if len(skipped) > 5 else ""
+    return [f"left out of {where}: {shown}{more}; upload plain files and folders only"]
+
+
+def _member_kind(info: zipfile.ZipInfo) -> str:
+    """"" for a plain file member, else why it is left out (a link, a device, a FIFO in the zip's unix mode)."""
+    kind = stat.S_IFMT(info.external_attr >> 16) if info.create_system == 3 else 0
+    if not kind or stat.S_ISREG(kind):
+        return ""
+    return "a link (the grader follows none)" if stat.S_ISLNK(kind) else "not a regular file"
+
+
+def _write_member(zf: zipfile.ZipFile, info: zipfile.ZipInfo, into: Path, parts: Tuple[str, ...]) -> str:
+    """Write one member below ``into`` (only folders and files the grader made on the way): "" or why not."""
+    folder = into
+    for part in parts[:-1]:
+        folder = folder / part
+        if folder.is_symlink() or (folder.exists() and not folder.is_dir()):
+            return "a file and a folder of the same name"
+        folder.mkdir(exist_ok=True)
+    target = folder / parts[-1]
+    if target.is_symlink() or target.is_dir():
+        return "a file and a folder of the same name"
+    try:
+        fd = os.open(target, os.O_WRONLY | os.O_CREAT | os.O_TRUNC | os.O_NOFOLLOW | os.O_CLOEXEC, 0o644)
+    except (OSError, ValueError) as exc:
+        return f"cannot be written here ({getattr(exc, 'strerror', None) or exc})"
+    with os.fdopen(fd, "wb") as dst, zf.open(info) as src:
+        shutil.copyfileobj(src, dst)
+    mode = (info.external_attr >> 16) & 0o777
+    target.chmod((mode or 0o644) | 0o444)
+    return ""
+
+
+def _extract(archive: Path, into: Path, budget: _Budget) -> List[str]:
+    """Unpack ``archive`` into ``into``: no member outside it, junk, links and special files left out (named in
+    the notes it returns), unix modes kept; GradingError (one line) for a zip that cannot be read or is too big."""
+    shown = printable(archive.name)
+    skipped: List[Tuple[str, str]] = []
     try:
         with zipfile.ZipFile(archive) as zf:
             for info in zf.infolist():
@@ -56,44 +127,54 @@ def _extract(archive: Path, into: Path, budget: List[int]) -> None:
                 if info.is_dir() or is_junk(name):
                     continue
                 if name.is_absolute() or ".." in name.parts:
-                    raise GradingError(f"{archive.name}: member {info.filename!r} points outside the archive; "
+                    raise GradingError(f"{shown}: member {printable(info.filename)!r} points outside the archive; "
                                        "zip your hri_lab folder with a normal zip tool and upload again")
-                budget[0] -= info.file_size
-                if budget[0] < 0:
-                    raise GradingError(f"{archive.name}: unpacks to more than {MAX_UNPACKED_BYTES // 2**20} MB; "
-                                       "upload only your hri_lab folder (no bags, builds or videos)")
-                target = into / Path(*name.parts)
-                target.parent.mkdir(parents=True, exist_ok=True)
-                with zf.open(info) as src, open(target, "wb") as dst:
-                    shutil.copyfileobj(src, dst)
-                mode = (info.external_attr >> 16) & 0o777
-                target.chmod((mode or 0o644) | 0o444)
-    except zipfile.BadZipFile as exc:
-        raise GradingError(f"{archive.name}: not a readable zip ({exc}); make it again and upload it") from exc
+                budget.take(info.file_size, shown)
+                parts = tuple(p for p in name.parts if p not in ("", "."))
+                why = _member_kind(info) or ("" if parts else "no name")
+                if not why:
+                    try:
+                        why = _write_member(zf, info, into, parts)
+                    except (RuntimeError, NotImplementedError) as exc:  # encrypted, an unknown compression
+                        why = f"cannot be unpacked ({exc})"
+                if why:
+                    skipped.append((info.filename, why))
+    except (zipfile.BadZipFile, zlib.error, EOFError, UnicodeDecodeError, ValueError, OSError) as exc:
+        why = (printable(str(exc)).splitlines() or [type(exc).__name__])[0][:200]
+        raise GradingError(f"{shown}: not a readable zip ({why}); make it again and upload it") from exc
+    return _left_out(shown, skipped)
 
 
 def _copy_upload(submission: Path, into: Path) -> List[str]:
-    """The upload copied to ``into`` with every zip unpacked beside it (``x.zip`` -> ``x.zip.d/``)."""
-    notes: List[str] = []
-    budget = [MAX_UNPACKED_BYTES]
-    for path in sorted(submission.rglob("*")):
-        relative = PurePosixPath(path.relative_to(submission).as_posix())
-        if is_junk(relative) or path.is_symlink() or not path.is_file():
+    """The upload copied to ``into`` with every zip unpacked beside it (``x.zip`` -> ``x.zip.d/``): regular
+    files and folders only, never through a link (:mod:`hri_teleop.grading.run.untrusted_files`)."""
+    budget = _Budget()
+    report = copy_tree(submission, into, limit_bytes=MAX_UNPACKED_BYTES, max_files=MAX_UPLOAD_FILES,
+                       file_limit_bytes=MAX_UNPACKED_BYTES, skip_dirs=tuple(sorted(_JUNK_DIRS)))
+    if any(why.startswith("past the first") for _, why in report.skipped):
+        raise GradingError(f"the upload holds more than {MAX_UPLOAD_FILES} files; upload only your hri_lab folder")
+    if any("larger than" in why for _, why in report.skipped) or report.bytes > MAX_UNPACKED_BYTES:
+        raise GradingError(f"the upload is larger than {MAX_UNPACKED_BYTES // 2**20} MB; upload only your "
+                           "hri_lab folder (no bags, builds or videos)")
+    notes = _left_out("the upload", [(rel, why) for rel, why in report.skipped if not is_junk(PurePosixPath(rel))])
+    budget.bytes -= report.bytes
+    budget.files -= len(report.copied)
+    for rel in report.copied:
+        target = into / rel
+        if is_junk(PurePosixPath(rel)):
+            target.unlink()
             continue
-        budget[0] -= path.stat().st_size
-        if budget[0] < 0:
-            raise GradingError(f"the upload is larger than {MAX_UNPACKED_BYTES // 2**20} MB; upload only your "
-                               "hri_lab folder (no bags, builds or videos)")
-        target = into / Path(*relative.parts)
-        target.parent.mkdir(parents=True, exist_ok=True)
-        shutil.copyfile(path, target)
-        target.chmod(stat.S_IMODE(path.stat().st_mode) | 0o444)
+        st = os.lstat(submission / rel)
+        if stat.S_ISREG(st.st_mode):  # the student's modes (scripts stay executable), readable by all
+            target.chmod(stat.S_IMODE(st.st_mode) & 0o777 | 0o444)
     for _depth in range(MAX_ZIP_DEPTH):
-        archives = [p for p in sorted(into.rglob("*")) if p.is_file() and p.suffix.lower() == ".zip"
-                    and not p.with_name(p.name + ".d").exists()]
+        archives = [p for p in sorted(into.rglob("*")) if p.is_file() and not p.is_symlink()
+                    and p.suffix.lower() == ".zip" and not p.with_name(p.name + ".d").exists()]
         for archive in archives:
-            _extract(archive, archive.with_name(archive.name + ".d"), budget)
+            target = archive.with_name(archive.name + ".d")
+            target.mkdir()
             notes.append(f"opened {_shown(archive.relative_to(into))}")
+            notes.extend(_extract(archive, target, budget))
         if not archives:
             break
     return notes
@@ -101,7 +182,7 @@ def _copy_upload(submission: Path, into: Path) -> List[str]:
 
 def _shown(relative: Path) -> str:
     """A path of the upload as the student knows it (``x.zip.d/`` reads as ``x.zip/``)."""
-    return "/".join(part[:-2] if part.endswith(".zip.d") else part for part in relative.parts) or "."
+    return printable("/".join(part[:-2] if part.endswith(".zip.d") else part for part in relative.parts) or ".")
 
 
 def _best_folder(root: Path) -> Tuple[Optional[Path], int]:

@@ -23,16 +23,19 @@ from hri_teleop.grading.cases.templates import empty_regions, has_markers
 from hri_teleop.grading.results import GradingError
 from hri_teleop.grading.run.jobs import run_job
 from hri_teleop.grading.run.kernel_sandbox import KernelPolicy, kernel_sandbox
+from hri_teleop.grading.run.untrusted_files import UntrustedFileError, read_regular
 from hri_teleop.ros.kernel import install_kernelspec
 
 __all__ = ["COURSE", "NOTEBOOKS_TIMEOUT_S", "NotebookTests", "course_members", "without_solutions",
-           "course_notebooks", "cell_tests", "grade_notebooks"]
+           "course_notebooks", "cell_tests", "grade_notebooks", "notebook_problem", "MAX_NOTEBOOK_BYTES"]
 
 #: The folder of the zip holding the course (nbgrader_config.py, source/<assignment>/*.ipynb).
 COURSE = "course"
 #: nbgrader autograde of one assignment's uploaded notebooks (each cell also has the course's 300 s).
 NOTEBOOKS_TIMEOUT_S = 600.0
 _HIDDEN = "BEGIN HIDDEN TESTS"
+#: The largest uploaded notebook graded (outputs and images included).
+MAX_NOTEBOOK_BYTES = 50 * 1024 ** 2
 _OUTPUT_CHARS = 1500
 _ANSI = re.compile(r"\x1b\[[0-9;]*m")
 
@@ -132,14 +135,36 @@ def _cell_output(autograded: Path) -> Dict[str, str]:
     return outputs
 
 
+def notebook_problem(path: Path) -> str:
+    """Why the uploaded ``path`` is no notebook nbgrader can run ("" when it is one): not a regular file, too
+    large, not UTF-8 JSON, not nbformat 4 with a list of cells. Read without following a link."""
+    try:
+        notebook = json.loads(read_regular(path, MAX_NOTEBOOK_BYTES).decode("utf-8"))
+    except UntrustedFileError as exc:  # the message without the scratch folder's path
+        why = str(exc)
+        return why[len(str(path)):].lstrip(": ") if why.startswith(str(path)) else why.split(": ", 1)[-1]
+    except UnicodeDecodeError:
+        return "not UTF-8 text"
+    except (ValueError, RecursionError):
+        return "not a Jupyter notebook (not JSON)"
+    if not isinstance(notebook, dict) or notebook.get("nbformat") != 4 or not isinstance(notebook.get("cells"), list) \
+            or not all(isinstance(c, dict) and isinstance(c.get("source", ""), (str, list)) for c in notebook["cells"]):
+        return "not a Jupyter notebook of format 4"
+    return ""
+
+
 def cell_tests(name: str, source: Path, scores: Dict[str, float], outputs: Dict[str, str],
-               not_judged: str = "") -> List[Dict[str, Any]]:
+               not_judged: str = "", refused: str = "") -> List[Dict[str, Any]]:
     """A Gradescope test per autograded cell of the ``source`` notebook: ``scores`` and ``outputs`` by grade
-    id (nbgrader's); cells with hidden tests are ``after_published``; all at 0 when ``not_judged`` says why."""
+    id (nbgrader's); cells with hidden tests are ``after_published``; all at 0 when ``not_judged`` says why
+    (the grader's fault) or ``refused`` (the upload's: e.g. the file is no notebook)."""
     tests = []
     for grade_id, points, hidden in _autograded_cells(source):
-        score = 0.0 if not_judged else scores.get(grade_id, 0.0)
-        if not_judged:
+        score = 0.0 if not_judged or refused else scores.get(grade_id, 0.0)
+        if refused:
+            output = (f"not graded: the uploaded {Path(name).name} is {refused}; open it in Jupyter, save it "
+                      "and upload it again")
+        elif not_judged:
             output = f"not judged: {not_judged}; course staff will regrade it (no need to resubmit)"
         elif score >= points:
             output = outputs.get(grade_id, "") or "passed"
@@ -207,6 +232,12 @@ def grade_notebooks(notebooks: Sequence[Path], package: Path, shipped: Path, wor
     if ignored:
         result.notes.append(f"ignored {', '.join(ignored)}: not notebooks of the course (keep their names: "
                             f"{', '.join(sorted(known)[:3])}, ...)")
+    broken = {stem: why for stem, path in chosen.items() if (why := notebook_problem(path))}
+    for stem, why in sorted(broken.items()):  # no nbgrader run for them: the others of the assignment still run
+        name = f"{known[stem]}/{stem}.ipynb"
+        result.notes.append(f"{name}: not graded, the uploaded file is {why}")
+        result.tests[name] = cell_tests(name, shipped / "source" / known[stem] / f"{stem}.ipynb", {}, {}, refused=why)
+        del chosen[stem]
     course = work / "course"
     if chosen:
         install_kernelspec()  # the notebooks' kernel "hri-teleop", as make grade installs it

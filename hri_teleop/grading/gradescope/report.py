@@ -79,8 +79,10 @@ def results_payload(results: Sequence[CheckResult], unjudged: Sequence[Unjudged]
                                                 + [f"{name} ({why})" for name, why in notebooks_unjudged])
                      + ". Those parts show 0 until course staff regrade; you need not resubmit.")
     lines.extend(dict.fromkeys(list(notes) + [n for r in results for n in r.notes]))
+    # Plain text everywhere: a name or an output a student wrote is never read as HTML or Markdown.
     out: Dict[str, Any] = {"score": round(sum(t["score"] for t in tests), 6), "tests": tests,
-                           "visibility": VISIBLE, "stdout_visibility": "hidden"}
+                           "visibility": VISIBLE, "stdout_visibility": "hidden", "output_format": "text",
+                           "test_output_format": "text", "test_name_format": "text"}
     if execution_time_s:
         out["execution_time"] = round(execution_time_s, 1)
     if lines:
