@@ -217,7 +217,7 @@ def test_a_hostile_notebook_is_refused_each_thing_and_honest_ones_keep_their_poi
     seen = _attack_outputs(course, "mallory")
     hidden = ("No such file or directory", "Read-only file system")  # not there, or there and read-only
     assert any(w in seen["home"] for w in hidden) and not (home / "owned").exists(), seen["home"]
-    assert "Read-only file system" in seen["machine-tmp"] and not leaked, seen["machine-tmp"]
+    assert not leaked, seen["machine-tmp"]  # the kernel's /tmp is its own: the write stays in the box
     assert "FileNotFoundError" in seen["other-student"], seen["other-student"]
     assert "autograded: ['mallory']" in seen["autograded"], seen["autograded"]  # her own folder, nobody else's
     assert "FileNotFoundError" in seen["gradebook"], seen["gradebook"]
@@ -227,7 +227,7 @@ def test_a_hostile_notebook_is_refused_each_thing_and_honest_ones_keep_their_poi
     assert "No space left on device" in seen["disk"], seen["disk"]
     assert "CellTimeoutError" in seen["last"], seen["last"]
     feedback = (course / "feedback" / "mallory" / ASSIGNMENT / f"{NOTEBOOK}.html").read_text()
-    for reason in ("Read-only file system", "No such file or directory", "ConnectionRefusedError", "BlockingIOError",
+    for reason in ("No such file or directory", "ConnectionRefusedError", "BlockingIOError",
                    "No space left on device", "CellTimeoutError"):
         assert reason in feedback, reason  # what the student reads
 

@@ -192,3 +192,49 @@ def test_graded_by_an_unprivileged_instructor_the_box_keeps_their_home_and_ssh_k
     assert "imports ok" in proc.stdout, proc.stdout
     assert f"refused {key}" in proc.stdout, proc.stdout
     assert "PRIVATE-KEY" not in proc.stdout
+
+
+# -- before grading anyone: student code must reach the toolkit ----------------------------------------------------
+
+@pytest.mark.parametrize("mode,reachable", [(0o700, False), (0o750, False), (0o701, True), (0o755, True),
+                                            (0o711, True)])
+def test_a_folder_other_users_cannot_enter_above_the_toolkit_is_named_with_the_fix(box_folder, mode, reachable):
+    from hri_teleop.grading.run.sandbox import unreachable
+
+    root = box_folder / "private"
+    (root / "hri" / ".venv" / "bin").mkdir(parents=True)
+    python = root / "hri" / ".venv" / "bin" / "python"
+    python.write_text("")
+    root.chmod(mode)
+    try:
+        problem = unreachable([str(python)], uid=123456)
+    finally:
+        root.chmod(0o755)
+    if reachable:
+        assert problem == ""
+    else:
+        assert problem.startswith(f"student code cannot reach {python}: {root} (mode {mode:04o})"), problem
+        assert f"chmod o+x {root}" in problem and "\n" not in problem
+
+
+def test_the_grader_s_own_user_needs_no_check():
+    from hri_teleop.grading.run.sandbox import unreachable
+
+    assert unreachable(["/root/anything/python"], uid=None) == ""
+
+
+def test_grading_refuses_in_one_line_before_anyone_when_the_toolkit_is_out_of_reach(box_folder, monkeypatch):
+    """Graded as root from a checkout in a 0700 folder, every student got 0 ("could not be imported")."""
+    from hri_teleop.grading.run import sandbox
+
+    if os.geteuid() != 0:
+        pytest.skip("only root grades under a uid of its own")
+    hidden = box_folder / "locked" / "hri_teleop"
+    hidden.mkdir(parents=True)
+    (box_folder / "locked").chmod(0o700)
+    monkeypatch.setattr(sandbox, "toolkit_paths", lambda: [str(hidden)])
+    monkeypatch.setattr(sandbox, "_bwrap_state", {})
+    with pytest.raises(sandbox.SandboxError, match=r"^student code cannot reach .*locked \(mode 0700\)"):
+        sandbox.bwrap_problem()
+    with pytest.raises(sandbox.SandboxError):
+        sandbox.sandbox_mode()

@@ -89,9 +89,53 @@ def _probe_bwrap() -> str:
     return ""
 
 
+def unreachable(paths: Sequence[str], uid: Optional[int]) -> str:
+    """'' when user ``uid`` (None: this process' own user, who reaches what it runs) may enter every folder
+    above each of ``paths``, else one line naming the first folder in the way and the fix.
+
+    As root, student code runs under a uid of its own that owns nothing and is in no group: a checkout
+    inside a folder of mode 0700 (``mktemp -d``, some distributions' homes) hides its Python and toolkit
+    from it, and every check of every student would fail as "could not be imported".
+    """
+    if uid is None:
+        return ""
+    for path in paths:
+        folder = os.path.dirname(os.path.abspath(path))
+        chain = []
+        while True:
+            chain.append(folder)
+            if folder == "/":
+                break
+            folder = os.path.dirname(folder)
+        for folder in reversed(chain):
+            try:
+                mode = os.stat(folder).st_mode
+            except OSError:
+                return f"{folder} cannot be read ({path} lies in it); grade from a checkout every user may enter"
+            if not mode & 0o001:
+                return (f"student code cannot reach {path}: {folder} (mode {mode & 0o777:04o}) lets no other user "
+                        f"in; grade from a checkout every user may enter (chmod o+x {folder}, or clone it under "
+                        "/opt or /srv)")
+    return ""
+
+
+def toolkit_paths() -> List[str]:
+    """What student code runs on, as paths: the Python binary, its prefix and the toolkit's package."""
+    import hri_teleop  # noqa: PLC0415 - only its path is wanted
+
+    return [os.path.realpath(sys.executable), sys.prefix, os.path.dirname(os.path.realpath(hri_teleop.__file__))]
+
+
 def bwrap_problem() -> str:
-    """Why bubblewrap is not used ('' when it is), probed once per process."""
+    """Why bubblewrap is not used ('' when it is), probed once per process.
+
+    First, whatever the mode: the student's uid must reach the toolkit and its Python, or SandboxError
+    (one line): graded without them every student would get zeros.
+    """
     if "problem" not in _bwrap_state:
+        reach = unreachable(toolkit_paths(), student_uid())
+        if reach:
+            raise SandboxError(reach)
         wanted = os.environ.get(_MODE_ENV, "auto").strip().lower()
         if wanted == "none":
             _bwrap_state["problem"] = f"{_MODE_ENV}=none"

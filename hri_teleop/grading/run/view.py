@@ -32,8 +32,9 @@ __all__ = ["SYSTEM", "TOOLKIT_SHOWN", "TOOLKIT_MASKED", "FOLDERS_MASKED", "SEARC
 
 #: The machine's own software, shown read-only (a link among them is made again as the same link).
 SYSTEM = ("/usr", "/bin", "/sbin", "/lib", "/lib32", "/lib64", "/libx32", "/etc", "/opt", "/sys")
-#: What of the checkout student code runs on (relative to the checkout).
-TOOLKIT_SHOWN = ("hri_teleop", "hri_lab", "grading/traces")
+#: What of the checkout student code runs on (relative to the checkout): what the student bundle's toolkit
+#: holds of it, less its docs and setup (the notebooks' kernel starts through tools/kernel.sh).
+TOOLKIT_SHOWN = ("hri_teleop", "hri_lab", "grading/traces", "tools/env.sh", "tools/kernel.sh")
 #: Files of the checkout that stay out of sight inside what is shown: what students write (the lab's
 #: completed deliverables and the CMakeLists whose lines are Ex. 9's answer).
 TOOLKIT_MASKED = ("hri_lab/scripts/mapping_node.py", "hri_lab/scripts/teleoperation.py",
@@ -66,31 +67,34 @@ class View:
     writable: Tuple[str, ...] = ()
 
 
+def _allowed(entry: str, repo: str, allowed_in_repo: Sequence[str]) -> bool:
+    """Whether a search path's folder may be shown: not at or above the checkout, a home or /tmp, and inside
+    the checkout only below ``allowed_in_repo``."""
+    if entry == "/" or under(repo, entry) or any(under(entry, n) or under(n, entry) for n in _NEVER):
+        return False
+    return not under(entry, repo) or any(under(entry, a) for a in allowed_in_repo)
+
+
 def shown_search_paths(env: Mapping[str, str], repo: str, allowed_in_repo: Sequence[str],
-                       keys: Sequence[str] = SEARCH_PATH_KEYS) -> List[str]:
-    """The absolute folders of ``env``'s search paths a box may see: none at or above the checkout, a home or
-    /tmp (``PYTHONPATH=$HOME`` would show all of it), and inside the checkout only ``allowed_in_repo``."""
+                       keys: Sequence[str] = SEARCH_PATH_KEYS, extra: Sequence[str] = ()) -> List[str]:
+    """The absolute folders of ``env``'s search paths (and ``extra``) a box may see: none at or above the
+    checkout, a home or /tmp (``PYTHONPATH=$HOME`` would show all of it), and inside the checkout only
+    ``allowed_in_repo``."""
     found: List[str] = []
-    for key in keys:
-        for entry in env.get(key, "").split(os.pathsep):
-            if not os.path.isabs(entry):
-                continue
-            entry = os.path.normpath(entry)
-            if entry == "/" or under(repo, entry) or any(under(entry, n) or under(n, entry) for n in _NEVER):
-                continue
-            if under(entry, repo) and not any(under(entry, a) for a in allowed_in_repo):
-                continue
-            if entry not in found:
-                found.append(entry)
+    entries = [e for key in keys for e in env.get(key, "").split(os.pathsep)] + list(extra)
+    for entry in entries:
+        if not os.path.isabs(entry):
+            continue
+        entry = os.path.normpath(entry)
+        if _allowed(entry, repo, allowed_in_repo) and entry not in found:
+            found.append(entry)
     return found
 
 
-def _python_folders(cwd: str) -> List[str]:
-    """The running Python's prefixes and its ``sys.path`` folders (never the folder it runs in)."""
+def _python_prefixes() -> List[str]:
+    """The running Python's prefixes (its venv, its installation), wherever they lie."""
     exe = os.path.realpath(sys.executable)
-    folders = [sys.prefix, sys.base_prefix, os.path.dirname(os.path.dirname(exe))]
-    folders += [p for p in sys.path if os.path.isabs(p) and os.path.realpath(p) != os.path.realpath(cwd)]
-    return [os.path.normpath(p) for p in folders]
+    return [os.path.normpath(p) for p in (sys.prefix, sys.base_prefix, os.path.dirname(os.path.dirname(exe)))]
 
 
 def toolkit_view(env: Mapping[str, str], writable: Sequence[str] = (), extra_shown: Sequence[str] = (),
@@ -100,7 +104,9 @@ def toolkit_view(env: Mapping[str, str], writable: Sequence[str] = (), extra_sho
     ``env``'s search paths, ``extra_shown`` read-only and ``writable`` read-write. Only existing paths."""
     root = os.path.normpath(repo if repo is not None else str(REPO))
     in_repo = [os.path.join(root, p) for p in TOOLKIT_SHOWN]
-    python = [p for p in _python_folders(cwd or os.getcwd()) if p != "/"]
+    python = [p for p in _python_prefixes() if p != "/"]
+    here = os.path.realpath(cwd or os.getcwd())  # python -m puts the folder it runs in on sys.path
+    path_entries = [p for p in sys.path if os.path.isabs(p) and os.path.realpath(p) != here]
     links: List[Tuple[str, str]] = []
     shown: List[str] = []
     for path in SYSTEM:
@@ -110,10 +116,11 @@ def toolkit_view(env: Mapping[str, str], writable: Sequence[str] = (), extra_sho
             shown.append(path)
     # the Python's folders inside the checkout (its .venv) are shown; any other part of the checkout is not
     python_ok = [p for p in python if not under(root, p)]
-    candidates = python_ok + in_repo + shown_search_paths(env, root, in_repo + python_ok) + list(extra_shown)
+    candidates = python_ok + in_repo + shown_search_paths(env, root, in_repo + python_ok, extra=path_entries)
+    candidates += list(extra_shown)
     for path in candidates:
         path = os.path.realpath(path)  # /bin in PATH is /usr/bin, which the links above already lead to
-        if os.path.isdir(path) and not any(under(path, s) for s in shown):
+        if (os.path.isdir(path) or os.path.isfile(path)) and not any(under(path, s) for s in shown):
             shown = [s for s in shown if not under(s, path)] + [path]
     masked_files = [os.path.join(root, p) for p in TOOLKIT_MASKED if os.path.isfile(os.path.join(root, p))]
     masked_folders = [os.path.join(root, p) for p in FOLDERS_MASKED if os.path.isdir(os.path.join(root, p))]
