@@ -1,4 +1,9 @@
-"""Ex. 15's check: the student's computation graph against the lab's live one (cached per reference)."""
+"""Ex. 15's check: the student's computation graph against the lab's live one (cached per reference).
+
+The student's graph.yaml is parsed by a probe in a student sandbox with the bounded safe loader
+(an alias bomb or a 100 MB document never reaches the grader's own process); only its plain data
+comes back.
+"""
 
 from __future__ import annotations
 
@@ -12,19 +17,19 @@ import time
 from pathlib import Path
 from typing import Any, Dict, Optional, Union
 
-import yaml
-
 from hri_teleop.grading.judge import compare
 from hri_teleop.grading.judge.harness import (
+    CheckRun,
     grader_shell_env,
     missing_result,
+    refused_result,
     require_ros,
     resolve_deliverable,
     reusable,
     run_session_plan,
 )
 from hri_teleop.grading.results import CheckResult, GradingError
-from hri_teleop.grading.run.records import LiveGraphObservation, LiveGraphPlan, SessionContext
+from hri_teleop.grading.run.records import LiveGraphObservation, LiveGraphPlan, SessionContext, YamlResult
 from hri_teleop.grading.run.sandbox import DEFAULT_LIMITS
 from hri_teleop.grading.run.workspace import (
     REFERENCE_PACKAGE,
@@ -133,21 +138,21 @@ def grade_graph(path: PathLike, *, seed: Optional[int] = None, out_dir: Optional
                 graph_cache: Optional[PathLike] = None) -> CheckResult:
     """Ex. 15: the student's nodes, topics and types against the live graph of the lab's pipeline."""
     key = "graph"
-    root, given, found = resolve_deliverable(path, key)
+    root, given, found, refused = resolve_deliverable(path, key)
     started = time.monotonic()
+    if refused:
+        return refused_result("graph", key, compare.GRAPH, root, refused, None)
     if found is None:
         return missing_result("graph", key, compare.GRAPH, root, None)
-    error, answer = "", None
+    run = CheckRun("graph", root if given is None else given, out_dir, key, given or found)
     try:
-        if found.stat().st_size > 100_000:
-            error = "graph.yaml is larger than 100 kB; list only the pipeline's nodes and topics"
-        else:
-            answer = yaml.safe_load(found.read_text(encoding="utf-8"))
-    except (OSError, UnicodeDecodeError) as exc:
-        error = f"graph.yaml cannot be read ({exc})"
-    except yaml.YAMLError as exc:
-        mark = getattr(exc, "problem_mark", None)
-        error = f"graph.yaml line {mark.line + 1 if mark else '?'}: {getattr(exc, 'problem', exc)}; fix the YAML syntax"
+        data, facts = run.probe("yaml-load", run.space.file(key), "graph-load", YamlResult)
+    finally:
+        run.close()
+    if data is None:
+        error, answer = compare.explain_process(facts, "reading graph.yaml"), None
+    else:
+        error, answer = data.error, data.data
     parts = compare.compare_graph(answer, live_graph(graph_cache) if not error and isinstance(answer, dict)
                                   else LiveGraphObservation(), error)
     return CheckResult("graph", str(found), parts, None, time.monotonic() - started)

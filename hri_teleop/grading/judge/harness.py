@@ -42,6 +42,7 @@ from hri_teleop.grading.run.sandbox import (
     session_argv,
     student_uid,
 )
+from hri_teleop.grading.run.untrusted_files import read_regular
 from hri_teleop.grading.run.workspace import (
     DELIVERABLES,
     REPO,
@@ -49,6 +50,7 @@ from hri_teleop.grading.run.workspace import (
     find_package_root,
     locate,
     prepare_workspace,
+    refusal_for,
     ros_package_path,
 )
 from hri_teleop.ros.master import lab_shell_env
@@ -56,7 +58,30 @@ from hri_teleop.ros.master import lab_shell_env
 PathLike = Union[str, Path]
 P = TypeVar("P", bound=ProbeResult)
 _PROBE_TIMEOUT_S = 20.0
+#: The most a probe's JSON may hold (a student's YAML or parts run are a few kB).
+_PROBE_OUTPUT_CAP = 4 * 1024 ** 2
 TWIST_TOPIC = DEFAULT_TWIST_TOPIC
+
+
+#: How an isolated Python finds what ``PYTHONPATH`` names (ROS from /opt/ros, say) without letting it
+#: shadow anything: ``-I`` ignores the variable, so its entries go last on ``sys.path``, except those in
+#: the working folder (a student's, for a probe), and the module runs as ``-m`` would run it.
+_ISOLATED_BOOT = (
+    "import os, runpy, sys\n"
+    "here = os.path.realpath(os.getcwd())\n"
+    "for entry in os.environ.get('PYTHONPATH', '').split(os.pathsep):\n"
+    "    real = os.path.realpath(entry) if entry else ''\n"
+    "    if real and os.path.commonpath([real, here]) != here and real not in sys.path:\n"
+    "        sys.path.append(real)\n"
+    "module = sys.argv.pop(1)\n"
+    "runpy.run_module(module, run_name='__main__', alter_sys=True)\n")
+
+
+def isolated_module_argv(module: str, args: Sequence[str], python: str = sys.executable) -> List[str]:
+    """``python -m module args`` started isolated (``-I``): neither the working folder nor ``PYTHON*``
+    variables come before the toolkit on ``sys.path``, so no module a student left in their folder (say
+    ``hri_teleop/grading/run/probe.py``) stands in for the grader's."""
+    return [python, "-I", "-c", _ISOLATED_BOOT, module, *args]
 
 
 def require_ros() -> None:
@@ -177,8 +202,8 @@ class CheckRun:
         env.update({"HOME": str(self.space.package), "ROS_HOME": str(self.space.package / ".ros"),
                     "PYTHONDONTWRITEBYTECODE": "1", "MPLBACKEND": "Agg", "SDL_VIDEODRIVER": "dummy",
                     "SDL_AUDIODRIVER": "dummy"})
-        argv = [sys.executable, "-m", "hri_teleop.grading.run.probe", command, str(target)]
-        argv += ([str(plan)] if plan is not None else []) + [str(out)]
+        argv = isolated_module_argv("hri_teleop.grading.run.probe", [command, str(target)] + (
+            [str(plan)] if plan is not None else []) + [str(out)])
         proc = StudentProcess(argv, self.space.package, env, self.session_dir / "logs" / f"{name}.log",
                               DEFAULT_LIMITS, uid=self.uid, nested=True, network=False)
         code = proc.wait(_PROBE_TIMEOUT_S)
@@ -187,10 +212,10 @@ class CheckRun:
         facts = ProcessFacts(exit_code=proc.returncode, output_tail=proc.output_tail(), output_bytes=proc.output_size(),
                              problem=problem or (describe_exit(proc.returncode) if proc.returncode else ""))
         data: Optional[P] = None
-        if out.is_file() and code == 0:
-            try:
-                data = result_type.from_json(json.loads(out.read_text(encoding="utf-8")))
-            except (OSError, ValueError):  # RecordError too: not what the probe writes
+        if code == 0:
+            try:  # the student's uid could have left a link or a FIFO there: read it as any submitted file
+                data = result_type.from_json(json.loads(read_regular(out, _PROBE_OUTPUT_CAP, root=self.space.package)))
+            except (OSError, ValueError):  # UntrustedFileError, RecordError too: not what the probe writes
                 data = None
         return data, facts
 
@@ -209,7 +234,7 @@ def run_session_plan(context: SessionContext, plan: SessionPlan[Obs], session_di
     plan_path.write_text(json.dumps(SessionRequest(context, plan).to_json()), encoding="utf-8")
     out = Path(context.out)
     observation = plan.observation_type()
-    argv = session_argv([sys.executable, "-m", "hri_teleop.grading.run.session", str(plan_path)], session_dir)
+    argv = session_argv(isolated_module_argv("hri_teleop.grading.run.session", [str(plan_path)]), session_dir)
     log = open(session_dir / f"{plan.KIND}.session.log", "wb")
     proc = subprocess.Popen(argv, env=context.env, stdin=subprocess.DEVNULL, stdout=log, stderr=subprocess.STDOUT,
                             start_new_session=True, cwd=str(session_dir))
@@ -245,17 +270,30 @@ def missing_result(check: str, key: str, table: Dict[str, Tuple[str, float]], ro
     return CheckResult(check, str(root / sub), parts, seed)
 
 
-def resolve_deliverable(path: PathLike, key: str) -> Tuple[Path, Optional[Path], Optional[Path]]:
-    """(package root, the file given explicitly or None, the file found or None)."""
+def refused_result(check: str, key: str, table: Dict[str, Tuple[str, float]], root: Path, reason: str,
+                   seed: Optional[int]) -> CheckResult:
+    """Every part failed: the deliverable is a link, a special file or too large (``reason``); nothing of it read."""
+    sub = DELIVERABLES[key]
+    entries = list(table.values())
+    parts = [Part(entries[0][0], entries[0][1], False, reason)]
+    parts += [not_judged(name, points, f"{sub} was not read (see above)") for name, points in entries[1:]]
+    return CheckResult(check, str(root / sub), parts, seed)
+
+
+def resolve_deliverable(path: PathLike, key: str) -> Tuple[Path, Optional[Path], Optional[Path], str]:
+    """(package root, the file given explicitly or None, the file found or None, why it is refused or "").
+
+    Nothing is followed: a file given alone must be a regular file itself, and a file found in a
+    package is reached without a link (:func:`~hri_teleop.grading.run.workspace.refusal_for`)."""
     path = Path(path).expanduser()
-    if not path.exists():
+    if not os.path.lexists(path):
         raise GradingError(f"{path}: no such file or folder; give the student's {DELIVERABLES[key]} or their "
                            "hri_lab folder")
     root = find_package_root(path)
-    if path.is_file():
-        return root, path, path
-
-    return root, None, locate(root, key)
+    if not path.is_dir() or path.is_symlink():
+        return root, path, path, refusal_for(root, key, path)
+    found = locate(root, key)
+    return root, None, found, refusal_for(root, key, found)
 
 
 def finish_check(check: str, run: CheckRun, parts: List[Part], seed: Optional[int], notes: Sequence[str] = ()) -> CheckResult:
@@ -291,10 +329,12 @@ def start_check(check: str, path: PathLike, out_dir: Optional[PathLike], seed: O
            ) -> Tuple[Union[CheckRun, CheckResult], int]:
     """(the check's run, or its result when the file is missing: every part failed; the seed)."""
     key = _KEY[check]
-    root, given, found = resolve_deliverable(path, key)
+    root, given, found, refused = resolve_deliverable(path, key)
     seed = C.default_seed(root) if seed is None else int(seed)
+    hidden = check in ("mapping-node", "teleoperation")
+    if refused:
+        return refused_result(check, key, table_for(check), root, refused, seed if hidden else None), seed
     if found is None:
-        hidden = check in ("mapping-node", "teleoperation")
         return missing_result(check, key, table_for(check), root, seed if hidden else None), seed
     sandbox_mode()  # says once when bubblewrap is missing
     return CheckRun(check, root if given is None else given, out_dir, key, given or found,

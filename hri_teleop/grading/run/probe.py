@@ -1,11 +1,16 @@
 """What runs inside a student sandbox: load, parse or import a student's file, report as JSON.
 
 Student YAML, launch files and modules may run code, so a StudentProcess runs this, never the
-grader's own process; it only observes (docs/grading-internals.md). The grader runs:
+grader's own process; it only observes (docs/grading-internals.md). The grader runs (isolated:
+``python -I``, see :func:`hri_teleop.grading.judge.harness.isolated_module_argv`):
 
     python -m hri_teleop.grading.run.probe rosparam-load FILE OUT
+    python -m hri_teleop.grading.run.probe yaml-load FILE OUT
     python -m hri_teleop.grading.run.probe launch-parse FILE OUT [name:=value ...]
     python -m hri_teleop.grading.run.probe teleop-parts FILE PLAN OUT
+
+Student YAML is read with the bounded safe loader (:func:`hri_teleop.core.yamlfile.load_bounded_all`):
+no Python tags, no eval (rosparam's ``!radians`` is evaluated as arithmetic only), no alias blow-up.
 """
 
 from __future__ import annotations
@@ -16,8 +21,11 @@ import math
 import sys
 import traceback
 from pathlib import Path
-from typing import Any, Dict, List, Optional, Sequence
+from typing import Any, Dict, List, Optional, Sequence, Tuple
 
+import yaml
+
+from hri_teleop.core.yamlfile import BoundedYamlError, load_bounded, load_bounded_all
 from hri_teleop.grading.run.records import (
     LaunchNode,
     LaunchParseResult,
@@ -27,7 +35,9 @@ from hri_teleop.grading.run.records import (
     RosparamResult,
     TeleopPartsPlan,
     TeleopPartsResult,
+    YamlResult,
 )
+from hri_teleop.grading.run.untrusted_files import UntrustedFileError, read_regular
 
 __all__ = ["main"]
 
@@ -55,13 +65,33 @@ def _one_line(exc: BaseException) -> str:
     return " ".join(text.split())[:600]
 
 
-def rosparam_load(path: Path) -> RosparamResult:
-    """``rosparam load FILE`` without a master: rosparam's own loader, merged into '/'."""
-    import rosparam  # noqa: PLC0415 - the probe imports only what its command needs
+#: graph.yaml lists a few nodes and topics.
+GRAPH_CAP_BYTES = 100_000
 
+
+def _rosparam_documents(path: Path) -> List[Tuple[Any, str]]:
+    """What ``rosparam.load_file(path, default_namespace="/")`` returns -- each document and its namespace,
+    ``_ns`` taken out -- read by the bounded loader instead of rosparam's, whose ``!radians`` runs eval."""
+    from rosgraph.names import ns_join  # noqa: PLC0415 - the probe imports only what its command needs
+
+    text = read_regular(path).decode("utf-8")
+    documents = []
+    for doc in load_bounded_all(text):
+        if "_ns" in doc:  # rosparam's own test: a document that is None or a number fails here as there
+            namespace = ns_join("/", doc.get("_ns", None))
+            del doc["_ns"]
+        else:
+            namespace = "/"
+        documents.append((doc, namespace))
+    return documents
+
+
+def rosparam_load(path: Path) -> RosparamResult:
+    """``rosparam load FILE`` without a master, merged into '/': rosparam's reading (its tags, ``_ns``, several
+    documents) through the bounded safe loader, so nothing in the file runs and no alias blows up."""
     try:
-        loaded = rosparam.load_file(str(path), default_namespace="/")
-    except Exception as exc:  # noqa: BLE001 - rosparam raises several kinds; all mean "does not load"
+        loaded = _rosparam_documents(path)
+    except Exception as exc:  # noqa: BLE001 - YAML, decoding, bounds, rosparam's type errors: "does not load"
         return RosparamResult(error=_one_line(exc))
     merged: Dict[str, Any] = {}
     for values, namespace in loaded:
@@ -72,6 +102,28 @@ def rosparam_load(path: Path) -> RosparamResult:
             target = target.setdefault(part, {})
         target.update(values)
     return RosparamResult(ok=True, params=_plain(merged))
+
+
+def yaml_load(path: Path) -> YamlResult:
+    """A student's graph.yaml through the bounded safe loader (one document), or why it cannot be read."""
+    try:
+        text = read_regular(path, GRAPH_CAP_BYTES).decode("utf-8")
+    except UntrustedFileError as exc:
+        if "larger than" in str(exc):
+            return YamlResult(error=f"{path.name} is larger than {GRAPH_CAP_BYTES // 1000} kB; list only the "
+                                    "pipeline's nodes and topics")
+        return YamlResult(error=f"{path.name} cannot be read ({exc})")
+    except UnicodeDecodeError as exc:
+        return YamlResult(error=f"{path.name} cannot be read ({exc})")
+    try:
+        data = load_bounded(text)
+    except BoundedYamlError as exc:
+        return YamlResult(error=f"{path.name}: {exc}")
+    except yaml.YAMLError as exc:
+        mark = getattr(exc, "problem_mark", None)
+        return YamlResult(error=f"{path.name} line {mark.line + 1 if mark else '?'}: {getattr(exc, 'problem', exc)}; "
+                                "fix the YAML syntax")
+    return YamlResult(ok=True, data=_plain(data))
 
 
 def launch_parse(path: Path, args: Sequence[str]) -> LaunchParseResult:
@@ -190,6 +242,8 @@ def main(argv: Optional[Sequence[str]] = None) -> int:
     command, target = args[0], Path(args[1])
     if command == "rosparam-load":
         _write(Path(args[2]), rosparam_load(target))
+    elif command == "yaml-load":
+        _write(Path(args[2]), yaml_load(target))
     elif command == "launch-parse":
         _write(Path(args[2]), launch_parse(target, args[3:]))
     elif command == "teleop-parts":

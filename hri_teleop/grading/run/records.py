@@ -36,7 +36,7 @@ __all__ = [
     "SensorLaunchObservation", "TeleopNodeObservation", "TeleopLaunchSimObservation", "LiveGraphObservation",
     "SessionContext", "SessionPlan", "MappingCasePlan", "MappingNodePlan", "LaunchPlan", "SensorLaunchPlan",
     "TeleopNodePlan", "TeleopLaunchSimPlan", "LiveGraphPlan", "SessionRequest", "PLAN_TYPES",
-    "ProbeResult", "RosparamResult", "LaunchNode", "LaunchParseResult", "PartsTick", "PartsCaseResult",
+    "ProbeResult", "RosparamResult", "YamlResult", "LaunchNode", "LaunchParseResult", "PartsTick", "PartsCaseResult",
     "TeleopPartsResult", "PartsPlanTick", "PartsPlanCase", "TeleopPartsPlan",
 ]
 
@@ -464,6 +464,14 @@ class RosparamResult(ProbeResult):
     """``rosparam load FILE``: the parameters, merged into '/' (YAML's types kept)."""
 
     params: Dict[str, Any] = field(default_factory=dict)
+
+
+@dataclass(frozen=True)
+class YamlResult(ProbeResult):
+    """A student's YAML (graph.yaml) read with the bounded safe loader: its one document as plain data
+    (mapping keys as strings; ``{"__repr__": ...}`` for what JSON has no type for)."""
+
+    data: Any = None
 
 
 @dataclass(frozen=True)

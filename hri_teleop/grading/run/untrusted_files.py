@@ -21,7 +21,8 @@ from typing import Iterator, List, Optional, Tuple, Union
 from hri_teleop.core.errors import HriTeleopError
 
 __all__ = ["UntrustedFileError", "FILE_CAP_BYTES", "TREE_CAP_BYTES", "TREE_CAP_FILES", "read_regular",
-           "regular_size", "is_regular", "copy_regular", "copy_tree", "CopyReport", "walk_regular"]
+           "regular_size", "is_regular", "copy_regular", "copy_tree", "CopyReport", "walk_regular", "kind_of",
+           "refusal"]
 
 #: The largest single file the grader reads from a submission.
 FILE_CAP_BYTES = 2 * 1024 ** 2
@@ -54,6 +55,15 @@ def _parts(path: Path, root: Optional[Path]) -> Tuple[Path, List[str]]:
     return root, parts
 
 
+def kind_of(mode: int) -> str:
+    """What a file of ``mode`` is, in the words of a feedback line ("a link", "a FIFO", ...)."""
+    for test, name in ((stat.S_ISLNK, "a link"), (stat.S_ISDIR, "a folder"), (stat.S_ISFIFO, "a FIFO"),
+                       (stat.S_ISCHR, "a device"), (stat.S_ISBLK, "a device"), (stat.S_ISSOCK, "a socket")):
+        if test(mode):
+            return name
+    return "a regular file" if stat.S_ISREG(mode) else "not a regular file"
+
+
 def _open(path: PathLike, root: Optional[PathLike]) -> int:
     """A descriptor of ``path``, opened without following a link below ``root``; it is a regular file."""
     start, parts = _parts(Path(path), Path(root) if root is not None else None)
@@ -67,16 +77,21 @@ def _open(path: PathLike, root: Optional[PathLike]) -> int:
             try:
                 nxt = os.open(name, _FILE_FLAGS if last else _DIR_FLAGS, dir_fd=fd)
             except OSError as exc:
-                if exc.errno in (errno.ELOOP, errno.ENOTDIR) or (exc.errno == errno.EMLINK):
-                    where = os.path.join(str(start), *parts[: i + 1])
-                    raise UntrustedFileError(f"{where}: a link or not a folder; hand in the file itself, "
-                                             "not a link to it") from None
-                raise UntrustedFileError(f"{os.path.join(str(start), *parts[: i + 1])}: {exc.strerror}") from None
+                where = os.path.join(str(start), *parts[: i + 1])
+                if exc.errno in (errno.ELOOP, errno.EMLINK):
+                    what = "file" if last else "folder"
+                    raise UntrustedFileError(f"{where} is a link; hand in the {what} itself, not a link to "
+                                             "it") from None
+                if exc.errno == errno.ENOTDIR:
+                    raise UntrustedFileError(f"{where} is not a folder; hand in the package's folders "
+                                             "as they are") from None
+                raise UntrustedFileError(f"{where}: {exc.strerror}") from None
             os.close(fd)
             fd = nxt
         mode = os.fstat(fd).st_mode
         if not stat.S_ISREG(mode):
-            raise UntrustedFileError(f"{path}: not a regular file; hand in the file itself")
+            raise UntrustedFileError(f"{os.path.join(str(start), *parts)} is {kind_of(mode)}, not a regular "
+                                     "file; hand in the file itself")
         os.set_blocking(fd, True)
         return fd
     except BaseException:
@@ -93,6 +108,16 @@ def read_regular(path: PathLike, limit_bytes: int = FILE_CAP_BYTES, root: Option
     if len(data) > limit_bytes:
         raise UntrustedFileError(f"{path}: larger than {limit_bytes // 1024} KB; hand in a smaller file")
     return data
+
+
+def refusal(path: PathLike, root: Optional[PathLike] = None) -> str:
+    """Why the grader will not read ``path`` (one line: a link on the way, not a regular file, missing),
+    or "" when it is a regular file reached without a link below ``root``. Reads nothing of it."""
+    try:
+        os.close(_open(path, root))
+    except UntrustedFileError as exc:
+        return str(exc)
+    return ""
 
 
 def regular_size(path: PathLike) -> Optional[int]:
@@ -161,7 +186,7 @@ def walk_regular(root: PathLike, skip_dirs: Tuple[str, ...] = ()) -> Iterator[Tu
             elif stat.S_ISREG(mode):
                 yield rel, "f"
             else:
-                yield rel, "not a regular file"
+                yield rel, f"{kind_of(mode)}, not a regular file"
         stack.extend(reversed(below))
 
 

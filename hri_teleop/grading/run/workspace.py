@@ -5,23 +5,38 @@ files, and launch files say ``pkg="hri_lab"``. So the grader builds an hri_lab p
 student's files at the handout's places, the lab-provided files from the instructor (never the
 student's copy) and stand-ins for the hardware packages (:mod:`hri_teleop.grading.run.standins`).
 Code runs on a copy: the student's folder is never written to.
+
+Nothing here follows a link or opens a special file of the submission: folders are walked with
+``lstat``, files are read one component at a time with ``O_NOFOLLOW`` under a size cap
+(:mod:`hri_teleop.grading.run.untrusted_files`). A deliverable that is a link (to the answer key,
+to another student's file, to ``/etc/shadow``), a FIFO or a device is refused with one line
+(:func:`refusal_for`), never read.
 """
 
 from __future__ import annotations
 
 import os
 import shutil
+import stat
 from dataclasses import dataclass, field
 from pathlib import Path
-from typing import Dict, List, Optional, Sequence, Union
+from typing import Dict, List, Optional, Sequence, Tuple, Union
 
 from hri_teleop.core.errors import HriTeleopError
 from hri_teleop.core.paths import LAB_PACKAGE, REPO
 from hri_teleop.grading.run.standins import SERIAL_NODE_SCRIPT
+from hri_teleop.grading.run.untrusted_files import (
+    FILE_CAP_BYTES,
+    UntrustedFileError,
+    copy_regular,
+    kind_of,
+    refusal,
+    regular_size,
+)
 from hri_teleop.ros.master import finds_hri_lab
 
 __all__ = ["WorkspaceError", "DELIVERABLES", "REPO", "REFERENCE_PACKAGE", "PROVIDED", "find_package_root",
-           "locate", "package_files", "Workspace", "prepare_workspace", "ros_package_path", "FRANKA_MARKER_PARAM"]
+           "locate", "refusal_for", "package_files", "Workspace", "prepare_workspace", "ros_package_path", "FRANKA_MARKER_PARAM"]
 
 REFERENCE_PACKAGE = LAB_PACKAGE
 
@@ -47,22 +62,50 @@ class WorkspaceError(HriTeleopError, RuntimeError):
     """A submission path does not exist or cannot be copied (one line with the fix)."""
 
 
-def _walk(root: Path, depth: int) -> List[Path]:
-    found: List[Path] = []
-    if depth < 0 or not root.is_dir():
+def _mode(path: Path) -> Optional[int]:
+    """``path``'s own mode (a link's, not its target's), or None when there is nothing there."""
+    try:
+        return os.lstat(path).st_mode
+    except OSError:
+        return None
+
+
+def _is_dir(path: Path) -> bool:
+    mode = _mode(path)
+    return mode is not None and stat.S_ISDIR(mode)
+
+
+def _is_regular(path: Path) -> bool:
+    mode = _mode(path)
+    return mode is not None and stat.S_ISREG(mode)
+
+
+def _entries(root: Path, depth: int) -> List[Tuple[Path, int]]:
+    """(path, own mode) of everything below ``root`` down to ``depth`` folders, entering no link and no
+    hidden or build folder; links and special files are listed (to be refused), not entered."""
+    found: List[Tuple[Path, int]] = []
+    if depth < 0 or not _is_dir(root):
         return found
     try:
-        entries = sorted(root.iterdir())
+        names = sorted(os.listdir(root))
     except OSError:
         return found
-    for entry in entries:
-        if entry.name in _SKIP_DIRS or entry.name.startswith(".") or entry.is_symlink():
+    for name in names:
+        if name in _SKIP_DIRS or name.startswith("."):
             continue
-        if entry.is_dir():
-            found.extend(_walk(entry, depth - 1))
-        elif entry.is_file():
-            found.append(entry)
+        entry = root / name
+        mode = _mode(entry)
+        if mode is None:
+            continue
+        found.append((entry, mode))
+        if stat.S_ISDIR(mode):
+            found.extend(_entries(entry, depth - 1))
     return found
+
+
+def _walk(root: Path, depth: int) -> List[Path]:
+    """The regular files below ``root`` (links and special files left out, no link entered)."""
+    return [path for path, mode in _entries(root, depth) if stat.S_ISREG(mode)]
 
 
 def find_package_root(path: Union[str, Path]) -> Path:
@@ -73,26 +116,68 @@ def find_package_root(path: Union[str, Path]) -> Path:
     at its handout place, else the folder itself.
     """
     path = Path(path).expanduser()
-    if not path.exists():
+    if _mode(path) is None:
         raise WorkspaceError(f"{path}: no such file or folder; give the student's file or hri_lab folder")
-    if path.is_file():
+    mode = _mode(path)
+    if mode is not None and stat.S_ISLNK(mode) and os.path.isdir(path):
+        raise WorkspaceError(f"{path} is a link to a folder; give the student's folder itself (the grader follows "
+                             "no link of a submission)")
+    if not _is_dir(path):  # a file, or a link to one, which the checks refuse
         return path.parent.parent if path.parent.name in ("scripts", "config", "launch") else path.parent
-    candidates = [path] + [p for p in sorted(path.glob("*/")) if p.is_dir()] + \
-        [p for p in sorted(path.glob("*/*/")) if p.is_dir()] + [p for p in sorted(path.glob("*/*/*/")) if p.is_dir()]
+    below = [p for p, mode in _entries(path, 2) if stat.S_ISDIR(mode)]
+    candidates = [path] + sorted(below, key=lambda p: (len(p.relative_to(path).parts), str(p)))
     for folder in candidates:
-        if any((folder / sub).is_file() for sub in DELIVERABLES.values()):
+        if any(_reachable(folder, sub) for sub in DELIVERABLES.values()):
             return folder
     return path
+
+
+def _reachable(root: Path, sub: str) -> bool:
+    """Whether ``root/sub`` is a regular file reached through real folders (no link on the way)."""
+    here = root
+    for part in Path(sub).parts[:-1]:
+        here = here / part
+        if not _is_dir(here):
+            return False
+    return _is_regular(root / sub)
 
 
 def locate(root: Path, key: str) -> Optional[Path]:
     """The student's file for ``key``: at its handout place, or anywhere below by its name."""
     sub = DELIVERABLES[key]
-    if (root / sub).is_file():
+    if _is_dir(root) and _reachable(root, sub):
         return root / sub
     name = Path(sub).name
     matches = [p for p in _walk(root, 3) if p.name == name]
     return matches[0] if matches else None
+
+
+def refusal_for(root: Path, key: str, found: Optional[Path] = None) -> str:
+    """Why deliverable ``key`` of the package at ``root`` is not read (one line naming what to hand in
+    instead), or "": ``found`` (:func:`locate`'s file, or a file given alone) is a link, a FIFO, a
+    device or too large; or nothing was found but a link or special file stands in its place (at its
+    handout place, by its name below ``root``, ``root`` itself or a folder below it)."""
+    sub = DELIVERABLES[key]
+    if found is not None:
+        inside = Path(os.path.abspath(found)).is_relative_to(os.path.abspath(root)) and _is_dir(root)
+        why = refusal(found, root if inside else None)
+        if not why and (regular_size(found) or 0) > FILE_CAP_BYTES:
+            why = f"{found} is larger than {FILE_CAP_BYTES // 1024 ** 2} MB; hand in the file itself, not a data dump"
+        return why
+    mode = _mode(root)
+    if mode is not None and not stat.S_ISDIR(mode):
+        return f"{root} is {kind_of(mode)}; hand in the hri_lab folder itself, not a link to it"
+    why = refusal(root / sub, root) if mode is not None else ""
+    if why and "No such file" not in why:  # a link or a special file at the handout place, or on the way
+        return why
+    entries = _entries(root, 3)
+    for path, mode in entries:
+        if path.name == Path(sub).name and not stat.S_ISREG(mode):
+            return refusal(path, root) or f"{path} is {kind_of(mode)}; hand in the file itself"
+    for path, mode in entries:
+        if stat.S_ISLNK(mode) and os.path.isdir(path):
+            return f"{path} is a link; hand in the folder itself, not a link to it"
+    return ""
 
 
 @dataclass
@@ -172,8 +257,8 @@ def package_files(root: Path) -> List[Path]:
     folders, nothing past 20 MB in all: a stray bag or video is not part of the package)."""
     files, total = [], 0
     for path in _walk(root, 4):
-        size = path.stat().st_size
-        if total + size > _MAX_COPY_BYTES:
+        size = regular_size(path)
+        if size is None or size > FILE_CAP_BYTES or total + size > _MAX_COPY_BYTES:
             continue
         total += size
         files.append(path)
@@ -182,9 +267,10 @@ def package_files(root: Path) -> List[Path]:
 
 def _copy_package(root: Path, target: Path) -> None:
     for path in package_files(root):
-        dest = target / path.relative_to(root)
-        dest.parent.mkdir(parents=True, exist_ok=True)
-        shutil.copyfile(path, dest)
+        try:
+            copy_regular(path, target / path.relative_to(root), root=root)
+        except UntrustedFileError:
+            continue  # swapped for a link since the walk: left out, as links are
 
 
 def prepare_workspace(submission: Union[str, Path], session_dir: Path, uid: Optional[int] = None,
@@ -201,6 +287,7 @@ def prepare_workspace(submission: Union[str, Path], session_dir: Path, uid: Opti
     rosserial_python (False in the lab, where the real packages must be found).
     """
     root = find_package_root(single_file or submission)
+    inside = single_file is not None and Path(os.path.abspath(single_file)).is_relative_to(os.path.abspath(root))
     ws = session_dir / "ws"
     package = ws / "hri_lab"
     package.mkdir(parents=True, exist_ok=True)
@@ -214,9 +301,12 @@ def prepare_workspace(submission: Union[str, Path], session_dir: Path, uid: Opti
             space.files[key] = None
             continue
         dest = package / sub
-        dest.parent.mkdir(parents=True, exist_ok=True)
-        if original.resolve() != dest.resolve():
-            shutil.copyfile(original, dest)
+        if os.path.abspath(original) != os.path.abspath(dest):
+            alone = single_file is not None and key == single_key
+            try:  # never through a link, never a FIFO or /proc file (the checks refused those already)
+                copy_regular(original, dest, root=(root if inside else None) if alone else root)
+            except UntrustedFileError as exc:
+                raise WorkspaceError(str(exc)) from None
         space.files[key] = dest
     for key in reference:
         dest = package / DELIVERABLES[key]
