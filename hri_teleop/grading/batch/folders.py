@@ -80,6 +80,7 @@ def submissions_in(folder: Path) -> List[Path]:
     if not folder.is_dir():
         raise BatchError(f"{folder}: no such folder; collect submissions first (nbgrader: notebooks/submitted/) "
                          "or pass the folder, e.g. make grade DIR=path/to/submissions")
+    # a link to a folder is listed too, to be refused by name (grade_one), never graded through
     found = sorted(p for p in folder.iterdir() if p.is_dir() and not p.name.startswith("."))
     if not found:
         raise BatchError(f"{folder}: no submission folders in it; expected one subfolder per student")
@@ -139,6 +140,9 @@ def grade_one(folder: Path, out: Path, graph_cache: Optional[Path], checks: Opti
     """
     out.mkdir(parents=True, exist_ok=True)
     log = out / "grader.log"
+    if folder.is_symlink():  # the grader follows no link of a submission: it could lead to another student's
+        return Outcome(folder.name, 0.0, 0.0, "not graded", 0.0, f"{folder} is a link; put the student's own "
+                       "folder there, not a link to one")
     env = {k: v for k, v in os.environ.items() if k not in (reuse.READ_ENV, reuse.WRITE_ENV)}
     if results_dir is not None:
         env[reuse.WRITE_ENV] = str(results_dir)

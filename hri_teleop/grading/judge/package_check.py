@@ -4,16 +4,20 @@ The handout has students make ``teleoperation.py`` (Ex. 9) and ``gripper_manager
 (Ex. 12 c) executable and list them in the package's ``CMakeLists.txt`` before building the
 workspace. Each of the four facts is a part of its own (partial credit). Nothing runs:
 the check reads file modes and the CMakeLists text (:mod:`hri_teleop.ros.catkin_files`), so it
-judges the same package the same way alone, in a batch, idle or under load.
+judges the same package the same way alone, in a batch, idle or under load. A script or
+CMakeLists.txt that is a link (to the answer key's, to another student's) or not a regular file
+fails its parts with one line; nothing is read through a link.
 """
 
 from __future__ import annotations
 
+import os
 import time
 from pathlib import Path
 from typing import Dict, List, Optional, Sequence, Tuple, Union
 
 from hri_teleop.grading.results import CheckResult, GradingError, Part
+from hri_teleop.grading.run.untrusted_files import UntrustedFileError, read_regular, refusal
 from hri_teleop.grading.run.workspace import find_package_root
 from hri_teleop.ros.catkin_files import installed_programs, is_executable
 
@@ -40,9 +44,12 @@ def _lists(programs: Sequence[str], script: str) -> bool:
 def _executable_part(root: Path, key: str) -> Part:
     name, points = CATKIN_PACKAGE[f"{key}_executable"]
     script = root / _SCRIPTS[key]
-    if not script.is_file():
+    why = refusal(script, root)
+    if why.endswith("No such file or directory"):
         return Part(name, points, False, f"{_SCRIPTS[key]} was not found in {root}: put it at that place in your "
                                          "hri_lab package")
+    if why:
+        return Part(name, points, False, why)
     if is_executable(script):
         return Part(name, points, True)
     return Part(name, points, False, f"{_SCRIPTS[key]} is not executable, and rosrun starts only executable "
@@ -68,19 +75,19 @@ def grade_catkin_package(path: Union[str, Path], *, seed: Optional[int] = None, 
     if exercise is not None and exercise not in EXERCISE_PARTS:
         raise GradingError(f"exercise {exercise!r}: the catkin-package check grades Ex. 9 or Ex. 12; pass 9, 12 or None")
     path = Path(path).expanduser()
-    if not path.exists():
+    if not os.path.lexists(path):
         raise GradingError(f"{path}: no such file or folder; give the student's hri_lab folder (or its CMakeLists.txt)")
-    root = path.parent if path.is_file() and path.name == "CMakeLists.txt" else find_package_root(path)
+    root = path.parent if not path.is_dir() and path.name == "CMakeLists.txt" else find_package_root(path)
     cmake = root / "CMakeLists.txt"
     programs: Optional[List[str]] = None
     problem = ""
-    if not cmake.is_file():
-        problem = f"CMakeLists.txt was not found in {root}: every catkin package has one (restore the released one)"
-    else:
-        try:
-            programs = installed_programs(cmake.read_text(encoding="utf-8"))
-        except (OSError, UnicodeDecodeError) as exc:
-            problem = f"CMakeLists.txt cannot be read ({exc})"
+    try:
+        programs = installed_programs(read_regular(cmake, root=root).decode("utf-8"))
+    except UntrustedFileError as exc:
+        problem = (f"CMakeLists.txt was not found in {root}: every catkin package has one (restore the released one)"
+                   if str(exc).endswith("No such file or directory") else str(exc))
+    except UnicodeDecodeError as exc:
+        problem = f"CMakeLists.txt cannot be read ({exc})"
     parts: Dict[str, Part] = {}
     for key in _SCRIPTS:
         parts[f"{key}_executable"] = _executable_part(root, key)

@@ -17,6 +17,7 @@ from pathlib import Path
 from typing import Optional
 
 from hri_teleop.grading.results import CheckResult
+from hri_teleop.grading.run.untrusted_files import UntrustedFileError, read_regular
 from hri_teleop.grading.run.workspace import DELIVERABLES, locate, package_files
 
 __all__ = ["WRITE_ENV", "READ_ENV", "REUSED_NOTE", "package_digest", "store", "load"]
@@ -30,13 +31,17 @@ REUSED_NOTE = ("make grade graded these same files in its files job: this is tha
 
 
 def package_digest(root: Path) -> str:
-    """SHA-256 over every file a check's workspace takes from the package: path and bytes."""
+    """SHA-256 over every file a check's workspace takes from the package: path and bytes (each read without
+    following a link, under the size cap; one that cannot be read so counts as a marker of its own)."""
     files = set(package_files(root))
     files.update(p for p in (locate(root, key) for key in DELIVERABLES) if p is not None)
     digest = hashlib.sha256()
     for path in sorted(files):
         digest.update(os.path.relpath(path, root).encode("utf-8", "surrogateescape") + b"\0")
-        digest.update(hashlib.sha256(path.read_bytes()).digest())
+        try:
+            digest.update(hashlib.sha256(read_regular(path, root=root)).digest())
+        except UntrustedFileError as exc:
+            digest.update(b"\0refused\0" + str(exc).encode("utf-8", "surrogateescape"))
     return digest.hexdigest()
 
 

@@ -78,7 +78,11 @@ def _open(path: PathLike, root: Optional[PathLike]) -> int:
                 nxt = os.open(name, _FILE_FLAGS if last else _DIR_FLAGS, dir_fd=fd)
             except OSError as exc:
                 where = os.path.join(str(start), *parts[: i + 1])
-                if exc.errno in (errno.ELOOP, errno.EMLINK):
+                try:  # O_DIRECTORY answers ENOTDIR for a link as for a file: ask what it is
+                    own = os.stat(name, dir_fd=fd, follow_symlinks=False).st_mode
+                except OSError:
+                    own = 0
+                if exc.errno in (errno.ELOOP, errno.EMLINK) or stat.S_ISLNK(own):
                     what = "file" if last else "folder"
                     raise UntrustedFileError(f"{where} is a link; hand in the {what} itself, not a link to "
                                              "it") from None
