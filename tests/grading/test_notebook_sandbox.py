@@ -182,6 +182,7 @@ def _attacks(course: Path, home: Path, machine_tmp: Path, port: int) -> Dict[str
             "        children.append(pid)\nfinally:\n    print(f'forked {len(children)}')\n"
             "    for pid in children:\n        os.kill(pid, signal.SIGKILL)\n"
             "    for pid in children:\n        os.waitpid(pid, 0)"),
+        "memory": "held = bytearray(12 << 30)\nprint('held', len(held) >> 30, 'GB')",
         "disk": ("import os\ntry:\n    with open('fill.bin', 'wb') as fh:\n        while True:\n"
                  "            fh.write(b'x' * (1 << 20))\nfinally:\n"
                  "    print('wrote', os.path.getsize('fill.bin') >> 20, 'MB')\n    os.remove('fill.bin')"),
@@ -225,6 +226,7 @@ def test_a_hostile_notebook_is_refused_each_thing_and_honest_ones_keep_their_poi
     forked = int(seen["fork-bomb"].split("forked ", 1)[1].split()[0])
     assert "BlockingIOError" in seen["fork-bomb"] and 0 < forked < FORKS, seen["fork-bomb"]
     assert "No space left on device" in seen["disk"], seen["disk"]
+    assert "MemoryError" in seen["memory"] and "held" not in seen["memory"], seen["memory"]
     assert "CellTimeoutError" in seen["last"], seen["last"]
     feedback = (course / "feedback" / "mallory" / ASSIGNMENT / f"{NOTEBOOK}.html").read_text()
     for reason in ("No such file or directory", "ConnectionRefusedError", "BlockingIOError",

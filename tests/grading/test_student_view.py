@@ -95,6 +95,7 @@ def test_the_box_argv_builds_on_an_empty_root_with_masks_after_the_binds(checkou
     first_mask = argv.index(str(checkout / "hri_lab" / "scripts" / "mapping_node.py"))
     assert argv.index(str(checkout / "hri_lab")) < first_mask
     assert argv[argv.index("/tmp") - 3:argv.index("/tmp")] == ["--size", "1024", "--tmpfs"]
+    assert argv.index("/tmp") < argv.index(str(checkout / "hri_lab")), "a folder shown under /tmp goes on top of it"
     assert argv[-3:] == ["--bind", str(checkout / "out"), str(checkout / "out")]
     assert mount_points(view)[str(checkout / "out")] == "rw"
 

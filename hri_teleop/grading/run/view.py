@@ -129,20 +129,21 @@ def toolkit_view(env: Mapping[str, str], writable: Sequence[str] = (), extra_sho
 
 
 def view_argv(view: View, proc: Sequence[str] = ("--proc", "/proc"), tmp_bytes: int = 0) -> List[str]:
-    """bubblewrap arguments that build ``view`` on an empty root: links, read-only binds (shallowest first),
-    the masks, /dev and ``proc``, a private /tmp (of ``tmp_bytes`` when given), the writable binds; the root
+    """bubblewrap arguments that build ``view`` on an empty root: links, /dev and ``proc``, a private /tmp (of
+    ``tmp_bytes`` when given), read-only binds (shallowest first), the masks, the writable binds; the root
     itself is left for the caller, who adds its own mounts and then ``--remount-ro /``."""
     argv: List[str] = []
     for path, target in view.links:
         argv += ["--symlink", target, path]
+    # /dev, /proc and /tmp first: a folder shown below /tmp (a grading workspace) is bound on top of the tmpfs
+    argv += ["--dev", "/dev", *proc]
+    argv += (["--size", str(tmp_bytes)] if tmp_bytes else []) + ["--tmpfs", "/tmp"]
     for path in sorted(view.shown, key=lambda p: (p.count("/"), p)):
         argv += ["--ro-bind", path, path]
     for path in view.masked_files:
         argv += ["--ro-bind", "/dev/null", path]
     for path in view.masked_folders:
         argv += ["--tmpfs", path, "--remount-ro", path]
-    argv += ["--dev", "/dev", *proc]
-    argv += (["--size", str(tmp_bytes)] if tmp_bytes else []) + ["--tmpfs", "/tmp"]
     for path in view.writable:
         argv += ["--bind", path, path]
     return argv
