@@ -19,6 +19,7 @@ from hri_teleop.grading.batch.late import (
     parse_timestamp,
     parse_when,
     read_late_policy,
+    read_times,
     submission_time,
 )
 
@@ -65,10 +66,11 @@ def test_an_extension_moves_the_deadline_by_days_or_to_a_date():
     assert judge_lateness(policy, "alice", "lab", DEADLINE + 2 * DAY).days == 2  # nobody else's
 
 
-def test_an_unknown_submission_time_costs_nothing_and_says_why():
+def test_an_unknown_submission_time_takes_nothing_itself_and_says_the_penalty_waits():
     got = judge_lateness(_policy(), "alice", "lab", None, problem="no files in x")
-    assert got.fraction == 0 and not got.late
+    assert got.fraction == 0 and not got.late and not got.known
     assert "submission time unknown (no files in x)" in late_line(got, 55)
+    assert late_line(got, 55).endswith("the penalty waits for the instructor")
 
 
 def test_the_feedback_line_says_when_how_late_and_the_penalty():
@@ -166,33 +168,6 @@ def test_a_summer_deadline_is_judged_in_summer_time(tmp_path):
     assert (late.late_s, late.days, late.fraction) == (1.0, 1.0, 0.1)  # one second into summer time's next day
 
 
-@pytest.mark.parametrize("stamp", ["2026-12-01 22:59:00.000000", "2026-12-01 22:59:00", "2026-12-01T22:59:00"])
-def test_a_timestamp_without_a_zone_is_read_as_utc_as_nbgrader_writes_it(tmp_path, stamp):
-    (tmp_path / "timestamp.txt").write_text(stamp + "\n")
-    assert parse_timestamp(tmp_path / "timestamp.txt") == datetime(2026, 12, 1, 22, 59, tzinfo=UTC) == DEADLINE
-    assert submission_time(tmp_path) == (DEADLINE, "timestamp.txt", "")
-
-
-def test_of_two_timestamps_the_later_one_is_the_submission_time(tmp_path):
-    # "a" sorts first and holds the later time: neither the first nor the last file wins, the later time does.
-    for folder, stamp in (("a", "2026-12-02 10:00:00 UTC"), ("b", "2026-12-01 09:00:00 UTC"),
-                          ("c", "2026-12-01 22:00:00 -05:00")):
-        (tmp_path / folder).mkdir()
-        (tmp_path / folder / "timestamp.txt").write_text(stamp)
-    assert submission_time(tmp_path) == (datetime(2026, 12, 2, 10, tzinfo=UTC), "timestamp.txt", "")
-    (tmp_path / "c" / "timestamp.txt").write_text("2026-12-02 05:00:01 -05:00")  # 10:00:01 UTC: later still
-    assert submission_time(tmp_path)[0] == datetime(2026, 12, 2, 10, 0, 1, tzinfo=UTC)
-    (tmp_path / "b" / "timestamp.txt").write_text("not a time")  # an unreadable one does not hide the others
-    assert submission_time(tmp_path)[0] == datetime(2026, 12, 2, 10, 0, 1, tzinfo=UTC)
-
-
-def test_the_newest_file_time_wins_when_there_is_no_timestamp(tmp_path):
-    for name, mtime in (("a.py", 1_700_000_500), ("b.py", 1_700_000_000), ("c.py", 1_600_000_000)):
-        (tmp_path / name).write_text("x")
-        os.utime(tmp_path / name, (mtime, mtime))
-    assert submission_time(tmp_path) == (datetime.fromtimestamp(1_700_000_500, UTC), "file times", "")
-
-
 def test_late_yaml_is_read_with_zones_percentages_and_extensions(tmp_path):
     path = tmp_path / "late.yaml"
     path.write_text('deadline:\n  preparation: "2026-11-24 08:00 Europe/Berlin"\n  lab: 2026-12-01T23:59:00+01:00\n'
@@ -240,24 +215,6 @@ def test_a_per_assignment_deadline_names_the_assignment_it_lacks():
         judge_lateness(_policy(deadlines={"preparation": DEADLINE}), "alice", "lab", DEADLINE)
 
 
-def test_the_submission_time_is_nbgraders_timestamp_else_the_newest_file_time(tmp_path):
-    sub = tmp_path / "alice"
-    (sub / "hri_lab").mkdir(parents=True)
-    (sub / "hri_lab" / "a.py").write_text("x")
-    os.utime(sub / "hri_lab" / "a.py", (1_700_000_000, 1_700_000_000))
-    assert submission_time(sub) == (datetime.fromtimestamp(1_700_000_000, timezone.utc), "file times", "")
-    (sub / "timestamp.txt").write_text("2026-12-01 22:59:00.000000 UTC\n")
-    assert submission_time(sub) == (DEADLINE, "timestamp.txt", "")
-    (sub / "timestamp.txt").write_text("yesterday\n")
-    when, source, problem = submission_time(sub)
-    assert when is None and "timestamp.txt" in problem and "yesterday" in problem
-    nested = tmp_path / "bob"  # plain folders: bob/<assignment>/timestamp.txt, as nbgrader collects them
-    (nested / "task4").mkdir(parents=True)
-    (nested / "task4" / "timestamp.txt").write_text("2026-12-01 23:59:00 +0100")
-    assert submission_time(nested)[:2] == (DEADLINE, "timestamp.txt")
-    assert submission_time(tmp_path / "empty")[2].startswith("no files in")
-
-
 def test_a_zone_name_on_python_38_asks_for_an_offset(monkeypatch):
     import importlib.util
 
@@ -268,3 +225,213 @@ def test_a_zone_name_on_python_38_asks_for_an_offset(monkeypatch):
     monkeypatch.setattr(late, "_zone", lambda name: None)  # as on 3.8: no zoneinfo module
     assert parse_when("2026-12-01 23:59 Europe/Berlin") == (
         "zone names like 'Europe/Berlin' need Python 3.9 or later; write the offset instead, e.g. +01:00")
+
+
+# --- Where submission times come from: only the LMS export decides; the student's timestamp.txt is shown ---
+
+TIMES_HEADER = "student,assignment,submitted_at\n"
+
+
+def _course(tmp_path, rows: str, extra: str = "") -> LatePolicy:
+    """late.yaml (deadline 2026-12-01 23:59 +01:00, 10 % a day, cap 50 %) naming the LMS export ``rows``."""
+    (tmp_path / "submitted-at.csv").write_text(TIMES_HEADER + rows)
+    (tmp_path / "late.yaml").write_text('deadline: "2026-12-01 23:59 +01:00"\nper_day: 10%\ncap: 50%\n'
+                                        "times: submitted-at.csv\n" + extra)
+    return read_late_policy(tmp_path / "late.yaml")
+
+
+def _handed_in(tmp_path, student: str = "alice", stamp=None):
+    folder = tmp_path / "submitted" / student / "lab"
+    (folder / "hri_lab").mkdir(parents=True, exist_ok=True)
+    if stamp is not None:
+        (folder / "timestamp.txt").write_text(stamp)
+    return folder
+
+
+@pytest.mark.parametrize("at, days, fraction", [
+    ("2026-12-01T23:58:59+01:00", 0, 0.0),   # a second before: on time
+    ("2026-12-01T23:59:00+01:00", 0, 0.0),   # at the deadline: on time
+    ("2026-12-01T23:59:01+01:00", 1, 0.1),   # a second after: a day started
+    ("2026-12-02 22:59 UTC", 1, 0.1),        # exactly a day after, in another zone: still the first day
+    ("2026-12-02T23:59:01+01:00", 2, 0.2),   # a second into the second day
+    ("2026-12-05T23:59:01+01:00", 5, 0.5),   # five days started: 50 %, the cap exactly
+    ("2026-12-09T23:59:01+01:00", 9, 0.5),   # nine days started: held at the cap
+])
+def test_the_lms_export_decides_the_penalty_at_each_threshold(tmp_path, at, days, fraction):
+    policy = _course(tmp_path, f"alice,lab,{at}\n")
+    got = submission_time(policy, "alice", "lab", _handed_in(tmp_path))
+    assert got.when == parse_when(at) and got.source == "submitted-at.csv, the LMS export" and not got.problem
+    lateness = judge_lateness(policy, "alice", "lab", got.when, got.shown_source)
+    assert (lateness.days, lateness.known) == (days, True) and lateness.fraction == pytest.approx(fraction)
+    assert "(submitted-at.csv, the LMS export)" in late_line(lateness, 55)
+
+
+@pytest.mark.parametrize("stamp, shown", [
+    ("2026-11-20 10:00:00.000000 UTC", "2026-11-20 10:00:00+00:00"),   # nbgrader's own format, a forged date
+    ("2026-11-20 10:00:00", "2026-11-20 10:00:00+00:00"),              # no zone: read as UTC, as nbgrader does
+    ("2026-12-01T23:59:00+01:00", "2026-12-01 22:59:00+00:00"),        # exactly the deadline
+])
+def test_a_forged_timestamp_never_lowers_the_penalty_and_is_shown_beside_the_trusted_time(tmp_path, stamp, shown):
+    policy = _course(tmp_path, "alice,lab,2026-12-02T23:59:01+01:00\n")  # two days started: 20 %
+    got = submission_time(policy, "alice", "lab", _handed_in(tmp_path, stamp=stamp))
+    lateness = judge_lateness(policy, "alice", "lab", got.when, got.shown_source, got.shown_problem, got.refused)
+    assert lateness.days == 2 and lateness.fraction == pytest.approx(0.2) and not lateness.stamp_refused
+    assert f"(submitted-at.csv, the LMS export; the submission's timestamp.txt says {shown} (not used))" \
+        in late_line(lateness, 55)
+
+
+def test_a_timestamp_alone_decides_nothing_the_time_stays_unknown(tmp_path):
+    policy = _course(tmp_path, "bob,lab,2026-12-01T20:00:00+01:00\n")  # alice has no row
+    got = submission_time(policy, "alice", "lab", _handed_in(tmp_path, stamp="2026-11-20 10:00:00 UTC"))
+    assert got.when is None and got.problem == "submitted-at.csv has no row for alice, lab"
+    lateness = judge_lateness(policy, "alice", "lab", got.when, got.shown_source, got.shown_problem, got.refused)
+    assert not lateness.known and "timestamp.txt says 2026-11-20 10:00:00+00:00 (not used)" in lateness.problem
+    without = tmp_path / "no-times"
+    without.mkdir()
+    (without / "late.yaml").write_text('deadline: "2026-12-01 23:59 +01:00"\nper_day: 10%\n')
+    bare = submission_time(read_late_policy(without / "late.yaml"), "carol", "lab", _handed_in(tmp_path, "carol"))
+    assert bare.when is None and "names no LMS export" in bare.problem and bare.stamp == ""
+
+
+def _secret(tmp_path):
+    secret = tmp_path / "shadow"
+    secret.write_text("root:$6$SECRETHASH:19000:0:99999:7:::\n")
+    secret.chmod(0o600)
+    return secret
+
+
+@pytest.mark.parametrize("kind, said", [
+    ("link to a secret", "timestamp.txt is a link (not followed)"),
+    ("link to a valid time", "timestamp.txt is a link (not followed)"),
+    ("fifo", "timestamp.txt is not a regular file"),
+    ("folder", "timestamp.txt is not a regular file"),
+    ("10 MB", "timestamp.txt is larger than 1024 bytes"),
+    ("markup", "timestamp.txt does not hold a date and time"),
+    ("binary", "timestamp.txt does not hold a date and time"),
+    ("empty", "timestamp.txt is empty"),
+])
+def test_a_timestamp_that_cannot_be_read_is_shown_never_followed_never_quoted_and_waives_nothing(tmp_path, kind, said):
+    policy = _course(tmp_path, "alice,lab,2026-12-01T23:59:01+01:00\n")  # a second late: 10 %
+    folder = _handed_in(tmp_path)
+    stamp = folder / "timestamp.txt"
+    if kind == "link to a secret":
+        stamp.symlink_to(_secret(tmp_path))
+    elif kind == "link to a valid time":
+        (tmp_path / "elsewhere.txt").write_text("2026-11-01 10:00:00 UTC")
+        stamp.symlink_to(tmp_path / "elsewhere.txt")
+    elif kind == "fifo":
+        os.mkfifo(stamp)  # a reader without O_NONBLOCK would wait for ever
+    elif kind == "folder":
+        stamp.mkdir()
+    elif kind == "10 MB":
+        stamp.write_bytes(b"2026-11-01 10:00:00 UTC" + b"A" * 10 * 1024 ** 2)
+    elif kind == "markup":
+        stamp.write_text("<script>alert('SECRETHASH')</script>")
+    elif kind == "binary":
+        stamp.write_bytes(b"\x00\xff\xfeSECRETHASH\x1b[2J")
+    else:
+        stamp.write_text("")
+    got = submission_time(policy, "alice", "lab", folder)
+    assert got.refused and got.stamp == f"the submission's {said} (not used, shown to the instructor)"
+    lateness = judge_lateness(policy, "alice", "lab", got.when, got.shown_source, got.shown_problem, got.refused)
+    assert lateness.days == 1 and lateness.fraction == pytest.approx(0.1) and lateness.stamp_refused
+    line = late_line(lateness, 55)
+    assert "\n" not in line and "SECRETHASH" not in line and "<script" not in line and "AAAA" not in line, line
+    assert said in line
+    assert Lateness.from_dict(lateness.to_dict()) == lateness
+
+
+def test_a_link_in_a_sub_folder_is_not_followed_and_a_nested_stamp_is_read_below_the_root(tmp_path):
+    policy = _course(tmp_path, "bob,*,2026-12-01T20:00:00+01:00\n")
+    folder = tmp_path / "submitted" / "bob"
+    (folder / "task4").mkdir(parents=True)
+    (folder / "task4" / "timestamp.txt").write_text("2026-12-01 18:00:00 UTC")  # plain folders: one level below
+    other = tmp_path / "other"
+    other.mkdir()
+    (other / "timestamp.txt").symlink_to(_secret(tmp_path))
+    (folder / "zz").symlink_to(other, target_is_directory=True)  # a linked folder is not entered
+    got = submission_time(policy, "bob", "files", folder)
+    assert got.when == datetime(2026, 12, 1, 19, tzinfo=UTC) and not got.refused
+    assert got.stamp == "the submission's a sub-folder's timestamp.txt says 2026-12-01 18:00:00+00:00 (not used)"
+
+
+def test_file_times_decide_nothing_not_even_a_pycache_written_after_the_deadline(tmp_path):
+    policy = _course(tmp_path, "alice,lab,2026-12-01T23:00:00+01:00\n")  # on time by the LMS
+    folder = _handed_in(tmp_path)
+    future = DEADLINE.timestamp() + 30 * 86400
+    for relative in ("hri_lab/scripts/__pycache__/teleoperation.cpython-311.pyc", "hri_lab/scripts/teleoperation.py"):
+        (folder / relative).parent.mkdir(parents=True, exist_ok=True)
+        (folder / relative).write_text("x")
+        os.utime(folder / relative, (future, future))
+    got = submission_time(policy, "alice", "lab", folder)
+    assert not judge_lateness(policy, "alice", "lab", got.when).late
+    unknown = submission_time(policy, "bob", "lab", folder)  # no row: file times do not stand in
+    assert unknown.when is None and unknown.source == ""
+
+
+def test_an_assignments_own_row_extension_and_deadline_win_over_the_star(tmp_path):
+    # the "*" row last and first: the assignment's own row wins either way
+    for rows in ("bob,lab,2026-12-01T23:00:00+01:00\nbob,*,2026-12-05T23:00:00+01:00\n",
+                 "bob,*,2026-12-05T23:00:00+01:00\nbob,lab,2026-12-01T23:00:00+01:00\n"):
+        policy = _course(tmp_path, rows)
+        assert submission_time(policy, "bob", "lab", _handed_in(tmp_path, "bob")).when == \
+            datetime(2026, 12, 1, 23, tzinfo=CET)
+        assert submission_time(policy, "bob", "preparation", _handed_in(tmp_path, "bob")).when == \
+            datetime(2026, 12, 5, 23, tzinfo=CET)
+    own = _policy(extensions={"bob": {ALL_ASSIGNMENTS: Extension(days=3), "lab": Extension(days=1)}})
+    assert own.deadline_for("bob", "lab") == (DEADLINE + DAY, True)
+    assert own.deadline_for("bob", "preparation") == (DEADLINE + 3 * DAY, True)
+    per = _policy(deadlines={ALL_ASSIGNMENTS: DEADLINE, "lab": DEADLINE + 2 * DAY})
+    assert per.deadline_for("bob", "lab") == (DEADLINE + 2 * DAY, False)
+    assert per.deadline_for("bob", "preparation") == (DEADLINE, False)
+
+
+def test_the_lms_export_takes_a_byte_order_mark_other_columns_and_a_blank_time(tmp_path):
+    (tmp_path / "times.csv").write_bytes(
+        "\ufeffSubmitted_At,Name,Student,Assignment\n2026-12-01T23:00:00+01:00,Alice A.,alice,\n,Bob B.,bob,lab\n"
+        .encode("utf-8"))
+    (tmp_path / "late.yaml").write_text('deadline: "2026-12-01 23:59 +01:00"\nper_day: 10%\ntimes: times.csv\n')
+    policy = read_late_policy(tmp_path / "late.yaml")
+    assert policy.times == {("alice", ALL_ASSIGNMENTS): datetime(2026, 12, 1, 23, tzinfo=CET), ("bob", "lab"): None}
+    blank = submission_time(policy, "bob", "lab", _handed_in(tmp_path, "bob"))
+    assert blank.when is None and blank.problem == "times.csv has no time for bob, lab"
+    assert read_times(tmp_path / "times.csv") == policy.times
+
+
+@pytest.mark.parametrize("csv_text, words", [
+    ("student,submitted_at\nalice,2026-12-01T23:00:00+01:00\n", [":1: no column assignment in the header"]),
+    (TIMES_HEADER + "alice,lab,2026-12-01 23:00\n", [":2: submitted_at '2026-12-01 23:00'", "no time zone"]),
+    (TIMES_HEADER + "alice,lab,2026-12-01T23:00:00Z\nbob,lab,\nalice,lab,2026-12-02T23:00:00Z\n",
+     [":4: a second row for alice, lab", "keep one row per student and assignment"]),
+    (TIMES_HEADER + ",lab,2026-12-01T23:00:00Z\n", [":2: no student id"]),
+    ("", [":1: no column student, assignment, submitted_at"]),
+])
+def test_an_lms_export_that_cannot_be_used_is_one_line_naming_the_file_the_row_and_the_fix(tmp_path, csv_text, words):
+    (tmp_path / "times.csv").write_text(csv_text)
+    (tmp_path / "late.yaml").write_text('deadline: "2026-12-01 23:59 +01:00"\nper_day: 10%\ntimes: times.csv\n')
+    with pytest.raises(LateError) as err:
+        read_late_policy(tmp_path / "late.yaml")
+    message = str(err.value)
+    assert "\n" not in message and str(tmp_path / "times.csv") in message
+    assert "student,assignment,submitted_at" in message, message
+    for word in words:
+        assert word in message, message
+
+
+@pytest.mark.parametrize("line, words", [
+    ("times: gone.csv\n", ["submission times not found", "gone.csv", "relative to late.yaml"]),
+    ("times: [a, b]\n", ["times must be the path", "times: submitted-at.csv"]),
+])
+def test_a_times_key_that_names_no_file_says_what_to_write(tmp_path, line, words):
+    (tmp_path / "late.yaml").write_text('deadline: "2026-12-01 23:59 +01:00"\nper_day: 10%\n' + line)
+    with pytest.raises(LateError) as err:
+        read_late_policy(tmp_path / "late.yaml")
+    assert "\n" not in str(err.value) and all(w in str(err.value) for w in words), str(err.value)
+
+
+def test_parse_timestamp_reads_nbgraders_format_and_never_repeats_what_it_cannot_read():
+    assert parse_timestamp(b"2026-12-01 22:59:00.000000\n") == DEADLINE
+    assert parse_timestamp(b"2026-12-01 23:59:00 +0100") == DEADLINE
+    assert parse_timestamp(b"yesterday <b>") == "timestamp.txt does not hold a date and time"
+    assert parse_timestamp(b"2026-12-01 22:59:00 UTC\n2026-12-01 22:59:00 UTC") == \
+        "timestamp.txt does not hold a date and time"

@@ -155,13 +155,18 @@ def _penalty(late: Sequence[Lateness], assignment: str, max_score: Optional[floa
     return sum(lt.points(max_score) for lt in late if lt.assignment == assignment)
 
 
+def _known(late: Sequence[Lateness], assignment: str) -> bool:
+    """Whether the late policy knows when ``assignment`` was handed in (True without a policy)."""
+    return all(lt.known for lt in late if lt.assignment == assignment)
+
+
 def _folder_student(out: Path, entry: Dict[str, Any]) -> StudentRecord:
     student, status = str(entry["student"]), str(entry["status"])
     late = _late(entry)
     graded = status == "graded"
     maximum = float(entry["max_score"]) if graded else None
     score = AssignmentScore(FILES_ONLY, float(entry["score"]) if graded else None, maximum,
-                            _penalty(late, FILES_ONLY, maximum) if graded else 0.0)
+                            _penalty(late, FILES_ONLY, maximum) if graded else 0.0, _known(late, FILES_ONLY))
     job = Job(student, FILES_ONLY, status, float(entry.get("seconds", 0.0)), str(entry.get("message", "")),
               f"{student}/grader.log", bool(entry.get("sandboxed", True)))
     parts = tuple(_parts_of(out / student / "results.json")) if graded else ()  # none stale from a run before
@@ -189,7 +194,8 @@ def _course_student(out: Path, entry: Dict[str, Any], assignments: Sequence[str]
             continue  # not handed in
         score, maximum = points[assignment]  # its notebooks' and its files' points, each part once
         if score is not None:
-            scores.append(AssignmentScore(assignment, score, maximum, _penalty(late, assignment, maximum)))
+            scores.append(AssignmentScore(assignment, score, maximum, _penalty(late, assignment, maximum),
+                                          _known(late, assignment)))
         else:
             scores.append(AssignmentScore(assignment, None, None))
         if by_key[(assignment, "notebooks")]["status"] == "graded":

@@ -27,7 +27,7 @@ from hri_teleop.grading.batch.report_data import FILES_ONLY, ClassResults
 from hri_teleop.grading.points import assignment_points
 from hri_teleop.grading.run.jobs import Progress, print_line
 
-__all__ = ["find_late_policy", "check_policy", "apply_late", "set_feedback_lines",
+__all__ = ["find_late_policy", "check_policy", "apply_late", "unknown_lines", "set_feedback_lines",
            "mark_feedback_html", "add_totals", "finish", "TOTAL_COLUMNS"]
 
 #: The columns :func:`add_totals` writes at the end of grades.csv.
@@ -74,11 +74,14 @@ def mark_feedback_html(path: Path, line: str) -> None:
 
 
 def apply_late(out: Path, policy: Optional[LatePolicy], folder_of: Callable[[str, str], Path],
-               feedback_html: Optional[Callable[[str, str], Path]] = None) -> List[str]:
+               feedback_html: Optional[Callable[[str, str], Path]] = None,
+               progress: Optional[Progress] = None) -> List[str]:
     """The policy over every student of OUT/summary.json: their ``late`` entries, feedback lines; the students.
 
-    ``folder_of(student, assignment)``: what they handed in (its time counts); ``feedback_html``:
-    nbgrader's feedback folder of a (student, assignment), whose pages get the line too.
+    ``folder_of(student, assignment)``: what they handed in (only its timestamp.txt is looked at, to be
+    shown; the time comes from the policy's LMS export: :func:`~hri_teleop.grading.batch.late.submission_time`);
+    ``feedback_html``: nbgrader's feedback folder of a (student, assignment), whose pages get the line too;
+    ``progress``: one line per student whose time is unknown or whose timestamp.txt could not be read.
     """
     entries = read_summary(out)
     for entry in entries:
@@ -89,8 +92,9 @@ def apply_late(out: Path, policy: Optional[LatePolicy], folder_of: Callable[[str
         for assignment, max_score in handed_in:
             if policy is None:
                 continue
-            when, source, problem = submission_time(folder_of(student, assignment))
-            lateness = judge_lateness(policy, student, assignment, when, source, problem)
+            got = submission_time(policy, student, assignment, folder_of(student, assignment))
+            lateness = judge_lateness(policy, student, assignment, got.when, got.shown_source, got.shown_problem,
+                                      got.refused)
             late.append(lateness)
             line = late_line(lateness, max_score, with_assignment=assignment != FILES_ONLY)
             lines.append(line)
@@ -99,8 +103,28 @@ def apply_late(out: Path, policy: Optional[LatePolicy], folder_of: Callable[[str
                     mark_feedback_html(page, line)
         entry["late"] = [lt.to_dict() for lt in late]
         set_feedback_lines(out / student / "feedback.txt", lines)
+        if progress is not None:
+            for line in unknown_lines(student, late):
+                progress(line)
     write_summary(out, entries)
     return [str(e["student"]) for e in entries]
+
+
+def unknown_lines(student: str, late: Sequence[Lateness]) -> List[str]:
+    """The run's line for a student whose submission time is unknown (their total left blank), or whose
+    timestamp.txt could not be read; none when everything is known and readable."""
+    unknown = [lt for lt in late if not lt.known]
+    refused = [lt for lt in late if lt.known and lt.stamp_refused]
+    lines = []
+    if unknown:
+        what = "; ".join(f"{lt.assignment}: {lt.problem}" for lt in unknown)
+        lines.append(f"late policy: {student}: submission time unknown ({what}); their total stays blank in "
+                     "grades.csv and lms.csv: add the time to the LMS export late.yaml's times: names, then "
+                     "make grade REPORT=1")
+    if refused:
+        what = "; ".join(f"{lt.assignment}: {lt.source}" for lt in refused)
+        lines.append(f"late policy: {student}: {what}")
+    return lines
 
 
 def _handed_in(entry: Dict[str, Any]) -> List[Tuple[str, Optional[float]]]:
@@ -118,12 +142,14 @@ def _number(value: Optional[float]) -> str:
 
 
 def add_totals(path: Path, results: ClassResults) -> None:
-    """grades.csv's ``late_penalty`` (points taken) and ``total`` (after it; blank when not graded) per student."""
+    """grades.csv's ``late_penalty`` (points taken; "unknown" when a submission time is) and ``total`` (after
+    it; blank when not graded or when the penalty is unknown) per student."""
     rows = []
     for record in results.students:
         penalty = sum(a.penalty for a in record.assignments if a.score is not None)
-        rows.append({"student": record.student, "late_penalty": _number(penalty) if record.late else "",
-                     "total": _number(record.total)})
+        unknown = any(not a.late_known for a in record.assignments if a.score is not None)
+        shown = "unknown" if unknown else _number(penalty) if record.late else ""
+        rows.append({"student": record.student, "late_penalty": shown, "total": _number(record.total)})
     update_rows(path, rows, TOTAL_COLUMNS)
 
 
@@ -134,7 +160,7 @@ def finish(out: Path, policy: Optional[LatePolicy], folder_of: Callable[[str, st
     # matplotlib only here: every `hri-grade submission` process imports this module
     from hri_teleop.grading.batch.report import write_class_outputs  # noqa: PLC0415
 
-    apply_late(out, policy, folder_of, feedback_html)
+    apply_late(out, policy, folder_of, feedback_html, progress)
     source = policy.source if policy is not None else ""
     results = read_class(out, assignments, gradebook, source)
     add_totals(out / "grades.csv", results)

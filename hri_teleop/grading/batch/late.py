@@ -2,12 +2,18 @@
 
 A late penalty changes a student's grade, so the rule is a pure function tested at each threshold
 (:func:`judge_lateness`), late.yaml's every problem is one line naming the file, the key and the
-fix, and the time a submission counts as handed in says where it came from (nbgrader's
-``timestamp.txt``, else the newest file time). The file's format: grading/README.md.
+fix, and the time a submission counts as handed in comes only from a source the student cannot
+write: the LMS export the instructor names in late.yaml (``times:``, :func:`read_times`). nbgrader's
+``timestamp.txt`` is written by the student's own ``nbgrader submit`` (and its exchange folder's name
+and the gradebook's timestamp come from the same clock), and file times are the student's too: they
+are shown beside the trusted time, never used to decide (:func:`student_stamp`). Without a trusted
+time the time is unknown, said to the instructor, and the assignment's total is left blank until it
+is given. The formats: grading/README.md.
 """
 
 from __future__ import annotations
 
+import csv
 import difflib
 import importlib
 import importlib.util
@@ -21,14 +27,20 @@ from typing import Any, Dict, List, Mapping, Optional, Sequence, Tuple, Union
 
 from hri_teleop.core.errors import HriTeleopError
 from hri_teleop.core.yamlfile import read_yaml
+from hri_teleop.grading.run.untrusted_files import UntrustedFileError, read_regular
 
 __all__ = ["LateError", "Extension", "LatePolicy", "Lateness", "LATE_FILE", "KEYS", "read_late_policy",
            "parse_when", "judge_lateness", "submission_time", "parse_timestamp", "late_line", "duration_text",
-           "when_text", "ALL_ASSIGNMENTS", "FEEDBACK_PREFIX"]
+           "when_text", "ALL_ASSIGNMENTS", "FEEDBACK_PREFIX", "SubmissionTime", "read_times", "student_stamp",
+           "TIMES_COLUMNS", "STAMP_CAP_BYTES"]
 
 #: The default late policy file: beside the course (an nbgrader course's folder, else the submissions folder).
 LATE_FILE = "late.yaml"
-KEYS = ("deadline", "per_day", "count", "cap", "extensions")
+KEYS = ("deadline", "per_day", "count", "cap", "extensions", "times")
+#: The columns of the LMS export late.yaml's ``times:`` names (any order; other columns are ignored).
+TIMES_COLUMNS = ("student", "assignment", "submitted_at")
+#: The most of a submitted timestamp.txt the grader reads (nbgrader writes about 26 bytes).
+STAMP_CAP_BYTES = 1024
 COUNTS = ("started", "fraction")
 DAY_S = 86400.0
 #: The key of an extension or deadline that holds for every assignment.
@@ -68,6 +80,10 @@ class LatePolicy:
     cap: float = 1.0
     count: str = "started"
     extensions: Dict[str, Dict[str, Extension]] = field(default_factory=dict)
+    #: The LMS export's submission times: (student, assignment or :data:`ALL_ASSIGNMENTS`) -> when (None:
+    #: the export's cell is blank); ``times_source`` names the file ("" without ``times:``).
+    times: Dict[Tuple[str, str], Optional[datetime]] = field(default_factory=dict)
+    times_source: str = ""
 
     def deadline_for(self, student: str, assignment: str) -> Tuple[datetime, bool]:
         """(the deadline that holds for ``student``'s ``assignment``, whether an extension moved it)."""
@@ -100,10 +116,16 @@ class Lateness:
     days: float
     fraction: float
     problem: str = ""
+    stamp_refused: bool = False   # the submission's timestamp.txt could not be read (a link, garbage): shown
 
     @property
     def late(self) -> bool:
         return self.late_s > 0
+
+    @property
+    def known(self) -> bool:
+        """Whether the submission time came from a trusted source (else the penalty awaits the instructor)."""
+        return self.submitted is not None
 
     def points(self, max_score: Optional[float]) -> float:
         """The points taken from an assignment worth ``max_score`` (0 when its points are unknown)."""
@@ -113,28 +135,32 @@ class Lateness:
         return {"student": self.student, "assignment": self.assignment,
                 "submitted": self.submitted.isoformat() if self.submitted else None, "source": self.source,
                 "deadline": self.deadline.isoformat(), "extended": self.extended, "late_s": self.late_s,
-                "days": self.days, "fraction": self.fraction, "problem": self.problem}
+                "days": self.days, "fraction": self.fraction, "problem": self.problem,
+                "stamp_refused": self.stamp_refused}
 
     @classmethod
     def from_dict(cls, d: Mapping[str, Any]) -> "Lateness":
         submitted = datetime.fromisoformat(d["submitted"]) if d.get("submitted") else None
         return cls(d["student"], d["assignment"], submitted, d.get("source", ""),
                    datetime.fromisoformat(d["deadline"]), bool(d.get("extended")), float(d["late_s"]),
-                   float(d["days"]), float(d["fraction"]), d.get("problem", ""))
+                   float(d["days"]), float(d["fraction"]), d.get("problem", ""), bool(d.get("stamp_refused")))
 
 
 def judge_lateness(policy: LatePolicy, student: str, assignment: str, submitted: Optional[datetime],
-                   source: str = "", problem: str = "") -> Lateness:
+                   source: str = "", problem: str = "", stamp_refused: bool = False) -> Lateness:
     """The rule: late is after the deadline (at it is on time); each day started costs ``per_day``
-    (or each second its share with count "fraction"), never more than ``cap``; an extension moves the deadline."""
+    (or each second its share with count "fraction"), never more than ``cap``; an extension moves the deadline.
+    ``submitted`` None: the time is unknown (``problem`` says why); nothing is taken here, and the
+    assignment's total stays blank until the instructor gives the time (:attr:`Lateness.known`)."""
     deadline, extended = policy.deadline_for(student, assignment)
     if submitted is None:
         return Lateness(student, assignment, None, source, deadline, extended, 0.0, 0.0, 0.0,
-                        problem or "no submission time")
+                        problem or "no submission time", stamp_refused)
     late_s = max(0.0, (submitted - deadline).total_seconds())
     days = math.ceil(late_s / DAY_S) if policy.count == "started" else late_s / DAY_S
     fraction = min(policy.cap, policy.per_day * days)
-    return Lateness(student, assignment, submitted, source, deadline, extended, late_s, float(days), fraction)
+    return Lateness(student, assignment, submitted, source, deadline, extended, late_s, float(days), fraction,
+                    "", stamp_refused)
 
 
 def duration_text(seconds: float) -> str:
@@ -161,7 +187,8 @@ def late_line(lateness: Lateness, max_score: Optional[float], with_assignment: b
     deadline = when_text(lateness.deadline, lateness.deadline.tzinfo)
     own = " (your extension)" if lateness.extended else ""
     if lateness.submitted is None:
-        return f"{head}submission time unknown ({lateness.problem}); deadline {deadline}{own}; no penalty"
+        return (f"{head}submission time unknown ({lateness.problem}); deadline {deadline}{own}; "
+                "the penalty waits for the instructor")
     submitted = f"submitted {when_text(lateness.submitted, lateness.deadline.tzinfo)} ({lateness.source})"
     if not lateness.late:
         return f"{head}{submitted}, on time (deadline {deadline}{own}); no penalty"
@@ -296,53 +323,168 @@ def read_late_policy(path: Union[str, Path]) -> LatePolicy:
                                         for a, v in value.items()}
         else:
             extensions[str(student)] = {ALL_ASSIGNMENTS: _extension(value, source, f"extensions.{student}")}
+    times: Dict[Tuple[str, str], Optional[datetime]] = {}
+    times_source = ""
+    if data.get("times") is not None:
+        if not isinstance(data["times"], str) or not data["times"].strip():
+            raise LateError(f"{source}: times must be the path of the LMS export of submission times, got "
+                            f"{data['times']!r}; write e.g. times: submitted-at.csv")
+        times_path = Path(path).parent / data["times"].strip()
+        times, times_source = read_times(times_path), str(times_path)
     return LatePolicy(source, deadlines, _fraction(data["per_day"], source, "per_day", "10%"),
-                      _fraction(data.get("cap", 1.0), source, "cap", "50%"), count, extensions)
+                      _fraction(data.get("cap", 1.0), source, "cap", "50%"), count, extensions, times, times_source)
 
 
-def parse_timestamp(path: Path) -> Union[datetime, str]:
-    """The time in an nbgrader ``timestamp.txt`` (no zone: UTC, as nbgrader reads it), or why it cannot be read."""
+def _times_error(source: str, where: str, problem: str) -> LateError:
+    return LateError(f"{source}{where}: {problem}; write a CSV with the header {','.join(TIMES_COLUMNS)} and rows "
+                     "like alice,lab,2026-12-01T23:40:00+01:00 (grading/README.md, Late policy)")
+
+
+def read_times(path: Union[str, Path]) -> Dict[Tuple[str, str], Optional[datetime]]:
+    """The LMS export: (student, assignment) -> submitted_at, from a CSV with the columns :data:`TIMES_COLUMNS`.
+
+    An assignment of ``*`` or blank holds for every assignment of that student (plain folders: their one
+    submission); a blank submitted_at is a row without a time (that student's time stays unknown).
+    :class:`LateError` in one line naming the file, the row and the fix otherwise."""
+    source = str(path)
     try:
-        text = path.read_text(encoding="utf-8", errors="replace").strip()
-    except OSError as exc:
-        return f"{path}: cannot read ({exc.strerror})"
+        with open(path, newline="", encoding="utf-8-sig") as fh:
+            rows = list(csv.reader(fh))
+    except FileNotFoundError:
+        raise LateError(f"submission times not found: {source}; give late.yaml's times: the path of the LMS "
+                        "export (relative to late.yaml)") from None
+    except (OSError, UnicodeDecodeError, csv.Error) as exc:
+        raise _times_error(source, "", f"cannot read it ({type(exc).__name__})") from None
+    header = [c.strip().lower() for c in (rows[0] if rows else [])]
+    missing = [c for c in TIMES_COLUMNS if c not in header]
+    if missing:
+        raise _times_error(source, ":1", f"no column {', '.join(missing)} in the header")
+    index = {c: header.index(c) for c in TIMES_COLUMNS}
+    times: Dict[Tuple[str, str], Optional[datetime]] = {}
+    for number, row in enumerate(rows[1:], start=2):
+        if not any(cell.strip() for cell in row):
+            continue
+        cells = {c: (row[i].strip() if i < len(row) else "") for c, i in index.items()}
+        student, assignment = cells["student"], cells["assignment"] or ALL_ASSIGNMENTS
+        if not student:
+            raise _times_error(source, f":{number}", "no student id")
+        key = (student, assignment)
+        if key in times:
+            raise _times_error(source, f":{number}", f"a second row for {student}, {assignment}; keep one row per "
+                               "student and assignment: the time of the submission you grade")
+        when: Optional[datetime] = None
+        if cells["submitted_at"]:
+            parsed = parse_when(cells["submitted_at"])
+            if isinstance(parsed, str):
+                raise _times_error(source, f":{number}", f"submitted_at {cells['submitted_at']!r:.60}: {parsed}")
+            when = parsed
+        times[key] = when
+    return times
+
+
+def parse_timestamp(data: bytes, name: str = "timestamp.txt") -> Union[datetime, str]:
+    """The time in the bytes of an nbgrader ``timestamp.txt`` (no zone: UTC, as nbgrader reads it), or why not.
+
+    The reason never quotes the file: a student wrote it."""
+    text = data.decode("utf-8", errors="replace").strip()
     if not text:
-        return f"{path} is empty"
-    parsed = parse_when(text)
+        return f"{name} is empty"
+    parsed = parse_when(text) if len(text) <= 64 and "\n" not in text else "too long"
     if parsed == "it has no time zone":
         parsed = parse_when(text + " UTC")
-    return parsed if isinstance(parsed, datetime) else f"{path}: {text[:40]!r}: {parsed}"
+    return parsed if isinstance(parsed, datetime) else f"{name} does not hold a date and time"
 
 
-def _newest_file_time(folder: Path) -> Optional[datetime]:
-    newest: Optional[float] = None
-    for dirpath, dirnames, filenames in os.walk(folder):
-        dirnames[:] = [d for d in dirnames if d != "__pycache__"]
-        for name in filenames:
-            try:
-                mtime = os.lstat(os.path.join(dirpath, name)).st_mtime
-            except OSError:
-                continue
-            newest = mtime if newest is None else max(newest, mtime)
-    return None if newest is None else datetime.fromtimestamp(newest, timezone.utc)
+def _stamp_paths(folder: Path) -> List[Path]:
+    """``folder``/timestamp.txt, else each ``folder``/<sub>/timestamp.txt of a real sub-folder (no link)."""
+    if os.path.lexists(folder / "timestamp.txt"):
+        return [folder / "timestamp.txt"]
+    try:
+        entries = sorted(os.scandir(folder), key=lambda e: e.name)
+    except OSError:
+        return []
+    return [Path(e.path) / "timestamp.txt" for e in entries
+            if e.is_dir(follow_symlinks=False) and os.path.lexists(Path(e.path) / "timestamp.txt")]
 
 
-def submission_time(folder: Path) -> Tuple[Optional[datetime], str, str]:
-    """(when ``folder`` was handed in, where that came from, why it is unknown).
+def _refusal_words(exc: UntrustedFileError) -> str:
+    """What was wrong with a submitted timestamp.txt, in the grader's words (no path a student named)."""
+    text = str(exc)
+    for words, said in (("is a link", "is a link (not followed)"), ("not a regular file", "is not a regular file"),
+                        ("larger than", f"is larger than {STAMP_CAP_BYTES} bytes"),
+                        ("is not a folder", "is not inside a folder")):
+        if words in text:
+            return said
+    return "cannot be read"
 
-    nbgrader's ``timestamp.txt`` in the folder or one level below (the newest when there are
-    several); without one, the newest modification time of its files ("file times").
-    """
-    stamps: List[Path] = [folder / "timestamp.txt"] if (folder / "timestamp.txt").is_file() else []
-    if not stamps and folder.is_dir():
-        stamps = sorted(p for p in folder.glob("*/timestamp.txt") if p.is_file())
-    if stamps:
-        read = [parse_timestamp(p) for p in stamps]
-        times = [t for t in read if isinstance(t, datetime)]
-        if not times:
-            return None, "", str(read[0])
-        return max(times), "timestamp.txt", ""
-    newest = _newest_file_time(folder) if folder.is_dir() else None
-    if newest is None:
-        return None, "", f"no files in {folder}"
-    return newest, "file times", ""
+
+def student_stamp(folder: Path) -> Tuple[str, bool]:
+    """(what the submission's own timestamp.txt says, in the grader's words; whether it could not be read).
+
+    ("", False) when there is none. Read only through :func:`read_regular` below ``folder`` (no link
+    followed, regular files only, :data:`STAMP_CAP_BYTES`); its text is never repeated, only a time the
+    grader parsed and writes itself. It decides nothing: the student's own ``nbgrader submit`` wrote it."""
+    said: List[str] = []
+    refused = False
+    for path in _stamp_paths(folder):
+        name = "timestamp.txt" if path.parent == folder else "a sub-folder's timestamp.txt"
+        try:
+            data = read_regular(path, STAMP_CAP_BYTES, root=folder)
+        except UntrustedFileError as exc:
+            said.append(f"{name} {_refusal_words(exc)}")
+            refused = True
+            continue
+        except OSError:
+            said.append(f"{name} cannot be read")
+            refused = True
+            continue
+        parsed = parse_timestamp(data, name)
+        if isinstance(parsed, datetime):
+            said.append(f"{name} says {parsed.astimezone(timezone.utc).isoformat(sep=' ', timespec='seconds')}")
+        else:
+            said.append(parsed)
+            refused = True
+    if not said:
+        return "", False
+    return "the submission's " + "; ".join(said[:3]) + (" (not used)" if not refused else " (not used, shown to "
+                                                                                              "the instructor)"), refused
+
+
+@dataclass(frozen=True)
+class SubmissionTime:
+    """When a submission counts as handed in (None: unknown), from where, why unknown, and what the
+    student's own timestamp.txt says beside it (``stamp``, never used to decide; ``refused``: it could not be read)."""
+
+    when: Optional[datetime]
+    source: str
+    problem: str = ""
+    stamp: str = ""
+    refused: bool = False
+
+    @property
+    def shown_source(self) -> str:
+        return self.source + (f"; {self.stamp}" if self.stamp and self.when is not None else "")
+
+    @property
+    def shown_problem(self) -> str:
+        return self.problem + (f"; {self.stamp}" if self.stamp and self.when is None else "")
+
+
+def submission_time(policy: LatePolicy, student: str, assignment: str, folder: Path) -> SubmissionTime:
+    """When ``student``'s ``assignment`` was handed in, from a source the student cannot write.
+
+    The LMS export late.yaml names (``times:``): the row of (student, assignment), else of (student, ``*``).
+    No other source decides: nbgrader's timestamp.txt, its exchange folder's name and the gradebook's
+    timestamp all come from the student's own ``nbgrader submit``, and file times from their machine (or
+    from unpacking). The submission's timestamp.txt in ``folder`` is read (safely) to be shown beside."""
+    stamp, refused = student_stamp(folder)
+    name = Path(policy.times_source).name
+    if not policy.times_source:
+        return SubmissionTime(None, "", "late.yaml names no LMS export of submission times (times:)", stamp, refused)
+    for key in ((student, assignment), (student, ALL_ASSIGNMENTS)):
+        if key in policy.times:
+            when = policy.times[key]
+            if when is None:
+                return SubmissionTime(None, "", f"{name} has no time for {student}, {assignment}", stamp, refused)
+            return SubmissionTime(when, f"{name}, the LMS export", "", stamp, refused)
+    return SubmissionTime(None, "", f"{name} has no row for {student}, {assignment}", stamp, refused)

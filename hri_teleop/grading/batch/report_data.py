@@ -47,11 +47,14 @@ class AssignmentScore:
     score: Optional[float]
     max_score: Optional[float]
     penalty: float = 0.0
+    late_known: bool = True   # False: the late policy holds but the submission time is unknown
 
     @property
     def final(self) -> Optional[float]:
-        """The score after the penalty, never below 0."""
-        return None if self.score is None else max(0.0, round(self.score - self.penalty, 6))
+        """The score after the penalty, never below 0; None when not graded or the penalty is unknown."""
+        if self.score is None or not self.late_known:
+            return None
+        return max(0.0, round(self.score - self.penalty, 6))
 
 
 @dataclass(frozen=True)
@@ -243,12 +246,13 @@ def slowest(students: Sequence[StudentRecord], n: int = 10) -> List[Job]:
 
 
 def late_rows(students: Sequence[StudentRecord]) -> List[LateRow]:
-    """Every late (student, assignment), with the points taken; latest first. Unknown times are listed too."""
+    """Every late (student, assignment), with the points taken; latest first. Unknown times are listed too,
+    and so is a submission whose own timestamp.txt could not be read (a link, garbage)."""
     rows = []
     for student in students:
         maxima = {a.assignment: a for a in student.assignments}
         for lateness in student.late:
-            if lateness.late or lateness.submitted is None:
+            if lateness.late or lateness.submitted is None or lateness.stamp_refused:
                 score = maxima.get(lateness.assignment)
                 rows.append(LateRow(student.student, lateness.assignment, lateness,
                                     score.penalty if score is not None else 0.0))
