@@ -19,6 +19,7 @@ from hri_teleop.core.errors import HriTeleopError
 from hri_teleop.core.gamepad import AXES, BUTTONS, PadState, normalize_analog_input
 from hri_teleop.core.gamepad.rumble import unit_intensity
 from hri_teleop.core.gamepad.stale import STALE_INPUT_TIMEOUT_S
+from hri_teleop.core.gripper import GRIPPER_MAX_WIDTH_M
 from hri_teleop.core.limits import (
     DEFAULT_LIMITS,
     PANDA_LIMITS,
@@ -28,7 +29,6 @@ from hri_teleop.core.limits import (
     TwistLimiter,
     check_command_rate,
 )
-from hri_teleop.core.robot_file import panda_file
 
 __all__ = [
     "TeleopError",
@@ -51,7 +51,6 @@ __all__ = [
 ]
 
 #: The Franka Hand opens from 0 to 0.08 m (docs/lab-facts.md; the robot profile's gripper.max_width_m).
-GRIPPER_MAX_WIDTH_M: float = panda_file()["gripper"]["max_width_m"]
 
 _ZERO_TWIST: Twist = (0.0, 0.0, 0.0, 0.0, 0.0, 0.0)
 #: How the pad's two rumble motors are used (TeleopParams.rumble_motors; motor_rumble).

@@ -13,9 +13,8 @@ from dataclasses import dataclass
 from typing import Optional
 
 from hri_teleop.core.board_rates import HANDOUT_RATE_HZ, RECOMMENDED_RATE_HZ
-from hri_teleop.core.checks import is_finite_number
+from hri_teleop.core.checks import ADC_MAX_COUNT, is_finite_number
 from hri_teleop.core.errors import HriTeleopError
-from hri_teleop.core.mapping import ADC_MAX_COUNT
 
 __all__ = ["BoardError", "BoardConfig", "SensorBoard", "HANDOUT_FIRMWARE_RATE_HZ", "DEFAULT_RATE_HZ"]
 

@@ -10,10 +10,9 @@ from __future__ import annotations
 
 import math
 
-from hri_teleop.core.checks import is_finite_number, is_int
+from hri_teleop.core.checks import ADC_MAX_COUNT, is_finite_number, is_int
 from hri_teleop.core.errors import HriTeleopError
 from hri_teleop.core.fsr import count_to_force, force_to_count
-from hri_teleop.core.mapping import ADC_MAX_COUNT
 
 __all__ = ["FSR_SENSOR_RATE_HZ", "SensorProfileError", "press_profile_count"]
 

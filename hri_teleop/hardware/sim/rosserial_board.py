@@ -19,9 +19,8 @@ from dataclasses import dataclass
 from typing import Callable, List, Optional, Tuple
 
 from hri_teleop.core.board_rates import HANDOUT_PERIOD_S, MAX_PERIOD_MS, MIN_PERIOD_MS
-from hri_teleop.core.checks import is_finite_number, is_int
+from hri_teleop.core.checks import ADC_MAX_COUNT, is_finite_number, is_int
 from hri_teleop.core.errors import HriTeleopError
-from hri_teleop.core.mapping import ADC_MAX_COUNT
 from hri_teleop.core.rosserial_frames import (
     ID_LOG,
     ID_PARAMETER_REQUEST,
