@@ -217,3 +217,34 @@ def test_a_run_whose_verdict_is_recorded_is_killed_without_being_asked_and_leave
     assert not (folder / "asked").exists(), "kill() asked the node to end first"
     if proc.uid is not None:
         assert proc.process_count() == 0, "its child outlived the kill"
+
+
+def test_a_process_that_fills_its_folder_with_many_files_is_stopped_with_the_reason(tmp_path):
+    """Each file is capped (RLIMIT_FSIZE), not how many: a node once wrote 1.5 GB of 2 MB files in 1.5 s."""
+    from hri_teleop.grading.run.sandbox import folder_bytes
+
+    limits = Limits(disk_bytes=8 * 1024 ** 2)
+    code, proc = _run(tmp_path, "import os\nfor i in range(300):\n    with open(f'f{i}.bin', 'wb') as fh:\n"
+                                "        fh.write(os.urandom(1 << 20))\nprint('done')\n", limits)
+    out = proc.output_tail()
+    assert proc.disk_exceeded and "done" not in out, out
+    assert code is not None and code < 0, code  # killed, not ended by itself
+    assert "wrote more than 8 MB into its folder" in out, out
+    assert folder_bytes(tmp_path / "student", 1 << 40) < 300 * (1 << 20)
+
+
+def test_a_process_that_writes_a_little_is_not_stopped(tmp_path):
+    code, proc = _run(tmp_path, "open('small.bin', 'wb').write(b'x' * (1 << 20))\nprint('done')\n",
+                      Limits(disk_bytes=8 * 1024 ** 2))
+    assert code == 0 and not proc.disk_exceeded and "done" in proc.output_tail()
+
+
+@pytest.mark.parametrize("size,counted", [(1000, 1000), (0, 0)])
+def test_folder_bytes_counts_regular_files_and_not_what_links_lead_to(tmp_path, size, counted):
+    from hri_teleop.grading.run.sandbox import folder_bytes
+
+    (tmp_path / "d").mkdir()
+    (tmp_path / "d" / "f").write_bytes(b"x" * size)
+    os.symlink("/usr", tmp_path / "d" / "usr")  # a folder link: not walked
+    os.symlink("/usr/bin/python3", tmp_path / "d" / "python3")  # a file link: not counted
+    assert folder_bytes(tmp_path / "d", 1 << 40) == counted

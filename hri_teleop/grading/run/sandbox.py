@@ -23,16 +23,20 @@ from pathlib import Path
 from typing import Callable, Dict, List, Mapping, Optional, Sequence, TextIO, Tuple
 
 from hri_teleop.core.errors import HriTeleopError
+from hri_teleop.grading.run.student_guard import GUARD_ENV
+from hri_teleop.grading.run.student_guard import SITE_DIR as GUARD_SITE
 from hri_teleop.grading.run.view import toolkit_view, view_argv
 from hri_teleop.ros.proc_table import STUDENT_UID_BASE, uid_process_count
 
 __all__ = ["SandboxError", "Limits", "DEFAULT_LIMITS", "sandbox_mode", "bwrap_problem", "session_argv",
-           "StudentProcess", "student_uid", "STUDENT_ENV", "student_environment", "OUTPUT_CAP_BYTES", "describe_exit"]
+           "StudentProcess", "student_uid", "STUDENT_ENV", "student_environment", "OUTPUT_CAP_BYTES", "describe_exit", "folder_bytes"]
 
 #: Largest output (stdout + stderr, and any one file) a student process may write.
 OUTPUT_CAP_BYTES = 2 * 1024 * 1024
 #: A student process' own /tmp (a tmpfs: memory, and only as much as it writes).
 TMP_BYTES = 64 * 1024 * 1024
+#: How often a student process' folder is measured against ``Limits.disk_bytes``.
+DISK_CHECK_S = 0.05
 _MODE_ENV = "HRI_GRADE_SANDBOX"
 
 
@@ -49,6 +53,8 @@ class Limits:
     file_bytes: int = OUTPUT_CAP_BYTES
     processes: int = 160
     open_files: int = 256
+    #: what it may write into its folder in all (the files it was given count too)
+    disk_bytes: int = 64 * 1024 ** 2
 
 
 DEFAULT_LIMITS = Limits()
@@ -286,12 +292,32 @@ def describe_exit(code: Optional[int]) -> str:
     return reasons.get(sig, f"was ended by {name}")
 
 
+def folder_bytes(folder: Path, stop_above: int) -> int:
+    """The bytes of the regular files below ``folder`` (links not followed), counted until past ``stop_above``."""
+    total = 0
+    stack = [str(folder)]
+    while stack and total <= stop_above:
+        try:
+            entries = list(os.scandir(stack.pop()))
+        except OSError:
+            continue
+        for entry in entries:
+            try:
+                if entry.is_dir(follow_symlinks=False):
+                    stack.append(entry.path)
+                elif entry.is_file(follow_symlinks=False):
+                    total += entry.stat(follow_symlinks=False).st_size
+            except OSError:
+                continue
+    return total
+
+
 class StudentProcess:
     """One untrusted process: own group (and namespaces), limits, output into a capped log file."""
 
     def __init__(self, argv: Sequence[str], folder: Path, env: Mapping[str, str], log_path: Path,
                  limits: Limits = DEFAULT_LIMITS, uid: Optional[int] = None, nested: bool = True,
-                 network: bool = True) -> None:
+                 network: bool = True, guard: str = "") -> None:
         self.argv = list(argv)
         self.folder = Path(folder)
         self.log_path = Path(log_path)
@@ -301,6 +327,9 @@ class StudentProcess:
         if uid is None and os.geteuid() != 0:
             nproc += uid_process_count(os.geteuid())  # the limit counts all of this user's processes
         env = student_environment(env)
+        if guard:  # the reference guard (student_guard) starts first in every Python of this process' tree
+            env[GUARD_ENV] = guard
+            env["PYTHONPATH"] = os.pathsep.join(p for p in (GUARD_SITE, env.get("PYTHONPATH", "")) if p)
         tmp = self.folder / ".tmp"
         tmp.mkdir(exist_ok=True)
         if uid is not None:
@@ -316,6 +345,24 @@ class StudentProcess:
             preexec_fn=_preexec(limits, uid, nproc), close_fds=True,
         )
         self.uid = uid
+        self.disk_exceeded = False
+        self._watching = threading.Event()
+        threading.Thread(target=self._watch_disk, name="student-disk", daemon=True).start()
+
+    def _watch_disk(self) -> None:
+        """Until the process ends: what it writes into its folder stays under ``limits.disk_bytes`` in all (each
+        file is capped by RLIMIT_FSIZE, but not how many it writes); past that its group is killed and the log
+        says why. Checked every :data:`DISK_CHECK_S`, so it overshoots by at most what it writes in that time."""
+        while not self._watching.wait(DISK_CHECK_S):
+            if self.popen.poll() is not None:
+                return
+            if folder_bytes(self.folder, self.limits.disk_bytes) > self.limits.disk_bytes:
+                self.disk_exceeded = True
+                try:
+                    os.killpg(self.popen.pid, signal.SIGKILL)
+                except (ProcessLookupError, PermissionError):
+                    pass
+                return
 
     @property
     def running(self) -> bool:
@@ -379,8 +426,12 @@ class StudentProcess:
                 self.popen.wait(timeout=wait_s)
             except subprocess.TimeoutExpired:
                 continue
+        self._watching.set()
         self.kill_leftovers()
         if not self._log.closed:
+            if self.disk_exceeded:
+                self._log.write(f"\nhri-grade: stopped: it wrote more than {self.limits.disk_bytes // 1024 ** 2} MB "
+                                "into its folder; write less (no files in a loop)\n".encode())
             self._log.close()
         return self.returncode
 
