@@ -149,6 +149,16 @@ def test_the_output_limit_and_writes_outside_are_explained():
     assert "output limit" in hints and "/etc/passwd" in hints and "outside its own folder" in hints
 
 
+@pytest.mark.parametrize("tail,named", [
+    ("FileNotFoundError: [Errno 2] No such file or directory: '/home/prof/data.txt'", "/home/prof/data.txt"),
+    ("FileNotFoundError: [Errno 2] No such file or directory: 'calibration.yaml'", ""),  # its own folder: no hint
+    ("OSError: [Errno 30] Read-only file system: '/usr/x'", ""),  # the write hint says it already
+])
+def test_a_file_outside_the_folder_that_is_not_there_while_grading_is_explained(tail, named):
+    hints = " ".join(compare.process_hints(ProcessFacts(exit_code=1, output_tail=tail)))
+    assert (f"{named} is not there while grading" in hints) is bool(named), hints
+
+
 # -- teleoperation.py: the student's parts ------------------------------------------------------
 
 def _ticks_from_reference(case):

@@ -104,6 +104,8 @@ def as_float(value: Any) -> Optional[float]:
 # -- what a process' output says ------------------------------------------------------------
 
 _WRITE_ERROR = re.compile(r"(Read-only file system|Permission denied)\S*:?\s*'?([^'\n]*)")
+#: A file outside the student's folder: not there at all while grading (the box shows the system, not the machine).
+_ABSENT = re.compile(r"FileNotFoundError: \[Errno 2\] No such file or directory: '(/[^'\n]*)'")
 
 
 def process_hints(facts: ProcessFacts) -> List[str]:
@@ -118,6 +120,10 @@ def process_hints(facts: ProcessFacts) -> List[str]:
         where = match.group(2).strip() or "a file"
         hints.append(f"it tried to write {where} outside its own folder: while grading (and on the lab PCs) "
                      "write only inside your package folder")
+    absent = _ABSENT.search(tail)
+    if absent and not match:
+        hints.append(f"{absent.group(1)} is not there while grading, as nothing outside its own folder is: read and "
+                     "write only inside your package folder (find it with rospkg or relative to __file__)")
     if "Resource temporarily unavailable" in tail or "can't start new thread" in tail:
         hints.append("it tried to start more processes or threads than allowed: do not fork or spawn in a loop")
     if "MemoryError" in tail or "Cannot allocate memory" in tail:
