@@ -239,3 +239,51 @@ def test_grading_refuses_in_one_line_before_anyone_when_the_toolkit_is_out_of_re
         sandbox.bwrap_problem()
     with pytest.raises(sandbox.SandboxError):
         sandbox.sandbox_mode()
+
+
+def test_a_mount_that_appears_after_the_box_started_does_not_show_inside_it(box_folder):
+    """bubblewrap alone makes a box a slave of the machine's mounts: a USB stick or a share mounted later
+    under a shown folder appeared inside, writable. As root the box's mounts propagate nothing in."""
+    from hri_teleop.grading.run.sandbox import StudentProcess, student_uid
+
+    if os.geteuid() != 0:
+        pytest.skip("mounting needs root")
+    ws = box_folder / "ws"
+    student = ws / "hri_lab"
+    (ws / "later").mkdir(parents=True)
+    student.mkdir()
+    uid = student_uid()
+    os.chown(student, uid, uid)
+    (student / "x.py").write_text(
+        "import os, time\nopen('started', 'w').close()\n"
+        "while not os.path.exists('go'):\n    time.sleep(0.01)\n"
+        f"print('seen' if os.path.exists({str(ws / 'later' / 'marker')!r}) else 'not seen')\n")
+    env = dict(os.environ, ROS_PACKAGE_PATH=f"{ws}:/usr/share")
+    # the machine's mounts shared, as systemd makes them (this container's are private)
+    shared = subprocess.run(["sh", "-c", f"mount --bind {ws} {ws} && mount --make-shared {ws}"], capture_output=True,
+                            text=True)
+    if shared.returncode != 0:
+        pytest.skip(f"cannot mount here: {shared.stderr.strip()}")
+    proc = StudentProcess([sys.executable, str(student / "x.py")], student, env, box_folder / "x.log", uid=uid,
+                          nested=False, network=False)
+    mounted = False
+    try:
+        deadline = 600
+        while not (student / "started").exists() and proc.running and deadline:
+            deadline -= 1
+            proc.wait(0.1)
+        assert (student / "started").exists(), proc.output_tail()
+        mount = subprocess.run(["mount", "-t", "tmpfs", "-o", "size=1m", "tmpfs", str(ws / "later")],
+                               capture_output=True, text=True)
+        if mount.returncode != 0:
+            pytest.skip(f"cannot mount here: {mount.stderr.strip()}")
+        mounted = True
+        (ws / "later" / "marker").write_text("a share mounted later")
+        (student / "go").write_text("")
+        assert proc.wait(60) == 0, proc.output_tail()
+        assert "not seen" in proc.output_tail(), proc.output_tail()
+    finally:
+        proc.stop()
+        if mounted:
+            subprocess.run(["umount", str(ws / "later")], check=False)
+        subprocess.run(["umount", str(ws)], check=False)

@@ -22,7 +22,7 @@ from dataclasses import dataclass, replace
 from typing import Any, Dict, List, Mapping, Optional, Sequence, Tuple
 
 from hri_teleop.core.errors import HriTeleopError
-from hri_teleop.grading.run.sandbox import STUDENT_ENV, student_uid
+from hri_teleop.grading.run.sandbox import STUDENT_ENV, private_mounts, student_uid
 from hri_teleop.grading.run.view import View, toolkit_view, under, view_argv
 from hri_teleop.ros.proc_table import uid_process_count
 
@@ -239,6 +239,7 @@ class Box:
             resource.setrlimit(resource.RLIMIT_FSIZE, (quota, quota))  # the inherited log files too
             resource.setrlimit(resource.RLIMIT_AS, (memory, memory))
             if uid is not None:
+                private_mounts()
                 os.setgroups([])
                 os.setgid(uid)
                 os.setuid(uid)

@@ -29,7 +29,8 @@ from hri_teleop.grading.run.view import toolkit_view, view_argv
 from hri_teleop.ros.proc_table import STUDENT_UID_BASE, uid_process_count
 
 __all__ = ["SandboxError", "Limits", "DEFAULT_LIMITS", "sandbox_mode", "bwrap_problem", "session_argv",
-           "StudentProcess", "student_uid", "STUDENT_ENV", "student_environment", "OUTPUT_CAP_BYTES", "describe_exit", "folder_bytes"]
+           "StudentProcess", "student_uid", "STUDENT_ENV", "student_environment", "OUTPUT_CAP_BYTES", "describe_exit", "folder_bytes",
+           "private_mounts"]
 
 #: Largest output (stdout + stderr, and any one file) a student process may write.
 OUTPUT_CAP_BYTES = 2 * 1024 * 1024
@@ -250,6 +251,25 @@ def student_environment(env: Mapping[str, str]) -> Dict[str, str]:
     return {k: v for k, v in env.items() if k in STUDENT_ENV}
 
 
+_CLONE_NEWNS = 0x00020000
+_MS_REC, _MS_PRIVATE = 1 << 14, 1 << 18
+
+
+def private_mounts() -> bool:
+    """In a child about to start a box, as root: a mount namespace of its own whose mounts propagate nothing
+    in, so a mount that appears on the machine after the box started never shows inside it (bubblewrap alone
+    makes its box a slave of the machine's mounts). True when done; an unprivileged grader cannot, and its
+    boxes keep bubblewrap's propagation (docs/grading-internals.md, threat model)."""
+    if os.geteuid() != 0:
+        return False
+    import ctypes  # noqa: PLC0415 - only in the child that starts a box
+
+    libc = ctypes.CDLL(None, use_errno=True)
+    if libc.unshare(_CLONE_NEWNS) != 0:
+        return False
+    return bool(libc.mount(b"none", b"/", None, _MS_REC | _MS_PRIVATE, None) == 0)
+
+
 def _preexec(limits: Limits, uid: Optional[int], nproc: int) -> Callable[[], None]:
     import resource  # noqa: PLC0415 - Unix only: imported here so that the rest of the grader imports anywhere
 
@@ -261,6 +281,7 @@ def _preexec(limits: Limits, uid: Optional[int], nproc: int) -> Callable[[], Non
         resource.setrlimit(resource.RLIMIT_NOFILE, (limits.open_files, limits.open_files))
         resource.setrlimit(resource.RLIMIT_CORE, (0, 0))
         if uid is not None:
+            private_mounts()
             os.setgroups([])
             os.setgid(uid)
             os.setuid(uid)
