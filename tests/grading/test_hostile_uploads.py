@@ -14,6 +14,7 @@ import json
 import os
 import shutil
 import stat
+import tempfile
 import zipfile
 from pathlib import Path
 from typing import Callable, Dict, Iterator, Optional
@@ -175,6 +176,8 @@ def graded() -> Iterator[Dict[str, dict]]:
     with pytest.MonkeyPatch.context() as mp:
         mp.setenv(CHECKS_ENV, CHECK)
         for folder in open_folder("hri-hostile-uploads-"):
+            (folder / "tmp").mkdir()
+            mp.setattr(tempfile, "tempdir", str(folder / "tmp"))  # run_autograder's scratch folders go with it
             yield {name: _grade(folder, name, build) for name, build in UPLOADS.items()}
 
 
@@ -274,6 +277,7 @@ def test_a_notebook_that_is_not_json_fails_its_cells_with_the_reason_and_the_fil
 
 
 def test_a_grader_that_stops_on_an_upload_still_writes_one_line(tmp_path, monkeypatch):
+    monkeypatch.setattr(tempfile, "tempdir", str(tmp_path))
     def crash(*args: object, **kwargs: object) -> None:
         raise IsADirectoryError(21, "Is a directory", "/tmp/x/hri_lab/config")
 

@@ -34,6 +34,7 @@ from hri_teleop.grading.batch.class_results import (
     write_rows,
     write_summary,
 )
+from hri_teleop.grading.batch.feedback_html import sanitize_feedback
 from hri_teleop.grading.batch.finish import check_policy, find_late_policy, finish
 from hri_teleop.grading.batch.folders import (
     PER_SUBMISSION_TIMEOUT_S,
@@ -376,6 +377,10 @@ def _generate_feedback(course: Course, assignment: str, out: Path,
     only = ["--student", student] if student is not None else []
     run = run_job(course.nbgrader_argv("generate_feedback", assignment, "--force", *only), log, 600.0,
                   cwd=course.root, env=nbgrader_job_env())
+    for folder in sorted((course.root / "feedback").glob(f"*/{assignment}")):  # no student's script runs there
+        if student is None or folder.parent.name == student:
+            with log.open("a", encoding="utf-8") as fh:
+                fh.writelines(f"feedback {folder / rel} not kept: {why}\n" for rel, why in sanitize_feedback(folder))
     text = log.read_text(errors="replace")
     failed = {m.group(2): "nbgrader generate_feedback failed (see " + str(log) + ")"
               for m in re.finditer(r"error processing assignment '([^']+)' for student '([^']+)'", text)}
