@@ -48,6 +48,7 @@ from hri_teleop.grading.run.workspace import (
     REPO,
     Workspace,
     find_package_root,
+    given_path,
     locate,
     prepare_workspace,
     refusal_for,
@@ -285,7 +286,7 @@ def resolve_deliverable(path: PathLike, key: str) -> Tuple[Path, Optional[Path],
 
     Nothing is followed: a file given alone must be a regular file itself, and a file found in a
     package is reached without a link (:func:`~hri_teleop.grading.run.workspace.refusal_for`)."""
-    path = Path(path).expanduser()
+    path = given_path(path)
     if not os.path.lexists(path):
         raise GradingError(f"{path}: no such file or folder; give the student's {DELIVERABLES[key]} or their "
                            "hri_lab folder")

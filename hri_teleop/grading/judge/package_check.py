@@ -18,7 +18,7 @@ from typing import Dict, List, Optional, Sequence, Tuple, Union
 
 from hri_teleop.grading.results import CheckResult, GradingError, Part
 from hri_teleop.grading.run.untrusted_files import UntrustedFileError, read_regular, refusal
-from hri_teleop.grading.run.workspace import find_package_root
+from hri_teleop.grading.run.workspace import find_package_root, given_path
 from hri_teleop.ros.catkin_files import installed_programs, is_executable
 
 __all__ = ["CATKIN_PACKAGE", "EXERCISE_PARTS", "grade_catkin_package"]
@@ -74,7 +74,7 @@ def grade_catkin_package(path: Union[str, Path], *, seed: Optional[int] = None, 
     started = time.monotonic()
     if exercise is not None and exercise not in EXERCISE_PARTS:
         raise GradingError(f"exercise {exercise!r}: the catkin-package check grades Ex. 9 or Ex. 12; pass 9, 12 or None")
-    path = Path(path).expanduser()
+    path = given_path(path)
     if not os.path.lexists(path):
         raise GradingError(f"{path}: no such file or folder; give the student's hri_lab folder (or its CMakeLists.txt)")
     root = path.parent if not path.is_dir() and path.name == "CMakeLists.txt" else find_package_root(path)

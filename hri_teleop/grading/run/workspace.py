@@ -35,7 +35,7 @@ from hri_teleop.grading.run.untrusted_files import (
 )
 from hri_teleop.ros.master import finds_hri_lab
 
-__all__ = ["WorkspaceError", "DELIVERABLES", "REPO", "REFERENCE_PACKAGE", "PROVIDED", "find_package_root",
+__all__ = ["WorkspaceError", "DELIVERABLES", "REPO", "REFERENCE_PACKAGE", "PROVIDED", "given_path", "find_package_root",
            "locate", "refusal_for", "package_files", "Workspace", "prepare_workspace", "ros_package_path", "FRANKA_MARKER_PARAM"]
 
 REFERENCE_PACKAGE = LAB_PACKAGE
@@ -108,6 +108,15 @@ def _walk(root: Path, depth: int) -> List[Path]:
     return [path for path, mode in _entries(root, depth) if stat.S_ISREG(mode)]
 
 
+def given_path(path: Union[str, Path]) -> Path:
+    """The folder or file the caller named: a link to a folder there is the caller's (a course's source
+    folder links hri_lab to the answer key), so it is resolved once; nothing below it is followed. A
+    student cannot place such a link: files-only mode refuses a student's folder that is a link, the
+    course mode a submission with links out of it, and Gradescope copies an upload without its links."""
+    path = Path(path).expanduser()
+    return Path(os.path.realpath(path)) if path.is_symlink() and path.is_dir() else path
+
+
 def find_package_root(path: Union[str, Path]) -> Path:
     """The folder holding the student's package: the one under which the deliverables sit.
 
@@ -115,13 +124,9 @@ def find_package_root(path: Union[str, Path]) -> Path:
     folder; a folder -> the shallowest folder below it (3 levels) that has a deliverable
     at its handout place, else the folder itself.
     """
-    path = Path(path).expanduser()
+    path = given_path(path)
     if _mode(path) is None:
         raise WorkspaceError(f"{path}: no such file or folder; give the student's file or hri_lab folder")
-    mode = _mode(path)
-    if mode is not None and stat.S_ISLNK(mode) and os.path.isdir(path):
-        raise WorkspaceError(f"{path} is a link to a folder; give the student's folder itself (the grader follows "
-                             "no link of a submission)")
     if not _is_dir(path):  # a file, or a link to one, which the checks refuse
         return path.parent.parent if path.parent.name in ("scripts", "config", "launch") else path.parent
     below = [p for p, mode in _entries(path, 2) if stat.S_ISDIR(mode)]
