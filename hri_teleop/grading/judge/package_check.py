@@ -1,12 +1,9 @@
 """Ex. 9 and Ex. 12 c): the handout's catkin steps, judged on the student's package as handed in.
 
-The handout has students make ``teleoperation.py`` (Ex. 9) and ``gripper_manager.py``
-(Ex. 12 c) executable and list them in the package's ``CMakeLists.txt`` before building the
-workspace. Each of the four facts is a part of its own (partial credit). Nothing runs:
-the check reads file modes and the CMakeLists text (:mod:`hri_teleop.ros.catkin_files`), so it
-judges the same package the same way alone, in a batch, idle or under load. A script or
-CMakeLists.txt that is a link (to the answer key's, to another student's) or not a regular file
-fails its parts with one line; nothing is read through a link.
+``teleoperation.py`` (Ex. 9) and ``gripper_manager.py`` (Ex. 12 c) executable and listed in the
+package's ``CMakeLists.txt``: four parts. Nothing runs: the check reads file modes and the
+CMakeLists text (:mod:`hri_teleop.ros.catkin_files`), the same alone, in a batch, idle or under
+load. A script or CMakeLists.txt that is a link or not a regular file fails with one line.
 """
 
 from __future__ import annotations

@@ -1,16 +1,10 @@
 """What runs inside a student sandbox: load, parse or import a student's file, report as JSON.
 
-Student YAML, launch files and modules may run code, so a StudentProcess runs this, never the
-grader's own process; it only observes (docs/grading-internals.md). The grader runs (isolated:
-``python -I``, see :func:`hri_teleop.grading.judge.harness.isolated_module_argv`):
-
-    python -m hri_teleop.grading.run.probe rosparam-load FILE OUT
-    python -m hri_teleop.grading.run.probe yaml-load FILE OUT
-    python -m hri_teleop.grading.run.probe launch-parse FILE OUT [name:=value ...]
-    python -m hri_teleop.grading.run.probe teleop-parts FILE PLAN OUT
-
-Student YAML is read with the bounded safe loader (:func:`hri_teleop.core.yamlfile.load_bounded_all`):
-no Python tags, no eval (rosparam's ``!radians`` is evaluated as arithmetic only), no alias blow-up.
+Started isolated by the grader (``python -I``: :func:`hri_teleop.grading.judge.harness.isolated_module_argv`)
+as ``probe rosparam-load|yaml-load FILE OUT``, ``probe launch-parse FILE OUT [name:=value ...]`` or
+``probe teleop-parts FILE PLAN OUT``; never in the grader's own process (docs/grading-internals.md).
+YAML goes through the bounded safe loader (:func:`hri_teleop.core.yamlfile.load_bounded_all`): no
+Python tags, no eval, no alias blow-up.
 """
 
 from __future__ import annotations

@@ -1,12 +1,10 @@
 """Reading what a student handed in: regular files only, never through a link, never past a size.
 
-A submission is a stranger's tree. A deliverable may be a link to ``/etc/shadow``, to the answer key
-or to another student's file; a folder may be a link to another student's package; a file may be a
-FIFO that blocks a reader for ever or ``/proc/self/pagemap``, which never ends. The grader often runs
-as root, so "it could read it" proves nothing. Everything the grader takes from a submission goes
-through this module: each path is opened one component at a time below the submission's root with
-``O_NOFOLLOW`` (a link anywhere on the way is refused, not followed), the last one must be a regular
-file, and no more than ``limit_bytes`` are read.
+A deliverable may be a link to ``/etc/shadow``, the answer key or another student's file, a FIFO
+that blocks a reader for ever or ``/proc/self/pagemap``, which never ends; the grader often runs as
+root. So every path is opened one component at a time below the submission's root with
+``O_NOFOLLOW`` (a link anywhere on the way is refused, not followed), the last one must be a
+regular file, and no more than ``limit_bytes`` are read.
 """
 
 from __future__ import annotations

@@ -1,16 +1,10 @@
 """Where a student's files are, and the catkin-free package the grader runs them in.
 
-Submissions come as an hri_lab folder, nbgrader's ``submitted/<student>/<assignment>/`` or loose
-files, and launch files say ``pkg="hri_lab"``. So the grader builds an hri_lab package with the
-student's files at the handout's places, the lab-provided files from the instructor (never the
-student's copy) and stand-ins for the hardware packages (:mod:`hri_teleop.grading.run.standins`).
-Code runs on a copy: the student's folder is never written to.
-
-Nothing here follows a link or opens a special file of the submission: folders are walked with
-``lstat``, files are read one component at a time with ``O_NOFOLLOW`` under a size cap
-(:mod:`hri_teleop.grading.run.untrusted_files`). A deliverable that is a link (to the answer key,
-to another student's file, to ``/etc/shadow``), a FIFO or a device is refused with one line
-(:func:`refusal_for`), never read.
+The grader builds an hri_lab package (launch files say ``pkg="hri_lab"``) with the student's files
+at the handout's places, the lab-provided files from the instructor and stand-ins for the hardware
+packages, on a copy. Nothing of the submission is followed or opened special: folders are walked
+with ``lstat``, files read through :mod:`hri_teleop.grading.run.untrusted_files`, and a deliverable
+that is a link, FIFO or device is refused in one line (:func:`refusal_for`), never read.
 """
 
 from __future__ import annotations
