@@ -19,7 +19,7 @@ import yaml
 from hri_teleop.core.errors import HriTeleopError
 
 __all__ = ["read_yaml", "BoundedYamlError", "YAML_CAP_CHARS", "YAML_CAP_WEIGHT", "load_bounded_all",
-           "load_bounded", "arithmetic"]
+           "load_bounded", "arithmetic", "disarm_rosparam_tags"]
 
 
 def read_yaml(
@@ -141,6 +141,14 @@ _BoundedLoader.add_constructor("!radians", _radians)
 _BoundedLoader.add_constructor("!degrees", _degrees)
 _BoundedLoader.add_implicit_resolver("!degrees", re.compile(r"^deg\([^\)]*\)$"), list("deg("))
 _BoundedLoader.add_implicit_resolver("!radians", re.compile(r"^rad\([^\)]*\)$"), list("rad("))
+
+
+def disarm_rosparam_tags() -> None:
+    """Put :func:`arithmetic` in place of eval behind ``!radians`` on every PyYAML loader (rosparam puts its
+    eval-based constructor there when it is imported, and roslaunch reads ``<rosparam>`` with them)."""
+    for loader in (yaml.SafeLoader, yaml.Loader, yaml.FullLoader, yaml.UnsafeLoader):
+        loader.add_constructor("!radians", _radians)
+        loader.add_constructor("!degrees", _degrees)
 
 
 def _weigh(node: yaml.Node, budget: int, memo: Dict[int, int], active: Set[int]) -> int:

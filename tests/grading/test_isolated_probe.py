@@ -57,3 +57,25 @@ def test_pythonpath_outside_the_folder_is_appended_and_inside_it_is_dropped(tmp_
     assert lines[0] == "from /opt/ros"
     assert not lines[1].startswith(str(folder))
     assert lines[2] == "False True"  # the folder's entry dropped; /opt/ros's after the Python's own packages
+
+
+def _launch_parse(folder: Path, text: str) -> dict:
+    import json
+
+    (folder / "x.launch").write_text(text)
+    proc = subprocess.run(isolated_module_argv("hri_teleop.grading.run.probe", ["launch-parse", "x.launch", "out.json"]),
+                          cwd=folder, capture_output=True, text=True, timeout=120)
+    assert proc.returncode == 0, proc.stderr
+    return json.loads((folder / "out.json").read_text())
+
+
+def test_a_rosparam_block_in_a_launch_file_runs_no_eval_in_the_probe(tmp_path: Path) -> None:
+    owned = tmp_path / "OWNED"
+    evil = _launch_parse(tmp_path, "<launch><rosparam>\n  ok: !radians pi/2\n"
+                                   f"  evil: !radians __import__('os').system('touch {owned}')\n</rosparam></launch>\n")
+    assert not owned.exists()
+    assert not evil["ok"] and "invalid radian expression" in evil["error"]
+    honest = _launch_parse(tmp_path, "<launch><rosparam>\n  ok: !radians pi/2\n  d: !degrees 90\n"
+                                     "  r: rad(2*pi)\n</rosparam></launch>\n")
+    assert honest["ok"], honest["error"]
+    assert honest["params"] == {"/ok": 1.5707963267948966, "/d": 1.5707963267948966, "/r": 6.283185307179586}

@@ -19,7 +19,7 @@ from typing import Any, Dict, List, Optional, Sequence, Tuple
 
 import yaml
 
-from hri_teleop.core.yamlfile import BoundedYamlError, load_bounded, load_bounded_all
+from hri_teleop.core.yamlfile import BoundedYamlError, disarm_rosparam_tags, load_bounded, load_bounded_all
 from hri_teleop.grading.run.records import (
     LaunchNode,
     LaunchParseResult,
@@ -124,6 +124,10 @@ def launch_parse(path: Path, args: Sequence[str]) -> LaunchParseResult:
     """roslaunch's own XmlLoader: the nodes, parameters and files a launch file resolves to."""
     import roslaunch.config  # noqa: PLC0415 - the probe imports only what its command needs
     import roslaunch.xmlloader  # noqa: PLC0415 - the probe imports only what its command needs
+
+    import rosparam  # noqa: F401, PLC0415 - roslaunch imports it at the first <rosparam>, registering its tags
+
+    disarm_rosparam_tags()  # then a <rosparam> block's !radians is arithmetic, not rosparam's eval
 
     config = roslaunch.config.ROSLaunchConfig()
     loader = roslaunch.xmlloader.XmlLoader(resolve_anon=False)
