@@ -347,8 +347,8 @@ def refuse_reference(run: CheckRun, check: str, table: Dict[str, Tuple[str, floa
     """Every part failed when the student's file uses the lab's reference rules (None: it does not)."""
     target = run.space.files[_KEY[check]]
     try:
-        uses = reference_uses(target.read_text(encoding="utf-8")) if target is not None else []
-    except (OSError, UnicodeDecodeError):
+        uses = reference_uses(read_regular(target, root=run.space.package).decode("utf-8")) if target is not None else []
+    except (OSError, UnicodeDecodeError):  # UntrustedFileError is an OSError
         uses = []  # the check itself says the file cannot be read
     if not uses:
         return None
