@@ -480,7 +480,8 @@ def submission_time(policy: LatePolicy, student: str, assignment: str, folder: P
     stamp, refused = student_stamp(folder)
     name = Path(policy.times_source).name
     if not policy.times_source:
-        return SubmissionTime(None, "", "late.yaml names no LMS export of submission times (times:)", stamp, refused)
+        return SubmissionTime(None, "", f"no LMS export of submission times: {Path(policy.source).name} has no "
+                              "times: key", stamp, refused)
     for key in ((student, assignment), (student, ALL_ASSIGNMENTS)):
         if key in policy.times:
             when = policy.times[key]
