@@ -7,7 +7,6 @@ the FSR attachment and the board on one clock and returns the record that ``summ
 
 from __future__ import annotations
 
-from hri_teleop.core.attachment import Attachment
 from hri_teleop.core.paths import SCENARIOS
 from hri_teleop.core.run_record import format_summary, summarize
 from hri_teleop.core.teleop import TeleopParams
@@ -18,5 +17,5 @@ from hri_teleop.sim.study import simulate_study
 from hri_teleop.sim.virtual_pad import parse_script
 from hri_teleop.sim.world import WorldConfig
 
-__all__ = ["run_lab", "parse_script", "WorldConfig", "OBJECTS", "Attachment", "SCENARIOS", "TeleopParams",
+__all__ = ["run_lab", "parse_script", "WorldConfig", "OBJECTS", "SCENARIOS", "TeleopParams",
            "summarize", "format_summary", "timeline", "simulate_study"]

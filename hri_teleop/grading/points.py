@@ -17,6 +17,7 @@ from typing import Any, Dict, Iterable, List, Mapping, Optional, Sequence, Tuple
 
 from hri_teleop.grading.assignments import ASSIGNMENT_CHECKS
 from hri_teleop.grading.judge.compare_common import GRAPH, MAPPING, SENSOR_LAUNCH, TELEOP, TELEOP_LAUNCH
+from hri_teleop.grading.judge.notebook_answers import has_rule
 from hri_teleop.grading.judge.package_check import CATKIN_PACKAGE
 from hri_teleop.grading.judge.robot_params import part_table
 
@@ -77,7 +78,9 @@ def is_check_cell(grade_id: str) -> bool:
 
 def check_cell_problems(source: Path) -> List[str]:
     """Where the notebooks under ``source`` (``source/<assignment>/*.ipynb``) break the rule: a cell that runs
-    a check and carries nbgrader points (those points would count a second time). One line each, with the fix."""
+    a check and carries nbgrader points (those points would count a second time), or an autograded test cell
+    the grader holds no rule for (only the grader's rules give a notebook's points:
+    :mod:`hri_teleop.grading.judge.notebook_answers`). One line each, with the fix."""
     problems = []
     for path in sorted(Path(source).glob("*/*.ipynb")):
         try:
@@ -91,6 +94,12 @@ def check_cell_problems(source: Path) -> List[str]:
                 problems.append(f"{path.parent.name}/{path.name}: cell {meta.get('grade_id')} runs a check and carries "
                                 f"{meta.get('points', 0)} nbgrader points, which the files carry already; make it a "
                                 "read-only cell (nbgrader: grade off, locked on; docs/instructors.md, Points)")
+            elif meta.get("grade") and not meta.get("solution") and cell.get("cell_type") == "code" \
+                    and not has_rule(str(meta.get("grade_id"))):
+                problems.append(f"{path.parent.name}/{path.name}: autograded cell {meta.get('grade_id')} has no rule "
+                                f"in the grader, so its {meta.get('points', 0)} points could not be given; hand its "
+                                "values in with hand_in and write its rule (docs/instructors.md, A new autograded "
+                                "cell)")
     return problems
 
 

@@ -47,6 +47,7 @@ from hri_teleop.grading.batch.folders import (
     submissions_in,
     unsandboxed_line,
 )
+from hri_teleop.grading.batch.notebook_judge import judge_autograded
 from hri_teleop.grading.batch.report_data import FILES_JOB
 from hri_teleop.grading.batch.spare_kernels import PROVISIONER, PROVISIONER_ENV, SPARES_ENV
 from hri_teleop.grading.cases.inputs import SEED_ENV, student_seed
@@ -331,7 +332,12 @@ def autograde_in(course: Course, student: str, assignment: str, out: Path, timeo
             return JobOutcome(student, assignment, "notebooks", 0.0, 0.0, "not graded", seconds,
                               f"nbgrader autograde took longer than {timeout_s:.0f} s (stopped"
                               + (f" in {notebook})" if notebook else ")"), sandboxed=sandbox is not None)
-        if run.returncode == 0:
+        if run.returncode == 0:  # the kernel reported; the grader judges each autograded cell (notebook_judge)
+            problem = judge_autograded(course.root, course.db_url, course.course_id, student, assignment, db_lock)
+            if problem:
+                _forget_outputs(course, student, assignment)
+                return JobOutcome(student, assignment, "notebooks", 0.0, 0.0, "not graded", seconds, problem,
+                                  sandboxed=sandbox is not None)
             score, maximum, manual = _submission_score(course, db_lock, student, assignment)
             return JobOutcome(student, assignment, "notebooks", score, maximum, "graded", seconds, "", manual,
                               sandboxed=sandbox is not None)

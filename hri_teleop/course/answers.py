@@ -1,0 +1,103 @@
+"""``hand_in``: an autograded cell hands the student's values out as plain data; the grader judges them.
+
+The cell's output carries the values as JSON under a MIME type of the course's own
+(:data:`hri_teleop.grading.judge.notebook_answers.MIME`) beside a line of text. After nbgrader's
+autograde the grader reads that output from the autograded notebook and applies the cell's rule in
+its own process (:mod:`hri_teleop.grading.batch.notebook_judge`): nothing the kernel decides gives a
+point. At home ``hand_in`` runs the same rule on the same plain data, so the student sees the verdict
+the grader will give; a wrong answer ends the cell with one line saying why. Runs on Python 3.8.
+"""
+
+from __future__ import annotations
+
+import json
+import math
+from typing import Any, Dict, List
+
+from hri_teleop.core.errors import HriTeleopError
+from hri_teleop.course.errors import CourseError
+from hri_teleop.grading.judge.notebook_answers import MAX_ANSWER_BYTES, MIME, has_rule, judge
+
+__all__ = ["hand_in", "plain", "WrongAnswer"]
+
+_MAX_TEXT = 2000      # characters of one string handed in
+_MAX_ITEMS = 1000     # items of one list or dict
+_MAX_DEPTH = 8        # nesting of lists and dicts
+_SHOWN = 60           # characters of one value in the cell's text
+
+
+class WrongAnswer(HriTeleopError, AssertionError):
+    """The rule of the cell says no: one line naming the cause and what to do (no traceback)."""
+
+    def _render_traceback_(self) -> List[str]:  # IPython shows the one line, not a traceback
+        return [f"{type(self).__name__}: {self}"]
+
+
+def plain(value: Any, depth: int = 0) -> Any:
+    """``value`` as JSON data (numbers, strings, lists, dicts, bools, None), bounded.
+
+    numpy scalars and arrays become their Python values; a NaN or infinity its text ("nan");
+    anything else its ``repr``, cut short. Long strings, lists and dicts are cut at a bound.
+    """
+    if value is None or isinstance(value, (bool, str)):
+        return value[:_MAX_TEXT] if isinstance(value, str) else value
+    if isinstance(value, int):
+        return int(value)
+    if isinstance(value, float):
+        return float(value) if math.isfinite(value) else repr(float(value))
+    if depth >= _MAX_DEPTH:
+        return repr(value)[:_SHOWN]
+    if isinstance(value, dict):
+        return {str(k)[:_MAX_TEXT]: plain(v, depth + 1) for k, v in list(value.items())[:_MAX_ITEMS]}
+    if isinstance(value, (list, tuple)):
+        return [plain(v, depth + 1) for v in list(value)[:_MAX_ITEMS]]
+    for convert in ("item", "tolist"):  # numpy scalars, then arrays
+        method = getattr(value, convert, None)
+        if callable(method):
+            try:
+                return plain(method(), depth + 1)
+            except (TypeError, ValueError):
+                continue
+    return repr(value)[:_SHOWN]
+
+
+def _shown(values: Dict[str, Any]) -> str:
+    parts = []
+    for name, value in values.items():
+        text = json.dumps(value, ensure_ascii=False) if not isinstance(value, float) else f"{value:g}"
+        parts.append(f"{name} = {text if len(text) <= _SHOWN else text[:_SHOWN - 3] + '...'}")
+    return ", ".join(parts) or "nothing"
+
+
+def _publish(payload: Dict[str, Any], text: str) -> None:
+    try:
+        from IPython import get_ipython  # noqa: PLC0415 - only in a kernel
+        from IPython.display import publish_display_data  # noqa: PLC0415 - as above
+    except ImportError:
+        print(text)
+        return
+    if get_ipython() is None:
+        print(text)
+        return
+    publish_display_data({MIME: payload, "text/plain": text})
+
+
+def hand_in(grade_id: str, **values: Any) -> None:
+    """Hand the student's ``values`` of the autograded cell ``grade_id`` to the grader, and show its verdict.
+
+    The grader judges what this hands out (its rule, in its own process); here the same rule runs on the
+    same data, so a wrong value ends the cell with :class:`WrongAnswer` and the reason, as it will be graded.
+    """
+    if not has_rule(grade_id):
+        raise CourseError(f"hand_in: no graded cell {grade_id!r}; use the grade id of the cell's nbgrader metadata")
+    data = {name: plain(value) for name, value in values.items()}
+    encoded = json.dumps({"grade_id": grade_id, "values": data}, ensure_ascii=False, allow_nan=False)
+    if len(encoded.encode("utf-8")) > MAX_ANSWER_BYTES:
+        raise CourseError(f"hand_in: the values are {len(encoded.encode('utf-8'))} bytes as JSON, more than "
+                          f"{MAX_ANSWER_BYTES}; hand in the numbers the cell asks for, not whole records")
+    payload = json.loads(encoded)  # exactly what the grader will read
+    _publish(payload, f"handed in for the grader: {_shown(payload['values'])}")
+    verdict = judge(grade_id, payload["values"])
+    if not verdict.passed:
+        raise WrongAnswer(verdict.message)
+    print(f"the grader's rule says: {verdict.message}")
