@@ -21,11 +21,12 @@ from hri_teleop.core.errors import HriTeleopError
 from hri_teleop.core.gamepad import AXES, PadState
 from hri_teleop.core.mapping import ADC_MAX_COUNT, map_force
 from hri_teleop.core.teleop import Mode, TeleopController, TeleopParams
+from hri_teleop.grading.run.gains import TeleopGains
 
 __all__ = [
     "CasesError", "SEED_ENV", "seed_for", "student_seed", "default_seed", "PUBLIC_MAX_SENSOR_FORCE",
     "MappingCase", "public_mapping_case", "hidden_mapping_cases",
-    "TeleopGains", "PUBLIC_GAINS", "PadTick", "ExpectedTick", "TeleopPartsCase",
+    "TeleopGains", "reference_params", "PUBLIC_GAINS", "PadTick", "ExpectedTick", "TeleopPartsCase",
     "public_teleop_parts_case", "hidden_teleop_parts_case", "reference_parts",
     "Plateau", "TeleopNodeCase", "public_teleop_node_case", "hidden_teleop_node_case",
 ]
@@ -139,25 +140,11 @@ def hidden_mapping_cases(seed: int, count: int = 2) -> List[MappingCase]:
 
 # -- teleoperation.py, the student's parts (Ex. 8) ---------------------------------------
 
-@dataclass(frozen=True)
-class TeleopGains:
-    """The parameters of the student's Teleoperation class (its constructor's arguments)."""
-
-    rate: float = 50.0
-    k_trans: float = 0.1
-    k_rot: float = 0.3
-    k_gripper: float = 0.04
-    deadzone: float = 0.1
-
-    def as_dict(self) -> Dict[str, float]:
-        return {"rate": self.rate, "k_trans": self.k_trans, "k_rot": self.k_rot,
-                "k_gripper": self.k_gripper, "deadzone": self.deadzone}
-
-    def params(self) -> TeleopParams:
-        """The reference controller's parameters: the handout's rules (no rumble threshold)."""
-        return TeleopParams(rate_hz=self.rate, k_trans=self.k_trans, k_rot=self.k_rot,
-                            k_gripper=self.k_gripper, deadzone=self.deadzone, rumble_threshold=0.0,
-                            initial_width_m=0.08, width_min_m=0.0, width_max_m=0.08)
+def reference_params(gains: TeleopGains) -> TeleopParams:
+    """The reference controller's parameters for ``gains``: the handout's rules (no rumble threshold)."""
+    return TeleopParams(rate_hz=gains.rate, k_trans=gains.k_trans, k_rot=gains.k_rot,
+                        k_gripper=gains.k_gripper, deadzone=gains.deadzone, rumble_threshold=0.0,
+                        initial_width_m=0.08, width_min_m=0.0, width_max_m=0.08)
 
 
 PUBLIC_GAINS = TeleopGains()
@@ -296,7 +283,7 @@ def _rotation_controller(params: TeleopParams) -> TeleopController:
 
 def reference_parts(case: TeleopPartsCase) -> List[ExpectedTick]:
     """What the student's variables must be after each tick, from TeleopController."""
-    params = case.gains.params()
+    params = reference_params(case.gains)
     controller = TeleopController(params)
     translation = TeleopController(params)
     rotation = _rotation_controller(params)
@@ -354,7 +341,7 @@ class TeleopNodeCase:
 
 def _node_case(label: str, gains: TeleopGains, forward: float, sideways: float, close_s: float,
                force: float, hidden: bool) -> TeleopNodeCase:
-    params = gains.params()
+    params = reference_params(gains)
     translation = TeleopController(params)
     rotation = _rotation_controller(params)
     vx = translation.target_twist(PadState({"left_y": forward}))[0]

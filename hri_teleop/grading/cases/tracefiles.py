@@ -29,6 +29,7 @@ from hri_teleop.grading.cases.inputs import (
     public_mapping_case,
     public_teleop_node_case,
     public_teleop_parts_case,
+    reference_params,
     reference_parts,
 )
 from hri_teleop.ros.bags import read_topics, write_bag
@@ -104,7 +105,7 @@ def _node_messages(case: TeleopNodeCase) -> List[Tuple[str, Any, float]]:
     now = [0.0]
     pad = ScriptedPad(parse_script(script), clock=lambda: now[0])
     pad.start(0.0)
-    controller = TeleopController(case.gains.params())
+    controller = TeleopController(reference_params(case.gains))
     dt = 1.0 / case.gains.rate
     tick = 0
     while tick * dt <= case.quit_s + 5.0 and not controller.finished:

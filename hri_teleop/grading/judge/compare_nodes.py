@@ -20,6 +20,7 @@ from hri_teleop.grading.cases.inputs import (
     TeleopNodeCase,
     TeleopPartsCase,
     public_mapping_case,
+    reference_params,
     reference_parts,
 )
 from hri_teleop.grading.judge.compare_common import (
@@ -313,7 +314,7 @@ def _judge_twist(case: TeleopPartsCase, exp: List[ExpectedTick], got: List[Parts
     if len(values) != 6 or len(numbers) != 6:
         hint = "self.cartesian_velocity must be a list of 6 numbers [v_x, v_y, v_z, w_x, w_y, w_z]"
     else:
-        raw = _no_deadzone(case.gains.params(), rotation).target_twist(case.ticks[i].state())
+        raw = _no_deadzone(reference_params(case.gains), rotation).target_twist(case.ticks[i].state())
         active = range(3, 6) if rotation else range(0, 3)
         other = range(0, 3) if rotation else range(3, 6)
         if all(abs(v - r) <= TWIST_TOLERANCE for v, r in zip(numbers, raw)) and raw != tuple(want):

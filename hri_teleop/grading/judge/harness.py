@@ -206,7 +206,7 @@ class CheckRun:
         argv = isolated_module_argv("hri_teleop.grading.run.probe", [command, str(target)] + (
             [str(plan)] if plan is not None else []) + [str(out)])
         proc = StudentProcess(argv, self.space.package, env, self.session_dir / "logs" / f"{name}.log",
-                              DEFAULT_LIMITS, uid=self.uid, nested=True, network=False)
+                              DEFAULT_LIMITS, uid=self.uid, nested=True, network=False, guard=self.space.guard)
         code = proc.wait(_PROBE_TIMEOUT_S)
         problem = "" if code is not None else f"was still running after {_PROBE_TIMEOUT_S:.0f} s (an endless loop?)"
         proc.stop()
@@ -225,7 +225,8 @@ class CheckRun:
         context = SessionContext(session_dir=str(self.session_dir), student_folder=str(self.space.package),
                                  uid=self.uid, python=sys.executable,
                                  env=dict(self.env(), TMPDIR=str(self.session_dir)),
-                                 out=str(self.session_dir / f"{plan.KIND}.out.json"), limits=DEFAULT_LIMITS)
+                                 out=str(self.session_dir / f"{plan.KIND}.out.json"), limits=DEFAULT_LIMITS,
+                                 guard=self.space.guard)
         return run_session_plan(context, plan, self.session_dir, timeout_s)
 
 

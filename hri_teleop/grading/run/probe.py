@@ -31,6 +31,7 @@ from hri_teleop.grading.run.records import (
     TeleopPartsResult,
     YamlResult,
 )
+from hri_teleop.grading.run.student_guard import install as install_guard
 from hri_teleop.grading.run.untrusted_files import UntrustedFileError, read_regular
 
 __all__ = ["main"]
@@ -124,7 +125,6 @@ def launch_parse(path: Path, args: Sequence[str]) -> LaunchParseResult:
     """roslaunch's own XmlLoader: the nodes, parameters and files a launch file resolves to."""
     import roslaunch.config  # noqa: PLC0415 - the probe imports only what its command needs
     import roslaunch.xmlloader  # noqa: PLC0415 - the probe imports only what its command needs
-
     import rosparam  # noqa: F401, PLC0415 - roslaunch imports it at the first <rosparam>, registering its tags
 
     disarm_rosparam_tags()  # then a <rosparam> block's !radians is arithmetic, not rosparam's eval
@@ -238,6 +238,7 @@ def main(argv: Optional[Sequence[str]] = None) -> int:
         print(__doc__, file=sys.stderr)
         return 2
     command, target = args[0], Path(args[1])
+    install_guard()  # before anything of the student's is read: -I skips the sitecustomize that would
     if command == "rosparam-load":
         _write(Path(args[2]), rosparam_load(target))
     elif command == "yaml-load":

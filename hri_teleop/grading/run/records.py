@@ -27,7 +27,7 @@ from typing import (
 
 from hri_teleop.core.errors import HriTeleopError
 from hri_teleop.core.gamepad.events import PadEvent
-from hri_teleop.grading.cases.inputs import TeleopGains
+from hri_teleop.grading.run.gains import TeleopGains
 from hri_teleop.grading.run.sandbox import Limits
 
 __all__ = [
@@ -311,6 +311,8 @@ class SessionContext(Record):
     env: Dict[str, str]
     out: str
     limits: Limits
+    #: the reference guard's policy for its student processes (student_guard; "" for none)
+    guard: str = ""
 
 
 @dataclass(frozen=True)

@@ -86,6 +86,7 @@ class Session:
         self.limits = context.limits
         self.uid = context.uid
         self.python = context.python
+        self.guard = context.guard
         self.env = dict(context.env)
         self.master = PrivateMaster(base_env=self.env, work_dir=self.dir / "ros")
         self.master.start()
@@ -117,7 +118,7 @@ class Session:
         if "PYTHONPATH" in extra:  # the extra folders first, the session's after them
             extra["PYTHONPATH"] = os.pathsep.join(p for p in (extra["PYTHONPATH"], env.get("PYTHONPATH", "")) if p)
         proc = StudentProcess(argv, self.folder, dict(env, **extra),
-                              self.dir / "logs" / f"{name}.log", self.limits, uid=self.uid, nested=True)
+                              self.dir / "logs" / f"{name}.log", self.limits, uid=self.uid, nested=True, guard=self.guard)
         self.started.append(proc)
         return proc
 

@@ -128,9 +128,8 @@ def unreachable(paths: Sequence[str], uid: Optional[int]) -> str:
 
 def toolkit_paths() -> List[str]:
     """What student code runs on, as paths: the Python binary, its prefix and the toolkit's package."""
-    import hri_teleop  # noqa: PLC0415 - only its path is wanted
-
-    return [os.path.realpath(sys.executable), sys.prefix, os.path.dirname(os.path.realpath(hri_teleop.__file__))]
+    toolkit = os.path.dirname(os.path.dirname(os.path.dirname(os.path.realpath(__file__))))  # hri_teleop
+    return [os.path.realpath(sys.executable), sys.prefix, toolkit]
 
 
 def bwrap_problem() -> str:

@@ -80,12 +80,16 @@ def _sha256(path: str) -> str:
 
 
 def guard_policy(package: str, placed: Sequence[str], toolkit_root: str,
-                 modules: Iterable[str] = REFERENCE_RULES) -> str:
+                 modules: Iterable[str] = REFERENCE_RULES, secret: Optional[Sequence[str]] = None) -> str:
     """The policy (JSON) for the student processes of one run: ``package`` the student's package folder,
-    ``placed`` the files the grader put there (the lab's versions of other deliverables, the provided nodes),
-    ``toolkit_root`` the ``hri_teleop`` folder whose reference modules are refused."""
+    ``placed`` the programs the grader put there (run as the lab's, unguarded), ``secret`` those of them no
+    student code may open (the lab's versions of other deliverables; default: all of ``placed``; the provided
+    nodes every student has are not), ``toolkit_root`` the ``hri_teleop`` folder whose reference modules are
+    refused."""
     files = [f for m in modules for f in _module_files(m, toolkit_root)]
-    return json.dumps({"package": os.path.abspath(package), "modules": list(modules), "files": files,
+    hidden = list(placed if secret is None else secret)
+    return json.dumps({"package": os.path.abspath(package), "modules": list(modules),
+                       "files": files + [os.path.abspath(p) for p in hidden if os.path.isfile(p)],
                        "placed": {os.path.abspath(p): _sha256(p) for p in placed if os.path.isfile(p)},
                        "python": os.path.realpath(sys.executable)})
 
@@ -105,7 +109,7 @@ class _Policy:
         self.placed: Dict[str, str] = {str(k): str(v) for k, v in dict(data.get("placed", {})).items()}
         self.python = str(data.get("python", ""))
         self.inodes: Set[Tuple[int, int]] = set()
-        for path in list(data.get("files", ())) + list(self.placed):
+        for path in data.get("files", ()):
             found = _inode(path)
             if found is not None:
                 self.inodes.add(found)
@@ -213,7 +217,6 @@ class _Finder:
 def _hook(policy: _Policy, text: str) -> Any:
     refused_modules: FrozenSet[str] = frozenset(policy.modules)
     inodes = policy.inodes
-    placed_paths = set(policy.placed)
 
     def hook(event: str, args: Tuple[Any, ...]) -> None:
         if event == "open":
@@ -226,8 +229,7 @@ def _hook(policy: _Policy, text: str) -> Any:
                 raise GuardError(f"the grader refuses to open {path}: it is the lab's reference, not your work")
         elif event in ("os.rename", "os.link", "os.symlink", "shutil.copyfile", "shutil.copymode"):
             for path in args[:2]:
-                if isinstance(path, (str, bytes)) and (os.path.abspath(os.fsdecode(path)) in placed_paths
-                                                       or _inode(path) in inodes):
+                if isinstance(path, (str, bytes)) and _inode(path) in inodes:
                     raise GuardError(f"the grader refuses to move or link {os.fsdecode(path)}")
         elif event == "import":
             name = args[0] if args else ""

@@ -19,6 +19,7 @@ from typing import Dict, List, Optional, Sequence, Tuple, Union
 from hri_teleop.core.errors import HriTeleopError
 from hri_teleop.core.paths import LAB_PACKAGE, REPO
 from hri_teleop.grading.run.standins import SERIAL_NODE_SCRIPT
+from hri_teleop.grading.run.student_guard import guard_policy
 from hri_teleop.grading.run.untrusted_files import (
     FILE_CAP_BYTES,
     UntrustedFileError,
@@ -33,6 +34,8 @@ __all__ = ["WorkspaceError", "DELIVERABLES", "REPO", "REFERENCE_PACKAGE", "PROVI
            "locate", "refusal_for", "package_files", "Workspace", "prepare_workspace", "ros_package_path", "FRANKA_MARKER_PARAM"]
 
 REFERENCE_PACKAGE = LAB_PACKAGE
+#: The toolkit's package folder (hri_teleop), whose reference rules the guard keeps from student code.
+TOOLKIT = Path(__file__).resolve().parents[2]
 
 #: What students hand in, by key, at the handout's place in the hri_lab package.
 DELIVERABLES: Dict[str, str] = {
@@ -190,11 +193,31 @@ class Workspace:
     originals: Dict[str, Optional[Path]] = field(default_factory=dict)
     #: deliverables of other exercises run as the lab's reference, not the student's (see prepare_workspace)
     substituted: List[str] = field(default_factory=list)
+    _guard: Optional[str] = field(default=None, repr=False)
 
     @property
     def grader_dir(self) -> Path:
         """Inside the student's folder: probe plans and outputs (the student process writes them)."""
         return self.package / ".grader"
+
+    def placed(self) -> List[Path]:
+        """The files the grader put in the workspace to run as the lab's (other exercises' deliverables, the
+        provided nodes and config, the stand-in board): the reference guard trusts them and keeps them from
+        the student's code (:mod:`hri_teleop.grading.run.student_guard`)."""
+        found = [self.package / DELIVERABLES[key] for key in self.substituted]
+        found += [self.package / sub for sub in PROVIDED] + [self.ws / "rosserial_python" / "scripts" / "serial_node.py"]
+        return [p for p in found if p.is_file()]
+
+    @property
+    def guard(self) -> str:
+        """The reference guard's policy for the student processes of this workspace (JSON; StudentProcess's guard=)."""
+        if self._guard is None:
+            # the lab's nodes and launch files are answers; its robot_params.yaml is the handout's Table 1
+            secret = [str(self.package / DELIVERABLES[key]) for key in self.substituted
+                      if DELIVERABLES[key].endswith((".py", ".launch"))]
+            self._guard = guard_policy(str(self.package), [str(p) for p in self.placed()], str(TOOLKIT),
+                                       secret=secret)
+        return self._guard
 
     def file(self, key: str) -> Path:
         """The copy of deliverable ``key`` (a check's own is always there)."""
