@@ -468,3 +468,43 @@ def test_make_grade_and_gradescope_refuse_a_course_whose_autograded_cell_has_no_
     [problem] = check_cell_problems(tmp_path / "source")
     assert problem.startswith(f"{ASSIGNMENT}/{NOTEBOOK}.ipynb: autograded cell ex1a_mine has no rule in the grader")
     assert "hand_in" in problem and "\n" not in problem
+
+
+def test_the_grader_writes_its_scores_into_the_gradebook_and_keeps_grades_given_by_hand(tmp_path):
+    """judge_submission on a gradebook and an autograded notebook as nbgrader leaves them."""
+    nbgrader_api = pytest.importorskip("nbgrader.api")
+    from hri_teleop.grading.batch.notebook_judge import judge_submission
+
+    db = f"sqlite:///{tmp_path / 'gradebook.db'}"
+    with nbgrader_api.Gradebook(db, "course") as gb:
+        gb.add_assignment(ASSIGNMENT)
+        gb.add_notebook(NOTEBOOK, ASSIGNMENT)
+        for grade_id in GRADED:
+            gb.add_grade_cell(grade_id, NOTEBOOK, ASSIGNMENT, max_score=1, cell_type="code")
+        gb.add_student("s")
+        gb.add_submission(ASSIGNMENT, "s")
+        gb.find_grade("ex1a_voltage", NOTEBOOK, ASSIGNMENT, "s").manual_score = 0.5  # a TA's, before a regrade
+        gb.db.commit()
+    volts = float(expectations("ex1a_voltage")["a0_voltage_at_1n_v"])
+    cells = [_graded("ex1a_rate", [_answer(RIGHT_RATE)]),
+             _graded("ex1a_voltage", [_answer({"a0_voltage_at_1n_v": volts / 2}, "ex1a_voltage"), _error("WrongAnswer")]),
+             _graded("ex1a_count", [_error()])]
+    path = tmp_path / "autograded" / "s" / ASSIGNMENT / f"{NOTEBOOK}.ipynb"
+    path.parent.mkdir(parents=True)
+    path.write_text(json.dumps({"cells": cells, "metadata": {}, "nbformat": 4, "nbformat_minor": 4}))
+
+    verdicts = judge_submission(tmp_path, db, "course", "s", ASSIGNMENT)
+    assert [(v.grade_id, v.score) for v in verdicts] == [("ex1a_rate", 1.0), ("ex1a_voltage", 0.0), ("ex1a_count", 0.0)]
+    with nbgrader_api.Gradebook(db, "course") as gb:
+        grades = {g.name: g for g in gb.find_submission_notebook(NOTEBOOK, ASSIGNMENT, "s").grades}
+        assert (grades["ex1a_rate"].auto_score, grades["ex1a_rate"].score, grades["ex1a_rate"].needs_manual_grade) \
+            == (1.0, 1.0, False)
+        voltage = grades["ex1a_voltage"]
+        assert (voltage.auto_score, voltage.manual_score, voltage.score, voltage.needs_manual_grade) == \
+            (0.0, 0.5, 0.5, True)
+        assert grades["ex1a_count"].score == 0.0
+    written = {c["metadata"]["nbgrader"]["grade_id"]: _text(c) for c in json.loads(path.read_text())["cells"]}
+    assert written["ex1a_rate"].endswith("the grader: 1 of 1 point: right\n")
+    assert "the grader: 0 of 1 point: a0_voltage_at_1n_v is " in written["ex1a_voltage"]
+    assert written["ex1a_count"] == ("the grader: 0 of 1 point: not judged: the cell handed in no value (it raised "
+                                     "NameError: name 'x' is not defined)\n")
