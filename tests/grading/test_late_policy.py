@@ -4,6 +4,7 @@ from __future__ import annotations
 
 import os
 from datetime import datetime, timedelta, timezone
+from pathlib import Path
 
 import pytest
 
@@ -290,7 +291,8 @@ def test_a_timestamp_alone_decides_nothing_the_time_stays_unknown(tmp_path):
     without.mkdir()
     (without / "late.yaml").write_text('deadline: "2026-12-01 23:59 +01:00"\nper_day: 10%\n')
     bare = submission_time(read_late_policy(without / "late.yaml"), "carol", "lab", _handed_in(tmp_path, "carol"))
-    assert bare.when is None and bare.problem == "no LMS export of submission times: late.yaml has no times: key" and bare.stamp == ""
+    assert bare.when is None and bare.problem == ("no source of submission times: late.yaml has neither times: (the LMS export) nor "
+                                                  "exchange: (nbgrader's exchange)") and bare.stamp == ""
 
 
 def _secret(tmp_path):
@@ -435,3 +437,70 @@ def test_parse_timestamp_reads_nbgraders_format_and_never_repeats_what_it_cannot
     assert parse_timestamp(b"yesterday <b>") == "timestamp.txt does not hold a date and time"
     assert parse_timestamp(b"2026-12-01 22:59:00 UTC\n2026-12-01 22:59:00 UTC") == \
         "timestamp.txt does not hold a date and time"
+
+
+# --- nbgrader's exchange: the inbound folder's change time, which its owner can only move later ---
+
+def _exchange(tmp_path, deadline: datetime, extra: str = "") -> LatePolicy:
+    (tmp_path / "exchange" / "inbound").mkdir(parents=True, exist_ok=True)
+    (tmp_path / "late.yaml").write_text(f'deadline: "{deadline.isoformat()}"\nper_day: 10%\nexchange: exchange\n'
+                                        + extra)
+    return read_late_policy(tmp_path / "late.yaml")
+
+
+def _submit(tmp_path, name: str) -> Path:
+    """What `nbgrader submit` leaves in the exchange: a folder whose name carries the student's own clock."""
+    entry = tmp_path / "exchange" / "inbound" / name
+    (entry / "ex01.ipynb").parent.mkdir(parents=True)
+    (entry / "ex01.ipynb").write_text("{}")
+    (entry / "timestamp.txt").write_text(name.split("+")[2])
+    return entry
+
+
+def test_the_exchange_gives_the_inbound_folders_change_time_not_the_time_in_its_name(tmp_path):
+    now = datetime.now(timezone.utc)
+    policy = _exchange(tmp_path, now - DAY)  # the deadline was yesterday
+    first = _submit(tmp_path, "alice+lab+2026-11-01 10:00:00.000000 UTC+AbCd")  # a forged early name
+    second = _submit(tmp_path, "alice+lab+2026-11-02 10:00:00.000000 UTC+EfGh")
+    first.chmod(0o777)  # as nbgrader does last: the change time moves later, never back
+    got = submission_time(policy, "alice", "lab", _handed_in(tmp_path, stamp="2026-11-01 10:00:00 UTC"))
+    newest = max(os.lstat(first).st_ctime, os.lstat(second).st_ctime)
+    assert got.when == datetime.fromtimestamp(newest, UTC) and got.source.startswith("nbgrader's exchange")
+    lateness = judge_lateness(policy, "alice", "lab", got.when, got.shown_source)
+    assert lateness.late and lateness.days >= 1
+    assert "timestamp.txt says 2026-11-01 10:00:00+00:00 (not used)" in late_line(lateness, 55)
+    assert not judge_lateness(_exchange(tmp_path / "later", now + DAY), "alice", "lab", got.when).late
+
+
+def test_an_exchange_folder_under_a_students_name_made_by_someone_else_or_a_link_is_not_counted(tmp_path):
+    policy = _exchange(tmp_path, DEADLINE)
+    forged = _submit(tmp_path, "carol+lab+2026-11-01 10:00:00.000000 UTC+AbCd")
+    os.chown(forged, 54321, 54321)  # another user's folder, named for carol
+    (tmp_path / "exchange" / "inbound" / "carol+lab+2026-11-02 10:00:00 UTC").symlink_to(tmp_path)
+    got = submission_time(policy, "carol", "lab", _handed_in(tmp_path, "carol"))
+    assert got.when is None and got.problem == (
+        "nbgrader's exchange has no submission of carol, lab (2 under that name made by another user or not a "
+        "folder, not counted)")
+    assert submission_time(policy, "dave", "lab", _handed_in(tmp_path, "dave")).problem == \
+        "nbgrader's exchange has no submission of dave, lab"
+
+
+def test_the_lms_export_comes_before_the_exchange(tmp_path):
+    (tmp_path / "times.csv").write_text(TIMES_HEADER + "alice,lab,2026-12-01T20:00:00+01:00\n")
+    policy = _exchange(tmp_path, DEADLINE, "times: times.csv\n")
+    _submit(tmp_path, "alice+lab+2026-11-01 10:00:00.000000 UTC+AbCd")
+    _submit(tmp_path, "bob+lab+2026-11-01 10:00:00.000000 UTC+AbCd")
+    alice = submission_time(policy, "alice", "lab", _handed_in(tmp_path))
+    assert (alice.when, alice.source) == (datetime(2026, 12, 1, 20, tzinfo=CET), "times.csv, the LMS export")
+    bob = submission_time(policy, "bob", "lab", _handed_in(tmp_path, "bob"))
+    assert bob.source.startswith("nbgrader's exchange") and bob.when is not None
+    nobody = submission_time(policy, "eve", "lab", _handed_in(tmp_path, "eve"))
+    assert nobody.problem == "times.csv has no row for eve, lab; nbgrader's exchange has no submission of eve, lab"
+
+
+def test_an_exchange_key_that_is_no_exchange_says_what_to_write(tmp_path):
+    (tmp_path / "late.yaml").write_text('deadline: "2026-12-01 23:59 +01:00"\nper_day: 10%\nexchange: nowhere\n')
+    with pytest.raises(LateError) as err:
+        read_late_policy(tmp_path / "late.yaml")
+    assert str(err.value) == (f"{tmp_path / 'late.yaml'}: exchange 'nowhere' is not nbgrader's exchange folder of "
+                              "the course (no inbound/ in it); write e.g. exchange: /srv/nbgrader/exchange/task4")

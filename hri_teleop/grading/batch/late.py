@@ -19,7 +19,9 @@ import importlib
 import importlib.util
 import math
 import os
+import pwd
 import re
+import stat
 from dataclasses import dataclass, field
 from datetime import date, datetime, timedelta, timezone, tzinfo
 from pathlib import Path
@@ -32,11 +34,11 @@ from hri_teleop.grading.run.untrusted_files import UntrustedFileError, read_regu
 __all__ = ["LateError", "Extension", "LatePolicy", "Lateness", "LATE_FILE", "KEYS", "read_late_policy",
            "parse_when", "judge_lateness", "submission_time", "parse_timestamp", "late_line", "duration_text",
            "when_text", "ALL_ASSIGNMENTS", "FEEDBACK_PREFIX", "SubmissionTime", "read_times", "student_stamp",
-           "TIMES_COLUMNS", "STAMP_CAP_BYTES"]
+           "TIMES_COLUMNS", "STAMP_CAP_BYTES", "exchange_time"]
 
 #: The default late policy file: beside the course (an nbgrader course's folder, else the submissions folder).
 LATE_FILE = "late.yaml"
-KEYS = ("deadline", "per_day", "count", "cap", "extensions", "times")
+KEYS = ("deadline", "per_day", "count", "cap", "extensions", "times", "exchange")
 #: The columns of the LMS export late.yaml's ``times:`` names (any order; other columns are ignored).
 TIMES_COLUMNS = ("student", "assignment", "submitted_at")
 #: The most of a submitted timestamp.txt the grader reads (nbgrader writes about 26 bytes).
@@ -84,6 +86,9 @@ class LatePolicy:
     #: the export's cell is blank); ``times_source`` names the file ("" without ``times:``).
     times: Dict[Tuple[str, str], Optional[datetime]] = field(default_factory=dict)
     times_source: str = ""
+    #: nbgrader's exchange folder of the course (``<Exchange.root>/<course_id>``, "" when not given): its
+    #: ``inbound/`` entries' change times (:func:`exchange_time`).
+    exchange: str = ""
 
     def deadline_for(self, student: str, assignment: str) -> Tuple[datetime, bool]:
         """(the deadline that holds for ``student``'s ``assignment``, whether an extension moved it)."""
@@ -331,8 +336,16 @@ def read_late_policy(path: Union[str, Path]) -> LatePolicy:
                             f"{data['times']!r}; write e.g. times: submitted-at.csv")
         times_path = Path(path).parent / data["times"].strip()
         times, times_source = read_times(times_path), str(times_path)
+    exchange = ""
+    if data.get("exchange") is not None:
+        folder = Path(path).parent / str(data["exchange"]).strip()
+        if not isinstance(data["exchange"], str) or not (folder / "inbound").is_dir():
+            raise LateError(f"{source}: exchange {data['exchange']!r:.80} is not nbgrader's exchange folder of the "
+                            "course (no inbound/ in it); write e.g. exchange: /srv/nbgrader/exchange/task4")
+        exchange = str(folder)
     return LatePolicy(source, deadlines, _fraction(data["per_day"], source, "per_day", "10%"),
-                      _fraction(data.get("cap", 1.0), source, "cap", "50%"), count, extensions, times, times_source)
+                      _fraction(data.get("cap", 1.0), source, "cap", "50%"), count, extensions, times, times_source,
+                      exchange)
 
 
 def _times_error(source: str, where: str, problem: str) -> LateError:
@@ -470,22 +483,79 @@ class SubmissionTime:
         return self.problem + (f"; {self.stamp}" if self.stamp and self.when is None else "")
 
 
-def submission_time(policy: LatePolicy, student: str, assignment: str, folder: Path) -> SubmissionTime:
-    """When ``student``'s ``assignment`` was handed in, from a source the student cannot write.
+def _owners(student: str) -> Tuple[int, ...]:
+    """The uids whose exchange entries count for ``student``: theirs (a user of this machine), root, the grader."""
+    try:
+        own: Tuple[int, ...] = (pwd.getpwnam(student).pw_uid,)
+    except (KeyError, UnicodeEncodeError):
+        own = ()
+    return own + (0, os.geteuid())
 
-    The LMS export late.yaml names (``times:``): the row of (student, assignment), else of (student, ``*``).
-    No other source decides: nbgrader's timestamp.txt, its exchange folder's name and the gradebook's
-    timestamp all come from the student's own ``nbgrader submit``, and file times from their machine (or
-    from unpacking). The submission's timestamp.txt in ``folder`` is read (safely) to be shown beside."""
+
+def exchange_time(exchange: Path, student: str, assignment: str) -> Union[datetime, str]:
+    """When ``student`` last handed ``assignment`` in through nbgrader's exchange, or why it is not known.
+
+    ``nbgrader submit`` (run by the student) makes ``<exchange>/inbound/<student>+<assignment>+<time>[+<random>]``;
+    the time in that name and the timestamp.txt inside are the student's own clock, but the folder's change
+    time (ctime) is the file system's: its owner can only move it later (adding a file, a chmod), never back.
+    So: the latest ctime of those folders (real folders, no link) owned by the student (or root, or the
+    grader), the submission nbgrader collect takes by default being the newest. A folder under the student's
+    name made by someone else is not counted. It holds only on the machine the students submitted to: a copy
+    of the exchange has the copy's times."""
+    inbound = exchange / "inbound"
+    prefix = f"{student}+{assignment}+"
+    owners = _owners(student)
+    times: List[float] = []
+    others = 0
+    try:
+        names = sorted(n for n in os.listdir(inbound) if n.startswith(prefix))
+    except OSError as exc:
+        return f"nbgrader's exchange {inbound} cannot be listed ({exc.strerror})"
+    for name in names:
+        try:
+            st = os.lstat(inbound / name)
+        except OSError:
+            continue
+        if not stat.S_ISDIR(st.st_mode):
+            others += 1
+        elif st.st_uid not in owners:
+            others += 1
+        else:
+            times.append(st.st_ctime)
+    if not times:
+        extra = f" ({others} under that name made by another user or not a folder, not counted)" if others else ""
+        return f"nbgrader's exchange has no submission of {student}, {assignment}{extra}"
+    return datetime.fromtimestamp(max(times), timezone.utc)
+
+
+def submission_time(policy: LatePolicy, student: str, assignment: str, folder: Path) -> SubmissionTime:
+    """When ``student``'s ``assignment`` was handed in, from a source the student cannot write, in this order:
+
+    1. the LMS export late.yaml names (``times:``): the row of (student, assignment), else of (student, ``*``);
+    2. nbgrader's exchange late.yaml names (``exchange:``): :func:`exchange_time`;
+    else unknown. Nothing the student wrote decides: nbgrader's timestamp.txt, the time in its exchange
+    folder's name and the gradebook's timestamp all come from the student's own ``nbgrader submit``, and
+    file times from their machine (or from unpacking). The submission's timestamp.txt in ``folder`` is
+    read (safely) to be shown beside."""
     stamp, refused = student_stamp(folder)
     name = Path(policy.times_source).name
-    if not policy.times_source:
-        return SubmissionTime(None, "", f"no LMS export of submission times: {Path(policy.source).name} has no "
-                              "times: key", stamp, refused)
-    for key in ((student, assignment), (student, ALL_ASSIGNMENTS)):
-        if key in policy.times:
-            when = policy.times[key]
-            if when is None:
-                return SubmissionTime(None, "", f"{name} has no time for {student}, {assignment}", stamp, refused)
-            return SubmissionTime(when, f"{name}, the LMS export", "", stamp, refused)
-    return SubmissionTime(None, "", f"{name} has no row for {student}, {assignment}", stamp, refused)
+    problems: List[str] = []
+    if policy.times_source:
+        for key in ((student, assignment), (student, ALL_ASSIGNMENTS)):
+            if key in policy.times:
+                when = policy.times[key]
+                if when is not None:
+                    return SubmissionTime(when, f"{name}, the LMS export", "", stamp, refused)
+                problems.append(f"{name} has no time for {student}, {assignment}")
+                break
+        else:
+            problems.append(f"{name} has no row for {student}, {assignment}")
+    if policy.exchange:
+        got = exchange_time(Path(policy.exchange), student, assignment)
+        if isinstance(got, datetime):
+            return SubmissionTime(got, "nbgrader's exchange (its inbound folder's change time)", "", stamp, refused)
+        problems.append(got)
+    if not policy.times_source and not policy.exchange:
+        problems.append(f"no source of submission times: {Path(policy.source).name} has neither times: (the LMS "
+                        "export) nor exchange: (nbgrader's exchange)")
+    return SubmissionTime(None, "", "; ".join(problems), stamp, refused)
