@@ -1,26 +1,10 @@
-"""The reference guard at run time: in a graded student process the lab's reference rules cannot be loaded.
+"""The reference guard at run time: a graded student process cannot load the lab's reference rules.
 
-Writing the rule is the exercise, and a scan of the source (:mod:`hri_teleop.grading.judge.reference_guard`)
-misses ``importlib.import_module("hri_teleop.core." + "mapping")``, an ``exec`` of the rule's file, a copy
-of the lab's node the grader placed beside the student's, or a ``python -I`` child without any of this.
-So every process that runs a student's code (a node, roslaunch of a student's launch file, a probe that
-imports a student's module) installs, before that code runs, an audit hook (it cannot be removed) and an
-import finder (a clear message first):
-
-* the reference rules' modules are not importable, and their files (sources and caches) cannot be opened,
-  by name, by link or by another hard link: compared by inode;
-* the files the grader placed in the student's package (the lab's nodes run in place of another exercise's
-  deliverable) cannot be opened, renamed or linked either;
-* no program is started but a Python script of the ROS workspace (how roslaunch starts nodes) or this
-  Python, both without the flags that skip this guard (``-I``, ``-E``, ``-S``) and with this guard's
-  environment; ``launch-prefix``, shells and other programs are refused;
-* ctypes cannot load a library (it would call ``open`` past the audit hook), and nothing writes to or
-  reads ``/proc/*/mem``.
-
-A process whose main script is a file the grader placed (checked by its SHA-256) is the lab's, not the
-student's: the guard is not installed there. The policy travels in :data:`GUARD_ENV` (JSON); the grader
-builds it with :func:`guard_policy`. Kept Python 3.8-compatible and free of the toolkit's imports: it runs
-first in every student process.
+Installed first in every process that runs a student's code (its sitecustomize, or the probe itself): an
+audit hook and an import finder refuse the rule modules by name and their files by inode, the lab's nodes the
+grader placed beside the student's, programs that would start without the guard, ctypes and code posing as the
+toolkit's. What each refusal closes: docs/grading-internals.md, "Threat model". Python 3.8-compatible and
+without the toolkit's imports: it runs before anything else.
 """
 
 from __future__ import annotations

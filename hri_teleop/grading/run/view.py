@@ -1,21 +1,10 @@
 """What student code sees of the machine when graded: a list of what is shown, never a list of what is hidden.
 
-A box that binds the whole machine read-only and hides some folders leaves everything nobody thought of
-in sight: the checkout's ``.git`` (``git show HEAD:solutions/...``), the answer key, the course's test
-cells, other students' work, the gradebook, the grader's home. So a box (a student process, a notebook's
-kernel) starts from an empty root and is given, read-only, only what it runs on:
-
-* the system (``/usr`` and the links into it, ``/etc``, ``/opt`` where ROS Noetic lives, ``/sys``);
-* the Python that runs it (its prefix, its base prefix and the folders of its ``sys.path``);
-* the toolkit: ``hri_teleop`` (without the Gradescope course it ships), the lab's package ``hri_lab``
-  with the files students write masked (an empty file in their place), and the public reference traces;
-* the search paths of its environment (PATH, ROS_PACKAGE_PATH, ...) where they lead to none of the above's
-  neighbours (the checkout's root, a home, /tmp);
-* its own folders, which the caller adds (writable where the caller says).
-
-Everything else (homes, /tmp, /srv, /mnt, the rest of the checkout, a course, an output folder) is not
-there at all. The rules are pure functions of paths and flags; :func:`view_argv` turns them into bubblewrap
-arguments.
+A box that binds the whole machine and hides some folders leaves in sight everything nobody thought of
+(the checkout's .git and so the answer key, the course, other students, the grader's home). A box here starts
+from an empty root and is shown, read-only, the system, its Python and the toolkit without the answers; its
+own folders the caller adds. The rules are pure functions of paths; :func:`view_argv` makes bubblewrap's
+arguments (docs/grading-internals.md, "Threat model").
 """
 
 from __future__ import annotations
