@@ -1,21 +1,10 @@
-"""Feedback HTML that nothing a student wrote can script: the page rebuilt from an allow-list.
+"""Feedback HTML that nothing a student wrote can script: each page rebuilt from an allow-list.
 
-nbgrader's ``generate_feedback`` renders each autograded notebook to HTML, the student's outputs
-included, and the instructor and the student open it in a browser. A cell can print ``<script>``,
-an ``<img onerror=...>``, a ``javascript:`` link or an iframe as HTML output, and a Markdown answer
-can hold the same. nbconvert's own ``sanitize_html`` (7.17) does not stop them in nbgrader's
-feedback template: the template renders Markdown cells without it, and nbconvert writes an image's
-``width`` metadata, which the kernel chooses, unquoted (``width=1 onerror=...``); it also garbles
-tables (``<th>``, ``<thead>`` shown as text). So ``make grade`` rewrites every page of the feedback
-folder here: a fresh page whose head holds its charset, a Content-Security-Policy that allows no
-script, no frame and no request to anywhere (inline styles and ``data:`` images only), the title
-and the head's style sheets, and whose body is the old body cleaned by ammonia (nh3: html5ever,
-the browsers' parser; bleach's html5lib took 211 s on 60 000 nested ``<div>``, ammonia 11 s) with
-an allow-list of tags and attributes. Scripts, event handlers, iframes, forms, ``<svg>``,
-``<math>`` and every URL but ``http(s)``, ``mailto``, relative ones and ``data:`` images are gone
-(a tag left out keeps its text; a script or style sheet goes with its content). Tables,
-pre-formatted outputs and PNG, JPEG, GIF and SVG images (as ``<img>``, where an SVG's script does
-not run) stay. MathJax is not loaded: formulas show as their LaTeX source.
+A fresh head (charset, a Content-Security-Policy that lets nothing run, frame or load, the title and
+style sheets) and the old body through ammonia (nh3) with allowed tags, attributes and URL schemes.
+nbconvert's own ``sanitize_html`` is not enough in nbgrader's feedback template (Markdown cells raw,
+an unquoted ``width`` metadata); why, and what it costs: docs/grading-internals.md, "Output a
+student wrote, in a browser".
 """
 
 from __future__ import annotations
@@ -24,12 +13,13 @@ import html
 import os
 import re
 import stat
+import sys
 from pathlib import Path
-from typing import Dict, List, Optional, Set, Tuple
+from typing import Dict, List, Optional, Sequence, Set, Tuple
 
 from hri_teleop.grading.run.untrusted_files import UntrustedFileError, read_regular, walk_regular
 
-__all__ = ["CSP", "ALLOWED_TAGS", "HTML_SUFFIXES", "FEEDBACK_CAP_BYTES", "MAX_TAGS", "sanitize_document", "sanitize_feedback"]
+__all__ = ["CSP", "ALLOWED_TAGS", "HTML_SUFFIXES", "FEEDBACK_CAP_BYTES", "MAX_TAGS", "sanitize_document", "sanitize_feedback", "main"]
 
 #: The page may style itself and show data: images; nothing else loads or runs.
 CSP = ("default-src 'none'; style-src 'unsafe-inline'; img-src data:; font-src data:; base-uri 'none'; "
@@ -157,3 +147,21 @@ def sanitize_feedback(folder: Path) -> List[Tuple[str, str]]:
         if why:
             problems.append((rel, why))
     return problems
+
+
+def main(argv: Optional[Sequence[str]] = None) -> int:
+    """``python -m hri_teleop.grading.batch.feedback_html FOLDER...``: clean every page below each folder
+    (e.g. ``notebooks/feedback`` after ``nbgrader generate_feedback`` was run by hand)."""
+    folders = [Path(a) for a in (sys.argv[1:] if argv is None else argv)]
+    if not folders:
+        print("usage: python -m hri_teleop.grading.batch.feedback_html FOLDER... (e.g. notebooks/feedback)")
+        return 2
+    for folder in folders:
+        for rel, why in sanitize_feedback(folder):
+            print(f"{folder / rel}: not kept ({why})")
+        print(f"{folder}: every page cleaned")
+    return 0
+
+
+if __name__ == "__main__":
+    sys.exit(main())
