@@ -247,7 +247,10 @@ def _is_students(filename: str, policy: _Policy) -> bool:
 def _student_asks(policy: _Policy, imports_pass: bool = False) -> bool:
     """Whether the innermost code that is neither this guard, ctypes nor the import system is the student's;
     ``imports_pass``: False when the import system is on the way (it compiles and unmarshals every module)."""
-    frame: Any = sys._getframe(2)
+    try:
+        frame: Any = sys._getframe(1)  # this guard's own frames are skipped below
+    except ValueError:  # an event raised with no Python frame above the hook (a thread's start, the exit)
+        return False
     while frame is not None:
         name = frame.f_code.co_filename
         if imports_pass and name.startswith("<frozen importlib"):
