@@ -14,13 +14,14 @@ import json
 import os
 import shutil
 import stat
+import subprocess
 import tempfile
 import zipfile
 from pathlib import Path
 from typing import Callable, Dict, Iterator, Optional
 
 import pytest
-from grading_helpers import SOLUTIONS, answer_text, open_folder
+from grading_helpers import REPO, SOLUTIONS, answer_text, open_folder
 
 from hri_teleop.course.release import COURSE_DIR
 from hri_teleop.grading.gradescope import container
@@ -288,3 +289,21 @@ def test_a_grader_that_stops_on_an_upload_still_writes_one_line(tmp_path, monkey
     assert payload["score"] == 0.0 and payload["tests"] == []
     assert len(_output(payload).splitlines()) == 1 and "IsADirectoryError" in _output(payload)
     assert "Traceback" not in _output(payload)
+
+
+def test_run_autograder_writes_results_when_python_cannot_even_start(tmp_path):
+    """The shell script alone, in Gradescope's folders, with no .venv: results.json still holds one line."""
+    if shutil.which("bwrap") is None or subprocess.run(["bwrap", "--dev-bind", "/", "/", "true"]).returncode:
+        pytest.skip("bubblewrap cannot run here: the Gradescope layout needs it to mount /autograder")
+    from test_gradescope import _box
+
+    source = tmp_path / "source"
+    source.mkdir()
+    shutil.copy(REPO / "hri_teleop" / "grading" / "gradescope" / "files" / "run_autograder", source)
+    (tmp_path / "box" / "ag" / "submission").mkdir(parents=True)
+    proc = _box(tmp_path / "box", source, ["/autograder/source/run_autograder"], {}, timeout_s=60)
+    results = tmp_path / "box" / "ag" / "results" / "results.json"
+    assert proc.returncode == 0 and results.is_file(), proc.stdout + proc.stderr
+    payload = json.loads(results.read_text(encoding="utf-8"))
+    assert payload["score"] == 0 and payload["tests"] == [], payload
+    assert payload["output"].startswith("Not graded: the autograder stopped (status ") and "\n" not in payload["output"]
