@@ -371,11 +371,23 @@ def test_ex11_wants_an_int_within_8_counts_of_full_travel():
     assert "an int" in _rule("ex11_value", max_sensor_force=float(full)).message
 
 
-def test_ex14_lifts_the_egg_intact():
-    assert _rule("ex14_lifts_egg", lifted=True, crushed=False, outcome="lifted").passed
-    assert not _rule("ex14_lifts_egg", lifted=True, crushed=True, outcome="crushed").passed
-    assert not _rule("ex14_lifts_egg", lifted=False, crushed=False, outcome="dropped").passed
-    assert not _rule("ex14_lifts_egg", lifted=1, crushed=0).passed
+def _scenario_steps(name: str) -> List[Dict[str, Any]]:
+    import yaml
+
+    from hri_teleop.core.paths import SCENARIOS
+
+    data = yaml.safe_load((SCENARIOS / f"{name}.yaml").read_text())
+    return list(data["steps"] if isinstance(data, dict) else data)
+
+
+def test_ex14_the_grader_runs_the_operator_and_judges_the_egg_itself():
+    assert _rule("ex14_lifts_egg", steps=_scenario_steps("default")).passed      # the careful operator
+    crushed = _rule("ex14_lifts_egg", steps=_scenario_steps("squeeze"))         # holds cross past the rumble
+    assert not crushed.passed and crushed.message.startswith("the egg was crushed"), crushed
+    assert not _rule("ex14_lifts_egg", lifted=True, crushed=False, outcome="lifted").passed  # a report is no run
+    broken = _rule("ex14_lifts_egg", steps=[{"t": -1, "press": "south"}])
+    assert not broken.passed and broken.message.startswith("your operator could not run: my_steps: step 1"), broken
+    assert not _rule("ex14_lifts_egg", steps="not a list").passed
 
 
 def test_ex14_crush_rates_within_1e_9_of_the_seeded_study():
@@ -406,7 +418,7 @@ def test_no_rule_raises_on_what_a_student_hands_in():
     oddities: List[Any] = [None, True, -1, 1e308, "x", [], [1, [2]], {"a": {"b": None}}]
     for grade_id in RULES:
         for value in oddities:
-            names = ["value", "sketch_rate_hz", "crush_rate", "p_crush", "z_m", "keys", "lifted", "max_sensor_force"]
+            names = ["value", "sketch_rate_hz", "crush_rate", "p_crush", "z_m", "keys", "steps", "max_sensor_force"]
             verdict = apply_rule(grade_id, {name: value for name in names}, expectations(grade_id))
             assert isinstance(verdict, Verdict) and verdict.message
         assert not apply_rule(grade_id, ["not", "a", "dict"], expectations(grade_id)).passed

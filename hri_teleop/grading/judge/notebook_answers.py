@@ -60,6 +60,8 @@ EX10_DROP_M = 0.03
 STUDY = (6, 0)
 #: Ex. 4: what a dump of the whole server holds (a key of the student's file and one of the master's).
 DUMP_KEYS = ("robot_name", "rosdistro")
+#: Ex. 14: the operator's run (the egg; the longest simulated run, s).
+OPERATOR_RUN = ("egg", 120.0)
 #: Ex. 14: the level of the test.
 ALPHA = 0.05
 
@@ -182,12 +184,33 @@ def _ex11_value(values: Values, expected: Mapping[str, Any]) -> Verdict:
     return _fail(f"max_sensor_force is {value}: the largest count of record.count, while the piston is fully pressed")
 
 
-def _ex14_lifts_egg(values: Values, _expected: Mapping[str, Any]) -> Verdict:
-    if values.get("lifted") is True and values.get("crushed") is False:
+def _ex14_lifts_egg(values: Values, expected: Mapping[str, Any]) -> Verdict:
+    """The grader runs the student's operator (``my_steps``, plain data) in the lock-step lab itself."""
+    from hri_teleop.core.run_record import summarize  # noqa: PLC0415 - the lock-step lab, only for Ex. 14
+    from hri_teleop.sim.grasp_objects import OBJECTS  # noqa: PLC0415 - as above
+    from hri_teleop.sim.lab import run_lab  # noqa: PLC0415 - as above
+    from hri_teleop.sim.virtual_pad import parse_script  # noqa: PLC0415 - as above
+    from hri_teleop.sim.world import WorldConfig  # noqa: PLC0415 - as above
+
+    missing = _missing(values, "steps")
+    if missing is not None:
+        return missing
+    try:
+        steps = parse_script(values["steps"], "my_steps")
+        record = run_lab(steps, WorldConfig(object=OBJECTS[str(expected["object"])]),
+                         max_duration_s=float(expected["max_duration_s"]))
+    except HriTeleopError as exc:
+        return _fail(f"your operator could not run: {_first_line(exc)}")
+    outcome = summarize(record)
+    if outcome.lifted and not outcome.crushed:
         return Verdict(True, RIGHT)
-    outcome = values.get("outcome")
-    said = outcome if isinstance(outcome, str) and len(outcome) <= 40 else "not lifted intact"
-    return _fail(f"the egg was {said}: lift it without crushing it (change your operator's steps)")
+    return _fail(f"the egg was {outcome.outcome}: lift it without crushing it (change your operator's steps)")
+
+
+def _first_line(exc: BaseException) -> str:
+    text = str(exc).strip().splitlines()
+    line = text[0] if text else type(exc).__name__
+    return line if len(line) <= 200 else line[:197] + "..."
 
 
 def _ex14_crush_rates(values: Values, expected: Mapping[str, Any]) -> Verdict:
@@ -282,6 +305,8 @@ def expectations(grade_id: str) -> Dict[str, Any]:
         from hri_teleop.core.attachment import Attachment  # noqa: PLC0415 - as above
 
         return {"max_sensor_force": Attachment().full_travel_count}
+    if grade_id == "ex14_lifts_egg":
+        return {"object": OPERATOR_RUN[0], "max_duration_s": OPERATOR_RUN[1]}
     if grade_id in ("ex14_crush_rates", "ex14_test"):
         rates, p_value = _study()
         return {"crush_rate": dict(rates), "p_value": p_value}
