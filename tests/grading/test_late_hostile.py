@@ -173,3 +173,55 @@ def test_make_grade_takes_lateness_from_the_lms_export_and_never_from_what_stude
     assert "late policy: linker: files: times.csv, the LMS export; the submission's a sub-folder's timestamp.txt " \
            "is a link (not followed)" in stdout, stdout
     _nothing_leaked(out)
+
+
+@pytest.mark.ros
+def test_make_grade_on_an_nbgrader_course_takes_lms_and_exchange_times_and_never_the_students(root):
+    """Course mode: three students of a one-notebook course; the late line opens nbgrader's HTML feedback too."""
+    import shutil
+    from datetime import datetime, timedelta, timezone
+
+    from grading_helpers import nbgrader_course
+
+    course = nbgrader_course(root / "course", "preparation", ["ex01_fsr_and_arduino"])
+    secret = root / "shadow"
+    secret.write_text(SECRET + "\n")
+    secret.chmod(0o600)
+    submitted = course / "submitted"
+    for student in ("honest", "forger", "linker"):
+        shutil.copytree(course / "release" / "preparation", submitted / student / "preparation")
+    deadline = datetime.now(timezone.utc).replace(microsecond=0) - timedelta(hours=2)
+    (submitted / "honest" / "preparation" / "timestamp.txt").write_text(
+        (deadline + timedelta(minutes=1)).strftime("%Y-%m-%d %H:%M:%S.%f UTC"))  # the truth, as nbgrader writes it
+    (submitted / "forger" / "preparation" / "timestamp.txt").write_text("2026-01-01 10:00:00.000000 UTC")
+    (submitted / "linker" / "preparation" / "timestamp.txt").symlink_to(secret)
+    inbound = root / "exchange" / "inbound"  # only the forger submitted through the exchange: now, 2 h late
+    (inbound / "forger+preparation+2026-01-01 10:00:00.000000 UTC+AbCd").mkdir(parents=True)
+    (course / "times.csv").write_text("student,assignment,submitted_at\n"
+                                      f"honest,preparation,{(deadline + timedelta(minutes=1)).isoformat()}\n"
+                                      f"linker,preparation,{(deadline - timedelta(hours=1)).isoformat()}\n")
+    (course / "late.yaml").write_text(f'deadline: "{deadline.isoformat()}"\nper_day: 10%\n')
+    out = root / "grades"
+    code, stdout, stderr = _make_grade(submitted, out, "CHECKS=robot-params", "JOBS=2", "TIMEOUT=300")
+    rows = _rows(out)
+    assert set(rows) == {"honest", "forger", "linker"}, stdout[-3000:] + stderr[-3000:]
+    assert {s: (r["late_penalty"], r["total"]) for s, r in rows.items()} == {s: ("unknown", "") for s in rows}
+    _nothing_leaked(out)
+    _nothing_leaked(course / "feedback")
+
+    (course / "late.yaml").write_text(f'deadline: "{deadline.isoformat()}"\nper_day: 10%\ntimes: times.csv\n'
+                                      f"exchange: {root / 'exchange'}\n")
+    code, stdout, stderr = _make_grade(submitted, out, "REPORT=1")
+    assert code == 0, stdout[-3000:] + stderr[-3000:]
+    rows = _rows(out)
+    maximum = float(rows["honest"]["preparation_max"])
+    assert {s: r["late_penalty"] for s, r in rows.items()} == {
+        "honest": f"{0.1 * maximum:g}", "forger": f"{0.1 * maximum:g}", "linker": "0"}, rows
+    assert "nbgrader's exchange (its inbound folder's change time)" in (out / "forger" / "feedback.txt").read_text()
+    pages = sorted((course / "feedback" / "forger" / "preparation").glob("*.html"))
+    assert pages and all("timestamp.txt says 2026-01-01 10:00:00+00:00 (not used)" in p.read_text() for p in pages)
+    assert "timestamp.txt is a link (not followed)" in (out / "linker" / "feedback.txt").read_text(), rows["linker"]
+    assert "late policy: linker: preparation: times.csv, the LMS export; the submission's timestamp.txt is a link " \
+           "(not followed)" in stdout, stdout
+    _nothing_leaked(out)
+    _nothing_leaked(course / "feedback")

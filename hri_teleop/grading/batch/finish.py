@@ -147,7 +147,7 @@ def add_totals(path: Path, results: ClassResults) -> None:
     rows = []
     for record in results.students:
         penalty = sum(a.penalty for a in record.assignments if a.score is not None)
-        unknown = any(not a.late_known for a in record.assignments if a.score is not None)
+        unknown = any(not lt.known for lt in record.late)
         shown = "unknown" if unknown else _number(penalty) if record.late else ""
         rows.append({"student": record.student, "late_penalty": shown, "total": _number(record.total)})
     update_rows(path, rows, TOTAL_COLUMNS)
