@@ -3,12 +3,15 @@
 A late penalty changes a student's grade, so the rule is a pure function tested at each threshold
 (:func:`judge_lateness`), late.yaml's every problem is one line naming the file, the key and the
 fix, and the time a submission counts as handed in comes only from a source the student cannot
-write: the LMS export the instructor names in late.yaml (``times:``, :func:`read_times`). nbgrader's
-``timestamp.txt`` is written by the student's own ``nbgrader submit`` (and its exchange folder's name
-and the gradebook's timestamp come from the same clock), and file times are the student's too: they
-are shown beside the trusted time, never used to decide (:func:`student_stamp`). Without a trusted
+write (:func:`submission_time`): the LMS export the instructor names in late.yaml (``times:``,
+:func:`read_times`), else the change time of the student's folders in nbgrader's exchange
+(``exchange:``, :func:`exchange_time`). nbgrader's ``timestamp.txt`` is written by the student's own
+``nbgrader submit`` (the time in its exchange folder's name and the gradebook's timestamp come from
+the same clock), and file times are the student's too: the timestamp is shown beside the trusted
+time, never used to decide (:func:`student_stamp`), file times are not looked at. Without a trusted
 time the time is unknown, said to the instructor, and the assignment's total is left blank until it
-is given. The formats: grading/README.md.
+is given. On Gradescope the grader takes no penalty (Gradescope has the times, due dates and
+extensions). The formats: grading/README.md.
 """
 
 from __future__ import annotations
