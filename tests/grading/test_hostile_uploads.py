@@ -123,9 +123,11 @@ def _bad_utf8_flagged(upload: Path) -> None:
 
 
 def _bad_utf8_names(upload: Path) -> None:
-    """The answer key in a zip named with bytes that are not UTF-8, and a loose file named so."""
+    """The answer key in a zip named with bytes that are not UTF-8, a loose file named so, and a link whose
+    name holds a newline (named in the output: one line still)."""
     _answer_key_zip(upload / os.fsdecode(b"Abgabe-\xe4.zip"))
     (upload / os.fsdecode(b"notes-\xff.txt")).write_text("x")
+    (upload / "two\nlines").symlink_to("/etc/passwd")
 
 
 def _empty(upload: Path) -> None:
@@ -259,6 +261,7 @@ def test_an_upload_that_cannot_be_opened_is_refused_in_one_line(graded, name, wo
 def test_names_that_are_not_utf8_are_shown_with_a_replacement_character(graded):
     payload = graded["bad_utf8_names"]
     assert "Abgabe-\ufffd.zip" in _output(payload), _output(payload)
+    assert "two?lines (a link" in _line(payload, "left out of the upload")
     assert payload["score"] == pytest.approx(check_points(CHECK))  # the package in it is graded
 
 

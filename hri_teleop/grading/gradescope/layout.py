@@ -72,8 +72,10 @@ class _Budget:
 
 
 def printable(text: str) -> str:
-    """``text`` with what is not valid UTF-8 (a file name's stray bytes) shown as U+FFFD, for notes and JSON."""
-    return text.encode("utf-8", "surrogateescape").decode("utf-8", "replace")
+    """``text`` with what is not valid UTF-8 (a file name's stray bytes) shown as U+FFFD and control characters
+    (a newline in a name) as ``?``: one line of the output, valid in any JSON parser."""
+    text = text.encode("utf-8", "surrogateescape").decode("utf-8", "replace")
+    return "".join(c if c.isprintable() else "?" for c in text)
 
 
 def _left_out(where: str, skipped: Sequence[Tuple[str, str]]) -> List[str]:
