@@ -310,3 +310,20 @@ def test_run_autograder_writes_results_when_python_cannot_even_start(tmp_path):
     payload = json.loads(results.read_text(encoding="utf-8"))
     assert payload["score"] == 0 and payload["tests"] == [], payload
     assert payload["output"].startswith("Not graded: the autograder stopped (status ") and "\n" not in payload["output"]
+
+
+def test_loose_files_past_the_size_or_count_limit_refuse_the_upload(tmp_path, monkeypatch):
+    from hri_teleop.grading.gradescope import layout
+    from hri_teleop.grading.results import GradingError
+
+    monkeypatch.setattr(layout, "MAX_UNPACKED_BYTES", 1000)
+    (tmp_path / "big").mkdir()
+    (tmp_path / "big" / "bag.bag").write_bytes(bytes(2000))
+    with pytest.raises(GradingError, match="the upload is larger than"):
+        layout.find_upload(tmp_path / "big", tmp_path / "work-big")
+    monkeypatch.setattr(layout, "MAX_UPLOAD_FILES", 3)
+    (tmp_path / "many").mkdir()
+    for i in range(5):
+        (tmp_path / "many" / f"{i}.txt").write_text("x")
+    with pytest.raises(GradingError, match="holds more than 3 files"):
+        layout.find_upload(tmp_path / "many", tmp_path / "work-many")
