@@ -18,6 +18,7 @@ import subprocess
 import tempfile
 import zipfile
 from pathlib import Path
+from types import SimpleNamespace
 from typing import Callable, Dict, Iterator, Optional
 
 import pytest
@@ -174,13 +175,18 @@ def _grade(folder: Path, name: str, build: Callable[[Path], None],
     return json.loads(results.read_bytes().decode("utf-8"))  # strict UTF-8: a parser that is not Python's reads it
 
 
+def _scratch_in(folder: Path) -> SimpleNamespace:
+    """A stand-in for container's ``tempfile`` that makes its scratch folders in ``folder`` (removed with it)."""
+    return SimpleNamespace(mkdtemp=lambda prefix="": tempfile.mkdtemp(prefix=prefix, dir=folder))
+
+
 @pytest.fixture(scope="module")
 def graded() -> Iterator[Dict[str, dict]]:
     with pytest.MonkeyPatch.context() as mp:
         mp.setenv(CHECKS_ENV, CHECK)
         for folder in open_folder("hri-hostile-uploads-"):
             (folder / "tmp").mkdir()
-            mp.setattr(tempfile, "tempdir", str(folder / "tmp"))  # run_autograder's scratch folders go with it
+            mp.setattr(container, "tempfile", _scratch_in(folder / "tmp"))  # run_autograder's scratch goes with it
             yield {name: _grade(folder, name, build) for name, build in UPLOADS.items()}
 
 
@@ -281,7 +287,7 @@ def test_a_notebook_that_is_not_json_fails_its_cells_with_the_reason_and_the_fil
 
 
 def test_a_grader_that_stops_on_an_upload_still_writes_one_line(tmp_path, monkeypatch):
-    monkeypatch.setattr(tempfile, "tempdir", str(tmp_path))
+    monkeypatch.setattr(container, "tempfile", _scratch_in(tmp_path))
     def crash(*args: object, **kwargs: object) -> None:
         raise IsADirectoryError(21, "Is a directory", "/tmp/x/hri_lab/config")
 
