@@ -520,3 +520,43 @@ def test_the_grader_writes_its_scores_into_the_gradebook_and_keeps_grades_given_
     assert "the grader: 0 of 1 point: a0_voltage_at_1n_v is " in written["ex1a_voltage"]
     assert written["ex1a_count"] == ("the grader: 0 of 1 point: not judged: the cell handed in no value (it raised "
                                      "NameError: name 'x' is not defined)\n")
+
+
+@pytest.mark.ros
+def test_on_gradescope_too_an_ast_transformer_gains_nothing_and_the_answer_key_keeps_its_points(tmp_path):
+    """Gradescope's notebook path (grade_notebooks: generate, autograde_one, the gradebook's scores) judges the
+    same way: the upload with wrong answers and the transformer gets 0 per cell, the answer key every point."""
+    import nbformat
+
+    from hri_teleop.course.release import COURSE_DIR
+    from hri_teleop.grading.cases.templates import generate_answers
+    from hri_teleop.grading.gradescope.notebooks import course_members, grade_notebooks
+    from hri_teleop.grading.run.kernel_sandbox import KernelPolicy, kernel_sandbox_problem
+
+    shipped = tmp_path / "shipped"
+    for name, data in course_members(COURSE_DIR):
+        path = shipped / name.split("/", 1)[1]
+        path.parent.mkdir(parents=True, exist_ok=True)
+        path.write_bytes(data)
+    package = tmp_path / "package"
+    generate_answers(SOLUTIONS, package)
+    sandbox = None if kernel_sandbox_problem() else KernelPolicy((str(tmp_path),))
+    outputs: Dict[str, List[Dict[str, Any]]] = {}
+    for student, answers, extra in (("alice", "", ""), ("mallory", WRONG, SWALLOW)):
+        nb = nbformat.read(str(COURSE_DIR / "source" / ASSIGNMENT / f"{NOTEBOOK}.ipynb"), as_version=4)
+        first = next(i for i, c in enumerate(nb.cells) if c.metadata.get("nbgrader", {}).get("solution"))
+        if answers:
+            nb.cells[first].source = answers
+            cell = nbformat.v4.new_code_cell(extra)
+            cell.pop("id", None)
+            nb.cells.insert(first + 1, cell)
+        upload = tmp_path / student / f"{NOTEBOOK}.ipynb"
+        upload.parent.mkdir()
+        nbformat.write(nb, str(upload))
+        result = grade_notebooks([upload], package, shipped, tmp_path / f"work-{student}", student=student,
+                                 sandbox=sandbox)
+        outputs[student] = result.tests[f"{ASSIGNMENT}/{NOTEBOOK}.ipynb"]
+    assert [t["score"] for t in outputs["mallory"]] == [0.0] * 3, outputs["mallory"]
+    assert "the grader: 0 of 1 point: sketch_rate_hz is 1 Hz" in outputs["mallory"][0]["output"]
+    assert [(t["score"], t["max_score"]) for t in outputs["alice"]] == [(1.0, 1.0)] * 3, outputs["alice"]
+    assert all("the grader: 1 of 1 point: right" in t["output"] for t in outputs["alice"])
