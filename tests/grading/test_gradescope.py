@@ -319,6 +319,6 @@ def test_an_uploaded_notebook_runs_in_the_sandbox_and_keeps_its_points(graded, a
             if "".join(c["source"]).startswith("# reaches for the autograder")]
     printed = "".join("".join(o.get("text", "")) for o in cell[0]["outputs"])
     course, upload, results = _REACHED_FOR
-    assert f"{course} holds []" in printed, printed  # an empty folder stands where the hidden tests are
+    assert f"{course} refused: [Errno 2] No such file or directory" in printed, printed  # not there at all
     assert f"{upload} refused: [Errno 2] No such file or directory" in printed, printed
     assert "results refused: [Errno 2] No such file or directory" in printed, printed

@@ -71,6 +71,8 @@ ATTACKS = {
     "ctypes_libc": "import ctypes\nctypes.CDLL(None)\n",
     "ctypes_pythonapi": "import ctypes\nctypes.pythonapi.Py_IsInitialized()\n",
     "compile_posing_as_the_toolkit": f"exec(compile('x = 1', {MAPPING!r}, 'exec'))\n",
+    "compile_through_the_stdlib": f"import codeop\nexec(codeop.compile_command('x = 1', {MAPPING!r}, 'exec'))\n",
+    "a_ros_tool_started_by_the_student": "import subprocess\nsubprocess.run(['/usr/bin/rosversion', '-d'])\n",
     "proc_mem": "open('/proc/self/mem', 'rb')\n",
     "gc_digging": "import gc\ngc.get_objects()\n",
 }
@@ -141,3 +143,19 @@ def test_what_a_student_node_imports_loads_no_reference_rule():
             "print([m for m in sys.modules if any(m == r or m.startswith(r + '.') for r in rules)])\n")
     proc = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, timeout=60)
     assert proc.returncode == 0 and proc.stdout.strip() == "[]", proc.stdout + proc.stderr
+
+
+def test_roslaunch_may_start_ros_s_own_tools_but_the_student_may_not(package, tmp_path):
+    """roslaunch runs ``rosversion -d`` where ROS_DISTRO is not set; code outside the student's package asks."""
+    if not os.path.exists("/usr/bin/rosversion"):
+        pytest.skip("no /usr/bin/rosversion here")
+    helper = tmp_path / "launcher_like.py"  # outside the student's package, as roslaunch's own code is
+    helper.write_text("import subprocess\n\ndef distro():\n    return subprocess.run(['/usr/bin/rosversion', '-d'], "
+                      "capture_output=True, text=True).returncode\n")
+    proc = _run(package, f"import importlib.util\nspec = importlib.util.spec_from_file_location('h', {str(helper)!r})\n"
+                         "h = importlib.util.module_from_spec(spec)\nspec.loader.exec_module(h)\nprint('OK', h.distro())\n")
+    assert proc.returncode == 0 and "OK 0" in proc.stdout, proc.stderr[-2000:]
+    env = _env(package)
+    env.pop("PYTHONPATH")  # not even roslaunch starts it without the guard's environment
+    assert refused_spawn("/usr/bin/rosversion", ["rosversion", "-d"], env, sys.executable, SITE_DIR, env[GUARD_ENV],
+                         ros_tool=True)

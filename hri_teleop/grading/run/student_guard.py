@@ -27,6 +27,9 @@ REFERENCE_RULES = ("hri_teleop.core.mapping", "hri_teleop.core.teleop", "hri_tel
                    "hri_teleop.sim.lab", "hri_teleop.grading.cases", "hri_teleop.grading.judge",
                    "hri_teleop.mapping", "hri_teleop.teleop", "hri_teleop.paramfile")
 _ISOLATING_FLAGS = ("-I", "-E", "-S", "-s")
+#: ROS's own programs roslaunch starts itself (``rosversion -d`` where ROS_DISTRO is not set): allowed when
+#: the code asking is not the student's (a launch file's ``$(eval ...)`` is).
+ROS_TOOLS = ("rosversion", "rospack", "rosmaster", "rosout")
 _SPAWN_EVENTS = ("subprocess.Popen", "os.exec", "os.posix_spawn", "os.spawn", "os.system", "os.startfile",
                  "pty.spawn")
 
@@ -133,13 +136,15 @@ def _python_flags(argv: Sequence[str]) -> List[str]:
 
 
 def refused_spawn(executable: str, argv: Sequence[str], env: Optional[Mapping[str, str]], python: str,
-                  site_dir: str, policy_text: str) -> str:
+                  site_dir: str, policy_text: str, ros_tool: bool = False) -> str:
     """Why a guarded process may not start ``executable`` with ``argv`` and ``env`` ('' when it may): only this
-    Python (no flag that skips the guard) or a Python script whose first line is a plain python3 shebang, each
-    with this guard's environment."""
+    Python (no flag that skips the guard), a Python script whose first line is a plain python3 shebang, or
+    (``ros_tool``) one of ROS's own programs roslaunch starts, each with this guard's environment."""
     env = env if env is not None else os.environ
     if env.get(GUARD_ENV) != policy_text or site_dir not in env.get("PYTHONPATH", "").split(os.pathsep):
         return "a program started without the grader's environment"
+    if ros_tool:
+        return ""
     exe = os.path.realpath(executable) if executable else ""
     if exe and os.path.realpath(python) == exe:
         flags = _python_flags(argv)
@@ -232,7 +237,10 @@ def _hook(policy: _Policy, text: str) -> Any:
 
 
 _STDLIB = os.path.dirname(os.__file__)
-_QUIET = (os.path.join(_STDLIB, "ctypes") + os.sep, os.path.join(_STDLIB, "importlib") + os.sep)
+
+
+def _in_stdlib(filename: str) -> bool:
+    return filename.startswith(_STDLIB + os.sep) and "-packages" not in filename
 
 
 def _is_students(filename: str, policy: _Policy) -> bool:
@@ -245,7 +253,8 @@ def _is_students(filename: str, policy: _Policy) -> bool:
 
 
 def _student_asks(policy: _Policy, imports_pass: bool = False) -> bool:
-    """Whether the innermost code that is neither this guard, ctypes nor the import system is the student's;
+    """Whether the innermost code that is neither this guard, the standard library nor the import system is the
+    student's;
     ``imports_pass``: False when the import system is on the way (it compiles and unmarshals every module)."""
     try:
         frame: Any = sys._getframe(1)  # this guard's own frames are skipped below
@@ -255,8 +264,8 @@ def _student_asks(policy: _Policy, imports_pass: bool = False) -> bool:
         name = frame.f_code.co_filename
         if imports_pass and name.startswith("<frozen importlib"):
             return False
-        if name == __file__ or name.startswith("<frozen") or name.startswith(_QUIET):
-            frame = frame.f_back
+        if name == __file__ or name.startswith("<frozen") or _in_stdlib(name):
+            frame = frame.f_back  # the standard library acts for whoever called it (subprocess, codeop, runpy)
             continue
         return _is_students(name, policy)
     return False
@@ -289,6 +298,8 @@ def _check_spawn(event: str, args: Tuple[Any, ...], policy: _Policy, text: str) 
         executable = which(executable) or executable
     strs = [os.fsdecode(a) if isinstance(a, (str, bytes)) else str(a) for a in argv]
     env_map = None if env is None else {os.fsdecode(k): os.fsdecode(v) for k, v in dict(env).items()}
-    why = refused_spawn(executable, strs, env_map, policy.python, SITE_DIR, text)
+    ros_tool = (os.path.basename(executable) in ROS_TOOLS and not _student_asks(policy)
+                and os.path.dirname(executable) in ("/usr/bin", "/opt/ros/noetic/bin"))
+    why = refused_spawn(executable, strs, env_map, policy.python, SITE_DIR, text, ros_tool)
     if why:
         raise GuardError(f"the grader refuses to start {why}")

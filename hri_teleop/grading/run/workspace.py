@@ -193,6 +193,8 @@ class Workspace:
     originals: Dict[str, Optional[Path]] = field(default_factory=dict)
     #: deliverables of other exercises run as the lab's reference, not the student's (see prepare_workspace)
     substituted: List[str] = field(default_factory=list)
+    #: False only where the lab's own files are graded as the reference (checks' reference_allowed)
+    guarded: bool = True
     _guard: Optional[str] = field(default=None, repr=False)
 
     @property
@@ -211,6 +213,8 @@ class Workspace:
     @property
     def guard(self) -> str:
         """The reference guard's policy for the student processes of this workspace (JSON; StudentProcess's guard=)."""
+        if not self.guarded:
+            return ""
         if self._guard is None:
             # the lab's nodes and launch files are answers; its robot_params.yaml is the handout's Table 1
             secret = [str(self.package / DELIVERABLES[key]) for key in self.substituted
