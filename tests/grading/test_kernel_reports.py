@@ -482,19 +482,45 @@ def test_make_grade_and_gradescope_refuse_a_course_whose_autograded_cell_has_no_
     assert "hand_in" in problem and "\n" not in problem
 
 
+def _gradebook(tmp_path: Path, students: List[str]) -> str:
+    """A gradebook with Ex. 1's three autograded cells and a submission of each of ``students``; its URL."""
+    from nbgrader.api import Gradebook
+
+    db = f"sqlite:///{tmp_path / 'gradebook.db'}"
+    with Gradebook(db, "course") as gb:
+        gb.add_assignment(ASSIGNMENT)
+        gb.add_notebook(NOTEBOOK, ASSIGNMENT)
+        for grade_id in GRADED:
+            gb.add_grade_cell(grade_id, NOTEBOOK, ASSIGNMENT, max_score=1, cell_type="code")
+        for student in students:
+            gb.add_student(student)
+            gb.add_submission(ASSIGNMENT, student)
+    return db
+
+
+def test_an_autograded_notebook_the_grader_cannot_read_scores_zero_and_is_left_as_it_is(tmp_path):
+    pytest.importorskip("nbgrader.api")
+    from hri_teleop.grading.batch.notebook_judge import judge_submission
+
+    db = _gradebook(tmp_path, ["s", "t"])
+    path = tmp_path / "autograded" / "s" / ASSIGNMENT / f"{NOTEBOOK}.ipynb"
+    path.parent.mkdir(parents=True)
+    path.write_text("{not json")
+    verdicts = judge_submission(tmp_path, db, "course", "s", ASSIGNMENT)
+    assert {(v.score, v.message) for v in verdicts} == {
+        (0.0, "not judged: the autograded notebook could not be read (JSONDecodeError)")}
+    assert path.read_text() == "{not json"
+    assert {v.message for v in judge_submission(tmp_path, db, "course", "t", ASSIGNMENT)} == {
+        "not judged: the notebook was not handed in"}
+
+
 def test_the_grader_writes_its_scores_into_the_gradebook_and_keeps_grades_given_by_hand(tmp_path):
     """judge_submission on a gradebook and an autograded notebook as nbgrader leaves them."""
     nbgrader_api = pytest.importorskip("nbgrader.api")
     from hri_teleop.grading.batch.notebook_judge import judge_submission
 
-    db = f"sqlite:///{tmp_path / 'gradebook.db'}"
+    db = _gradebook(tmp_path, ["s"])
     with nbgrader_api.Gradebook(db, "course") as gb:
-        gb.add_assignment(ASSIGNMENT)
-        gb.add_notebook(NOTEBOOK, ASSIGNMENT)
-        for grade_id in GRADED:
-            gb.add_grade_cell(grade_id, NOTEBOOK, ASSIGNMENT, max_score=1, cell_type="code")
-        gb.add_student("s")
-        gb.add_submission(ASSIGNMENT, "s")
         gb.find_grade("ex1a_voltage", NOTEBOOK, ASSIGNMENT, "s").manual_score = 0.5  # a TA's, before a regrade
         gb.db.commit()
     volts = float(expectations("ex1a_voltage")["a0_voltage_at_1n_v"])

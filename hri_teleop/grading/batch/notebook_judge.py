@@ -140,12 +140,12 @@ def _cells_by_id(notebook: Dict[str, Any]) -> Dict[str, Dict[str, Any]]:
 
 
 def judge_notebook(name: str, notebook: Optional[Dict[str, Any]], tests: List[Tuple[str, float]],
-                   expected: Dict[str, Optional[Dict[str, Any]]]) -> List[CellVerdict]:
-    """Judge the autograded test cells ``tests`` ((grade id, points)) of ``notebook`` (None: none handed in);
-    each judged cell's outputs are replaced by the grader's verdict in ``notebook``."""
+                   expected: Dict[str, Optional[Dict[str, Any]]],
+                   missing: str = "not judged: the notebook was not handed in") -> List[CellVerdict]:
+    """Judge the autograded test cells ``tests`` ((grade id, points)) of ``notebook`` (None: there is none, and
+    ``missing`` says why); each judged cell's outputs are replaced by the grader's verdict in ``notebook``."""
     if notebook is None:
-        return [CellVerdict(name, grade_id, 0.0, points, "not judged: the notebook was not handed in")
-                for grade_id, points in tests]
+        return [CellVerdict(name, grade_id, 0.0, points, missing) for grade_id, points in tests]
     cells = _cells_by_id(notebook)
     verdicts = []
     for grade_id, points in tests:
@@ -157,14 +157,19 @@ def judge_notebook(name: str, notebook: Optional[Dict[str, Any]], tests: List[Tu
     return verdicts
 
 
-def _read_notebook(path: Path) -> Optional[Dict[str, Any]]:
+def _read_notebook(path: Path) -> Tuple[Optional[Dict[str, Any]], str]:
+    """(the autograded notebook, "") or (None, why there is none to judge)."""
     if not os.path.lexists(path):
-        return None
+        return None, "not judged: the notebook was not handed in"
     try:
         notebook = json.loads(read_regular(path, MAX_AUTOGRADED_BYTES).decode("utf-8"))
-    except (UntrustedFileError, OSError, UnicodeDecodeError, ValueError, RecursionError):
-        return {"cells": []}  # nbgrader wrote no notebook we can read: every cell scores 0, said so
-    return notebook if isinstance(notebook, dict) else {"cells": []}
+    except UntrustedFileError as exc:
+        return None, f"not judged: the autograded notebook could not be read ({_first_line(exc, _ERROR_CHARS)})"
+    except (OSError, UnicodeDecodeError, ValueError, RecursionError) as exc:
+        return None, f"not judged: the autograded notebook could not be read ({type(exc).__name__})"
+    if not isinstance(notebook, dict) or not isinstance(notebook.get("cells"), list):
+        return None, "not judged: the autograded notebook is no notebook"
+    return notebook, ""
 
 
 def _write_notebook(path: Path, notebook: Dict[str, Any]) -> None:
@@ -233,9 +238,9 @@ def judge_submission(course_root: Path, db_url: str, course_id: str, student: st
     for name, cells in sorted(tests.items()):
         expected = {grade_id: expectations(grade_id) if has_rule(grade_id) else None for grade_id, _ in cells}
         path = folder / f"{name}.ipynb"
-        notebook = _read_notebook(path)
-        verdicts += judge_notebook(name, notebook, cells, expected)
-        if notebook is not None and path.is_file() and not path.is_symlink():
+        notebook, why = _read_notebook(path)
+        verdicts += judge_notebook(name, notebook, cells, expected, why)
+        if notebook is not None:
             _write_notebook(path, notebook)
     with guard:
         _save_scores(db_url, course_id, student, assignment, verdicts)
