@@ -14,7 +14,7 @@ import pytest
 
 from hri_teleop.grading.batch.class_results import read_class, write_rows, write_summary
 from hri_teleop.grading.batch.finish import add_totals, apply_late, mark_feedback_html, set_feedback_lines
-from hri_teleop.grading.batch.late import ALL_ASSIGNMENTS, LatePolicy, judge_lateness
+from hri_teleop.grading.batch.late import ALL_ASSIGNMENTS, LatePolicy, judge_lateness, read_late_policy
 from hri_teleop.grading.batch.lms import lms_table, write_lms
 from hri_teleop.grading.batch.report import write_report
 from hri_teleop.grading.batch.report_data import (
@@ -142,7 +142,7 @@ def test_one_student_regraded_keeps_everyone_elses_rows_and_summary(tmp_path):
 
 
 def _folders_out(tmp_path):
-    """OUT of a folders run with ann on time and bob a second late (nbgrader's timestamp.txt in each)."""
+    """OUT of a folders run with ann on time and bob a second late (nbgrader's timestamp.txt in each, shown only)."""
     out, submitted = tmp_path / "out", tmp_path / "submitted"
     entries = []
     for student, at in (("ann", "2026-12-01 22:59:00 UTC"), ("bob", "2026-12-01 22:59:01 UTC")):
@@ -159,15 +159,30 @@ def _folders_out(tmp_path):
     return out, submitted
 
 
+def _late_yaml(tmp_path):
+    """POLICY as late.yaml with the LMS export beside it: ann at the deadline, bob a second after (as their
+    timestamp.txt say, which are only shown)."""
+    (tmp_path / "submitted-at.csv").write_text("student,assignment,submitted_at\n"
+                                               "ann,*,2026-12-01 22:59:00 UTC\nbob,*,2026-12-01 22:59:01 UTC\n")
+    (tmp_path / "late.yaml").write_text('deadline: "2026-12-01 22:59 UTC"\nper_day: 10%\ncap: 50%\n'
+                                        "times: submitted-at.csv\n")
+    policy = read_late_policy(tmp_path / "late.yaml")
+    assert (policy.deadlines, policy.per_day, policy.cap) == (POLICY.deadlines, POLICY.per_day, POLICY.cap)
+    return policy
+
+
 def test_the_late_policy_reaches_summary_feedback_and_totals_and_a_rerun_replaces_its_line(tmp_path):
     out, submitted = _folders_out(tmp_path)
+    policy = _late_yaml(tmp_path)
     for _run in range(2):  # a second run (STUDENT=..., or another late.yaml) does not add a second line
-        apply_late(out, POLICY, lambda name, _a: submitted / name)
+        apply_late(out, policy, lambda name, _a: submitted / name)
     feedback = (out / "bob" / "feedback.txt").read_text().splitlines()
-    assert feedback[0].startswith("late policy: submitted 2026-12-01 22:59:01+00:00 (timestamp.txt), 1 s after")
+    assert feedback[0].startswith("late policy: submitted 2026-12-01 22:59:01+00:00 (submitted-at.csv, the LMS "
+                                  "export; the submission's timestamp.txt says 2026-12-01 22:59:01+00:00 (not used)), "
+                                  "1 s after"), feedback[0]
     assert feedback[0].endswith("penalty 10% of 10 points = 1") and feedback[1:] == ["", "robot-params: 8/10"]
     assert (out / "ann" / "feedback.txt").read_text().count("late policy") == 1
-    results = read_class(out, late_policy=POLICY.source)
+    results = read_class(out, late_policy=policy.source)
     add_totals(out / "grades.csv", results)
     rows = list(csv.DictReader(open(out / "grades.csv")))
     assert [(r["student"], r["late_penalty"], r["total"]) for r in rows] == [("ann", "0", "8"), ("bob", "1", "7")]

@@ -27,11 +27,14 @@ def _variant(i: int) -> str:
     return good
 
 
-#: Handed in (nbgrader's timestamp.txt) against the deadline 2026-12-01 23:59 +01:00: per student, else on time.
+#: Handed in (the LMS export late.yaml's times: names; nbgrader's timestamp.txt says the same and is only shown)
+#: against the deadline 2026-12-01 23:59 +01:00: per student, else on time.
 SUBMITTED = {4: "2026-12-02 00:00:00 +0100",    # one minute late: a day started, 10 % of the 89 points
              5: "2026-12-02 23:59:00 +0100",    # a day late, but their extension is 2 days: on time
              8: "2026-12-11 23:59:01 +0100"}    # 11 days started: the 50 % cap, and the total floored at 0
-LATE_YAML = 'deadline: "2026-12-01 23:59 +01:00"\nper_day: 10%\ncap: 50%\nextensions:\n  student05: 2\n'
+ON_TIME = "2026-12-01 23:59:00 +0100"
+LATE_YAML = ('deadline: "2026-12-01 23:59 +01:00"\nper_day: 10%\ncap: 50%\ntimes: submitted-at.csv\n'
+             "extensions:\n  student05: 2\n")
 
 
 def _make_grade(submitted, out, *variables: str):
@@ -53,8 +56,10 @@ def test_make_grade_grades_twenty_submissions_in_parallel_and_records_every_grad
     for i in range(20):
         # nbgrader's layout: submitted/<student>/<assignment>/...
         write_package(submitted / f"student{i:02d}" / "task4" / "hri_lab", {"config/robot_params.yaml": _variant(i)})
-        (submitted / f"student{i:02d}" / "task4" / "timestamp.txt").write_text(
-            SUBMITTED.get(i, "2026-12-01 23:59:00 +0100"))
+        (submitted / f"student{i:02d}" / "task4" / "timestamp.txt").write_text(SUBMITTED.get(i, ON_TIME))
+    # plain folders: one submission per student, so * (all of the student's assignments) holds for it
+    (submitted / "submitted-at.csv").write_text("student,assignment,submitted_at\n" + "".join(
+        f"student{i:02d},*,{SUBMITTED.get(i, ON_TIME)}\n" for i in range(20)))
     (submitted / "late.yaml").write_text(LATE_YAML)
     out = tmp_path / "grades"
     started = time.monotonic()
@@ -83,8 +88,9 @@ def test_make_grade_grades_twenty_submissions_in_parallel_and_records_every_grad
     assert [(rows[s]["late_penalty"], rows[s]["total"]) for s in ("student00", "student04", "student05", "student08")] \
         == [("0", "10"), ("8.9", "1.1"), ("0", "8"), ("44.5", "0")]
     feedback = (out / "student04" / "feedback.txt").read_text().splitlines()
-    assert feedback[0].startswith("late policy: submitted 2026-12-02 00:00:00+01:00 (timestamp.txt), 1 min after"), \
-        feedback[0]
+    assert feedback[0].startswith("late policy: submitted 2026-12-02 00:00:00+01:00 (submitted-at.csv, the LMS export; "
+                                  "the submission's a sub-folder's timestamp.txt says 2026-12-01 23:00:00+00:00 "
+                                  "(not used)), 1 min after"), feedback[0]
     assert "your extension" in (out / "student05" / "feedback.txt").read_text()
     lms = list(csv.reader(open(out / "lms.csv")))
     assert lms[0] == ["Student", "ID", "SIS User ID", "SIS Login ID", "Section", "Task 4 total"]

@@ -22,6 +22,7 @@ import sqlite3
 import subprocess
 import threading
 import time
+from html import escape
 from pathlib import Path
 
 import pytest
@@ -170,7 +171,14 @@ def test_make_grade_autogrades_an_nbgrader_course_in_parallel_and_survives_hosti
     submitted = _submissions(course, tmp_path)
     for student, at in (("alice", "2026-12-01 22:59:01.000000 UTC"), ("bob", "2026-12-01 22:59:00.000000 UTC")):
         (submitted / student / ASSIGNMENT / "timestamp.txt").write_text(at)  # as nbgrader collect writes it
-    (course / "late.yaml").write_text(f'deadline: {{{ASSIGNMENT}: "2026-12-01 23:59 Europe/Berlin"}}\nper_day: 10%\n')
+    # the times that decide: the LMS export beside late.yaml (alice a second late, the others on time); the
+    # timestamp.txt above is only shown
+    (course / "submitted-at.csv").write_text(
+        "student,assignment,submitted_at\n"
+        f"alice,{ASSIGNMENT},2026-12-01 22:59:01.000000 UTC\nbob,{ASSIGNMENT},2026-12-01 22:59:00.000000 UTC\n"
+        "ada,*,2026-12-01 20:00 UTC\ndave,*,2026-12-01 20:00 UTC\nerin,*,2026-12-01 20:00 UTC\n")
+    (course / "late.yaml").write_text(f'deadline: {{{ASSIGNMENT}: "2026-12-01 23:59 Europe/Berlin"}}\nper_day: 10%\n'
+                                      "times: submitted-at.csv\n")
     out = tmp_path / "grades"
     held: list = []
     locker = []
@@ -277,10 +285,11 @@ def test_make_grade_autogrades_an_nbgrader_course_in_parallel_and_survives_hosti
     lms = {row["SIS Login ID"]: row for row in csv.DictReader(open(out / "lms.csv"))}
     assert float(lms["alice"]["Task 4 total"]) == pytest.approx(float(rows["alice"]["total"]))
     assert float(lms["bob"]["Task 4 total"]) == float(rows["bob"]["notebooks_score"]) + float(rows["bob"]["files_score"])
-    late = f"late policy, {ASSIGNMENT}: submitted 2026-12-01 23:59:01+01:00 (timestamp.txt), 1 s after the deadline"
+    late = (f"late policy, {ASSIGNMENT}: submitted 2026-12-01 23:59:01+01:00 (submitted-at.csv, the LMS export; "
+            "the submission's timestamp.txt says 2026-12-01 22:59:01+00:00 (not used)), 1 s after the deadline")
     assert (out / "alice" / "feedback.txt").read_text().startswith(late), (out / "alice" / "feedback.txt").read_text()
-    for name in NOTEBOOKS:  # nbgrader's HTML feedback carries the line too
-        assert late in (course / "feedback" / "alice" / ASSIGNMENT / f"{name}.html").read_text()
+    for name in NOTEBOOKS:  # nbgrader's HTML feedback carries the line too (escaped)
+        assert escape(late) in (course / "feedback" / "alice" / ASSIGNMENT / f"{name}.html").read_text()
     report = (out / "report.html").read_text()
     for words in ("Not judged (3)", "<td>timeout</td>", "<td>kernel died</td>", "refused (link outside",
                   f"{ASSIGNMENT}/ex04_robot_params:", "robot-params: loads", "Late submissions (1)",

@@ -196,20 +196,25 @@ def test_make_grade_counts_each_part_once_and_its_totals_are_the_documented_ones
 
     # the end of make grade (the real finish) over this OUT: totals, lms.csv, a late preparation
     out, submitted = tmp_path / "out", tmp_path / "submitted"
+    times = "student,assignment,submitted_at\n"
     for assignment, stamp in (("preparation", "2026-12-01 22:59:01.000000 UTC"),
                               ("lab", "2026-12-08 22:00:00.000000 UTC")):
         (submitted / "key" / assignment).mkdir(parents=True)
-        (submitted / "key" / assignment / "timestamp.txt").write_text(stamp)
+        (submitted / "key" / assignment / "timestamp.txt").write_text(stamp)  # nbgrader's: only shown
+        times += f"key,{assignment},{stamp}\n"  # the LMS export: these times decide
+    (tmp_path / "submitted-at.csv").write_text(times)
     late = tmp_path / "late.yaml"
     late.write_text('deadline: {preparation: "2026-12-01 23:59 Europe/Berlin", lab: "2026-12-08 23:59 Europe/Berlin"}\n'
-                    "per_day: 10%\n")
+                    "per_day: 10%\ntimes: submitted-at.csv\n")
     out.mkdir()
     header = ["student", *[f"{a}_{x}" for a in ASSIGNMENTS for x in ("score", "max")], "notebooks_score",
               "notebooks_max", "files_score", "files_max", "needs_manual_grade", "status", "seconds", "message"]
     write_rows(out / "grades.csv", header, [{"student": "key", **columns, "status": "graded"}])
     write_summary(out, [{"student": "key", "status": "graded", "reasons": [], "jobs": _answer_key_jobs()}])
+    said: List[str] = []
     finish(out, read_late_policy(late), lambda name, assignment: submitted / name / assignment, ASSIGNMENTS,
-           progress=lambda line: None)
+           progress=said.append)
+    assert not [line for line in said if "unknown" in line], said  # both times known: none waits
     row = next(csv.DictReader(open(out / "grades.csv", encoding="utf-8")))
     penalty = 0.1 * DOCUMENTED["preparation"]["total"]  # a second late: 10 % of the assignment's 55 points
     assert float(row["late_penalty"]) == pytest.approx(penalty)

@@ -1,17 +1,11 @@
 """The late policy of ``make grade``: late.yaml read and checked, the rule, and submission times.
 
 A late penalty changes a student's grade, so the rule is a pure function tested at each threshold
-(:func:`judge_lateness`), late.yaml's every problem is one line naming the file, the key and the
-fix, and the time a submission counts as handed in comes only from a source the student cannot
-write (:func:`submission_time`): the LMS export the instructor names in late.yaml (``times:``,
-:func:`read_times`), else the change time of the student's folders in nbgrader's exchange
-(``exchange:``, :func:`exchange_time`). nbgrader's ``timestamp.txt`` is written by the student's own
-``nbgrader submit`` (the time in its exchange folder's name and the gradebook's timestamp come from
-the same clock), and file times are the student's too: the timestamp is shown beside the trusted
-time, never used to decide (:func:`student_stamp`), file times are not looked at. Without a trusted
-time the time is unknown, said to the instructor, and the assignment's total is left blank until it
-is given. On Gradescope the grader takes no penalty (Gradescope has the times, due dates and
-extensions). The formats: grading/README.md.
+(:func:`judge_lateness`), each problem of late.yaml is one line naming the file, the key and the fix,
+and a submission's time comes only from a source the student cannot write (:func:`submission_time`:
+which ones, and why nbgrader's timestamp.txt and file times are not). Without one the time is unknown,
+said to the instructor, and the total left blank until it is given. On Gradescope the grader takes no
+penalty (Gradescope has the times, due dates and extensions). The formats: grading/README.md.
 """
 
 from __future__ import annotations
@@ -534,12 +528,14 @@ def exchange_time(exchange: Path, student: str, assignment: str) -> Union[dateti
 def submission_time(policy: LatePolicy, student: str, assignment: str, folder: Path) -> SubmissionTime:
     """When ``student``'s ``assignment`` was handed in, from a source the student cannot write, in this order:
 
-    1. the LMS export late.yaml names (``times:``): the row of (student, assignment), else of (student, ``*``);
+    1. the LMS export late.yaml names (``times:``, :func:`read_times`): the row of (student, assignment), else
+       of (student, ``*``);
     2. nbgrader's exchange late.yaml names (``exchange:``): :func:`exchange_time`;
     else unknown. Nothing the student wrote decides: nbgrader's timestamp.txt, the time in its exchange
     folder's name and the gradebook's timestamp all come from the student's own ``nbgrader submit``, and
-    file times from their machine (or from unpacking). The submission's timestamp.txt in ``folder`` is
-    read (safely) to be shown beside."""
+    file times from their machine (or from unpacking): file times are not looked at. The submission's
+    timestamp.txt in ``folder`` is read (safely, :func:`student_stamp`) to be shown beside the trusted
+    time, never used to decide."""
     stamp, refused = student_stamp(folder)
     name = Path(policy.times_source).name
     problems: List[str] = []
