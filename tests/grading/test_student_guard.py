@@ -159,3 +159,20 @@ def test_roslaunch_may_start_ros_s_own_tools_but_the_student_may_not(package, tm
     env.pop("PYTHONPATH")  # not even roslaunch starts it without the guard's environment
     assert refused_spawn("/usr/bin/rosversion", ["rosversion", "-d"], env, sys.executable, SITE_DIR, env[GUARD_ENV],
                          ros_tool=True)
+
+
+def test_the_guard_and_the_grader_s_clock_start_together_and_chain_to_the_next_sitecustomize(package, tmp_path):
+    """Both folders' sitecustomize run the next one on the path: each must skip the other, or they run each
+    other for ever (roslaunch under the grader's clock hung at its start in Gradescope's layout)."""
+    from hri_teleop.grading.run.clock_sleep import SITE_DIR as CLOCK_SITE
+
+    last = tmp_path / "last"
+    last.mkdir()
+    (last / "sitecustomize.py").write_text("import builtins\nbuiltins.LAST_SITE_RAN = True\n")
+    env = _env(package)
+    env["PYTHONPATH"] = os.pathsep.join([SITE_DIR, str(CLOCK_SITE), str(last), os.environ.get("PYTHONPATH", "")])
+    script = package / "scripts" / "both.py"
+    script.write_text("import builtins, sys\nprint('OK', getattr(builtins, 'LAST_SITE_RAN', False), "
+                      "any(type(f).__name__ == '_Finder' for f in sys.meta_path))\n")
+    proc = subprocess.run([sys.executable, str(script)], env=env, capture_output=True, text=True, timeout=60)
+    assert proc.returncode == 0 and "OK True True" in proc.stdout, proc.stderr[-2000:]
