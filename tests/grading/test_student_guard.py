@@ -176,3 +176,37 @@ def test_the_guard_and_the_grader_s_clock_start_together_and_chain_to_the_next_s
                       "any(type(f).__name__ == '_Finder' for f in sys.meta_path))\n")
     proc = subprocess.run([sys.executable, str(script)], env=env, capture_output=True, text=True, timeout=60)
     assert proc.returncode == 0 and "OK True True" in proc.stdout, proc.stderr[-2000:]
+
+
+def test_the_system_python_without_the_toolkit_on_its_path_is_guarded_too(package):
+    """roslaunch and a node whose first line is #!/usr/bin/python3 run the system's Python: the guard is
+    loaded from its file there (it once failed to import, and Python went on without it)."""
+    if not os.path.exists("/usr/bin/python3"):
+        pytest.skip("no system python3")
+    script = package / "scripts" / "system_python.py"
+    script.write_text(ATTACKS["exec_of_the_rule_file"] + "print('GOT THROUGH')\n")
+    env = _env(package)
+    env["PYTHONPATH"] = SITE_DIR  # nothing of the toolkit
+    proc = subprocess.run(["/usr/bin/python3", str(script)], env=env, capture_output=True, text=True, timeout=60)
+    assert proc.returncode != 0 and "GOT THROUGH" not in proc.stdout, proc.stdout + proc.stderr
+    assert "the grader refuses to open" in proc.stderr, proc.stderr[-2000:]
+
+
+def test_a_process_the_guard_cannot_start_in_ends_at_once_with_the_reason(package):
+    env = _env(package)
+    env[GUARD_ENV] = "{not json"
+    proc = subprocess.run([sys.executable, "-c", "print('RAN')"], env=env, capture_output=True, text=True, timeout=60)
+    assert proc.returncode == 3 and "RAN" not in proc.stdout, proc.stdout + proc.stderr
+    assert "the reference guard could not start" in proc.stderr and "no student code" in proc.stderr
+
+
+def test_roslaunch_may_start_the_lab_s_node_it_cannot_read(package, tmp_path):
+    """The lab's node the grader placed is secret to student code, guard included, yet roslaunch starts it."""
+    helper = tmp_path / "launcher_like.py"
+    placed = package / "scripts" / "teleoperation.py"
+    placed.chmod(0o755)
+    helper.write_text(f"import subprocess\n\ndef start():\n    return subprocess.run([{str(placed)!r}], "
+                      "capture_output=True, text=True).stdout\n")
+    proc = _run(package, f"import importlib.util\nspec = importlib.util.spec_from_file_location('h', {str(helper)!r})\n"
+                         "h = importlib.util.module_from_spec(spec)\nspec.loader.exec_module(h)\nprint('OK', h.start())\n")
+    assert proc.returncode == 0 and "OK the lab ran" in proc.stdout, proc.stderr[-2000:]
