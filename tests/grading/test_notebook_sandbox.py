@@ -183,6 +183,7 @@ def _attacks(course: Path, home: Path, machine_tmp: Path, port: int) -> Dict[str
             "    for pid in children:\n        os.kill(pid, signal.SIGKILL)\n"
             "    for pid in children:\n        os.waitpid(pid, 0)"),
         "memory": "held = bytearray(12 << 30)\nprint('held', len(held) >> 30, 'GB')",
+        "cpu-bound": "import resource\nprint('cpu limit', resource.getrlimit(resource.RLIMIT_CPU))",
         "disk": ("import os\ntry:\n    with open('fill.bin', 'wb') as fh:\n        while True:\n"
                  "            fh.write(b'x' * (1 << 20))\nfinally:\n"
                  "    print('wrote', os.path.getsize('fill.bin') >> 20, 'MB')\n    os.remove('fill.bin')"),
@@ -227,6 +228,8 @@ def test_a_hostile_notebook_is_refused_each_thing_and_honest_ones_keep_their_poi
     assert "BlockingIOError" in seen["fork-bomb"] and 0 < forked < FORKS, seen["fork-bomb"]
     assert "No space left on device" in seen["disk"], seen["disk"]
     assert "MemoryError" in seen["memory"] and "held" not in seen["memory"], seen["memory"]
+    from hri_teleop.grading.run.kernel_box import CPU_S
+    assert f"cpu limit ({CPU_S}, {CPU_S + 5})" in seen["cpu-bound"], seen["cpu-bound"]  # a busy loop ends
     assert "CellTimeoutError" in seen["last"], seen["last"]
     feedback = (course / "feedback" / "mallory" / ASSIGNMENT / f"{NOTEBOOK}.html").read_text()
     for reason in ("No such file or directory", "ConnectionRefusedError", "BlockingIOError",

@@ -50,7 +50,8 @@ def test_the_toolkit_view_shows_the_toolkit_and_masks_what_students_write(checko
     assert set(view.masked_files) == {str(checkout / p) for p in TOOLKIT_MASKED}
     assert set(view.masked_folders) == {str(checkout / p) for p in FOLDERS_MASKED}
     assert "/usr" in shown and "/etc" in shown
-    outside = [s for s in shown if not under(s, str(checkout))]  # (pytest's checkout lies under /tmp)
+    prefixes = (sys.prefix, sys.base_prefix, os.path.realpath(sys.prefix))  # a clone's .venv may lie under /tmp
+    outside = [s for s in shown if not under(s, str(checkout)) and not any(under(s, p) for p in prefixes)]
     assert not any(under(s, h) for s in outside for h in ("/home", "/root", "/tmp", "/srv", "/mnt")), outside
 
 
@@ -81,6 +82,21 @@ def test_a_search_path_in_a_home_or_tmp_or_above_them_is_not_shown(entry):
 def test_search_paths_show_the_toolkit_and_other_installs_but_not_the_checkout(entry, shown):
     found = shown_search_paths({"ROS_PACKAGE_PATH": entry}, "/opt/course/hri", ["/opt/course/hri/hri_teleop"])
     assert (found == [entry]) is shown, found
+
+
+@pytest.mark.parametrize("entry,shown", [
+    ("/tmp/clone/.venv/lib/python3.11/site-packages", True),   # a venv reused from a clone under /tmp
+    ("/home/prof/.local/lib/python3.11/site-packages", True),  # the user's packages, not their home
+    ("/usr/lib/python3/dist-packages", True),
+    ("/tmp", False), ("/home/prof", False), ("/home", False), ("/", False),
+    ("/tmp/clone/lib", False),                                 # not a package folder
+    ("/opt/course/hri/.venv/lib/python3.11/site-packages", True),
+    ("/opt/course", False),                                    # above the checkout
+])
+def test_the_python_s_own_package_folders_are_shown_wherever_they_lie(entry, shown):
+    from hri_teleop.grading.run.view import python_packages
+
+    assert python_packages(entry, "/opt/course/hri") is shown
 
 
 def test_under_compares_whole_components():

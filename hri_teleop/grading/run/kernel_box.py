@@ -26,7 +26,7 @@ from hri_teleop.grading.run.sandbox import STUDENT_ENV, private_mounts, student_
 from hri_teleop.grading.run.view import View, toolkit_view, under, view_argv
 from hri_teleop.ros.proc_table import uid_process_count
 
-__all__ = ["POLICY_ENV", "SCRATCH_BYTES", "MEMORY_BYTES", "PROCESSES", "CHANNEL", "CHECK_RESULTS", "ERROR_MARK",
+__all__ = ["POLICY_ENV", "SCRATCH_BYTES", "MEMORY_BYTES", "CPU_S", "PROCESSES", "CHANNEL", "CHECK_RESULTS", "ERROR_MARK",
            "KernelBoxError", "KernelPolicy", "Box", "KERNEL_ENV", "kernel_view", "kernel_environment", "box_uid",
            "launch", "main"]
 
@@ -37,6 +37,9 @@ SCRATCH_BYTES = 256 * 1024 ** 2
 #: Address space of each process of a kernel's box (the kernel, its roscore, its nodes): a cell that asks for
 #: more gets MemoryError instead of taking the grading machine's memory (a kernel once held 17 GB).
 MEMORY_BYTES = 4 * 1024 ** 3
+#: CPU seconds of each process of a kernel's box: no more than make grade gives a whole submission's notebooks
+#: (a busy loop that never yields is ended by SIGXCPU even where a cell's timeout is raised).
+CPU_S = 1800
 #: Processes and threads of a kernel and all it starts (its roscore, nodes, the check cells' own sandboxes).
 PROCESSES = 512
 #: The box's /dev/shm (POSIX semaphores of multiprocessing).
@@ -87,11 +90,12 @@ class KernelPolicy:
     processes: int = PROCESSES
     own_proc: bool = True
     memory_bytes: int = MEMORY_BYTES
+    cpu_s: int = CPU_S
 
     def to_json(self) -> str:
         return json.dumps({"hidden": list(self.hidden), "check_results": self.check_results,
                            "scratch_bytes": self.scratch_bytes, "processes": self.processes,
-                           "own_proc": self.own_proc, "memory_bytes": self.memory_bytes})
+                           "own_proc": self.own_proc, "memory_bytes": self.memory_bytes, "cpu_s": self.cpu_s})
 
     @staticmethod
     def from_json(text: str) -> "KernelPolicy":
@@ -100,7 +104,7 @@ class KernelPolicy:
             return KernelPolicy(tuple(str(p) for p in data.get("hidden", ())), str(data.get("check_results", "")),
                                 int(data.get("scratch_bytes", SCRATCH_BYTES)), int(data.get("processes", PROCESSES)),
                                 data.get("own_proc", True) is not False,
-                                int(data.get("memory_bytes", MEMORY_BYTES)))
+                                int(data.get("memory_bytes", MEMORY_BYTES)), int(data.get("cpu_s", CPU_S)))
         except (ValueError, TypeError, AttributeError) as exc:
             raise KernelBoxError(f"{POLICY_ENV}: not a kernel sandbox policy ({exc}); make grade sets it, unset it") \
                 from None
@@ -230,7 +234,7 @@ class Box:
         argv += ["--", sys.executable, "-I", "-S", "-c", _RESET_SIGINT, *command]
         home = os.path.join(cwd, ".home")
         self.env = kernel_environment(env, home, os.path.join(cwd, ".tmp"))
-        uid, quota, memory = self.uid, policy.scratch_bytes, policy.memory_bytes
+        uid, quota, memory, cpu_s = self.uid, policy.scratch_bytes, policy.memory_bytes, policy.cpu_s
 
         def limits() -> None:
             import resource  # noqa: PLC0415 - Unix only: imported where it runs
@@ -238,6 +242,7 @@ class Box:
             resource.setrlimit(resource.RLIMIT_CORE, (0, 0))
             resource.setrlimit(resource.RLIMIT_FSIZE, (quota, quota))  # the inherited log files too
             resource.setrlimit(resource.RLIMIT_AS, (memory, memory))
+            resource.setrlimit(resource.RLIMIT_CPU, (cpu_s, cpu_s + 5))
             if uid is not None:
                 private_mounts()
                 os.setgroups([])

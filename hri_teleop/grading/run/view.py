@@ -17,7 +17,7 @@ from typing import Dict, List, Mapping, Optional, Sequence, Tuple
 from hri_teleop.core.paths import REPO
 
 __all__ = ["SYSTEM", "TOOLKIT_SHOWN", "TOOLKIT_MASKED", "FOLDERS_MASKED", "SEARCH_PATH_KEYS", "View", "toolkit_view",
-           "under", "shown_search_paths", "view_argv"]
+           "under", "shown_search_paths", "python_packages", "view_argv"]
 
 #: The machine's own software, shown read-only (a link among them is made again as the same link).
 SYSTEM = ("/usr", "/bin", "/sbin", "/lib", "/lib32", "/lib64", "/libx32", "/etc", "/opt", "/sys")
@@ -64,6 +64,15 @@ def _allowed(entry: str, repo: str, allowed_in_repo: Sequence[str]) -> bool:
     return not under(entry, repo) or any(under(entry, a) for a in allowed_in_repo)
 
 
+def python_packages(entry: str, repo: str) -> bool:
+    """Whether a folder of the running Python's own path is one of its package folders (``site-packages``,
+    ``dist-packages``: a venv reused from a clone under /tmp, say) that may be shown wherever it lies, as long
+    as it is not at or above the checkout, a home or /tmp."""
+    if entry == "/" or under(repo, entry) or any(under(n, entry) for n in _NEVER):
+        return False
+    return any(part.endswith("-packages") for part in entry.split("/"))
+
+
 def shown_search_paths(env: Mapping[str, str], repo: str, allowed_in_repo: Sequence[str],
                        keys: Sequence[str] = SEARCH_PATH_KEYS, extra: Sequence[str] = ()) -> List[str]:
     """The absolute folders of ``env``'s search paths (and ``extra``) a box may see: none at or above the
@@ -105,7 +114,8 @@ def toolkit_view(env: Mapping[str, str], writable: Sequence[str] = (), extra_sho
             shown.append(path)
     # the Python's folders inside the checkout (its .venv) are shown; any other part of the checkout is not
     python_ok = [p for p in python if not under(root, p)]
-    candidates = python_ok + in_repo + shown_search_paths(env, root, in_repo + python_ok, extra=path_entries)
+    packages = [os.path.normpath(p) for p in path_entries if python_packages(os.path.normpath(p), root)]
+    candidates = python_ok + packages + in_repo + shown_search_paths(env, root, in_repo + python_ok, extra=path_entries)
     candidates += list(extra_shown)
     for path in candidates:
         path = os.path.realpath(path)  # /bin in PATH is /usr/bin, which the links above already lead to
