@@ -17,9 +17,9 @@ from grading_helpers import REPO, answer_text, hri_grade, write_package
 
 pytestmark = pytest.mark.ros
 
-CHECKS = "mapping-node,teleoperation-launch"
+CHECKS = "mapping-node,sensor-launch"
 GOOD = answer_text("scripts/mapping_node.py")
-LAUNCH = answer_text("launch/teleoperation.launch")
+LAUNCH = answer_text("launch/sensor.launch")
 
 #: The rule by a name the source scan cannot see, used as the student's own map_force.
 IMPORTLIB = GOOD.replace("import rospy\n", "import importlib\nimport rospy\n\n"
@@ -30,8 +30,8 @@ IMPORTLIB = GOOD.replace("import rospy\n", "import importlib\nimport rospy\n\n"
 EXEC_LAB = ("import rospy\n"
             f"exec(open({str(REPO / 'hri_lab' / 'scripts' / 'mapping_node.py')!r}).read().split('if __name__')[0])\n"
             "rospy.init_node('mapping_node')\nMappingNode()\nrospy.spin()\n")
-#: The lab's teleoperation.py, which the grader runs in place of the student's, read into a parameter.
-TEXTFILE = LAUNCH.replace("<launch>", '<launch>\n  <param name="leak" textfile="$(find hri_lab)/scripts/teleoperation.py"/>', 1)
+#: The lab's mapping_node.py, which the grader runs in place of the student's, read into a parameter.
+TEXTFILE = LAUNCH.replace("<launch>", '<launch>\n  <param name="leak" textfile="$(find hri_lab)/scripts/mapping_node.py"/>', 1)
 
 
 class Batch(NamedTuple):
@@ -52,10 +52,10 @@ def _distinctive_lines() -> List[str]:
 @pytest.fixture(scope="module")
 def batch(tmp_path_factory) -> Batch:
     root = tmp_path_factory.mktemp("hostile-guard") / "submitted"
-    write_package(root / "good" / "hri_lab", {"scripts/mapping_node.py": GOOD, "launch/teleoperation.launch": LAUNCH})
+    write_package(root / "good" / "hri_lab", {"scripts/mapping_node.py": GOOD, "launch/sensor.launch": LAUNCH})
     write_package(root / "importlib_rule" / "hri_lab", {"scripts/mapping_node.py": IMPORTLIB})
     write_package(root / "exec_lab_node" / "hri_lab", {"scripts/mapping_node.py": EXEC_LAB})
-    write_package(root / "launch_reads_lab_node" / "hri_lab", {"launch/teleoperation.launch": TEXTFILE})
+    write_package(root / "launch_reads_lab_node" / "hri_lab", {"launch/sensor.launch": TEXTFILE})
     out = root.parent / "grades"
     proc = hri_grade("batch", str(root), "--out", str(out), "--jobs", "2", "--checks", CHECKS, "--timeout", "300",
                      timeout=900)
@@ -68,7 +68,7 @@ def batch(tmp_path_factory) -> Batch:
 
 def test_the_answer_key_keeps_its_full_marks_beside_them(batch: Batch) -> None:
     row = batch.grades.get("good")
-    assert row is not None and float(row["score"]) == float(row["max_score"]) == 34.0, batch.output
+    assert row is not None and float(row["score"]) == float(row["max_score"]) == 30.0, batch.output
 
 
 @pytest.mark.parametrize("name,words", [
