@@ -64,7 +64,7 @@ def test_the_lab_package_is_masked_file_by_file_and_the_provided_nodes_stay():
 
 
 @pytest.mark.parametrize("entry", ["/home/prof", "/home", "/root/.local/bin", "/tmp/course", "/tmp", "/", "/srv/x",
-                                   "/run/user/0", "/mnt/share", "/media/usb", "/var/tmp/x"])
+                                   "/run/user/0", "/mnt/share", "/media/usb", "/var/tmp/x", "/var"])
 def test_a_search_path_in_a_home_or_tmp_or_above_them_is_not_shown(entry):
     assert shown_search_paths({"PYTHONPATH": entry, "PATH": entry}, "/opt/course/hri", []) == []
 
@@ -213,8 +213,8 @@ def test_graded_by_an_unprivileged_instructor_the_box_keeps_their_home_and_ssh_k
 
 # -- before grading anyone: student code must reach the toolkit ----------------------------------------------------
 
-@pytest.mark.parametrize("mode,reachable", [(0o700, False), (0o750, False), (0o701, True), (0o755, True),
-                                            (0o711, True)])
+@pytest.mark.parametrize("mode,reachable", [(0o700, False), (0o750, False), (0o704, False), (0o701, True),
+                                            (0o755, True), (0o711, True)])
 def test_a_folder_other_users_cannot_enter_above_the_toolkit_is_named_with_the_fix(box_folder, mode, reachable):
     from hri_teleop.grading.run.sandbox import unreachable
 
