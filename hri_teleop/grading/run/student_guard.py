@@ -4,7 +4,7 @@ Installed first in every process that runs a student's code (its sitecustomize, 
 audit hook and an import finder refuse the rule modules by name and their files by inode, the lab's nodes the
 grader placed beside the student's, programs that would start without the guard, ctypes and code posing as the
 toolkit's. What each refusal closes: docs/grading-internals.md, "Threat model". Python 3.8-compatible and
-without the toolkit's imports: it runs before anything else.
+needing nothing of the toolkit: it runs before anything else.
 """
 
 from __future__ import annotations
@@ -35,7 +35,14 @@ _SPAWN_EVENTS = ("subprocess.Popen", "os.exec", "os.posix_spawn", "os.spawn", "o
                  "pty.spawn")
 
 
-class GuardError(PermissionError):
+try:
+    from hri_teleop.core.errors import HriTeleopError
+except ImportError:  # loaded from its file by a Python without the toolkit on its path (the system's)
+    class HriTeleopError(Exception):  # type: ignore[no-redef]
+        """The toolkit's error base, where the toolkit cannot be imported."""
+
+
+class GuardError(HriTeleopError, PermissionError):
     """What a guarded student process is refused: one line naming what and why (it ends up in the feedback)."""
 
 
