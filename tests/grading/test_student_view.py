@@ -303,3 +303,18 @@ def test_a_mount_that_appears_after_the_box_started_does_not_show_inside_it(box_
         if mounted:
             subprocess.run(["umount", str(ws / "later")], check=False)
         subprocess.run(["umount", str(ws)], check=False)
+
+
+def test_a_kernel_gets_the_variables_it_reads_by_exact_name_and_no_token_of_the_grader():
+    """Variables once passed by prefix (HRI_*, PYTHON*, ROS*, NBGRADER_*): the instructor's tokens with them."""
+    from hri_teleop.grading.run.kernel_box import POLICY_ENV, kernel_environment
+
+    grader = {"PATH": "/usr/bin", "ROS_MASTER_URI": "http://127.0.0.1:1/", "HRI_GRADE_SEED": "7",
+              "NBGRADER_EXECUTION": "autograde", "PYTHONPATH": "/opt/ros/noetic/lib/python3/dist-packages",
+              "HRI_CANVAS_TOKEN": "secret", "PYTHON_KEYRING_PASSWORD": "secret", "ROS_SECRET_TOKEN": "secret",
+              "NBGRADER_API_TOKEN": "secret", "CATKIN_TOKEN": "secret", "LC_TOKEN": "secret", POLICY_ENV: "{}"}
+    env = kernel_environment(grader, "/box/.home", "/box/.tmp")
+    assert not [k for k, v in env.items() if v == "secret"] and POLICY_ENV not in env
+    for kept in ("PATH", "ROS_MASTER_URI", "HRI_GRADE_SEED", "NBGRADER_EXECUTION", "PYTHONPATH"):
+        assert env[kept] == grader[kept], kept
+    assert env["HOME"] == "/box/.home" and env["TMPDIR"] == "/box/.tmp" and env["JPY_PARENT_PID"] == "1"
