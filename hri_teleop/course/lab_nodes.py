@@ -20,6 +20,7 @@ from hri_teleop.core.modes import pad_params as mode_pad_params
 from hri_teleop.course.errors import CourseError
 from hri_teleop.course.master_mode import NotStarted, master_mode, start_refusal
 from hri_teleop.course.nodes import STUDENT_PACKAGE, launch, launch_student, run_provided_node, run_student_node
+from hri_teleop.course.pipeline_start import explain_ended, settled
 from hri_teleop.grading.run.workspace import REFERENCE_PACKAGE
 from hri_teleop.ros.master_api import master_call, running_nodes
 
@@ -106,8 +107,10 @@ def start_board(timeout_s: float = 60.0, **params: Any) -> Any:
 class NodeGroup:
     """Several started nodes as one: ``running`` while all run, ``output()`` of each, ``stop()`` all."""
 
-    def __init__(self, processes: Dict[str, Any]) -> None:
+    def __init__(self, processes: Dict[str, Any], scripts: Optional[Dict[str, Path]] = None) -> None:
         self.processes = processes
+        #: The student's file each node runs (node name -> path), to explain a node that ended.
+        self.scripts = dict(scripts or {})
 
     @property
     def running(self) -> bool:
@@ -142,7 +145,8 @@ def _home_pipeline(package: Path) -> NodeGroup:
         for process in processes.values():
             process.stop()
         raise
-    return NodeGroup(processes)
+    return NodeGroup(processes, {"mapping_node": scripts / "mapping_node.py",
+                                 "teleoperation": scripts / "teleoperation.py"})
 
 
 def start_application(feedback: bool = True, package: Union[str, Path] = STUDENT_PACKAGE) -> Any:
@@ -198,20 +202,32 @@ def start_pipeline(timeout_s: float = 60.0, package: Union[str, Path] = STUDENT_
     if refusal:
         print(refusal)
         return NotStarted(refusal)
+    student_nodes: List[str] = []
     if lab_launch_file().is_file():
         settings = {"robot": "false", "arduino": "false", "pad": "virtual", **args}
         pipeline = launch("hri_lab", "teleoperation.launch", **settings)
     else:
         pipeline = _home_pipeline(Path(package))
+        student_nodes = ["/mapping_node", "/teleoperation"]
+    # Up when the graph has settled (every node's registrations at the master, so the graph
+    # view draws the whole pipeline), or ended: then one message says which node and why.
     deadline = time.monotonic() + timeout_s
-    while not _topic_nodes("/gripper_width", publishers=True)[0]:
+    while True:
         if not pipeline.running:
-            raise CourseError(f"the pipeline ended while starting: {pipeline.output()[-300:]!r}")
+            group = pipeline if isinstance(pipeline, NodeGroup) else NodeGroup({"teleoperation.launch": pipeline})
+            pipeline.stop()
+            raise CourseError(explain_ended(group.processes, group.scripts))
+        state = master_call("getSystemState")
+        if _has_publisher(state, "/gripper_width") and settled(state, student_nodes):
+            return pipeline
         if time.monotonic() > deadline:
             pipeline.stop()
             raise CourseError(f"the pipeline did not come up within {timeout_s:.0f} s: run the cell again")
         time.sleep(0.05)
-    return pipeline
+
+
+def _has_publisher(state: Any, topic: str) -> bool:
+    return any(name == topic and nodes for name, nodes in state[0])
 
 
 def hand_z_m(timeout_s: float = 10.0) -> float:
