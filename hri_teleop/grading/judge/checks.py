@@ -17,9 +17,12 @@ import yaml
 
 from hri_teleop.core.config import ConfigError, load_teleop_config
 from hri_teleop.core.gamepad.events import pad_events
+from hri_teleop.core.paths import SOLUTIONS
 from hri_teleop.core.teleop import TeleopParams
 from hri_teleop.grading.cases import inputs as C
+from hri_teleop.grading.cases.templates import TemplateError, kind_of, make_template
 from hri_teleop.grading.judge import compare
+from hri_teleop.grading.judge.compare_common import STUDENT_PACKAGES
 from hri_teleop.grading.judge.graph import grade_graph, live_graph
 from hri_teleop.grading.judge.harness import (
     TWIST_TOPIC,
@@ -35,6 +38,7 @@ from hri_teleop.grading.judge.harness import (
 )
 from hri_teleop.grading.judge.package_check import grade_catkin_package
 from hri_teleop.grading.judge.robot_params import compare_robot_params
+from hri_teleop.grading.judge.tracebacks import is_template
 from hri_teleop.grading.results import CheckResult, GradingError, feedback_text, not_judged
 from hri_teleop.grading.run.jobs import run_all
 from hri_teleop.grading.run.records import (
@@ -54,7 +58,9 @@ from hri_teleop.grading.run.records import (
     TeleopPartsResult,
 )
 from hri_teleop.grading.run.standins import BOARD_TOPIC
+from hri_teleop.grading.run.untrusted_files import read_regular
 from hri_teleop.grading.run.workspace import (
+    DELIVERABLES,
     REPO,
     find_package_root,
 )
@@ -112,8 +118,21 @@ def grade_mapping_node(path: PathLike, *, seed: Optional[int] = None, out_dir: O
                            cases=[MappingCasePlan(c.label, c.max_sensor_force, list(c.counts)) for c in cases],
                            start_timeout_s=10.0, response_timeout_s=1.5)
     observation = run.session(plan, timeout_s=120.0)
-    parts = compare.compare_mapping(observation, cases, run.out_dir)
+    parts = compare.compare_mapping(observation, cases, run.out_dir, str(run.space.package),
+                                    _left_as_template(run, "mapping_node"))
     return finish_check("mapping-node", run, parts, seed)
+
+
+def _left_as_template(run: CheckRun, key: str) -> bool:
+    """The student's deliverable is still the template handed out (every part YOUR CODE HERE unfilled)."""
+    target = run.space.files.get(key)
+    solution = SOLUTIONS / DELIVERABLES[key]
+    try:
+        text = read_regular(target, root=run.space.package).decode("utf-8") if target is not None else ""
+        template = make_template(solution.read_text(encoding="utf-8"), kind_of(solution)) if solution.is_file() else ""
+    except (OSError, UnicodeDecodeError, TemplateError):  # UntrustedFileError is an OSError
+        return False
+    return is_template(text, template)
 
 
 @reusable("sensor-launch")
@@ -127,7 +146,7 @@ def grade_sensor_launch(path: PathLike, *, seed: Optional[int] = None, out_dir: 
     parsed, facts = parse_launch(run, "sensor_launch")
     observation: Optional[SensorLaunchObservation] = None
     if parsed.ok:
-        scripts = {n.type for n in parsed.nodes}
+        scripts = {n.type for n in parsed.nodes if n.package in STUDENT_PACKAGES}  # another package's: supplied
         param_ok, _ = compare.check_max_param(parsed.params)
         package = run.space.package
         run_mapping = "mapping_node.py" not in scripts and (package / "scripts" / "mapping_node.py").is_file()
@@ -223,7 +242,7 @@ def _launch_sim_plan(run: CheckRun, parsed: LaunchParseResult) -> Optional[Teleo
         supply["serial_node"] = [str(run.space.ws / "rosserial_python" / "scripts" / "serial_node.py"),
                                  "_port:=/dev/ttyACM0"]
     for script in ("mapping_node.py", "gripper_manager.py"):
-        if not scripts.get(script) and (package / "scripts" / script).is_file():
+        if not [n for n in scripts.get(script, []) if n.package == "hri_lab"] and (package / "scripts" / script).is_file():
             supply[script[:-3]] = [str(package / "scripts" / script)]
     param_ok, _ = compare.check_max_param(parsed.params)
     return TeleopLaunchSimPlan(

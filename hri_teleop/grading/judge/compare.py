@@ -3,7 +3,7 @@
 Sessions and probes only observe; every rule of what is right lives here, ROS-free, next to the
 reference rules it calls, so a message can be unit-tested without a master. Each part fails only
 for what it judges (``not judged: ...`` otherwise). The one name the checks use: the judges live in
-``compare_nodes`` (Ex. 5, 8, 9), ``compare_launch`` (Ex. 6-7, 12-13, 15) and ``compare_common``.
+``compare_nodes`` (Ex. 5, 8, 9), ``compare_launch`` (Ex. 6-7, 12-13), ``compare_graph`` (Ex. 15) and ``compare_common``.
 """
 
 from __future__ import annotations
@@ -18,10 +18,10 @@ from hri_teleop.grading.judge.compare_common import (
     explain_process,
     process_hints,
 )
+from hri_teleop.grading.judge.compare_graph import compare_graph
 from hri_teleop.grading.judge.compare_launch import (
     board_rate_note,
     check_max_param,
-    compare_graph,
     compare_sensor_launch,
     compare_teleop_launch,
     compare_teleop_launch_sim,

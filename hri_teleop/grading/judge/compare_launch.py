@@ -1,12 +1,12 @@
-"""Judging the launch files (Ex. 6-7, Ex. 12-13), the launch in the simulated lab, and the graph (Ex. 15).
+"""Judging the launch files (Ex. 6-7, Ex. 12-13) and the launch in the simulated lab (the graph of Ex. 15:
+:mod:`hri_teleop.grading.judge.compare_graph`).
 """
 
 from __future__ import annotations
 
 import dataclasses
-import re
 from pathlib import Path
-from typing import Any, Dict, Iterable, List, Mapping, Optional, Sequence, Set, Tuple
+from typing import Any, Dict, List, Mapping, Optional, Sequence, Tuple
 
 from hri_teleop.core.board_rates import HANDOUT_PERIOD_S, MAX_PERIOD_MS, MIN_PERIOD_MS, RECOMMENDED_RATE_HZ
 from hri_teleop.core.checks import is_int
@@ -15,7 +15,6 @@ from hri_teleop.core.gripper import width_from_joint_positions_m
 from hri_teleop.core.mapping import ADC_MAX_COUNT
 from hri_teleop.grading.cases.inputs import LaunchSimCase
 from hri_teleop.grading.judge.compare_common import (
-    GRAPH,
     SENSOR_LAUNCH,
     STUDENT_PACKAGES,
     TELEOP_LAUNCH,
@@ -32,7 +31,6 @@ from hri_teleop.grading.run.records import (
     LaunchNode,
     LaunchObservation,
     LaunchParseResult,
-    LiveGraphObservation,
     ProcessFacts,
     SensorLaunchObservation,
     TeleopLaunchSimObservation,
@@ -56,9 +54,70 @@ def _parse_parts(table: Dict[str, Tuple[str, float]], parsed: LaunchParseResult,
             reason += franka_hint
         return ([judged_part(table, "parse", False, f"roslaunch cannot load it: {reason}")]
                 + [not_judged_part(table, k, "the file does not parse") for k in later]), True
-    empty = not parsed.nodes and not parsed.params
-    return [judged_part(table, "parse", not empty, "it parses but starts no node and sets no parameter: write the launch "
-                  f"file (handout {exercise})" if empty else "")], False
+    if is_empty(parsed):
+        return ([judged_part(table, "parse", False, "it parses but starts no node and sets no parameter: write the "
+                             f"launch file (handout {exercise})")]
+                + [not_judged_part(table, k, EMPTY_CAUSE) for k in later]), True
+    return [judged_part(table, "parse", True)], False
+
+
+#: Why the parts after "parse" are not judged for a launch file that starts and sets nothing.
+EMPTY_CAUSE = "the file starts no node and sets no parameter (the parse part)"
+
+
+def is_empty(parsed: LaunchParseResult) -> bool:
+    """A launch file that parses but starts no node and sets no parameter (the template as it is)."""
+    return parsed.ok and not parsed.nodes and not parsed.params
+
+
+#: Characters of one entry of the student's quoted back.
+SHOWN_CHARS = 60
+
+
+def written(value: Any) -> str:
+    """An entry of the student's as they wrote it (cut short), to quote back."""
+    text = str(value).strip()
+    return text if len(text) <= SHOWN_CHARS else text[:SHOWN_CHARS - 3] + "..."
+
+
+def _stem(script_type: str) -> str:
+    """A node's type= as a file stem to compare loosely: no folder, no extension, lower case."""
+    base = script_type.strip().replace("\\", "/").rsplit("/", 1)[-1]
+    return (base[:-3] if base.lower().endswith(".py") else base).lower()
+
+
+def near_miss(parsed: LaunchParseResult, script: str) -> str:
+    """Why a <node> that is meant to run ``script`` does not (type= without .py, another case, a folder, or
+    the node's name right and its type= another file); '' when no node comes close."""
+    want = _stem(script)
+    for node in parsed.nodes:
+        kind = node.type
+        if kind == script:
+            continue
+        if _stem(kind) == want:
+            if "/" in kind or "\\" in kind:
+                fix = "the file's name alone, without its folder"
+            elif not kind.lower().endswith(".py"):
+                fix = "the executable file as it is in scripts/, extension included"
+            else:
+                fix = "the executable file exactly as it is in scripts/, upper and lower case included"
+            return (f'{script}: the <node name="{written(node.name)}"> is there, but its type="{written(kind)}" is not a '
+                    f"file roslaunch finds: type= must name {fix}")
+        if node.name.lower() == want and _stem(kind) != want:
+            return (f'{script}: the <node name="{written(node.name)}"> is there, but its type="{written(kind)}" names '
+                    "another file: type= names the script the node runs, as it is in scripts/")
+    return ""
+
+
+def script_problem(parsed: LaunchParseResult, script: str, packages: Sequence[str], where: str, exercise: str) -> str:
+    """Why no <node> runs ``script`` of one of ``packages`` ('' if one does)."""
+    found = nodes_by_script(parsed).get(script, [])
+    if any(n.package in packages for n in found):
+        return ""
+    if found:
+        return f"{script} is started from package {found[0].package!r}; {where} it is in {packages[0]}"
+    return near_miss(parsed, script) or (f"no node runs {script} of {packages[0]}: start it with a <node> element "
+                                         f"(handout {exercise})")
 
 
 def nodes_by_script(parsed: LaunchParseResult) -> Dict[str, List[LaunchNode]]:
@@ -92,14 +151,8 @@ def compare_sensor_launch(parsed: LaunchParseResult, observation: Optional[Senso
     parts, final = _parse_parts(T, parsed, parse_facts, ("nodes", "param", "yaml", "flow"), "Ex. 6")
     if final:
         return parts
-    scripts = nodes_by_script(parsed)
-    missing = []
-    for script in ("FSR_sensor.py", "mapping_node.py"):
-        found = scripts.get(script, [])
-        if not found:
-            missing.append(f"no node runs {script} of hri_lab: start it with a <node> element (handout Ex. 6)")
-        elif not any(n.package in STUDENT_PACKAGES for n in found):
-            missing.append(f"{script} is started from package {found[0].package!r}; it is in hri_lab")
+    missing = [m for m in (script_problem(parsed, s, STUDENT_PACKAGES, "at home and in the lab", "Ex. 6")
+                           for s in ("FSR_sensor.py", "mapping_node.py")) if m]
     parts.append(judged_part(T, "nodes", not missing, "\n".join(missing)))
     ok, message = check_max_param(parsed.params)
     parts.append(judged_part(T, "param", ok, message))
@@ -116,8 +169,8 @@ def compare_sensor_launch(parsed: LaunchParseResult, observation: Optional[Senso
     problems = []
     note = _supplied_note(observation, "the flow")
     if {"FSR_sensor.py", "mapping_node.py"} <= set(observation.supplied):
-        parts.append(judged_part(T, "flow", False, "the launch file starts neither node: the grader started both, so "
-                           "nothing that flowed came from your launch file", note=note))
+        parts.append(not_judged_part(T, "flow", "the file starts neither node (the nodes part): the grader started "
+                                               "both, so nothing that flowed came from your launch file"))
         return parts
     if not values:
         launch = dataclasses.replace(observation.launch, problem=observation.problem)
@@ -173,32 +226,17 @@ def compare_teleop_launch(parsed: LaunchParseResult, parse_facts: Optional[Proce
     if final:
         return parts
     scripts = nodes_by_script(parsed)
-    problems = []
-    for script in ("teleoperation.py", "gripper_manager.py", "mapping_node.py"):
-        found = scripts.get(script, [])
-        if not found:
-            problems.append(f"no node runs {script} of hri_lab: start it with a <node> element (handout Ex. 12 e)")
-        elif not any(n.package == "hri_lab" for n in found):
-            problems.append(f"{script} is started from package {found[0].package!r}; in the lab it is in hri_lab")
+    problems = [m for m in (script_problem(parsed, s, ("hri_lab",), "in the lab", "Ex. 12 e)")
+                            for s in ("teleoperation.py", "gripper_manager.py", "mapping_node.py")) if m]
     parts.append(judged_part(T, "nodes", not problems, "\n".join(problems)))
     params = parsed.params
     serial = [n for n in scripts.get("serial_node.py", []) if n.package == "rosserial_python"]
     if not serial:
-        parts.append(judged_part(T, "serial", False, "no node runs rosserial_python's serial_node.py: the Arduino's "
-                                               "node of Ex. 12 f)"))
+        why = script_problem(parsed, "serial_node.py", ("rosserial_python",), "in the lab", "Ex. 12 f)")
+        parts.append(judged_part(T, "serial", False, why if not why.startswith("no node runs") else
+                                 "no node runs rosserial_python's serial_node.py: the Arduino's node of Ex. 12 f)"))
     else:
-        key = f"{serial[0].full_name}/port"
-        port = params.get(key)
-        if port is None:
-            parts.append(judged_part(T, "serial", False, f"serial_node has no private parameter port ({key}): give it the "
-                                                   "Arduino's serial port (Ex. 11), a string <param> inside its <node>"))
-        elif not isinstance(port, str) or not port.startswith("/dev/tty"):
-            parts.append(judged_part(T, "serial", False, f"{key} is {port!r}; it must be the Arduino's serial port, the "
-                                                   "string /dev/ttyACM0"))
-        else:
-            port_note = "" if port == "/dev/ttyACM0" else f"port is {port}"
-            rate_note = board_rate_note(params.get(f"{serial[0].full_name}/publish_period_ms"))
-            parts.append(judged_part(T, "serial", True, note="; ".join(n for n in (port_note, rate_note) if n)))
+        parts.append(_serial_part(serial[0], params))
     ok, message = check_max_param(params)
     parts.append(judged_part(T, "param", ok, message))
     included = FRANKA_MARKER_PARAM in params
@@ -206,6 +244,29 @@ def compare_teleop_launch(parsed: LaunchParseResult, parse_facts: Optional[Proce
         "franka_control_cartesian_velocity.launch of franka_control is not included: the robot's launch file "
         "of Ex. 13, with an <include> element")))
     return parts
+
+
+#: The Arduino's port as the handout gives it (Ex. 11 and Ex. 12 f): the one value the serial part accepts.
+HANDOUT_PORT = "/dev/ttyACM0"
+
+
+def _serial_part(serial: LaunchNode, params: Mapping[str, object]) -> Part:
+    """serial_node's ~port: the handout's port, a string (judged); its ~publish_period_ms: a note."""
+    T = TELEOP_LAUNCH
+    key = f"{serial.full_name}/port"
+    port = params.get(key)
+    if port is None:
+        return judged_part(T, "serial", False, f"serial_node has no private parameter port ({key}): give it the Arduino's "
+                                               "serial port (Ex. 11), a string <param> inside its <node>")
+    if port != HANDOUT_PORT:
+        shown = repr(port) if not isinstance(port, str) else f'"{written(port)}"'
+        kind = "" if isinstance(port, str) else f" ({type(port).__name__}, not a string)"
+        hint = ("; if a station's board is on another port, make it a roslaunch <arg> whose default is the "
+                "handout's" if isinstance(port, str) and port.startswith("/dev/tty") else "")
+        return judged_part(T, "serial", False, f"{key} is {shown}{kind}: the Arduino's port is the one the handout's "
+                                               f"Ex. 11 and Ex. 12 f) give, {HANDOUT_PORT} (last digit zero){hint}")
+    rate_note = board_rate_note(params.get(f"{serial.full_name}/publish_period_ms"))
+    return judged_part(T, "serial", True, note=rate_note)
 
 
 #: What the launch in simulation must show (the grader's scenario: hri_teleop.grading.cases.inputs.launch_sim_case).
@@ -260,8 +321,13 @@ def compare_teleop_launch_sim(parsed: LaunchParseResult, observation: Optional[T
     T = TELEOP_LAUNCH
     if not parsed.ok:
         return not_judged_part(T, "sim", "the file does not parse")
+    if is_empty(parsed):
+        return not_judged_part(T, "sim", EMPTY_CAUSE)
     if observation is None:
-        return not_judged_part(T, "sim", "it starts no teleoperation.py of hri_lab, so there is no operator to run")
+        why = script_problem(parsed, "teleoperation.py", ("hri_lab",), "in the lab", "Ex. 12 e)")
+        return not_judged_part(T, "sim", "the file starts no teleoperation.py of hri_lab (the nodes part: "
+                               f"{why}), so there is no operator to run" if why else
+                               "the grader found no teleoperation node to run")
     if observation.session_error:
         return not_judged_part(T, "sim", f"the grader could not run the simulation ({observation.session_error})")
     note = _supplied_note(observation, "the rest")
@@ -318,84 +384,3 @@ def compare_teleop_launch_sim(parsed: LaunchParseResult, observation: Optional[T
     note = "; ".join(x for x in [note] + facts if x)
     plots = _sim_plot(plot_dir, observation, teleop) if problems else []
     return judged_part(T, "sim", not problems, "\n".join(problems), plots, note=note)
-
-
-# -- Ex. 15: the graph --------------------------------------------------------------------------
-
-PIPELINE_TOPICS = ("/pub_force", "/force_mapped", "/gripper_width", DEFAULT_TWIST_TOPIC)
-_SENSOR_ALIASES = {"/serial_node", "/FSR_sensor"}  # the Arduino in the lab, its simulation at home
-_LAB_ONLY = re.compile(r"^/(franka|cartesian_velocity_controller|joint_state|robot_state|rosout|rqt|record|rosbag|rostopic)")
-
-
-def _name(value: Any) -> str:
-    text = str(value).strip()
-    return text if text.startswith("/") else "/" + text
-
-
-def _names(values: Any) -> Set[str]:
-    if values is None:
-        return set()
-    if isinstance(values, (str, int, float)):
-        values = [values]
-    if not isinstance(values, (list, tuple)):
-        return set()
-    return {_name(v) for v in values}
-
-
-def _canon(nodes: Iterable[str]) -> Set[str]:
-    return {"/serial_node" if n in _SENSOR_ALIASES else n for n in nodes}
-
-
-def compare_graph(answer: Any, live: LiveGraphObservation, answer_error: str = "") -> List[Part]:
-    """The student's graph.yaml against the live graph of the lab's pipeline (hri_lab, no hardware)."""
-    T = GRAPH
-    if answer_error or not isinstance(answer, dict) or not isinstance(answer.get("nodes"), list) \
-            or not isinstance(answer.get("topics"), dict):
-        why = answer_error or ("graph.yaml needs `nodes:` (a list of node names) and `topics:` (a mapping from "
-                               "topic name to type, publishers and subscribers); see the template")
-        return [judged_part(T, "format", False, why)] + [not_judged_part(T, k, "graph.yaml could not be read") for k in ("nodes", "types", "links")]
-    parts = [judged_part(T, "format", True)]
-    pubs, subs, types = live.publishers, live.subscribers, live.types
-    live_nodes = {n for ns in list(pubs.values()) + list(subs.values()) for n in ns}
-    pipeline_nodes = _canon(n for t in PIPELINE_TOPICS for n in pubs.get(t, []) + subs.get(t, []))
-    listed = _canon(_names(answer["nodes"]))
-    problems = []
-    missing = sorted(pipeline_nodes - listed)
-    if missing:
-        problems.append(f"missing node(s): {', '.join(missing)}")
-    unknown = sorted(n for n in listed - _canon(live_nodes) if not _LAB_ONLY.match(n))
-    if unknown:
-        problems.append(f"not in the running graph: {', '.join(unknown)} (check the names with `rosnode list`)")
-    parts.append(judged_part(T, "nodes", not problems, "\n".join(problems)))
-
-    topics = {_name(k): v for k, v in answer["topics"].items()}
-    problems = []
-    for topic in PIPELINE_TOPICS:
-        entry = topics.get(topic)
-        if entry is None:
-            problems.append(f"{topic} ({types.get(topic, '?')}) is missing")
-            continue
-        kind = entry.get("type") if isinstance(entry, dict) else entry
-        if str(kind).strip() != types.get(topic):
-            problems.append(f"{topic} is {types.get(topic)}, not {kind} (`rostopic type {topic}`)")
-    for topic in sorted(topics):
-        if topic not in types and not _LAB_ONLY.match(topic):
-            problems.append(f"{topic} is not a topic of the running graph (check it with `rostopic list`)")
-    parts.append(judged_part(T, "types", not problems, "\n".join(problems)))
-
-    problems = []
-    for topic in PIPELINE_TOPICS:
-        entry = topics.get(topic)
-        if not isinstance(entry, dict):
-            problems.append(f"{topic}: list its publishers and subscribers")
-            continue
-        for role, live_side in (("publishers", pubs), ("subscribers", subs)):
-            want = _canon(n for n in live_side.get(topic, []) if n in pipeline_nodes or n in _SENSOR_ALIASES)
-            got = _canon(n for n in _names(entry.get(role)) if not _LAB_ONLY.match(n))
-            if topic == DEFAULT_TWIST_TOPIC and role == "subscribers":
-                continue  # the robot's controller: not running without the robot
-            if got != want:
-                problems.append(f"{topic} {role}: expected {', '.join(sorted(want)) or 'none'}, listed "
-                                f"{', '.join(sorted(got)) or 'none'} (`rostopic info {topic}`)")
-    parts.append(judged_part(T, "links", not problems, "\n".join(problems)))
-    return parts

@@ -125,10 +125,11 @@ def _graph_of_running_master() -> LiveGraphObservation:
     missing = [n for n in LIVE_GRAPH_NODES if n not in running and n not in SENSOR_NODES]
     if not running & set(SENSOR_NODES):
         missing.insert(0, " or ".join(SENSOR_NODES))
-    if missing:
-        raise GradingError(f"the pipeline is not running here ({', '.join(missing)} missing): start it first -- at "
-                           "home the cell with lab.start_pipeline(), in the lab your launch file (roslaunch hri_lab "
-                           "teleoperation.launch) -- then this check")
+    if missing:  # counted, not named: the names are what Ex. 15 asks the student to find
+        raise GradingError(f"the pipeline is not running here ({len(missing)} of its {len(LIVE_GRAPH_NODES)} nodes are "
+                           "not up; `rosnode list` shows which run): start it first -- at home the cell with "
+                           "lab.start_pipeline(), in the lab your launch file (roslaunch hri_lab teleoperation.launch) "
+                           "-- then this check")
     return LiveGraphObservation(problem="", publishers={t: sorted(n) for t, n in pubs},
                                 subscribers={t: sorted(n) for t, n in subs}, types=types)
 
