@@ -23,8 +23,9 @@ MODES = (HOME, LAB, GRADING)
 #: Nodes that only the real lab runs: a master that has one of them has real hardware.
 HARDWARE_NODES = ("/serial_node", "/franka_control", "/franka_gripper")
 
-#: The gamepads a node can read: a real one through pygame, or the scripted virtual pad.
-PADS = ("virtual", "pygame")
+#: The gamepads a node can read: a real one through pygame, the scripted virtual pad, or the gamepad of
+#: the notebook's browser page (widgets.BrowserPad publishes it to the node; at home and in the container).
+PADS = ("virtual", "pygame", "browser")
 #: The pad a teleoperation node reads when no ``~pad`` parameter is given (the lab's gamepad).
 NODE_DEFAULT_PAD = "pygame"
 
@@ -149,14 +150,16 @@ def default_pad(mode: str) -> str:
 def pad_params(pad: str, script: Union[str, Path, None] = None, mode: str = HOME) -> Dict[str, Any]:
     """A teleoperation node's pad parameters: the script only goes to the virtual pad.
 
-    With ``pad="pygame"`` a person drives the real gamepad, so a script given for the virtual
-    pad is left out. Under grading nobody is at a pad: the virtual pad plays the script.
+    With ``pad="pygame"`` or ``pad="browser"`` a person drives (the real gamepad, or one read by the
+    browser), so a script given for the virtual pad is left out. Under grading nobody is at a pad:
+    the virtual pad plays the script.
     """
     if pad not in PADS:
-        raise ModeError(f"pad={pad!r} is not a gamepad: use 'virtual' (the scripted pad) or 'pygame' (a real one)")
+        raise ModeError(f"pad={pad!r} is not a gamepad: use 'virtual' (the scripted pad), 'pygame' (a real one) "
+                        "or 'browser' (a gamepad read by this notebook's browser page)")
     if mode == GRADING and script is not None:
         pad = "virtual"
-    if pad == "pygame" or script is None:
+    if pad != "virtual" or script is None:
         return {"pad": pad}
     return {"pad": pad, "pad_script": str(script)}
 

@@ -12,7 +12,6 @@ from hri_teleop.course.lab_nodes import (
     default_pad,
     hand_z_m,
     pad_params,
-    start_application,
     start_board,
     start_pipeline,
     start_robot,
@@ -23,9 +22,10 @@ from hri_teleop.course.nodes import rosrun_student as rosrun
 from hri_teleop.course.nodes import run_provided_node as run_provided
 from hri_teleop.course.nodes import run_student_node as run_student
 from hri_teleop.course.nodes import stop_nodes as stop
+from hri_teleop.course.pad_route import browser_pad, start_application
 from hri_teleop.course.recovery import recover, reflex
 from hri_teleop.ros.master import PrivateMaster as private_master
 
 __all__ = ["stop", "run_provided", "run_student", "rosrun", "launch_student", "wait_for_publisher", "start_robot",
-           "start_board", "start_pipeline", "start_application", "wait_for_quit", "pad_params", "default_pad", "hand_z_m", "max_sensor_force", "private_master",
+           "start_board", "start_pipeline", "start_application", "wait_for_quit", "browser_pad", "pad_params", "default_pad", "hand_z_m", "max_sensor_force", "private_master",
            "reflex", "recover"]

@@ -1,4 +1,4 @@
-"""One entry point for the node: a pad by kind ("pygame" or "virtual") and layout name.
+"""One entry point for the node: a pad by kind ("pygame", "virtual" or "browser") and layout name.
 
 Each kind's module is imported when that kind is opened: a node that never opens a pad (the
 mapping node, the sensor) does not load numpy or pygame through the student API.
@@ -40,7 +40,9 @@ def open_gamepad(kind: str = "pygame", layout: Union[Layout, str, None] = None, 
     """Open the pad the configuration asks for.
 
     kind "pygame": the physical pad number ``index`` (GamepadError with the fix if none);
-    kind "virtual": a VirtualPad, or a ScriptedPad replaying ``script`` if one is given.
+    kind "virtual": a VirtualPad, or a ScriptedPad replaying ``script`` if one is given;
+    kind "browser": the gamepad of a web page, as ``widgets.BrowserPad`` publishes it on the node's
+    ``~virtual_joy`` (needs rospy.init_node first; refused beside the lab's real robot).
     ``layout`` is a shipped layout name, a path, a Layout, or None for the DualShock 4.
     """
     name = str(kind).strip().lower()
@@ -61,8 +63,15 @@ def open_gamepad(kind: str = "pygame", layout: Union[Layout, str, None] = None, 
             raise GamepadError("pad 'scripted' needs a script: give the path of a pad script YAML, "
                                "or set pad to 'virtual'")
         return VirtualPad(layout, clock=clock)
-    raise GamepadError("unknown pad kind %r: set pad to 'pygame' (a real gamepad) or 'virtual' "
-                       "(no hardware)" % (kind,))
+    if name == "browser":
+        if script:
+            raise GamepadError("a pad script (%s) only drives the virtual pad: set pad to 'virtual' "
+                               "or remove the script" % (script,))
+        from hri_teleop.hardware.joy_pad import BrowserJoyPad  # noqa: PLC0415 - rospy only for this kind
+
+        return BrowserJoyPad(layout, log=log)
+    raise GamepadError("unknown pad kind %r: set pad to 'pygame' (a real gamepad), 'virtual' "
+                       "(no hardware) or 'browser' (the gamepad of the notebook's page)" % (kind,))
 
 
 def check_pad_rumble(pad: Any, feedback: bool = True, level: float = RUMBLE_CHECK_LEVEL,

@@ -176,3 +176,20 @@ def test_a_real_pad_gets_no_script_and_the_virtual_pad_gets_its_script():
 def test_an_unknown_pad_is_one_line_naming_both():
     with pytest.raises(ModeError, match="pad='joystick' is not a gamepad: use 'virtual'"):
         pad_params("joystick")
+
+
+BROWSER = Start("teleoperation.py", pad="browser")
+
+
+def test_a_browser_pad_starts_at_home_and_is_refused_in_the_lab_and_beside_real_hardware():
+    assert start_refusal(HOME, BROWSER, [], own_master=True) is None
+    for refusal in (start_refusal(LAB, BROWSER, [], own_master=False),
+                    start_refusal(LAB, BROWSER, ["/franka_control"], own_master=False),
+                    start_refusal(HOME, BROWSER, ["/franka_control"], own_master=True)):
+        assert refusal is not None and "with the browser pad" in refusal and 'set PAD = "pygame"' in refusal
+
+
+def test_the_browser_pad_gets_no_script_and_under_grading_the_script_plays():
+    assert pad_params("browser", "/tmp/drive.yaml", HOME) == {"pad": "browser"}
+    assert pad_params("browser", None, HOME) == {"pad": "browser"}
+    assert pad_params("browser", "/tmp/drive.yaml", GRADING) == {"pad": "virtual", "pad_script": "/tmp/drive.yaml"}

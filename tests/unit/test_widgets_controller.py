@@ -95,7 +95,7 @@ def test_the_views_sliders_and_buttons_drive_the_virtual_pad():
     view = ControllerView("virtual", autostart=False)
     try:
         view.sticks["left_y"].value = 1.0
-        view.hold_buttons["south"].value = True
+        view.hold_buttons["south"].held = True  # as the page sends it: pointer down on the button
         view.tap_buttons["north"].click()
         view._last_s -= 0.1
         snap = view.tick()
@@ -123,4 +123,83 @@ def test_running_the_same_cell_again_closes_the_view_it_made_before():
     replace_in_cell(other, "cell-2")
     assert second.pad.poll().connected
     for view in (second, other):
+        view.close()
+
+
+class _Clock:
+    """A monotonic clock the test moves by hand."""
+
+    def __init__(self) -> None:
+        self.now = 100.0
+
+    def __call__(self) -> float:
+        return self.now
+
+
+def _held_view():
+    clock = _Clock()
+    view = ControllerView("virtual", autostart=False, clock=clock)
+    return view, clock, view.hold_buttons[view.params.close_button]
+
+
+def _tick(view, clock, seconds, beat=None):
+    """``seconds`` of ticks of 0.05 s; ``beat``: the hold button the page keeps confirming meanwhile."""
+    for _ in range(int(round(seconds / 0.05))):
+        clock.now += 0.05
+        if beat is not None and beat.held:
+            beat.beat += 1
+        snap = view.tick()
+    return snap
+
+
+def test_the_close_button_closes_the_gripper_only_while_it_is_held():
+    view, clock, close = _held_view()
+    try:
+        close.held = True                         # pointer down
+        held = _tick(view, clock, 0.5, beat=close)
+        assert held.pad.pressed("south") and held.gripper_width_m == pytest.approx(0.08 - 0.04 * 0.5, abs=1e-3)
+        close.held = False                        # pointer up (or it left the button, or the window lost focus)
+        released = _tick(view, clock, 1.0)
+        assert not released.pad.pressed("south")
+        assert released.gripper_width_m == pytest.approx(held.gripper_width_m, abs=1e-3), \
+            "the gripper went on closing after the button was let go (a latching button)"
+    finally:
+        view.close()
+
+
+def test_a_held_button_whose_page_falls_silent_counts_as_released():
+    view, clock, close = _held_view()
+    try:
+        close.held = True
+        _tick(view, clock, 0.3, beat=close)
+        silent = _tick(view, clock, 2.0)          # no beat: the tab closed, the link dropped
+        assert not silent.pad.pressed("south")
+        assert silent.gripper_width_m > 0.08 - 0.04 * (0.3 + close.timeout_s + 0.1), "closed on without the page"
+        assert not close.is_held()
+    finally:
+        view.close()
+
+
+def test_a_click_shorter_than_a_tick_closes_the_gripper_by_one_look_only():
+    view, clock, close = _held_view()
+    try:
+        close.held = True
+        close.held = False                        # down and up between two ticks
+        once = _tick(view, clock, 0.05)
+        assert once.pad.pressed("south") and once.gripper_width_m < 0.08
+        later = _tick(view, clock, 1.0)
+        assert not later.pad.pressed("south") and later.gripper_width_m == pytest.approx(once.gripper_width_m)
+    finally:
+        view.close()
+
+
+def test_reset_lets_go_of_a_held_button():
+    view, clock, close = _held_view()
+    try:
+        close.held = True
+        _tick(view, clock, 0.2, beat=close)
+        view.reset()
+        after = _tick(view, clock, 0.5)
+        assert not close.held and not after.pad.pressed("south") and after.gripper_width_m == pytest.approx(0.08)
+    finally:
         view.close()

@@ -1,10 +1,13 @@
-"""A gamepad read by the browser drives the teleoperation node (widgets.BrowserPad), for a kernel on a server.
+"""A gamepad read by the browser drives the teleoperation node (widgets.BrowserPad): in a container, on a server.
 
-Such a kernel (JupyterHub, the lab PC reached from a laptop) cannot open a pad plugged into the laptop,
-but the page can (the Gamepad API). The page (browser_pad.js) sends the pad 25 times a second;
-the kernel publishes it on the node's ``~virtual_joy`` as any virtual-pad driver does, released once the
-page falls silent (:class:`~hri_teleop.core.gamepad.browser.BrowserInput`), and sends the node's
-``~rumble`` back to the pad's motors, or to a bar on screen. docs/browser-pad.md: browsers, pads, numbers.
+Such a kernel (the course's container on macOS or Windows, JupyterHub, the lab PC reached from a laptop)
+cannot open a pad plugged into the laptop, but the page can (the Gamepad API). The page (browser_pad.js)
+sends the pad 25 times a second; the kernel publishes it on the node's ``~virtual_joy`` -- the student's
+node started with the pad ``"browser"`` reads it there (``hri_teleop.hardware.joy_pad``), as does the lab's
+node with pad:=virtual -- released once the page falls silent
+(:class:`~hri_teleop.core.gamepad.browser.BrowserInput`), and sends the node's ``~rumble`` back to the
+pad's motors, or to a bar on screen. With ``node=None`` it is a pad for the kernel alone
+(``ControllerView(source="browser")``). docs/browser-pad.md: browsers, pads, numbers.
 """
 
 from __future__ import annotations
@@ -23,7 +26,7 @@ from hri_teleop.core.gamepad.layout import as_layout
 from hri_teleop.course.notebook_ros import ensure_ros
 from hri_teleop.course.widgets._base import Ticker, WidgetError, lab_teleop_config, replace_in_cell
 
-__all__ = ["BrowserPad", "PUBLISH_RATE_HZ", "SEND_PERIOD_MS", "RUMBLE_SILENCE_S", "pad_line"]
+__all__ = ["BrowserPad", "BrowserGamepad", "PUBLISH_RATE_HZ", "SEND_PERIOD_MS", "RUMBLE_SILENCE_S", "pad_line"]
 
 #: Joy messages a second to the node: 12 within its input_timeout (0.5 s), 2 within the heartbeat.
 PUBLISH_RATE_HZ = 25.0
@@ -69,10 +72,10 @@ class BrowserPad(anywidget.AnyWidget):
     echo_seq = traitlets.Int(-1).tag(sync=True)
     send_period_ms = traitlets.Int(SEND_PERIOD_MS).tag(sync=True)
 
-    def __init__(self, node: str = "/teleoperation", *, config: Any = None, layout: Any = None,
+    def __init__(self, node: Optional[str] = "/teleoperation", *, config: Any = None, layout: Any = None,
                  timeout_s: float = HEARTBEAT_TIMEOUT_S, publish_rate_hz: float = PUBLISH_RATE_HZ,
                  session: Any = None, autostart: bool = True, clock: Callable[[], float] = time.monotonic) -> None:
-        if not isinstance(node, str) or not node.startswith("/") or node.endswith("/"):
+        if node is not None and (not isinstance(node, str) or not node.startswith("/") or node.endswith("/")):
             raise WidgetError(f"node must be the teleoperation node's full name, e.g. '/teleoperation', got {node!r}")
         if not 0.0 < float(publish_rate_hz) <= 200.0:
             raise WidgetError(f"publish_rate_hz must be in (0, 200] Hz, got {publish_rate_hz!r}; e.g. {PUBLISH_RATE_HZ}")
@@ -94,6 +97,11 @@ class BrowserPad(anywidget.AnyWidget):
         self.observe(self._on_reading, names="reading")
         self.ticker = Ticker(self.tick, 1.0 / float(publish_rate_hz), name="browser pad", thread=True)
         replace_in_cell(self)
+        if node is None:  # a pad for this kernel only: no ROS
+            self._say("waiting for the browser page (press a button on the pad)")
+            if autostart:
+                self.ticker.start()
+            return
         session = session if session is not None else ensure_ros(quiet=True)
         if not session:
             self._say(session.problem, error=True)
@@ -126,6 +134,16 @@ class BrowserPad(anywidget.AnyWidget):
         """The node's ~rumble (std_msgs/Float32, 0..1; rospy's thread): kept for the next tick."""
         self._rumble_in = (float(msg.data), self._clock())
 
+    def poll_state(self) -> PadState:
+        """The pad as the kernel has it now: released once the page fell silent (any thread)."""
+        now = self._clock()
+        with self._lock:
+            return self.input.state(now)
+
+    def set_rumble(self, intensity: float) -> None:
+        """The rumble to play (0..1) when no node sends one (``node=None``): passed on at the next tick."""
+        self._rumble_in = (min(1.0, max(0.0, float(intensity))), self._clock())
+
     # -- the loop (a thread of its own: it goes on while a cell runs) ------------------------
     def tick(self) -> PadState:
         """Publish the pad's state to the node (released when the page is silent) and pass the rumble on."""
@@ -148,10 +166,11 @@ class BrowserPad(anywidget.AnyWidget):
             self._say(problem, error=True)
         elif self._joy_pub is not None and not self._listened:
             self._say(f"gamepad {reading.pad_id!r} is read, but nothing listens on {self.node}/virtual_joy: start "
-                      "the teleoperation node with pad:=virtual (roslaunch hri_lab teleoperation.launch pad:=virtual)",
-                      error=True)
+                      "your node with the browser pad (PAD = \"browser\" in the notebook's start cell; in a terminal "
+                      "rosrun hri_lab teleoperation.py _pad:=browser)", error=True)
         else:
-            self._say(f"gamepad {reading.pad_id!r} drives {self.node} (pad:=virtual); rumble "
+            self._say(f"gamepad {reading.pad_id!r} " + (f"drives {self.node}" if self.node else "is read by this notebook")
+                      + "; rumble "
                       + ("on the pad and on screen" if reading.haptics else "on screen only (the browser cannot "
                          "rumble this pad)"))
         return state
@@ -190,3 +209,30 @@ class BrowserPad(anywidget.AnyWidget):
             self._rumble_sub.unregister()
             self._rumble_sub = None
         super().close()
+
+
+class BrowserGamepad:
+    """The browser's gamepad as a pad for this kernel (the :class:`Gamepad` protocol), without ROS.
+
+    ``widget`` is the :class:`BrowserPad` (``node=None``) to show; :meth:`poll` gives its pad, released
+    once the page falls silent; :meth:`rumble` plays on the page's pad and bar. The controller view
+    (Ex. 8) reads it with ``ControllerView(source="browser")``.
+    """
+
+    name = "browser pad"
+
+    def __init__(self, layout: Any = None, config: Any = None, **kwargs: Any) -> None:
+        self.widget = BrowserPad(None, layout=layout, config=config, **kwargs)
+
+    @property
+    def layout(self) -> Any:
+        return self.widget.layout_
+
+    def poll(self) -> PadState:
+        return self.widget.poll_state()
+
+    def rumble(self, intensity: float, duration_s: float = 0.0) -> None:
+        self.widget.set_rumble(intensity)
+
+    def close(self) -> None:
+        self.widget.close()

@@ -3,8 +3,10 @@
 Seeing the sticks and buttons beside the resulting mode, width, twist and rumble is how students
 check their understanding before they write ``teleoperation.py``. :class:`ControllerModel` steps a
 :class:`~hri_teleop.core.teleop.TeleopController` at the configured rate, as the node does. The pad
-is a real one when plugged in, else the virtual pad driven from the widget's sliders and buttons;
-without a display pygame uses SDL's dummy video driver and simply finds no pad.
+is a real one when plugged in, the gamepad of the browser page (``source="browser"``), else the
+virtual pad driven from the widget's sliders and buttons (cross and circle act only while held:
+:class:`~hri_teleop.course.widgets.hold_button.HoldButton`); without a display pygame uses SDL's
+dummy video driver and simply finds no pad.
 """
 
 from __future__ import annotations
@@ -12,7 +14,7 @@ from __future__ import annotations
 import html
 import time
 from dataclasses import dataclass
-from typing import Any, Mapping, Optional, Set, Tuple
+from typing import Any, Callable, Mapping, Optional, Set, Tuple
 
 import ipywidgets as widgets
 
@@ -35,6 +37,7 @@ from hri_teleop.course.widgets._base import (
     message_html,
     replace_in_cell,
 )
+from hri_teleop.course.widgets.hold_button import HoldButton
 from hri_teleop.hardware.gamepad import check_pad_rumble, open_gamepad
 from hri_teleop.sim.virtual_pad import VirtualPad
 
@@ -181,19 +184,25 @@ def pad_svg(state: PadState, deadzone: float, roles: Mapping[str, str], width_px
 
 
 def open_pad(source: Any = "auto", layout: Any = None) -> Tuple[Gamepad, str]:
-    """(pad, one line about it) for ``source`` 'auto' | 'pygame' | 'virtual' | a Gamepad object.
+    """(pad, one line about it) for ``source`` 'auto' | 'pygame' | 'virtual' | 'browser' | a Gamepad object.
 
     'auto' opens the first real pad and falls back to the virtual pad when none is
-    plugged in (or pygame cannot start); 'pygame' raises GamepadError instead.
+    plugged in (or pygame cannot start); 'pygame' raises GamepadError instead; 'browser'
+    reads the gamepad of the notebook's page (its widget: the pad's ``widget``).
     """
+    choices = "'auto', 'pygame', 'virtual', 'browser' or a gamepad"
     if not isinstance(source, str):
         if not hasattr(source, "poll"):
-            raise WidgetError(f"source must be 'auto', 'pygame', 'virtual' or a gamepad, got {source!r}")
+            raise WidgetError(f"source must be {choices}, got {source!r}")
         return source, f"pad: {getattr(source, 'name', type(source).__name__)}"
     if source == "virtual":
         return VirtualPad(layout), "virtual pad: drive it with the sliders and buttons below"
+    if source == "browser":
+        from hri_teleop.course.widgets.browser_pad import BrowserGamepad  # noqa: PLC0415 - anywidget's page
+
+        return BrowserGamepad(layout), "the gamepad of this browser page: press a button on it"
     if source not in ("auto", "pygame"):
-        raise WidgetError(f"source must be 'auto', 'pygame', 'virtual' or a gamepad, got {source!r}")
+        raise WidgetError(f"source must be {choices}, got {source!r}")
     try:
         pad = open_gamepad("pygame", layout)
     except GamepadError as exc:
@@ -216,13 +225,14 @@ class ControllerView(widgets.VBox):
     """The pad (sticks, buttons) and the controller's mode, gripper width, twist and rumble, live.
 
     ``source``: 'auto' (a real pad if one is plugged in, else the virtual pad), 'pygame',
-    'virtual', or a Gamepad. ``config``: a TeleopConfig or a teleop YAML path (default: the
-    lab's). The ``force`` slider stands for ``/force_mapped`` (the piston) and drives the rumble.
-    Call :meth:`close` to stop it (a real pad is released).
+    'virtual', 'browser' (the gamepad of this page, e.g. in the container), or a Gamepad.
+    ``config``: a TeleopConfig or a teleop YAML path (default: the lab's). The ``force`` slider
+    stands for ``/force_mapped`` (the piston) and drives the rumble. Call :meth:`close` to stop it
+    (a real pad is released). ``clock``: the monotonic clock of the ticks and buttons (tests).
     """
 
     def __init__(self, source: Any = "auto", *, config: Any = None, layout: Any = None, interval_s: float = 0.05,
-                 autostart: bool = True) -> None:
+                 autostart: bool = True, clock: Callable[[], float] = time.monotonic) -> None:
         cfg = lab_teleop_config(config)
         self.params = cfg.params
         self.pad, note = open_pad(source, layout if layout is not None else cfg.layout)
@@ -231,7 +241,8 @@ class ControllerView(widgets.VBox):
         self._rumble = RumbleRequests()
         self._roles = button_roles(cfg.params)
         self._taps: Set[str] = set()
-        self._last_s = time.monotonic()
+        self._clock = clock
+        self._last_s = clock()
 
         style = {"description_width": "60px"}
         self.sticks = {axis: widgets.FloatSlider(value=0.0, min=-1.0, max=1.0, step=0.01, description=axis,
@@ -239,8 +250,9 @@ class ControllerView(widgets.VBox):
                                                  layout=widgets.Layout(width="260px"))
                        for axis in STICK_AXES}
         p = cfg.params
-        self.hold_buttons = {name: widgets.ToggleButton(description=f"{_SYMBOLS.get(name, name)} {role} (hold)",
-                                                        disabled=not self.virtual, tooltip=BUTTON_LABELS[name])
+        # Held only while the pointer holds them (a toggle latched: the gripper closed to 0 mm).
+        self.hold_buttons = {name: HoldButton(f"{_SYMBOLS.get(name, name)} {role} (hold)", disabled=not self.virtual,
+                                              tooltip=BUTTON_LABELS[name], clock=clock)
                              for name, role in ((p.close_button, "close"), (p.open_button, "open"))}
         self.tap_buttons = {name: widgets.Button(description=f"{_SYMBOLS.get(name, name)} {role}",
                                                  disabled=not self.virtual, tooltip=BUTTON_LABELS[name])
@@ -262,8 +274,6 @@ class ControllerView(widgets.VBox):
 
         for axis, slider in self.sticks.items():
             slider.observe(self._stick_moved(axis), names="value")
-        for name, toggle in self.hold_buttons.items():
-            toggle.observe(self._hold_changed(name), names="value")
         for name, button in self.tap_buttons.items():
             button.on_click(self._tapped(name))
         self.reset_button.on_click(lambda _b: self.reset())
@@ -276,7 +286,9 @@ class ControllerView(widgets.VBox):
             widgets.HBox(list(self.hold_buttons.values()) + list(self.tap_buttons.values())),
             widgets.HBox([self.force, self.reset_button]),
         ])
-        super().__init__([self.status, widgets.HBox([self.svg, state_box]), drive])
+        page_pad = getattr(self.pad, "widget", None)  # the browser's gamepad: its page part reads the pad
+        super().__init__([self.status] + ([page_pad] if page_pad is not None else [])
+                         + [widgets.HBox([self.svg, state_box]), drive])
         replace_in_cell(self)
         self.ticker = Ticker(self.tick, interval_s, name="controller view")
         self.tick()
@@ -290,12 +302,6 @@ class ControllerView(widgets.VBox):
                 self.pad.set_axis(axis, change["new"])  # type: ignore[attr-defined]
         return changed
 
-    def _hold_changed(self, name: str) -> Any:
-        def changed(change: Any) -> None:
-            if self.virtual:
-                (self.pad.press if change["new"] else self.pad.release)(name)  # type: ignore[attr-defined]
-        return changed
-
     def _tapped(self, name: str) -> Any:
         def clicked(_button: Any) -> None:
             if self.virtual:
@@ -306,7 +312,11 @@ class ControllerView(widgets.VBox):
     # -- the loop -------------------------------------------------------------------------
     def tick(self) -> ControllerSnapshot:
         """Advance the controller by the time since the last tick and show the result."""
-        now = time.monotonic()
+        now = self._clock()
+        if self.virtual:
+            for name, button in self.hold_buttons.items():
+                if name not in self._taps:  # a tap of the same button waits for its tick
+                    (self.pad.press if button.take_press(now) else self.pad.release)(name)  # type: ignore[attr-defined]
         snap = self.model.advance(now - self._last_s, self.force.value, 0.0)
         self._last_s = now
         if snap.ticks and self._taps and self.virtual:
@@ -319,8 +329,8 @@ class ControllerView(widgets.VBox):
                 self.pad.rumble(*request)
             for axis, slider in self.sticks.items():
                 slider.value = round(snap.pad.axis(axis), 2)
-            for name, toggle in self.hold_buttons.items():
-                toggle.value = snap.pad.pressed(name)
+            for name, button in self.hold_buttons.items():
+                button.lit = snap.pad.pressed(name)
         self._show(snap)
         return snap
 
@@ -343,8 +353,8 @@ class ControllerView(widgets.VBox):
             self.pad.reset()  # type: ignore[attr-defined]
             for slider in self.sticks.values():
                 slider.value = 0.0
-            for toggle in self.hold_buttons.values():
-                toggle.value = False
+            for button in self.hold_buttons.values():
+                button.release()
         self.model.reset()
         self._show(self.model.advance(0.0))
 

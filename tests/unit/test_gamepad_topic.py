@@ -1,0 +1,56 @@
+"""The browser pad as a node reads it: the latest sensor_msgs/Joy, released once the messages stop."""
+
+from __future__ import annotations
+
+import pytest
+
+from hri_teleop.core.gamepad import GamepadError, PadState
+from hri_teleop.core.gamepad.layout import load_layout
+from hri_teleop.core.gamepad.topic import TOPIC_PAD_TIMEOUT_S, TopicPadInput
+from hri_teleop.hardware.gamepad import open_gamepad
+
+LAYOUT = load_layout("dualshock4")
+
+
+def _raw(state: PadState):
+    return LAYOUT.raw_from_state(state)
+
+
+def test_the_latest_message_is_the_pad_in_its_layout():
+    pad = TopicPadInput(LAYOUT)
+    pad.receive(*_raw(PadState({"left_y": 1.0}, {"south": True})), now=10.0)
+    state = pad.state(10.1)
+    assert state.connected and state.axis("left_y") == pytest.approx(1.0) and state.pressed("south")
+    pad.receive(*_raw(PadState({"right_y": -0.5}, {})), now=10.2)
+    state = pad.state(10.2)
+    assert state.axis("left_y") == 0.0 and state.axis("right_y") == pytest.approx(-0.5) and not state.pressed("south")
+
+
+def test_messages_that_stop_are_input_lost_a_released_unplugged_pad():
+    pad = TopicPadInput(LAYOUT)
+    pad.receive(*_raw(PadState({"left_y": 1.0}, {"south": True})), now=10.0)
+    assert pad.state(10.0 + TOPIC_PAD_TIMEOUT_S).pressed("south")
+    lost = pad.state(10.0 + TOPIC_PAD_TIMEOUT_S + 0.01)
+    assert lost == PadState.neutral(connected=False)
+
+
+def test_before_the_first_message_the_pad_reads_released_and_unplugged():
+    assert TopicPadInput(LAYOUT).state(0.0) == PadState.neutral(connected=False)
+
+
+def test_a_message_from_the_future_of_the_clock_is_not_fresh():
+    pad = TopicPadInput(LAYOUT)
+    pad.receive(*_raw(PadState({"left_y": 1.0}, {})), now=10.0)
+    assert not pad.state(9.0).connected
+
+
+def test_the_browser_pad_takes_no_script():
+    with pytest.raises(GamepadError, match="only drives the virtual pad"):
+        open_gamepad("browser", script="/tmp/drive.yaml")
+
+
+def test_the_browser_pad_refuses_to_open_beside_the_real_robot():
+    from hri_teleop.hardware.joy_pad import BrowserJoyPad
+
+    with pytest.raises(GamepadError, match=r"does not drive the real robot.*\(/franka_control\).*'pygame'"):
+        BrowserJoyPad(hardware=lambda: ["/franka_control"])
