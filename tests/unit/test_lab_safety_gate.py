@@ -12,8 +12,16 @@ from typing import Dict, List, Optional, Sequence
 
 import pytest
 
-from hri_teleop.core.modes import GRADING, HOME, LAB, describe, ignored_setting, simulation_refusal, start_refusal
-from hri_teleop.core.modes import Start
+from hri_teleop.core.modes import (
+    GRADING,
+    HOME,
+    LAB,
+    Start,
+    describe,
+    ignored_setting,
+    simulation_refusal,
+    start_refusal,
+)
 from hri_teleop.course import master_mode as gate
 from hri_teleop.course.nodes import launch_starts, node_start
 from hri_teleop.ros.launch_inspect import LaunchedNode
