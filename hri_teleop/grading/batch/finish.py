@@ -24,6 +24,7 @@ from hri_teleop.grading.batch.late import (
     submission_time,
 )
 from hri_teleop.grading.batch.report_data import FILES_ONLY, ClassResults
+from hri_teleop.grading.batch.student_feedback import add_files_feedback
 from hri_teleop.grading.points import assignment_points
 from hri_teleop.grading.run.jobs import Progress, print_line
 
@@ -161,6 +162,8 @@ def finish(out: Path, policy: Optional[LatePolicy], folder_of: Callable[[str, st
     from hri_teleop.grading.batch.report import write_class_outputs  # noqa: PLC0415
 
     apply_late(out, policy, folder_of, feedback_html, progress)
+    if feedback_html is not None:  # the pages release_feedback ships: the files' points and feedback, no grader paths
+        add_files_feedback(out, read_summary(out), folder_of, feedback_html, (out,))
     source = policy.source if policy is not None else ""
     results = read_class(out, assignments, gradebook, source)
     add_totals(out / "grades.csv", results)
