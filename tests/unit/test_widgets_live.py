@@ -9,6 +9,7 @@ import numpy as np
 import pytest
 
 from hri_teleop.core.config import DEFAULT_TWIST_TOPIC, load_teleop_config
+from hri_teleop.course.widgets import live
 from hri_teleop.course.widgets.live import TopicBuffer, field_getter, lab_topics, numeric_fields, rate_hz
 
 
@@ -109,3 +110,56 @@ def test_another_twist_topic_in_the_teleop_config_is_followed(tmp_path):
     config = tmp_path / "teleop.yaml"
     config.write_text("twist_topic: /my_controller/cmd_vel\n")
     assert lab_topics(load_teleop_config(config))[-1].topic == "/my_controller/cmd_vel"
+
+
+class _Session:
+    """A kernel's ROS session as LivePlot asks it: present, and a line to show."""
+
+    def __bool__(self) -> bool:
+        return True
+
+    def describe(self) -> str:
+        return "a test session"
+
+
+class _Topics:
+    """LiveTopics without ROS: one buffer per spec, filled by the test."""
+
+    def __init__(self, topics, maxlen=live.DEFAULT_MAXLEN):
+        self.specs = list(topics)
+        self.buffers = {spec.topic: live.TopicBuffer(("data",), maxlen) for spec in self.specs}
+
+    def close(self):
+        pass
+
+
+def _plotted_points(plot):
+    return {topic: len(lines[0].get_xdata()) for topic, lines in plot._lines.items()}
+
+
+def test_a_run_that_ended_stays_in_view_after_the_window_has_passed(monkeypatch):
+    monkeypatch.setattr(live, "LiveTopics", _Topics)
+    specs = [live.TopicSpec("/gripper_width", "std_msgs/Float32", (0.0, 0.08), "m")]
+    plot = live.LivePlot(specs, window_s=20.0, session=_Session(), figure="image", autostart=False, rumble_ok_topic="")
+    buffer = plot.topics.buffers["/gripper_width"]
+    for i in range(150):  # a 3 s run at 50 Hz, from t = 100 s
+        buffer.append(100.0 + i * 0.02, (0.08 - i * 1e-4,))
+    plot.redraw(now_s=103.5)  # while it runs: 0 = now
+    assert _plotted_points(plot) == {"/gripper_width": 150}
+    plot.redraw(now_s=160.0)  # long after: the run is still drawn, and the axis says so
+    assert _plotted_points(plot) == {"/gripper_width": 150}
+    xdata = plot._lines["/gripper_width"][0].get_xdata()
+    assert -20.0 < min(xdata) and max(xdata) <= 0.0
+    assert "nothing new since" in plot._bottom_axes.get_xlabel()
+    plot.redraw(now_s=161.0)
+    plot.topics.buffers["/gripper_width"].append(161.0, (0.05,))  # messages again: it scrolls with them
+    plot.redraw(now_s=161.5)
+    assert plot._bottom_axes.get_xlabel() == "time (s, 0 = now)"
+    plot.close()
+
+
+def test_the_plot_scrolls_while_messages_come_and_stops_a_quarter_window_after_the_last():
+    assert live.view_end_s(None, 50.0, 20.0) == 50.0
+    assert live.view_end_s(45.0, 50.0, 20.0) == 50.0  # quiet 5 s: a quarter of the window
+    assert live.view_end_s(45.0, 50.1, 20.0) == 50.0  # quiet longer: stopped at last + 5 s
+    assert live.view_end_s(45.0, 500.0, 20.0) == 50.0

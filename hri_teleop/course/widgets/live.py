@@ -30,8 +30,8 @@ from hri_teleop.course.widgets._base import (
     replace_in_cell,
 )
 
-__all__ = ["TopicSpec", "TopicBuffer", "numeric_fields", "field_getter", "rate_hz", "lab_topics", "LiveTopics",
-           "LivePlot", "DEFAULT_MAXLEN", "RUMBLE_OK_TOPIC", "pad_cue_html"]
+__all__ = ["TopicSpec", "TopicBuffer", "numeric_fields", "field_getter", "rate_hz", "view_end_s", "lab_topics",
+           "LiveTopics", "LivePlot", "DEFAULT_MAXLEN", "RUMBLE_OK_TOPIC", "pad_cue_html"]
 
 #: The teleoperation node's latched start check of the pad's rumble (std_msgs/Bool).
 RUMBLE_OK_TOPIC = "/teleoperation/rumble_ok"
@@ -149,6 +149,19 @@ class TopicBuffer:
         times = np.fromiter((t for t, _ in samples), dtype=float, count=len(samples))
         values = np.array([v for _, v in samples], dtype=float).reshape(len(samples), len(self.fields))
         return times, values
+
+
+#: A plot whose topics all went quiet for longer than this share of its window stops scrolling.
+QUIET_SHARE = 0.25
+
+
+def view_end_s(last_s: Optional[float], now_s: float, window_s: float) -> float:
+    """The time the plot's right edge shows: now while messages come, and once every topic has been
+    quiet for longer than a quarter of the window (a node that quit, a scripted pad that ended), a
+    quarter window after the last message, so the run stays in view instead of scrolling out."""
+    if last_s is None or now_s - last_s <= QUIET_SHARE * window_s:
+        return now_s
+    return last_s + QUIET_SHARE * window_s
 
 
 def rate_hz(times_s: np.ndarray, now_s: float, span_s: float = 1.0) -> float:
@@ -285,6 +298,7 @@ class LivePlot(widgets.VBox):
             if len(fields) > 1:
                 ax.legend(fontsize=7, loc="upper left", ncol=min(6, len(fields)))
         axes[-1].set_xlabel("time (s, 0 = now)")
+        self._bottom_axes = axes[-1]
         self.view = FigureView(fig, figure)
         self.status.value = message_html(session.describe())
         super().__init__([self.status, self.pad_cue, self.view.widget])
@@ -310,11 +324,14 @@ class LivePlot(widgets.VBox):
             return
         self.pad_cue.value = pad_cue_html(self._rumble_ok)
         now = time.monotonic() if now_s is None else now_s
+        snapshots = {spec.topic: self.topics.buffers[spec.topic].snapshot() for spec in self.topics.specs}
+        last = max((float(times[-1]) for times, _values in snapshots.values() if len(times)), default=None)
+        end = view_end_s(last, now, self.window_s)
         for spec in self.topics.specs:
             buffer = self.topics.buffers[spec.topic]
-            times, values = buffer.snapshot()
-            keep = times > now - self.window_s
-            x = times[keep] - now
+            times, values = snapshots[spec.topic]
+            keep = (times > end - self.window_s) & (times <= end)
+            x = times[keep] - end
             for column, line in enumerate(self._lines[spec.topic]):
                 line.set_data(x, values[keep, column])
             ax = self._axes[spec.topic]
@@ -324,6 +341,8 @@ class LivePlot(widgets.VBox):
                 low, high = float(values[keep].min()), float(values[keep].max())
                 pad = max(0.05, 0.1 * (high - low))
                 ax.set_ylim(low - pad, high + pad)
+        self._bottom_axes.set_xlabel("time (s, 0 = now)" if end == now else
+                                     f"time (s, 0 = {now - end:.0f} s ago: nothing new since, so the plot stopped)")
         self.view.redraw()
 
     def close(self) -> None:
