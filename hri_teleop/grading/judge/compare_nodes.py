@@ -1,4 +1,4 @@
-"""Judging the nodes students write: ``mapping_node.py`` (Ex. 5) and ``teleoperation.py`` (Ex. 8, 9).
+"""Judging the nodes students write: ``teleoperation.py`` (Ex. 8, 9); ``mapping_node.py`` (Ex. 5) in compare_mapping.
 
 ``teleoperation.py`` is judged by its parts (Ex. 8) and as a node (Ex. 9).
 """
@@ -8,23 +8,19 @@ from __future__ import annotations
 import math
 import re
 from pathlib import Path
-from typing import Any, Callable, List, Optional, Sequence, Tuple
+from typing import Any, List, Optional, Sequence, Tuple
 
 from hri_teleop.core.config import DEFAULT_TWIST_TOPIC
 from hri_teleop.core.gamepad import PadState
-from hri_teleop.core.mapping import ADC_MAX_COUNT
 from hri_teleop.core.teleop import TeleopController, TeleopParams
 from hri_teleop.grading.cases.inputs import (
     ExpectedTick,
-    MappingCase,
     TeleopNodeCase,
     TeleopPartsCase,
-    public_mapping_case,
     reference_params,
     reference_parts,
 )
 from hri_teleop.grading.judge.compare_common import (
-    MAPPING,
     TELEOP,
     TOLERANCE,
     TWIST_TOLERANCE,
@@ -35,196 +31,20 @@ from hri_teleop.grading.judge.compare_common import (
     not_judged_part,
     process_hints,
 )
-from hri_teleop.grading.judge.plots import expected_vs_actual, mapping_plot, series_plot
+from hri_teleop.grading.judge.compare_mapping import compare_mapping
+from hri_teleop.grading.judge.plots import expected_vs_actual, series_plot
 from hri_teleop.grading.results import Part
 from hri_teleop.grading.run.records import (
-    MappingNodeObservation,
-    MappingRun,
     NodeFacts,
     PartsCaseResult,
     PartsTick,
     ProcessFacts,
-    Response,
     TeleopNodeObservation,
     TeleopPartsResult,
 )
 from hri_teleop.grading.run.sandbox import describe_exit
 
-# -- mapping_node.py (Ex. 5) -----------------------------------------------------------------
-
-def _integer_type(kind: str) -> bool:
-    return bool(re.match(r"std_msgs/U?Int\d+$", kind or ""))
-
-
-def _diagnose_mapping(bad: List[Tuple[int, float, float, Any]], out_type: str) -> str:
-    """The most likely mistake behind wrong (count, max, expected, got) values."""
-    gots = [(c, m, e, as_float(g)) for c, m, e, g in bad]
-    numeric = [(c, m, e, g) for c, m, e, g in gots if g is not None]
-    if _integer_type(out_type):
-        return f"{out_type} holds whole numbers only, so 0.5 arrives as 0: publish std_msgs/Float32"
-    if not numeric:
-        return "the messages carry no number: publish Float32(value) with the mapped float"
-    if any(c > m and g > 1.0 + TOLERANCE for c, m, e, g in numeric):
-        return "values above 1.0 for counts above /max_sensor_force: clip the result to at most 1.0, e.g. min(1.0, value)"
-    if all(g in (0.0, 1.0) for _, _, _, g in numeric):
-        return ("the values are only 0 and 1: integer division? Divide as floats, count / float(max_sensor_force), "
-                "not with // or int()")
-    for guess, words in ((float(700), "0..700: read the range from the parameter /max_sensor_force "
-                                      "(rospy.get_param) instead of writing 700"),
-                         (float(ADC_MAX_COUNT), "0..1023 (the ADC's range): divide by /max_sensor_force")):
-        if all(abs(g - min(1.0, max(0.0, c / guess))) <= TOLERANCE or abs(g - c / guess) <= TOLERANCE
-               for c, m, e, g in numeric) and any(m != guess for c, m, e, g in numeric):
-            return "the values fit a range of " + words
-    public = public_mapping_case().expected
-    if sum(1 for (c, m, e, g) in numeric if any(abs(g - p) <= TOLERANCE for p in public)) == len(numeric) and \
-            any(m != 700 for _, m, _, _ in numeric):
-        return ("the values are those of the public trace, not of the counts sent: compute each value from the "
-                "count that arrives (count / max_sensor_force, clipped)")
-    if all(abs(g - (1.0 - e)) <= TOLERANCE for c, m, e, g in numeric):
-        return "the values run the wrong way (1 - expected): 0 counts must give 0.0"
-    return "compute count / max_sensor_force and clip it to 0..1"
-
-
-def _judge_mapping(items: List[Tuple[int, int, float, List[Response]]], out_type: str
-                   ) -> Tuple[bool, str, List[int]]:
-    """items: (count, max, expected, responses) -> (ok, message, indices of wrong items)."""
-    missing = [i for i, (_, _, _, r) in enumerate(items) if not r]
-    extra = [i for i, (_, _, _, r) in enumerate(items) if len(r) > 1]
-    wrong = []
-    for i, (_, _, expected, responses) in enumerate(items):
-        if responses:
-            got = as_float(responses[0][1])
-            if got is None or abs(got - expected) > TOLERANCE:
-                wrong.append(i)
-    if not (missing or extra or wrong):
-        return True, "", []
-    lines: List[str] = []
-    if wrong:
-        lines.append(f"{len(wrong)} of {len(items)} counts gave a wrong value, e.g.:")
-        for i in wrong[:3]:
-            count, maximum, expected, responses = items[i]
-            lines.append(f"  /pub_force = {count} with /max_sensor_force = {maximum}: expected /force_mapped = "
-                         f"{expected:.6g}, got {fmt_value(responses[0][1])}")
-        lines.append("hint: " + _diagnose_mapping([(items[i][0], items[i][1], items[i][2], items[i][3][0][1])
-                                                   for i in wrong], out_type))
-    if missing:
-        count, maximum, _, _ = items[missing[0]]
-        lines.append(f"{len(missing)} of {len(items)} counts got no message back (e.g. /pub_force = {count} with "
-                     f"/max_sensor_force = {maximum}): publish one message for every count, from the callback")
-    if extra:
-        count = items[extra[0]][0]
-        lines.append(f"{len(extra)} counts got more than one message (e.g. /pub_force = {count}): publish exactly "
-                     "once per count")
-    return False, "\n".join(lines), sorted(set(wrong + missing + extra))
-
-
-def compare_mapping(observation: MappingNodeObservation, cases: Sequence[MappingCase],
-                    plot_dir: Optional[Path] = None) -> List[Part]:
-    """The mapping-node parts from a mapping-node session (runs in the order of ``cases``, public first)."""
-    T = MAPPING
-    runs = observation.runs
-    if observation.session_error or not runs:
-        reason = observation.session_error or "the grader's ROS session produced nothing"
-        return [not_judged_part(T, k, f"the grader could not run the node ({reason})") for k in T]
-    public, public_case = runs[0], cases[0]
-    facts = public.node
-    if not public.input_topic:
-        message = explain_process(facts, "mapping_node.py")
-        if facts.started and facts.subscriptions == [] and not facts.problem:
-            message = "mapping_node.py subscribes to no topic: create rospy.Subscriber('/pub_force', Int16, callback)"
-        return [judged_part(T, "sub", False, message)] + [not_judged_part(T, k, "the node did not subscribe to /pub_force")
-                                                    for k in T if k != "sub"]
-
-    parts: List[Part] = []
-    in_topic, in_type = public.input_topic, public.input_type
-    if in_topic == "/pub_force" and in_type == "std_msgs/Int16":
-        parts.append(judged_part(T, "sub", True))
-    elif in_topic != "/pub_force":
-        others = ", ".join(t for t, _ in facts.subscriptions)
-        parts.append(judged_part(T, "sub", False, f"the node subscribes {others}, not /pub_force: the sensor publishes on "
-                                            "/pub_force (the grader sent the counts to your topic to judge the rest)"))
-    else:
-        parts.append(judged_part(T, "sub", False, f"the node subscribes /pub_force as {in_type}; the sensor publishes "
-                                            "std_msgs/Int16: use Int16 from std_msgs.msg"))
-
-    out_topic, out_type = public.output_topic, public.output_type
-    answered = [r for run in runs for r in run.responses if r]
-    if not out_topic:
-        advertised = ", ".join(t for t, _ in facts.publications) or "nothing"
-        message = (f"the node advertises {advertised}, no /force_mapped: create "
-                   "rospy.Publisher('/force_mapped', Float32, queue_size=10)")
-        if facts.exited_by_itself:
-            message = explain_process(facts, "mapping_node.py")
-        parts.append(judged_part(T, "pub", False, message))
-        return parts + [not_judged_part(T, k, "nothing was published") for k in ("type", "values", "clip", "hidden")]
-    if not public.connected:
-        parts.append(judged_part(T, "pub", False, f"the grader could not connect to {in_topic} ({in_type}) and "
-                                            f"{out_topic}: " + explain_process(facts, "mapping_node.py")))
-        return parts + [not_judged_part(T, k, "no connection to the node") for k in ("type", "values", "clip", "hidden")]
-    if out_type == "std_msgs/Float32":
-        type_part = judged_part(T, "type", True)
-    else:
-        type_part = judged_part(T, "type", False, f"{out_topic} is {out_type or 'of no known type'}; it must be "
-                                            "std_msgs/Float32 (teleoperation subscribes Float32): "
-                                            "from std_msgs.msg import Float32")
-    if not answered:
-        message = (f"the node advertises {out_topic} but published nothing for the {len(public_case.counts)} counts "
-                   "sent on /pub_force: publish the mapped value in the subscriber's callback")
-        tail = facts.output_tail
-        if out_type != "std_msgs/Float32" and ("SerializationError" in tail or "struct.error" in tail):
-            message = (f"the node advertises {out_topic} as {out_type}, and rospy could not send the mapped float "
-                       f"in it (SerializationError in its output): publish std_msgs/Float32")
-        if facts.exited_by_itself:
-            message = explain_process(facts, "mapping_node.py")
-        parts += [judged_part(T, "pub", False, message), type_part]
-        return parts + [not_judged_part(T, k, "nothing was published") for k in ("values", "clip", "hidden")]
-    if out_topic != "/force_mapped":
-        parts.append(judged_part(T, "pub", False, f"the node publishes on {out_topic}, not /force_mapped: teleoperation "
-                                            "listens on /force_mapped (the values were judged on your topic)"))
-    else:
-        parts.append(judged_part(T, "pub", True))
-    parts.append(type_part)
-
-    def items(run: MappingRun, case: MappingCase, which: Callable[[int, int], bool]
-              ) -> Tuple[List[Tuple[int, int, float, List[Response]]], List[int]]:
-        responses = run.responses
-        chosen: List[Tuple[int, int, float, List[Response]]] = []
-        index: List[int] = []
-        for i, (count, expected) in enumerate(zip(case.counts, case.expected)):
-            if which(count, case.max_sensor_force):
-                r = responses[i] if i < len(responses) else []
-                chosen.append((count, case.max_sensor_force, expected, r))
-                index.append(i)
-        return chosen, index
-
-    for key, which in (("values", lambda c, m: c <= m), ("clip", lambda c, m: c > m)):
-        chosen, index = items(public, public_case, which)
-        ok, message, wrong = _judge_mapping(chosen, out_type)
-        if not ok and public.node.exited_by_itself:
-            message += "\n" + explain_process(public.node, "mapping_node.py")
-        plots = [] if ok else mapping_plot(plot_dir, public, public_case, [index[i] for i in wrong])
-        parts.append(judged_part(T, key, ok, message, plots))
-
-    hidden_ok = True
-    hidden_lines: List[str] = []
-    hidden_plots: List[str] = []
-    for run, case in zip(runs[1:], cases[1:]):
-        if not run.input_topic or not run.connected:
-            hidden_ok = False
-            hidden_lines.append(f"with /max_sensor_force = {case.max_sensor_force}: "
-                                + explain_process(run.node, "mapping_node.py"))
-            continue
-        chosen, index = items(run, case, lambda c, m: True)
-        ok, message, wrong = _judge_mapping(chosen, run.output_type)
-        if not ok:
-            hidden_ok = False
-            hidden_lines.append(f"{case.label} (/max_sensor_force = {case.max_sensor_force}): {message}")
-            hidden_plots += mapping_plot(plot_dir, run, case, wrong)
-    if len(runs) < len(cases):
-        hidden_ok = False
-        hidden_lines.append("the hidden runs did not happen (see the parts above)")
-    parts.append(judged_part(T, "hidden", hidden_ok, "\n".join(hidden_lines), hidden_plots))
-    return parts
+__all__ = ["compare_mapping", "compare_teleop_parts", "compare_teleop_node"]
 
 
 # -- teleoperation.py: the student's parts (Ex. 8) ------------------------------------------

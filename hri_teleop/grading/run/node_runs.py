@@ -46,7 +46,7 @@ from hri_teleop.grading.run.ros_session import (
 from hri_teleop.grading.run.sandbox import describe_exit
 from hri_teleop.ros.master import stop_side_by_side
 
-__all__ = ["run_mapping_node", "run_sensor_launch", "run_teleop_node"]
+__all__ = ["COUNT_TYPES", "count_message", "run_mapping_node", "run_sensor_launch", "run_teleop_node"]
 
 
 def run_mapping_node(session: Session, plan: MappingNodePlan) -> MappingNodeObservation:
@@ -71,7 +71,8 @@ def run_mapping_node(session: Session, plan: MappingNodePlan) -> MappingNodeObse
             in_topic, in_type = pick_topic(sub, "/pub_force")
             out_topic, out_type = pick_topic(pub, "/force_mapped")
             if in_topic:
-                publisher = rospy.Publisher(in_topic, Int16, queue_size=1000, tcp_nodelay=True)
+                count_type = count_message(in_type) or Int16  # the node's own type: the rest is judged all the same
+                publisher = rospy.Publisher(in_topic, count_type, queue_size=1000, tcp_nodelay=True)
                 recorder = Recorder()
                 if out_topic:
                     recorder.add(out_topic)
@@ -82,7 +83,8 @@ def run_mapping_node(session: Session, plan: MappingNodePlan) -> MappingNodeObse
                     wait_for(functools.partial(_counted_by_node, session, sorted(nodes), out_topic), 5.0)
                 if connected:
                     session.phase(f"{case.label}: connected")
-                    responses = _lockstep(publisher, recorder, out_topic, case.counts, proc, plan.response_timeout_s)
+                    responses = _lockstep(publisher, count_type, recorder, out_topic, case.counts, proc,
+                                          plan.response_timeout_s)
                     session.phase(f"{case.label}: answered")
                 recorder.close()
                 publisher.unregister()
@@ -115,18 +117,32 @@ def _both_ends(publisher: Any, recorder: Recorder, out_topic: str) -> bool:
     return bool(publisher.get_num_connections() > 0 and (not out_topic or recorder.connected(out_topic)))
 
 
-def _lockstep(publisher: Any, recorder: Recorder, out_topic: str, counts: List[int], proc: Any,
-              timeout_s: float) -> List[List[Response]]:
-    """Publish one count, collect what comes back before the next one; returns values per count."""
-    from std_msgs.msg import Int16  # noqa: PLC0415 - ROS in the session, once its master's environment is set
+#: The std_msgs types a count 0..1023 fits in: a node that subscribes /pub_force as one of them gets the
+#: counts in its own type (its subscriber's type is judged in its own part; the rest is judged all the same).
+COUNT_TYPES = ("std_msgs/Int16", "std_msgs/Int32", "std_msgs/Int64", "std_msgs/UInt16", "std_msgs/UInt32",
+               "std_msgs/UInt64", "std_msgs/Float32", "std_msgs/Float64")
 
+
+def count_message(kind: str) -> Any:
+    """The message class of ``kind`` when it is one of :data:`COUNT_TYPES`, else None."""
+    if kind not in COUNT_TYPES:
+        return None
+    import roslib.message  # noqa: PLC0415 - ROS in the session, once its master's environment is set
+
+    return roslib.message.get_message_class(kind)
+
+
+def _lockstep(publisher: Any, count_type: Any, recorder: Recorder, out_topic: str, counts: List[int], proc: Any,
+              timeout_s: float) -> List[List[Response]]:
+    """Publish one count (as ``count_type``), collect what comes back before the next one; returns values per count."""
+    floats = "Float" in getattr(count_type, "_type", "")
     responses: List[List[Response]] = []
     misses = 0  # counts that got no answer in time: after three, wait only briefly (a node that
     # never answers, or skips some counts, must not cost a second per count)
     for i, count in enumerate(counts):
         before = recorder.count(out_topic) if out_topic else 0
         recorder.event.clear()
-        publisher.publish(Int16(data=int(count)))
+        publisher.publish(count_type(data=float(count) if floats else int(count)))
         wait_s = (max(2.0, timeout_s) if i == 0 else timeout_s) if misses < 3 else 0.05
         deadline = time.monotonic() + wait_s
         while time.monotonic() < deadline and (not out_topic or recorder.count(out_topic) == before):
