@@ -19,7 +19,7 @@ TWIST_TOLERANCE = 1e-9
 
 # Part names and points, per check (names are what students see; tests refer to the keys).
 MAPPING: Dict[str, Tuple[str, float]] = {
-    "sub": ("subscribes /pub_force (std_msgs/Int16)", 3),
+    "sub": ("subscribes /pub_force with the type the sensor publishes", 3),
     "pub": ("publishes /force_mapped, one message per count", 3),
     "type": ("/force_mapped is std_msgs/Float32", 2),
     "values": ("maps 0../max_sensor_force to 0..1 (public trace, /max_sensor_force = 700)", 4),
