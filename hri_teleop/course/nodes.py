@@ -136,8 +136,9 @@ def _start_launch(where: Sequence[str], label: str, extra_env: Optional[Dict[str
         nodes = launched_nodes(where, env)
     except LaunchInspectError as exc:
         raise CourseError(str(exc)) from None
-    return start_gated(["roslaunch", "--wait", *where], label, launch_starts(nodes, label), extra_env=extra_env,
-                  nodes=[n.name for n in nodes])
+    # --disable-title: roslaunch sets the terminal's title (ESC ] 2; ... BEL), which a notebook shows as boxes.
+    return start_gated(["roslaunch", "--wait", "--disable-title", *where], label, launch_starts(nodes, label),
+                       extra_env=extra_env, nodes=[n.name for n in nodes])
 
 
 def launch(package: str, launch_file: str, **args: Any) -> Any:
