@@ -37,7 +37,7 @@ from hri_teleop.grading.run.workspace import (
 )
 from hri_teleop.ros.master_api import MasterApiError, master_call
 
-__all__ = ["LIVE_GRAPH_NODES", "SENSOR_NODES", "graph_cache_file", "live_graph", "grade_graph"]
+__all__ = ["LIVE_GRAPH_NODES", "SENSOR_NODES", "graph_cache_file", "live_graph", "graph_of_running_master", "grade_graph"]
 
 PathLike = Union[str, Path]
 
@@ -81,7 +81,7 @@ def live_graph(cache_file: Optional[PathLike] = None) -> LiveGraphObservation:
         except (OSError, ValueError):
             pass  # unreadable, cut short or of another version (RecordError): compute it again
     if not (REFERENCE_PACKAGE / "launch" / "teleoperation.launch").is_file():
-        return _graph_of_running_master()  # the student bundle: the pipeline its notebook started
+        return graph_of_running_master()  # the student bundle: the pipeline its notebook started
     require_ros()
     session_dir = Path(tempfile.mkdtemp(prefix="hri-grade-graph-"))
     try:
@@ -107,7 +107,7 @@ def live_graph(cache_file: Optional[PathLike] = None) -> LiveGraphObservation:
     return graph
 
 
-def _graph_of_running_master() -> LiveGraphObservation:
+def graph_of_running_master() -> LiveGraphObservation:
     """The graph on this process's master (ROS_MASTER_URI), once two readings 0.3 s apart agree."""
     try:
         previous: Any = None
