@@ -15,14 +15,13 @@ from hri_teleop.course.lab_nodes import (
     start_board,
     start_pipeline,
     start_robot,
-    wait_for_quit,
 )
 from hri_teleop.course.nodes import launch_student, wait_for_publisher
 from hri_teleop.course.nodes import rosrun_student as rosrun
 from hri_teleop.course.nodes import run_provided_node as run_provided
 from hri_teleop.course.nodes import run_student_node as run_student
 from hri_teleop.course.nodes import stop_nodes as stop
-from hri_teleop.course.pad_route import browser_pad, start_application
+from hri_teleop.course.pad_route import browser_pad, start_application, wait_for_quit
 from hri_teleop.course.recovery import recover, reflex
 from hri_teleop.ros.master import PrivateMaster as private_master
 

@@ -22,19 +22,29 @@ from hri_teleop.course.master_mode import NotStarted, start_refusal
 from hri_teleop.course.nodes import STUDENT_PACKAGE, run_provided_node, run_student_node
 from hri_teleop.ros.master_api import master_call
 
-__all__ = ["HELD_PADS", "browser_pad", "start_application"]
+__all__ = ["HELD_PADS", "HeldPadApplication", "browser_pad", "start_application", "wait_for_quit"]
 
 #: The pads a person holds (at home the simulated lab is then driven live).
 HELD_PADS = ("browser", "pygame")
 
 
-def browser_pad(pad: str = "browser", node: str = "/teleoperation") -> Any:
+class HeldPadApplication(lab_nodes.NodeGroup):
+    """Ex. 14's simulated lab at home, driven by the student's node from ``pad`` (a pad a person holds)."""
+
+    def __init__(self, processes: Dict[str, Any], pad: str) -> None:
+        super().__init__(processes)
+        self.pad = pad
+
+
+def browser_pad(pad: Optional[str] = "browser", node: str = "/teleoperation") -> Any:
     """The browser's gamepad for the student's node when ``pad`` is ``"browser"`` (a cell's last line shows it).
 
     ``widgets.BrowserPad`` reads the gamepad of this page and publishes it to ``node``, started
     with the same ``pad``; the node's rumble comes back to the page. None for another pad, under
     grading (nobody is at the page) and in the lab, where the student's node reads the lab's gamepad.
     """
+    if pad is None:
+        return None
     mode_pad_params(pad)  # one line for a pad that is none
     if pad != "browser":
         return None
@@ -91,10 +101,24 @@ def start_application(feedback: bool = True, package: Union[str, Path] = STUDENT
         except CourseError:
             robot.stop()
             raise
-        return lab_nodes.NodeGroup({"lab_sim": robot, **nodes})
+        return HeldPadApplication({"lab_sim": robot, **nodes}, pad)
     if now == LAB and pad not in (None, "pygame"):
-        reason = start_refusal([Start(f"your teleoperation node with the {pad} pad", pad=pad)]) or \
+        reason = start_refusal([Start("your teleoperation node (Ex. 14)", pad=pad)]) or \
             f"refused: in the lab your node reads the lab's gamepad, not the {pad} pad"
         print(reason)
         return NotStarted(reason)
     return lab_nodes.start_application(feedback, package)
+
+
+def wait_for_quit(app: Any, timeout_s: float = 600.0, node: str = "/teleoperation") -> Optional[bool]:
+    """Wait until the node of ``app`` quit (square on the pad): :func:`lab_nodes.wait_for_quit`.
+
+    Not with the browser pad: a kernel busy with a cell cannot hear the page, so the pad would read
+    released while this cell waits. Then it says so and returns None at once (drive, square quits).
+    """
+    if getattr(app, "pad", None) == "browser" and app.running:
+        print("not waiting: with the browser pad the kernel must stay free to hear the page (a cell that waits "
+              "would leave your pad released). Drive with the pad above; square quits your node; lab.stop() "
+              "stops the rest")
+        return None
+    return lab_nodes.wait_for_quit(app, timeout_s, node)

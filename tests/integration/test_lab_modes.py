@@ -136,3 +136,14 @@ def test_a_killed_nodes_stale_registration_does_not_block_a_restart(kernel):
     stale.wait(10)
     board = lab_nodes.start_board(max_value=700, rate_hz=100)
     assert board is not None and board.running
+
+
+def test_on_the_labs_master_the_browser_pad_drives_nothing(foreign_master, capsys):
+    node = lab.run_student(ANSWER_KEY / "scripts" / "teleoperation.py", "teleoperation", **lab.pad_params("browser"))
+    app = lab.start_application(pad="browser", package=ANSWER_KEY)
+    shown = lab.browser_pad("browser")
+    out = capsys.readouterr().out
+    assert isinstance(node, NotStarted) and isinstance(app, NotStarted) and shown is None, out
+    assert out.count("with the browser pad") == 2 and 'set PAD = "pygame"' in out, out
+    assert "in the lab your node reads the lab's gamepad" in out
+    assert running_nodes(among=["/teleoperation", "/lab_sim", "/mapping_node"]) == []
