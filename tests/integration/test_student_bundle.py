@@ -96,6 +96,23 @@ def test_the_pages_the_provided_nodes_point_to_are_in_the_bundle_and_the_rubric_
     assert not (toolkit / "docs" / "instructors.md").exists()
 
 
+def test_the_bundle_holds_the_browser_pad_for_the_students_own_node_and_no_reference_node(unpacked):
+    toolkit = unpacked / "toolkit"
+    for needed in ("hri_teleop/course/widgets/browser_pad.py", "hri_teleop/course/widgets/browser_pad.js",
+                   "hri_teleop/course/widgets/hold_button.js", "hri_teleop/hardware/joy_pad.py",
+                   "hri_teleop/course/pad_route.py", "docs/browser-pad.md"):
+        assert (toolkit / needed).is_file(), needed
+    for reference in ("hri_lab/scripts/teleoperation.py", "hri_lab/launch/teleoperation.launch"):
+        assert not (toolkit / reference).exists(), reference
+    # the student's own node takes its pad from ~pad (given code): _pad:=browser reads the page's pad
+    template = (unpacked / "lab" / STUDENT_PACKAGE / "scripts" / "teleoperation.py").read_text(encoding="utf-8")
+    assert 'node.open_pad(rospy.get_param("~pad", "pygame")' in template
+    for notebook in ("ex08_gamepad_commands", "ex09_teleoperation_node", "ex10_teleoperate_robot",
+                     "ex14_force_feedback"):
+        text = (unpacked / "lab" / f"{notebook}.ipynb").read_text(encoding="utf-8")
+        assert 'PAD = \\"browser\\"' in text or "lab.browser_pad(PAD)" in text, notebook
+
+
 def test_the_bundle_holds_no_solution_line_and_no_completed_deliverable(unpacked, course):
     assert toolkit_leaks(unpacked, solution_texts(SOLUTIONS, course), answer_files()) == []
     assert not (unpacked / "toolkit" / "tests").exists() and not (unpacked / "toolkit" / "solutions").exists()
