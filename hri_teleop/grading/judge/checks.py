@@ -23,6 +23,7 @@ from hri_teleop.grading.cases import inputs as C
 from hri_teleop.grading.cases.templates import TemplateError, kind_of, make_template
 from hri_teleop.grading.judge import compare
 from hri_teleop.grading.judge.compare_common import STUDENT_PACKAGES
+from hri_teleop.grading.judge.compare_teleop_node import real_time_note
 from hri_teleop.grading.judge.graph import grade_graph, live_graph
 from hri_teleop.grading.judge.harness import (
     TWIST_TOPIC,
@@ -213,8 +214,8 @@ def grade_teleoperation(path: PathLike, *, seed: Optional[int] = None, out_dir: 
                               run_s=node_case.quit_s + 4.0, quit_grace_s=5.0, record=[TWIST_TOPIC, "/gripper_width"],
                               clock=grading_clock())
         observation = run.session(plan, timeout_s=90.0)
-        parts += compare.compare_teleop_node(observation, node_case, TWIST_TOPIC, run.out_dir)
-        notes += _clock_notes(observation)
+        parts += compare.compare_teleop_node(observation, node_case, TWIST_TOPIC, run.out_dir, str(run.space.package))
+        notes += _clock_notes(observation, note=real_time_note(observation, node_case, TWIST_TOPIC))
     return finish_check("teleoperation", run, parts, seed, notes)
 
 
@@ -268,12 +269,12 @@ def _lab_rate_hz() -> float:
         return TeleopParams().rate_hz
 
 
-def _clock_notes(observation: Optional[ClockedObservation], prefix: str = "") -> List[str]:
-    """A note when the grader meant to own the clock and a node made it fall back to real time."""
+def _clock_notes(observation: Optional[ClockedObservation], prefix: str = "", note: str = "") -> List[str]:
+    """A note when the grader meant to own the clock and a node made it fall back to real time (``note``: why)."""
     if observation is None or observation.problem or observation.session_error:
         return []
     if observation.clock == "real time" and grading_clock() == "grader":
-        return [prefix + _REAL_TIME_NOTE]
+        return [prefix + (note or _REAL_TIME_NOTE)]
     return []
 
 

@@ -1,48 +1,40 @@
-"""Judging the nodes students write: ``teleoperation.py`` (Ex. 8, 9); ``mapping_node.py`` (Ex. 5) in compare_mapping.
-
-``teleoperation.py`` is judged by its parts (Ex. 8) and as a node (Ex. 9).
+"""Judging the nodes students write: ``teleoperation.py``'s parts (Ex. 8) here; the node (Ex. 9) in
+compare_teleop_node, ``mapping_node.py`` (Ex. 5) in compare_mapping (re-exported here).
 """
 
 from __future__ import annotations
 
-import math
 import re
 from pathlib import Path
 from typing import Any, List, Optional, Sequence, Tuple
 
-from hri_teleop.core.config import DEFAULT_TWIST_TOPIC
 from hri_teleop.core.gamepad import PadState
 from hri_teleop.core.teleop import TeleopController, TeleopParams
 from hri_teleop.grading.cases.inputs import (
     ExpectedTick,
-    TeleopNodeCase,
     TeleopPartsCase,
     reference_params,
     reference_parts,
 )
 from hri_teleop.grading.judge.compare_common import (
     TELEOP,
-    TOLERANCE,
     TWIST_TOLERANCE,
     as_float,
     explain_process,
     fmt_value,
     judged_part,
     not_judged_part,
-    process_hints,
 )
 from hri_teleop.grading.judge.compare_mapping import compare_mapping
-from hri_teleop.grading.judge.plots import expected_vs_actual, series_plot
+from hri_teleop.grading.judge.compare_teleop_node import compare_teleop_node
+from hri_teleop.grading.judge.plots import series_plot
 from hri_teleop.grading.results import Part
 from hri_teleop.grading.run.records import (
-    NodeFacts,
     PartsCaseResult,
     PartsTick,
     ProcessFacts,
-    TeleopNodeObservation,
     TeleopPartsResult,
 )
-from hri_teleop.grading.run.sandbox import describe_exit
 
 __all__ = ["compare_mapping", "compare_teleop_parts", "compare_teleop_node"]
 
@@ -271,137 +263,3 @@ def _first_wrong_component(exp: List[ExpectedTick], ticks: List[PartsTick], inde
 
 def _slug(text: str) -> str:
     return re.sub(r"[^A-Za-z0-9]+", "-", text).strip("-").lower()
-
-
-# -- teleoperation.py as a node (Ex. 9) ---------------------------------------------------------
-
-def _topic_of_type(facts: NodeFacts, kind: str, preferred: str) -> Tuple[str, str]:
-    """(topic, type) the node publishes: ``preferred`` if it does, else its first topic of type ``kind``."""
-    entries = facts.publications
-    for topic, t in entries:
-        if topic == preferred:
-            return topic, t
-    same = [topic for topic, t in entries if t == kind]
-    return (same[0], kind) if same else ("", "")
-
-
-def compare_teleop_node(observation: TeleopNodeObservation, case: TeleopNodeCase,
-                        twist_topic: str = DEFAULT_TWIST_TOPIC,
-                        plot_dir: Optional[Path] = None) -> List[Part]:
-    """The node parts: topics, types, and what came out while a scripted pad drove it."""
-    T = TELEOP
-    keys = ("node_start", "node_twist_topic", "node_width_topic", "node_twist", "node_width", "node_rumble", "node_quit")
-    if observation.session_error:
-        return [not_judged_part(T, k, f"the grader could not run the node ({observation.session_error})") for k in keys]
-    facts = observation.node
-    if not facts.started or (observation.problem and not facts.publications):
-        return ([judged_part(T, "node_start", False, explain_process(facts, "teleoperation.py"))]
-                + [not_judged_part(T, k, "the node did not start") for k in keys[1:]])
-    parts: List[Part] = []
-    subs = facts.subscriptions
-    force_sub = [t for topic, t in subs if topic == "/force_mapped"]
-    if force_sub == ["std_msgs/Float32"]:
-        parts.append(judged_part(T, "node_start", True))
-    elif force_sub:
-        parts.append(judged_part(T, "node_start", False, f"the node subscribes /force_mapped as {force_sub[0]}; "
-                                                   "mapping_node publishes std_msgs/Float32"))
-    else:
-        listed = ", ".join(topic for topic, _ in subs) or "no topic"
-        parts.append(judged_part(T, "node_start", False, f"the node subscribes {listed}, not /force_mapped: "
-                                                   "rospy.Subscriber('/force_mapped', Float32, self.on_force)"))
-    messages = observation.messages
-    pubs = facts.publications
-
-    twist_at, twist_type = _topic_of_type(facts, "geometry_msgs/Twist", twist_topic)
-    if twist_at == twist_topic and twist_type == "geometry_msgs/Twist":
-        parts.append(judged_part(T, "node_twist_topic", True))
-    elif twist_at:
-        parts.append(judged_part(T, "node_twist_topic", False, f"the Twist goes to {twist_at}; the velocity controller "
-                                                         f"listens on {twist_topic}"))
-    else:
-        found = [f"{topic} ({t})" for topic, t in pubs if topic == twist_topic]
-        parts.append(judged_part(T, "node_twist_topic", False,
-                           (f"{found[0]} is not geometry_msgs/Twist" if found else f"nothing publishes {twist_topic}")
-                           + ": rospy.Publisher('/cartesian_velocity_controller/cmd_vel', Twist, queue_size=1)"))
-    width_at, width_type = _topic_of_type(facts, "std_msgs/Float32", "/gripper_width")
-    if width_at == "/gripper_width" and width_type == "std_msgs/Float32":
-        parts.append(judged_part(T, "node_width_topic", True))
-    elif width_at == "/gripper_width":
-        parts.append(judged_part(T, "node_width_topic", False, f"/gripper_width is {width_type}; gripper_manager "
-                                                         "subscribes std_msgs/Float32"))
-    else:
-        parts.append(judged_part(T, "node_width_topic", False, "nothing publishes /gripper_width: "
-                                                         "rospy.Publisher('/gripper_width', Float32, queue_size=1)"))
-
-    # the twist: each held stick must give its exact value for a while (after the ramp)
-    twists = [m for m in messages.get(twist_at, []) if isinstance(m[2], list) and len(m[2]) == 6] if twist_at else []
-    rate = case.gains.rate
-    need = max(3, int(0.15 * rate))
-    if not twists:
-        parts.append(not_judged_part(T, "node_twist", "no twist was recorded"))
-    else:
-        failures = []
-        for plateau in case.plateaus:
-            hits = sum(1 for _, _, v in twists if abs(v[plateau.component] - plateau.value) <= TOLERANCE)
-            if hits < need:
-                seen = [v[plateau.component] for _, _, v in twists]
-                failures.append(f"{plateau.what} should settle at {plateau.value:.6g} (gains k_trans {case.gains.k_trans:g}, "
-                                f"k_rot {case.gains.k_rot:g}, deadzone {case.gains.deadzone:g}); it did in {hits} messages "
-                                f"(range seen {min(seen):.4g} .. {max(seen):.4g})")
-        plots = []
-        if failures and plot_dir is not None:
-            names = "v_x v_y v_z w_x w_y w_z".split()
-            for plateau in case.plateaus:
-                comp = plateau.component
-                plots.append(expected_vs_actual(
-                    Path(plot_dir) / f"teleop-node-{names[comp]}.png",
-                    f"{twist_at}: {names[comp]} must reach {plateau.value:.4g} (dashed) while the stick is held",
-                    [t for t, _, _ in twists], [math.nan] * len(twists), [v[comp] for _, _, v in twists],
-                    "time since the node started (s)", names[comp], levels=[plateau.value]))
-        parts.append(judged_part(T, "node_twist", not failures, "\n".join(failures), plots))
-
-    widths = [m for m in messages.get(width_at, []) if as_float(m[2]) is not None] if width_at else []
-    if not widths:
-        parts.append(not_judged_part(T, "node_width", "no gripper width was recorded"))
-    else:
-        step = case.gains.k_gripper / rate
-        final = float(widths[-1][2])
-        first = float(widths[0][2])
-        problems = []
-        if abs(first - 0.08) > 1e-6:
-            problems.append(f"the first width published was {first:.6g} m; the gripper starts open at 0.08 m")
-        if abs(final - case.final_width) > 3 * step + 1e-6:
-            problems.append(f"after holding cross for {case.close_s:g} s (k_gripper {case.gains.k_gripper:g} m/s) the "
-                            f"width should be {case.final_width:.6g} m (within 3 steps of {step:.4g} m), it ended at "
-                            f"{final:.6g} m")
-        parts.append(judged_part(T, "node_width", not problems, "\n".join(problems)))
-
-    rumble_topic = next((topic for topic, t in pubs if topic.endswith("/rumble") and t == "std_msgs/Float32"), "")
-    rumbles = [float(m[2]) for m in messages.get(rumble_topic, []) if as_float(m[2]) is not None] if rumble_topic else []
-    if not rumbles:
-        parts.append(judged_part(T, "node_rumble", False, "no ~rumble messages: keep the template's send() and its "
-                                                    "rumble publisher"))
-    else:
-        hits = sum(1 for v in rumbles if abs(v - case.rumble) <= TOLERANCE)
-        ok = hits >= len(rumbles) // 2
-        parts.append(judged_part(T, "node_rumble", ok, "" if ok else (
-            f"with /force_mapped = {case.force:g} arriving every 50 ms the rumble should be {case.rumble:g}; it was "
-            f"in {hits} of {len(rumbles)} ticks (values {min(rumbles):.3g} .. {max(rumbles):.3g}): keep the value "
-            "in on_force() and compute the rumble from self.force")))
-
-    code = observation.exit_code
-    last = twists[-1][2] if twists else None
-    if observation.quit_in_time and code == 0 and last is not None and all(v == 0.0 for v in last):
-        parts.append(judged_part(T, "node_quit", True))
-    else:
-        why = []
-        if not observation.quit_in_time:
-            why.append("the node was still running after square was pressed")
-        elif code != 0:
-            why.append(f"it {describe_exit(code)} after square")
-        if last is not None and any(v != 0.0 for v in last):
-            why.append(f"the last twist was {fmt_value(last)}, not zero")
-        message = "; ".join(why) or "no twist was recorded"
-        hints = process_hints(facts)
-        parts.append(judged_part(T, "node_quit", False, message + ("; " + "; ".join(hints) if hints else "")))
-    return parts
