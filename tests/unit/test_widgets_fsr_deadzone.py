@@ -90,3 +90,13 @@ def test_the_deadzone_explorer_follows_its_sliders():
     explorer.deadzone.value = 0.35
     assert explorer.filtered == (0.0, 0.0)
     assert "dead zone 0.35" in explorer.readout.value
+
+
+def test_at_a_datasheet_force_the_explorer_shows_the_datasheets_resistance_beside_the_fitted_curves():
+    explorer = FsrExplorer(force_n=1.0, figure="image")
+    text = explorer.readout.value
+    assert "R = 7.14 kOhm" in text  # the fitted curve
+    assert "At 1 N the datasheet gives 6 kOhm, the curve 7.14 kOhm" in text
+    explorer.force.value = 3.0
+    assert "the datasheet gives" not in explorer.readout.value
+    assert "fitted through the datasheet's four points" in explorer.readout.value

@@ -21,7 +21,7 @@ from hri_teleop.core import fsr
 from hri_teleop.core.mapping import ADC_MAX_COUNT, map_force
 from hri_teleop.course.widgets._base import FigureView, WidgetError
 
-__all__ = ["FsrReading", "FsrCurve", "fsr_reading", "fsr_curve", "format_ohm", "describe_reading",
+__all__ = ["FsrReading", "FsrCurve", "fsr_reading", "fsr_curve", "format_ohm", "describe_reading", "datasheet_note",
            "PULLDOWN_CHOICES_OHM", "SUPPLY_CHOICES_V", "FsrExplorer"]
 
 #: Pull-down resistors to try (E6 series, ohm): the lab's is 10 kOhm.
@@ -91,6 +91,19 @@ def describe_reading(reading: FsrReading) -> str:
     return (f"F = {reading.force_n:.2f} N  ->  R = {format_ohm(reading.resistance_ohm)}  ->  "
             f"V = {reading.voltage_v:.2f} V  ->  count {reading.count}  ->  "
             f"/force_mapped = {reading.mapped:.3f} (max_sensor_force {reading.max_sensor_force})")
+
+
+def datasheet_note(force_n: float) -> str:
+    """Why the curve and the datasheet differ: at a datasheet force, both resistances side by side."""
+    worst = max(abs(float(fsr.force_to_resistance(f)) / r - 1.0) for f, r in fsr.FSR402_POINTS)
+    note = (f"The blue curve is one power law fitted through the datasheet's four points (x); it misses each "
+            f"by up to {100 * worst:.0f} % (a typical part, not a calibration).")
+    for point_n, point_ohm in fsr.FSR402_POINTS:
+        if abs(force_n - point_n) <= 0.01 * point_n:
+            note += (f" At {point_n:g} N the datasheet gives {format_ohm(point_ohm)}, the curve "
+                     f"{format_ohm(float(fsr.force_to_resistance(point_n)))}; a question that quotes the datasheet "
+                     "uses its value.")
+    return note
 
 
 class FsrExplorer(widgets.VBox):
@@ -183,5 +196,6 @@ class FsrExplorer(widgets.VBox):
         self._max_line.set_ydata([reading.max_sensor_force, reading.max_sensor_force])
         self._max_line.set_label(f"max_sensor_force {reading.max_sensor_force} -> /force_mapped 1.0")
         self._ax_c.legend(fontsize=7, loc="lower right")
-        self.readout.value = f"<code>{describe_reading(reading)}</code>"
+        self.readout.value = (f"<code>{describe_reading(reading)}</code><br>"
+                              f"<small>{datasheet_note(reading.force_n)}</small>")
         self.view.redraw()
