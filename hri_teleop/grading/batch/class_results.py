@@ -123,6 +123,7 @@ def notebook_parts(db_url: str, course_id: str,
         Grade,
         Gradebook,
         Notebook,
+        SolutionCell,
         SubmittedAssignment,
         SubmittedNotebook,
     )
@@ -130,18 +131,24 @@ def notebook_parts(db_url: str, course_id: str,
     wanted = set(pairs)
     found: Dict[Tuple[str, str], List[PartResult]] = {p: [] for p in wanted}
     with Gradebook(db_url, course_id) as gb:
+        written = {(n, c) for n, c in gb.db.query(SolutionCell.notebook_id, SolutionCell.name)}  # graded and a solution: by hand
         query = (gb.db.query(SubmittedAssignment.student_id, Assignment.name, Notebook.name, BaseCell.name,
-                             Grade.auto_score, Grade.score, Grade.max_score)
+                             Grade.auto_score, Grade.score, Grade.max_score, Grade.manual_score, Notebook.id)
                  .select_from(Grade)
                  .join(SubmittedNotebook, Grade.notebook_id == SubmittedNotebook.id)
                  .join(SubmittedAssignment, SubmittedNotebook.assignment_id == SubmittedAssignment.id)
                  .join(Assignment, SubmittedAssignment.assignment_id == Assignment.id)
                  .join(Notebook, SubmittedNotebook.notebook_id == Notebook.id)
                  .join(BaseCell, Grade.cell_id == BaseCell.id))
-        for student, assignment, notebook, cell, auto, score, maximum in query:
-            if (student, assignment) in wanted and auto is not None and maximum:
-                found[(student, assignment)].append(
-                    PartResult(f"{assignment}/{notebook}: {cell}", float(score), float(maximum)))
+        for student, assignment, notebook, cell, auto, score, maximum, manual, notebook_id in query:
+            if (student, assignment) not in wanted or not maximum:
+                continue
+            item = f"{assignment}/{notebook}: {cell}"
+            if (notebook_id, cell) in written:  # a written answer: in the analysis once graded by hand
+                found[(student, assignment)].append(PartResult(item, float(score or 0.0), float(maximum),
+                                                               manual is not None, manual is None and auto is None))
+            elif auto is not None:
+                found[(student, assignment)].append(PartResult(item, float(score), float(maximum)))
     for parts in found.values():
         parts.sort(key=lambda p: p.item)
     return found

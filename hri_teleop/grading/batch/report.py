@@ -23,6 +23,7 @@ from hri_teleop.grading.batch.report_data import (
     item_rates,
     late_rows,
     not_judged,
+    pending_items,
     score_stats,
     slowest,
     unused_extensions,
@@ -79,9 +80,13 @@ def _items(results: ClassResults, out: Path) -> str:
     pass_rate_chart([(r.item, r.rate) for r in rates], out / ITEMS_PNG, "Pass rate of every part, worst first")
     rows = [[_e(r.item), str(r.n), str(r.full), f"{100 * r.rate:.0f}%", f"{100 * r.mean_fraction:.0f}%"]
             for r in rates]
+    waiting = pending_items(results.students)
+    pending = (f"<p>{len(waiting)} written answer(s) nobody has graded by hand yet are left out until one is "
+               f"(<code>make formgrader</code>): {_e(', '.join(waiting))}.</p>") if waiting else ""
     return ("<h2>Item analysis: which parts the class failed</h2><p>Every check's every part (the student files, "
-            "<code>results.json</code>) and every autograded notebook cell (nbgrader's gradebook), "
-            "worst first. Full points = passed.</p>"
+            "<code>results.json</code>), every autograded notebook cell and every written answer graded by hand "
+            "(nbgrader's gradebook; of a written answer, the students whose answer has its grade), "
+            "worst first. Full points = passed.</p>" + pending +
             f'<img src="{ITEMS_PNG}" alt="pass rate per part">'
             + _table(["part", "students", "full points", "pass rate", "mean share of points"], rows, range(1, 5)))
 
@@ -100,8 +105,8 @@ def _manual(results: ClassResults) -> str:
         return ""
     rows = [[_e(s.student), _e(", ".join(s.manual))] for s in waiting]
     return (f"<h2>Waiting for grading by hand ({len(rows)})</h2><p>Written answers in nbgrader's formgrader "
-            "(<code>cd notebooks && nbgrader formgrader</code>); then <code>make grade REPORT=1</code> "
-            "puts those points into this page and lms.csv.</p>" + _table(["student", "assignments"], rows))
+            "(<code>make formgrader</code>); then <code>make feedback</code> puts those points into the students' "
+            "feedback, this page and lms.csv.</p>" + _table(["student", "assignments"], rows))
 
 
 def _slowest(results: ClassResults) -> str:

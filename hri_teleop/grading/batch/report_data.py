@@ -17,6 +17,7 @@ from hri_teleop.grading.batch.late import Lateness
 
 __all__ = ["Job", "AssignmentScore", "PartResult", "StudentRecord", "ClassResults", "Bin", "Stats", "ItemRate",
            "NotJudged", "LateRow", "FILES_ONLY", "FILES_JOB", "histogram", "score_stats", "distributions", "item_rates",
+           "pending_items",
            "classify_reason", "not_judged", "slowest", "late_rows", "unused_extensions"]
 
 #: The one "assignment" of a folder graded files-only (no nbgrader course).
@@ -64,6 +65,10 @@ class PartResult:
     item: str
     score: float
     points: float
+    #: A written answer (graded by hand in nbgrader): True once graded by hand, False while not (None: autograded).
+    by_hand: Optional[bool] = None
+    #: A written answer that waits for its grade (no score yet; a blank one scores 0 without grading).
+    pending: bool = False
 
     @property
     def full(self) -> bool:
@@ -188,15 +193,32 @@ def distributions(results: ClassResults) -> List[Tuple[str, List[float], float]]
     return panels
 
 
-def item_rates(students: Sequence[StudentRecord]) -> List[ItemRate]:
-    """Every item any student has, with the class's pass rate; worst first (then by name)."""
+def _items(students: Sequence[StudentRecord]) -> Dict[str, List[PartResult]]:
     seen: Dict[str, List[PartResult]] = {}
     for student in students:
         for part in student.parts:
             seen.setdefault(part.item, []).append(part)
-    rates = [ItemRate(item, len(parts), sum(p.full for p in parts),
-                      statistics.fmean(p.score / p.points if p.points else 1.0 for p in parts))
-             for item, parts in seen.items()]
+    return seen
+
+
+def pending_items(students: Sequence[StudentRecord]) -> List[str]:
+    """The written answers nobody has graded by hand yet: not in the item analysis until one student's is."""
+    return sorted(item for item, parts in _items(students).items()
+                  if any(p.by_hand is not None for p in parts) and not any(p.by_hand for p in parts))
+
+
+def item_rates(students: Sequence[StudentRecord]) -> List[ItemRate]:
+    """Every item any student has, with the class's pass rate; worst first (then by name). A written answer
+    counts once graded by hand for one student at least (:func:`pending_items`), with the students whose
+    answer has its grade (graded by hand, or blank: 0)."""
+    waiting = set(pending_items(students))
+    rates = []
+    for item, parts in _items(students).items():
+        graded = [p for p in parts if not p.pending]
+        if item in waiting or not graded:
+            continue
+        rates.append(ItemRate(item, len(graded), sum(p.full for p in graded),
+                              statistics.fmean(p.score / p.points if p.points else 1.0 for p in graded)))
     return sorted(rates, key=lambda r: (r.rate, r.mean_fraction, r.item))
 
 
