@@ -117,6 +117,27 @@ grade: setup
 gradescope: setup
 	@$(ENV) $(PY) -m hri_teleop.apps.gradescope build --out $(or $(OUT),out/gradescope) $(if $(CHECKS),--checks $(CHECKS)) $(if $(filter-out 0,$(UNSANDBOXED)),--unsandboxed)
 
+# The instructor's steps after make grade (docs/instructors.md, The cycle), each from a fresh shell: nbgrader is
+# in .venv only. DIR=... is the course or its submitted/ (default notebooks/), OUT=... make grade's results.
+# `make formgrader`: JupyterLab on the course at nbgrader's formgrader, to grade the written answers by hand
+# (FORMGRADER_ARGS="--no-browser --port 8890" go to jupyter lab; Ctrl-C ends it). `make feedback`, after grading by
+# hand: nbgrader's feedback again with the manual points, each page with the student's files' points and feedback,
+# then grades.csv, lms.csv and report.html (as REPORT=1). `make release-feedback`: nbgrader release_feedback of every
+# assignment (students handed in with nbgrader submit; the others' feedback folders are named, to hand out).
+# `make nbgrader ARGS="collect preparation"`: any nbgrader command in the course folder.
+.PHONY: formgrader feedback release-feedback nbgrader
+formgrader: setup
+	@$(ENV) $(PY) -m hri_teleop.apps.instructor formgrader $(or $(DIR),notebooks) $(FORMGRADER_ARGS)
+
+feedback: setup
+	@$(ENV) $(PY) -m hri_teleop.apps.instructor feedback $(or $(DIR),notebooks) --out $(or $(OUT),out/grades) $(if $(LATE),--late $(LATE))
+
+release-feedback: setup
+	@$(ENV) $(PY) -m hri_teleop.apps.instructor release-feedback $(or $(DIR),notebooks)
+
+nbgrader: setup
+	@$(ENV) $(PY) -m hri_teleop.apps.instructor nbgrader --dir $(or $(DIR),notebooks) $(ARGS)
+
 # Firmware (firmware/README.md): both Arduino sketches for the Uno with Debian's AVR
 # toolchain (flash and RAM use against 32 KB / 2 KB), and the simulated Uno (simavr) the
 # tests run the plain-serial sketch on. ROS_LIB=... points at a rosserial Arduino library;
