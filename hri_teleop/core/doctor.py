@@ -15,8 +15,8 @@ from hri_teleop.core.checks import is_calibration_count, is_int
 from hri_teleop.core.modes import LAB
 from hri_teleop.core.traces import TraceError, rate_hz
 
-__all__ = ["OK", "FAIL", "NOTE", "Finding", "exit_code", "master_finding", "robot_finding", "teleop_finding",
-           "board_rate_finding", "expected_board_hz", "FSR_SERIAL", "ROSSERIAL", "calibration_finding",
+__all__ = ["OK", "FAIL", "NOTE", "Finding", "exit_code", "master_finding", "foreign_master_finding", "robot_finding",
+           "teleop_finding", "board_rate_finding", "expected_board_hz", "FSR_SERIAL", "ROSSERIAL", "calibration_finding",
            "pad_finding", "walk_finding", "rumble_finding", "kernel_finding", "governor_finding",
            "HANDOUT_SKETCH_HZ", "LAB_BOARD_HZ", "RATE_TOLERANCE", "CALIBRATION_TOLERANCE", "MIN_PERIOD_MS",
            "MAX_PERIOD_MS", "measured_rate_hz"]
@@ -79,6 +79,16 @@ def master_finding(uri: str, reachable: bool, mode: str, private: bool) -> Findi
     if mode == LAB and private:
         return Finding("ROS master", FAIL, f"{uri} is a private roscore, not the lab's", "use the lab's ROS_MASTER_URI")
     return Finding("ROS master", OK, f"{uri} ({'a private roscore' if private else 'running'}, {mode} mode)")
+
+
+def foreign_master_finding(uri: str) -> Finding:
+    """A bare master this toolkit did not start, with lab mode only a guess: the cause and both fixes, one line."""
+    return Finding("ROS master", FAIL,
+                   f"a ROS master at {uri} that the toolkit did not start, with no node on it: it is treated as the "
+                   "lab's (it may carry the robot), so nothing is simulated or checked there",
+                   "on the lab PC this is right: start the lab's launch file (or HRI_MODE=lab make doctor checks the "
+                   "bare station); at home stop that roscore (Ctrl-C in its terminal) and run make doctor again, which "
+                   "then checks a simulated lab on a master of its own")
 
 
 def robot_finding(mode: str, controller_listens: bool, gripper_servers: Sequence[str], missing_servers: Sequence[str],

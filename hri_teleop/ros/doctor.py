@@ -26,6 +26,7 @@ from hri_teleop.core.doctor import (
     board_rate_finding,
     calibration_finding,
     expected_board_hz,
+    foreign_master_finding,
     governor_finding,
     kernel_finding,
     master_finding,
@@ -228,6 +229,16 @@ def check_board(mode: str, reachable: bool, ports: Optional[Sequence[str]] = Non
                    "upload a sketch (firmware/README.md); close the Arduino IDE's serial monitor"), []
 
 
+def _nodes_besides_rosout() -> List[str]:
+    """Every node registered at the master but roscore's own /rosout."""
+    try:
+        state = master_call("getSystemState")
+    except MasterApiError:
+        return []
+    nodes = {node for section in state for _name, names in section for node in names}
+    return sorted(nodes - {"/rosout"})
+
+
 def _param(name: str) -> object:
     try:
         return master_call("getParam", name)
@@ -266,7 +277,14 @@ def run_checks(walk: bool = False, ask: Callable[[str], str] = input, say: Calla
     uri = master_uri()
     reachable = master_reachable(uri)
     if reachable:
-        mode = decide_mode(os.environ, started_here(uri))  # a master this process's owner did not start: the lab's
+        own = started_here(uri)
+        if not own and mode != LAB and not _nodes_besides_rosout():
+            # Lab mode only because somebody else started it (the lab PC's roscore, or one left open at home):
+            # one line with both readings, rather than every lab check failing on an empty master.
+            finding = foreign_master_finding(uri)
+            say(finding.line())
+            return [finding]
+        mode = decide_mode(os.environ, own)  # a master this process's owner did not start: the lab's
     if simulate and mode == HOME and not reachable:
         try:
             with home_simulation(say):

@@ -188,3 +188,21 @@ def test_the_widget_walk_through_skips_the_piston_when_skip_is_pressed(ros_env, 
         doctor.close()
     assert "no live reading" not in " ".join(doctor.lines)
     assert {f.item for f in doctor.findings} >= {"max_sensor_force", "pad"}
+
+
+@pytest.mark.ros
+def test_a_bare_master_the_toolkit_did_not_start_is_one_line_with_the_cause_and_both_fixes(foreign_roscore, ros_env):
+    env = dict(ros_env, ROS_MASTER_URI=foreign_roscore.uri)  # as a roscore left open on 11311 at home
+    for key in ("HRI_MODE", OWN_MASTER_ENV):
+        env.pop(key, None)
+    proc = _doctor(env)
+    out = proc.stdout
+    assert proc.returncode == 1, out + proc.stderr
+    failed = [line for line in out.splitlines() if line.startswith("FAIL")]
+    assert failed == [_line(out, "ROS master")], out
+    assert f"a ROS master at {foreign_roscore.uri} that the toolkit did not start" in failed[0]
+    assert "on the lab PC this is right" in failed[0] and "at home stop that roscore" in failed[0]
+    assert "started the simulated lab" not in out  # nothing simulated starts on a master that may carry the robot
+    assert master_reachable(foreign_roscore.uri)
+    as_the_lab = _doctor(dict(env, HRI_MODE="lab"), "--no-sim").stdout  # asked for: every lab check
+    assert _line(as_the_lab, "ROS master").startswith("ok") and _line(as_the_lab, "robot").startswith("FAIL")
