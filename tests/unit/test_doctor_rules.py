@@ -21,6 +21,7 @@ from hri_teleop.core.doctor import (
     calibration_finding,
     exit_code,
     expected_board_hz,
+    foreign_master_finding,
     governor_finding,
     kernel_finding,
     master_finding,
@@ -218,3 +219,11 @@ def test_a_printed_line_reads_back_as_its_finding(finding: Finding) -> None:
                                   "ok", ""])
 def test_other_lines_are_not_findings(line: str) -> None:
     assert Finding.from_line(line) is None
+
+
+def test_a_bare_master_somebody_else_started_fails_once_naming_it_and_the_fix_at_home_and_in_the_lab() -> None:
+    finding = foreign_master_finding("http://localhost:11311")
+    assert (finding.status, finding.item) == (FAIL, "ROS master")
+    assert finding.detail.startswith("a ROS master at http://localhost:11311 that the toolkit did not start")
+    assert "start the lab's launch file" in finding.fix and "at home stop that roscore" in finding.fix
+    assert Finding.from_line(finding.line()) == finding
