@@ -322,7 +322,7 @@ def file_reader(read_bytes: Callable[[str], bytes]) -> FileText:
             raise RosparamModelError(f"file [{name}] does not exist") from None
         except (OSError, UnicodeDecodeError) as exc:
             detail = " ".join(str(exc).split())[:200]
-            raise RosparamModelError(f"file [{name}] cannot be read ({type(exc).__name__}: {detail})") from None
+            raise RosparamModelError(f"file [{name}] cannot be read ({detail})") from None
     return read
 
 

@@ -5,7 +5,9 @@ The cell's output carries the values as JSON under a MIME type of the course's o
 autograde the grader reads that output from the autograded notebook and applies the cell's rule in
 its own process (:mod:`hri_teleop.grading.batch.notebook_judge`): nothing the kernel decides gives a
 point. At home ``hand_in`` runs the same rule on the same plain data, so the student sees the verdict
-the grader will give; a wrong answer ends the cell with one line saying why. Runs on Python 3.8.
+the grader will give; a wrong answer ends the cell with one line saying why. The cells of Ex. 3 and 4 judge
+what the notebook's rosparam commands do: here, as in the grader, those values are worked out from the cells
+this kernel ran (:mod:`hri_teleop.core.rosparam_model`), not read back from the server. Runs on Python 3.8.
 """
 
 from __future__ import annotations
@@ -16,7 +18,7 @@ from typing import Any, Dict, List
 
 from hri_teleop.core.errors import HriTeleopError
 from hri_teleop.course.errors import CourseError
-from hri_teleop.grading.judge.notebook_answers import MAX_ANSWER_BYTES, MIME, has_rule, judge
+from hri_teleop.grading.judge.notebook_answers import COMMAND_CELLS, MAX_ANSWER_BYTES, MIME, command_values, has_rule, judge
 
 __all__ = ["hand_in", "plain", "WrongAnswer"]
 
@@ -82,6 +84,38 @@ def _publish(payload: Dict[str, Any], text: str) -> None:
     publish_display_data({MIME: payload, "text/plain": text})
 
 
+_FILE_CAP_BYTES = 256 * 1024
+
+
+def _read_capped(name: str) -> bytes:
+    with open(name, "rb") as fh:
+        data = fh.read(_FILE_CAP_BYTES + 1)
+    if len(data) > _FILE_CAP_BYTES:
+        raise OSError(f"larger than {_FILE_CAP_BYTES // 1024} kB")
+    return data
+
+
+def _worked_out(grade_id: str) -> Any:
+    """The values of a command cell (Ex. 3, 4) from the rosparam commands of the cells this kernel ran, as the
+    grader works them out from the notebook; None outside a kernel (a script keeps the values it passes)."""
+    try:
+        from IPython import get_ipython  # noqa: PLC0415 - only in a kernel
+    except ImportError:
+        return None
+    shell = get_ipython()
+    if shell is None:
+        return None
+    import yaml  # noqa: PLC0415 - only for the cells of Ex. 3 and 4
+
+    from hri_teleop.core.rosparam_model import file_reader, shell_commands, work_out, yaml_reader  # noqa: PLC0415
+    from hri_teleop.core.yamlfile import BoundedYamlError, load_bounded_all  # noqa: PLC0415 - as above
+
+    commands = shell_commands(str(cell) for cell in shell.history_manager.input_hist_raw)
+    tree, dumps, notes = work_out(commands, yaml_reader(load_bounded_all, (yaml.YAMLError, BoundedYamlError)),
+                                  file_reader(_read_capped))
+    return command_values(grade_id, tree, dumps, notes)
+
+
 def hand_in(grade_id: str, **values: Any) -> None:
     """Hand the student's ``values`` of the autograded cell ``grade_id`` to the grader, and show its verdict.
 
@@ -90,6 +124,10 @@ def hand_in(grade_id: str, **values: Any) -> None:
     """
     if not has_rule(grade_id):
         raise CourseError(f"hand_in: no graded cell {grade_id!r}; use the grade id of the cell's nbgrader metadata")
+    if grade_id in COMMAND_CELLS:
+        worked_out = _worked_out(grade_id)
+        if worked_out is not None:
+            values = worked_out
     data = {name: plain(value) for name, value in values.items()}
     encoded = json.dumps({"grade_id": grade_id, "values": data}, ensure_ascii=False, allow_nan=False)
     if len(encoded.encode("utf-8")) > MAX_ANSWER_BYTES:

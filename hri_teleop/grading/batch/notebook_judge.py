@@ -18,6 +18,7 @@ from pathlib import Path
 from typing import Any, Dict, List, Optional, Tuple
 
 from hri_teleop.core.errors import HriTeleopError
+from hri_teleop.grading.batch.notebook_commands import command_cells_values
 from hri_teleop.grading.judge.notebook_answers import MAX_ANSWER_BYTES, MIME, apply_rule, expectations, has_rule
 from hri_teleop.grading.run.untrusted_files import UntrustedFileError, read_regular
 
@@ -44,6 +45,7 @@ class CellVerdict:
     max_score: float
     message: str
     values: Optional[Dict[str, Any]] = None
+    source: str = "handed in"
 
 
 def _first_line(text: Any, limit: int) -> str:
@@ -96,20 +98,25 @@ def handed_in(cell: Dict[str, Any]) -> Tuple[Optional[Dict[str, Any]], str]:
 
 
 def judge_cell(notebook: str, grade_id: str, max_score: float, cell: Optional[Dict[str, Any]],
-               expected: Optional[Dict[str, Any]]) -> CellVerdict:
+               expected: Optional[Dict[str, Any]], worked_out: Optional[Dict[str, Any]] = None) -> CellVerdict:
     """The verdict on ``cell`` (None: not in the notebook) by the rule of ``grade_id`` against ``expected``
-    (None: the grader holds no rule for it, and gives no point)."""
+    (None: the grader holds no rule for it, and gives no point). ``worked_out``: the values the grader found
+    itself (Ex. 3 and 4: from the notebook's commands), judged in place of what the cell handed in."""
     if expected is None or not has_rule(grade_id):
         return CellVerdict(notebook, grade_id, 0.0, max_score, "not judged: the grader holds no rule for this cell; "
                            "course staff will grade it (instructors: docs/instructors.md, a new graded cell)")
     if cell is None:
         return CellVerdict(notebook, grade_id, 0.0, max_score, "not judged: the cell is not in the notebook "
                            "handed in")
-    values, why = handed_in(cell)
+    if worked_out is not None and "not_judged" in worked_out:
+        return CellVerdict(notebook, grade_id, 0.0, max_score, f"not judged: {worked_out['not_judged']}")
+    values, why = (worked_out, "") if worked_out is not None else handed_in(cell)
     if values is None:
         return CellVerdict(notebook, grade_id, 0.0, max_score, why)
     verdict = apply_rule(grade_id, values, expected)
-    return CellVerdict(notebook, grade_id, max_score if verdict.passed else 0.0, max_score, verdict.message, values)
+    source = "worked out by the grader from your rosparam commands" if worked_out is not None else "handed in"
+    return CellVerdict(notebook, grade_id, max_score if verdict.passed else 0.0, max_score, verdict.message, values,
+                       source)
 
 
 def verdict_outputs(verdict: CellVerdict) -> List[Dict[str, Any]]:
@@ -119,7 +126,7 @@ def verdict_outputs(verdict: CellVerdict) -> List[Dict[str, Any]]:
         shown = json.dumps(verdict.values, ensure_ascii=False, sort_keys=True)
         shown = shown if len(shown) <= _SUMMARY_CHARS else shown[:_SUMMARY_CHARS - 3] + "..."
         outputs.append({"output_type": "display_data", "metadata": {},
-                        "data": {"text/plain": f"handed in: {shown}"}})
+                        "data": {"text/plain": f"{verdict.source}: {shown}"}})
     points = "point" if verdict.max_score == 1 else "points"
     outputs.append({"output_type": "stream", "name": "stdout",
                     "text": f"the grader: {verdict.score:g} of {verdict.max_score:g} {points}: {verdict.message}\n"})
@@ -141,16 +148,20 @@ def _cells_by_id(notebook: Dict[str, Any]) -> Dict[str, Dict[str, Any]]:
 
 def judge_notebook(name: str, notebook: Optional[Dict[str, Any]], tests: List[Tuple[str, float]],
                    expected: Dict[str, Optional[Dict[str, Any]]],
-                   missing: str = "not judged: the notebook was not handed in") -> List[CellVerdict]:
+                   missing: str = "not judged: the notebook was not handed in",
+                   folder: Optional[Path] = None) -> List[CellVerdict]:
     """Judge the autograded test cells ``tests`` ((grade id, points)) of ``notebook`` (None: there is none, and
-    ``missing`` says why); each judged cell's outputs are replaced by the grader's verdict in ``notebook``."""
+    ``missing`` says why); each judged cell's outputs are replaced by the grader's verdict in ``notebook``.
+    ``folder``: the notebook's, where the files its rosparam commands load are (Ex. 3 and 4)."""
     if notebook is None:
         return [CellVerdict(name, grade_id, 0.0, points, missing) for grade_id, points in tests]
     cells = _cells_by_id(notebook)
+    worked_out = command_cells_values(folder, notebook, [g for g, _ in tests if g in cells]) \
+        if folder is not None else {}
     verdicts = []
     for grade_id, points in tests:
         cell = cells.get(grade_id)
-        verdict = judge_cell(name, grade_id, points, cell, expected.get(grade_id))
+        verdict = judge_cell(name, grade_id, points, cell, expected.get(grade_id), worked_out.get(grade_id))
         if cell is not None:
             cell["outputs"] = verdict_outputs(verdict)
         verdicts.append(verdict)
@@ -239,7 +250,7 @@ def judge_submission(course_root: Path, db_url: str, course_id: str, student: st
         expected = {grade_id: expectations(grade_id) if has_rule(grade_id) else None for grade_id, _ in cells}
         path = folder / f"{name}.ipynb"
         notebook, why = _read_notebook(path)
-        verdicts += judge_notebook(name, notebook, cells, expected, why)
+        verdicts += judge_notebook(name, notebook, cells, expected, why, folder)
         if notebook is not None:
             _write_notebook(path, notebook)
     with guard:

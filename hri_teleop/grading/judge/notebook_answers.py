@@ -5,19 +5,24 @@ grader judges them in its own process (:mod:`hri_teleop.grading.batch.notebook_j
 :func:`expectations` it computes itself. A rule is pure, never raises on what a student hands in, and its
 message names the cause, never the value to find. The kernel runs the same rule at home only to show the
 verdict (Python 3.8).
+
+The cells of Ex. 3 and 4 (:data:`COMMAND_CELLS`) judge what the notebook's ``rosparam`` commands do, not a
+value the kernel read back: the grader works the commands out itself (:mod:`hri_teleop.core.rosparam_model`,
+in a box) from the notebook handed in, so a hook in the kernel has nothing to report that counts.
 """
 
 from __future__ import annotations
 
 import functools
 import math
+import posixpath
 from dataclasses import dataclass
-from typing import Any, Callable, Dict, Mapping, Optional, Tuple
+from typing import Any, Callable, Dict, Mapping, Optional, Sequence, Tuple
 
 from hri_teleop.core.errors import HriTeleopError
 
 __all__ = ["MIME", "MAX_ANSWER_BYTES", "Verdict", "AnswerRuleError", "RULES", "TOLERANCES", "expectations",
-           "judge", "apply_rule", "has_rule"]
+           "judge", "apply_rule", "has_rule", "COMMAND_CELLS", "DUMP_FILE", "command_values"]
 
 #: The MIME type of a cell's answer output: a JSON object {"grade_id": ..., "values": {...}}.
 MIME = "application/vnd.hri-teleop.answer+json"
@@ -60,6 +65,12 @@ EX10_DROP_M = 0.03
 STUDY = (6, 0)
 #: Ex. 4: what a dump of the whole server holds (a key of the student's file and one of the master's).
 DUMP_KEYS = ("robot_name", "rosdistro")
+#: Ex. 4 f): the file the whole server is dumped into, named from the notebook's folder.
+DUMP_FILE = "new_robot_params.yaml"
+#: grade id -> the parameter its rule reads from what the notebook's rosparam commands leave on the server.
+COMMAND_CELLS: Dict[str, str] = {"ex3_integer": "/ex3/integer", "ex3_text": "/ex3/text", "ex3_items": "/ex3/items",
+                                 "ex4_loaded": "/robot_mass", "ex4_dumped": ""}
+_NOTE_CHARS = 240
 #: Ex. 14: the operator's run (the egg; the longest simulated run, s).
 OPERATOR_RUN = ("egg", 120.0)
 #: Ex. 14: the level of the test.
@@ -122,6 +133,15 @@ def _ex2_type(values: Values, expected: Mapping[str, Any]) -> Verdict:
                  "what it prints, package/Type")
 
 
+def _with_note(values: Values, message: str) -> str:
+    """``message``, and the first of the notebook's rosparam commands that fails, if one does."""
+    notes = values.get("notes")
+    if isinstance(notes, list) and notes and isinstance(notes[0], str):
+        note = notes[0] if len(notes[0]) <= _NOTE_CHARS else notes[0][:_NOTE_CHARS - 3] + "..."
+        return f"{message} (in your commands, {note})"
+    return message
+
+
 def _ex3_type(name: str, kind: type, hint: str) -> Rule:
     def rule(values: Values, _expected: Mapping[str, Any]) -> Verdict:
         missing = _missing(values, "value")
@@ -130,7 +150,10 @@ def _ex3_type(name: str, kind: type, hint: str) -> Rule:
         value = values["value"]
         if type(value) is kind:
             return Verdict(True, RIGHT)
-        return _fail(f"{name} is {_shown(value)}: {hint}")
+        if value is None:
+            return _fail(_with_note(values, f"your notebook's commands leave {name} unset: write them as "
+                                            f"`!rosparam set {name} ...` lines in the answer cell"))
+        return _fail(_with_note(values, f"{name} is {_shown(value)}: {hint}"))
 
     return rule
 
@@ -141,21 +164,23 @@ def _ex4_loaded(values: Values, expected: Mapping[str, Any]) -> Verdict:
         return missing
     value = values["robot_mass"]
     if value is None:
-        return _fail("/robot_mass is not on the server: load your file (rosparam load hri_lab/config/robot_params.yaml)")
+        return _fail(_with_note(values, "your notebook's commands leave /robot_mass unset: load your file with "
+                                        "`!rosparam load hri_lab/config/robot_params.yaml` in the answer cell"))
     if not isinstance(value, bool) and isinstance(value, (int, float)) and value == expected["robot_mass"]:
         return Verdict(True, RIGHT)
-    return _fail(f"/robot_mass is {_shown(value)}, not Table 1's value: fix the file and load it again")
+    return _fail(_with_note(values, f"/robot_mass is {_shown(value)}, not Table 1's value: fix the file and load "
+                                    "it again"))
 
 
 def _ex4_dumped(values: Values, expected: Mapping[str, Any]) -> Verdict:
     if values.get("file") is not True:
-        return _fail("no new_robot_params.yaml next to this notebook: dump the server "
-                     "(rosparam dump new_robot_params.yaml)")
+        return _fail(_with_note(values, f"your notebook's commands write no {DUMP_FILE} next to it: dump the "
+                                        f"server with `!rosparam dump {DUMP_FILE}` in the answer cell"))
     keys = values.get("keys")
     wanted = expected["keys"]
     if isinstance(keys, list) and all(key in keys for key in wanted):
         return Verdict(True, RIGHT)
-    return _fail("dump the whole server (rosparam dump new_robot_params.yaml), after loading your file")
+    return _fail(_with_note(values, f"dump the whole server (rosparam dump {DUMP_FILE}), after loading your file"))
 
 
 def _ex10_drives(values: Values, expected: Mapping[str, Any]) -> Verdict:
@@ -314,6 +339,25 @@ def expectations(grade_id: str) -> Dict[str, Any]:
         return {}
     raise AnswerRuleError(f"no rule for the graded cell {grade_id!r}: write one in "
                           "hri_teleop/grading/judge/notebook_answers.py (docs/instructors.md)")
+
+
+def command_values(grade_id: str, tree: Mapping[str, Any], dumps: Sequence[Mapping[str, Any]],
+                   notes: Sequence[str] = ()) -> Dict[str, Any]:
+    """The values the rule of a :data:`COMMAND_CELLS` cell judges, from what the notebook's rosparam commands
+    leave: ``tree`` (the server), ``dumps`` (each with ``file`` and ``keys``) and the ``notes`` of failing ones."""
+    from hri_teleop.core.rosparam_model import value_at  # noqa: PLC0415 - only for the cells of Ex. 3 and 4
+
+    kept = [str(n) for n in list(notes)[:3]]
+    if grade_id == "ex4_dumped":
+        last = None
+        for dump in dumps:
+            if posixpath.normpath(str(dump.get("file", ""))) == DUMP_FILE:
+                last = dump
+        return {"file": last is not None, "keys": list(last.get("keys", [])) if last is not None else None,
+                "notes": kept}
+    found, value = value_at(tree, COMMAND_CELLS[grade_id])
+    name = "robot_mass" if grade_id == "ex4_loaded" else "value"
+    return {name: value if found else None, "notes": kept}
 
 
 def has_rule(grade_id: str) -> bool:

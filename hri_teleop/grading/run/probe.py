@@ -1,8 +1,8 @@
 """What runs inside a student sandbox: load, parse or import a student's file, report as JSON.
 
 Started isolated by the grader (``python -I``: :func:`hri_teleop.grading.judge.harness.isolated_module_argv`)
-as ``probe rosparam-load|yaml-load FILE OUT``, ``probe launch-parse FILE OUT [name:=value ...]`` or
-``probe teleop-parts FILE PLAN OUT``; never in the grader's own process (docs/grading-internals.md).
+as ``probe rosparam-load|yaml-load FILE OUT``, ``probe launch-parse FILE OUT [name:=value ...]``,
+``probe rosparam-commands COMMANDS OUT`` or ``probe teleop-parts FILE PLAN OUT``; never in the grader's own process (docs/grading-internals.md).
 YAML goes through the bounded safe loader (:func:`hri_teleop.core.yamlfile.load_bounded_all`): no
 Python tags, no eval, no alias blow-up.
 """
@@ -12,6 +12,7 @@ from __future__ import annotations
 import importlib.util
 import json
 import math
+import os
 import sys
 import traceback
 from pathlib import Path
@@ -19,6 +20,7 @@ from typing import Any, Dict, List, Optional, Sequence, Tuple
 
 import yaml
 
+from hri_teleop.core.rosparam_model import file_reader, work_out, yaml_reader
 from hri_teleop.core.yamlfile import BoundedYamlError, disarm_rosparam_tags, load_bounded, load_bounded_all
 from hri_teleop.grading.run.records import (
     LaunchNode,
@@ -26,6 +28,7 @@ from hri_teleop.grading.run.records import (
     PartsCaseResult,
     PartsTick,
     ProbeResult,
+    RosparamCommandsResult,
     RosparamResult,
     TeleopPartsPlan,
     TeleopPartsResult,
@@ -97,6 +100,38 @@ def rosparam_load(path: Path) -> RosparamResult:
             target = target.setdefault(part, {})
         target.update(values)
     return RosparamResult(ok=True, params=_plain(merged))
+
+
+#: A file a notebook's command loads (robot_params.yaml is a few hundred bytes).
+COMMAND_FILE_CAP_BYTES = 256 * 1024
+_NOTES_KEPT = 20
+
+
+def rosparam_commands(path: Path) -> RosparamCommandsResult:
+    """A notebook's rosparam commands (``{"commands": [argv, ...]}`` in ``path``, written by the grader) worked
+    out on a fresh server; the files they load are read from this folder as submitted files are."""
+    try:
+        data = json.loads(read_regular(path, COMMAND_FILE_CAP_BYTES * 4).decode("utf-8"))
+        commands = [[str(a) for a in argv] for argv in data["commands"]]
+        refused = {str(k): str(v) for k, v in dict(data.get("refused", {})).items()}
+    except (OSError, ValueError, KeyError, TypeError) as exc:
+        return RosparamCommandsResult(error=_one_line(exc))
+    root = Path.cwd()
+
+    def read(name: str) -> bytes:
+        """As any submitted file (no link, no FIFO, capped); the messages name it from the student's folder."""
+        if name in refused:
+            raise OSError(refused[name])
+        if not os.path.lexists(root / name):
+            raise FileNotFoundError(name)
+        try:
+            return read_regular(root / name, COMMAND_FILE_CAP_BYTES, root=root)
+        except UntrustedFileError as exc:
+            raise OSError(str(exc).replace(f"{root}/", "")) from None
+
+    tree, dumps, notes = work_out(commands, yaml_reader(load_bounded_all, (yaml.YAMLError, BoundedYamlError)),
+                                  file_reader(read))
+    return RosparamCommandsResult(ok=True, tree=_plain(tree), dumps=dumps, notes=notes[:_NOTES_KEPT])
 
 
 def yaml_load(path: Path) -> YamlResult:
@@ -243,6 +278,8 @@ def main(argv: Optional[Sequence[str]] = None) -> int:
         _write(Path(args[2]), rosparam_load(target))
     elif command == "yaml-load":
         _write(Path(args[2]), yaml_load(target))
+    elif command == "rosparam-commands":
+        _write(Path(args[2]), rosparam_commands(target))
     elif command == "launch-parse":
         _write(Path(args[2]), launch_parse(target, args[3:]))
     elif command == "teleop-parts":

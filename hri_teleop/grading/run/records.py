@@ -469,6 +469,17 @@ class RosparamResult(ProbeResult):
 
 
 @dataclass(frozen=True)
+class RosparamCommandsResult(ProbeResult):
+    """A notebook's ``rosparam`` commands worked out on a fresh server (:mod:`hri_teleop.core.rosparam_model`):
+    the tree they leave, each dump (``file``, ``namespace``, ``keys``: the dumped tree's top-level names) and a
+    note for each command that fails as rosparam would."""
+
+    tree: Dict[str, Any] = field(default_factory=dict)
+    dumps: List[Dict[str, Any]] = field(default_factory=list)
+    notes: List[str] = field(default_factory=list)
+
+
+@dataclass(frozen=True)
 class YamlResult(ProbeResult):
     """A student's YAML (graph.yaml) read with the bounded safe loader: its one document as plain data
     (mapping keys as strings; ``{"__repr__": ...}`` for what JSON has no type for)."""
