@@ -1,5 +1,7 @@
-"""Judging the nodes students write: ``teleoperation.py``'s parts (Ex. 8) here; the node (Ex. 9) in
-compare_teleop_node, ``mapping_node.py`` (Ex. 5) in compare_mapping (re-exported here).
+"""Judging the methods students write in ``teleoperation.py`` (Ex. 8) against pad-event traces.
+
+The node (Ex. 9) is judged in compare_teleop_node, ``mapping_node.py`` (Ex. 5) in compare_mapping;
+both are re-exported here.
 """
 
 from __future__ import annotations
