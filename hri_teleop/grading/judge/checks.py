@@ -23,6 +23,7 @@ from hri_teleop.grading.cases import inputs as C
 from hri_teleop.grading.cases.templates import TemplateError, kind_of, make_template
 from hri_teleop.grading.judge import compare
 from hri_teleop.grading.judge.compare_common import STUDENT_PACKAGES
+from hri_teleop.grading.judge.compare_mapping import TEMPLATE_NOTE
 from hri_teleop.grading.judge.compare_teleop_node import real_time_note
 from hri_teleop.grading.judge.graph import grade_graph, live_graph
 from hri_teleop.grading.judge.harness import (
@@ -124,12 +125,14 @@ def grade_mapping_node(path: PathLike, *, seed: Optional[int] = None, out_dir: O
     return finish_check("mapping-node", run, parts, seed)
 
 
-def _left_as_template(run: CheckRun, key: str) -> bool:
-    """The student's deliverable is still the template handed out (every part YOUR CODE HERE unfilled)."""
-    target = run.space.files.get(key)
+def _left_as_template(run: CheckRun, key: str, submission: Optional[Path] = None) -> bool:
+    """The student's deliverable is still the template handed out (every part YOUR CODE HERE unfilled): its
+    workspace copy, or with ``submission`` (the package's folder) the file handed in (the lab's may stand in)."""
+    target = run.space.originals.get(key) if submission is not None else run.space.files.get(key)
     solution = SOLUTIONS / DELIVERABLES[key]
     try:
-        text = read_regular(target, root=run.space.package).decode("utf-8") if target is not None else ""
+        root = submission if submission is not None else run.space.package
+        text = read_regular(target, root=root).decode("utf-8") if target is not None else ""
         template = make_template(solution.read_text(encoding="utf-8"), kind_of(solution)) if solution.is_file() else ""
     except (OSError, UnicodeDecodeError, TemplateError):  # UntrustedFileError is an OSError
         return False
@@ -298,6 +301,8 @@ def grade_teleoperation_launch(path: PathLike, *, seed: Optional[int] = None,
     observation: Optional[TeleopLaunchSimObservation] = run.session(plan, timeout_s=120.0) if plan is not None else None
     parts.append(compare.compare_teleop_launch_sim(parsed, observation, C.launch_sim_case(), run.out_dir))
     notes = _clock_notes(observation, "teleoperation.launch: ")
+    if _left_as_template(run, "mapping_node", find_package_root(path)):
+        notes.append(TEMPLATE_NOTE)  # the lab's ran in its place: Ex. 12 d) would go unnoticed
     return finish_check("teleoperation-launch", run, parts, None, notes)
 
 
