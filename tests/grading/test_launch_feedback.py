@@ -147,3 +147,10 @@ def test_a_sensor_script_from_another_package_is_charged_in_the_nodes_part_only(
 ])
 def test_one_teleoperation_launch_mistake_fails_one_part(nodes, params, key):
     assert list(_failed(_teleop(nodes, params))) == [key]
+
+
+@pytest.mark.parametrize("value, words", [("650", 'write value="650" without type="str"'),
+                                          ("seven hundred", 'write value="<the count>" without type="str"')])
+def test_a_max_sensor_force_written_as_text_is_told_to_drop_the_type_with_the_students_own_count(value, words):
+    failed = _failed(_teleop(TELEOP_NODES, {**TELEOP_PARAMS, "/max_sensor_force": value}))
+    assert list(failed) == ["param"] and words in failed["param"] and "700" not in failed["param"]

@@ -137,8 +137,9 @@ def check_max_param(params: Mapping[str, object]) -> Tuple[bool, str]:
         return False, ("the launch file does not set /max_sensor_force: set it with a <param> element outside "
                        "the <node> elements (handout Ex. 6)")
     if isinstance(value, bool) or not isinstance(value, (int, float)):
+        count = written(value) if isinstance(value, str) and value.strip().isdigit() else "<the count>"
         return False, (f"/max_sensor_force is {value!r} ({type(value).__name__}); it must be a number of counts: "
-                       "write value=\"700\" without type=\"str\"")
+                       f"write value=\"{count}\" without type=\"str\"")
     if not 0 < value <= ADC_MAX_COUNT:
         return False, f"/max_sensor_force is {value!r}; it must be a count 0 < value <= {ADC_MAX_COUNT} (about 700)"
     return True, ""
