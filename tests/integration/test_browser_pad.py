@@ -19,6 +19,8 @@ import pytest
 from jupyterlab_session import JupyterLab, needs_browser, output_text, process_gone, wait, write_notebook
 
 from hri_teleop.core.config import load_teleop_config
+from hri_teleop.ros.master import ManagedProcess
+from hri_teleop.ros.master_api import NO_MASTER_URI
 
 pytestmark = pytest.mark.ros
 
@@ -116,6 +118,93 @@ def test_a_pad_in_the_browser_drives_the_node_rumbles_and_stops_the_robot_when_u
         if kernel_pid is not None:
             try:
                 wait(lambda: process_gone(kernel_pid), 10, "the kernel to exit")
+            except AssertionError:
+                os.kill(kernel_pid, signal.SIGKILL)  # ours: started by the server this test started
+                raise
+
+
+# -- the student's route: PAD = "browser" in a notebook at home (the kernel's own master) ---------------------
+ANSWER_KEY = REPO / "solutions" / "hri_lab"  # the answer key's node stands in as the student's
+STUDENT_CELLS = [
+    "import os\nimport rospy\nfrom std_msgs.msg import Float32\nfrom hri_teleop.course import ensure_ros, lab\n"
+    "ros = ensure_ros()\nprint('kernel pid', os.getpid(), 'master', os.environ['ROS_MASTER_URI'], ros.mode)",
+    # the piston pressed: the student's node rumbles with /force_mapped
+    "force = rospy.Publisher('/force_mapped', Float32, queue_size=1)\n"
+    "pressing = rospy.Timer(rospy.Duration(0.05), lambda _event: force.publish(Float32(0.8)))",
+    "PAD = 'browser'\nrobot = lab.start_robot(object='none')\n"
+    f"node = lab.run_student({str(ANSWER_KEY / 'scripts' / 'teleoperation.py')!r}, 'teleoperation', "
+    "**lab.pad_params(PAD))\nlab.browser_pad(PAD)",
+]
+
+
+def _heights(echo: ManagedProcess) -> list:
+    """The hand's heights ``rostopic echo /lab_sim/ee_pose/pose/position/z`` printed so far."""
+    return [float(line) for line in echo.output().splitlines() if re.fullmatch(r"-?\d+\.\d+(e-?\d+)?", line.strip())]
+
+
+def test_a_pad_in_the_browser_drives_the_students_own_node_and_the_simulated_arm_and_the_rumble_comes_back(
+        tmp_path, ros_env):
+    needs_browser()
+    pytest.importorskip("selenium.webdriver")
+    started = time.monotonic()
+    root = tmp_path / "notebooks"
+    root.mkdir()
+    write_notebook(root / "ex10.ipynb", STUDENT_CELLS)
+    env = dict(ros_env, ROS_MASTER_URI=NO_MASTER_URI)  # nothing answers: the kernel starts its own (home)
+    lab = echo = None
+    kernel_pid = None
+    try:
+        lab = JupyterLab(tmp_path, root, env)
+        driver = lab.open("ex10.ipynb")
+        driver.execute_script(FAKE_PAD)
+        driver.execute_script("window.jupyterapp.commands.execute('notebook:run-all-cells');")
+        try:
+            status = wait(lambda: (lambda s: s if "drives /teleoperation" in s or "Error" in output_text(driver)
+                                   else None)(driver.execute_script(_STATUS)), 120,
+                          "the browser pad to drive the student's node", poll_s=0.5)
+        except AssertionError as exc:
+            raise AssertionError(f"{exc}; the notebook shows: {output_text(driver)[-2000:]}") from None
+        text = output_text(driver)
+        assert "Traceback" not in text and "Error" not in text and "refused" not in text, text[-2000:]
+        assert "DualSense" in status and "on the pad" in status, status
+        found = re.search(r"kernel pid (\d+) master (\S+) home", text)
+        assert found, text[-2000:]
+        kernel_pid, uri = int(found.group(1)), found.group(2)
+        echo = ManagedProcess(["rostopic", "echo", "/lab_sim/ee_pose/pose/position/z"],
+                              dict(env, ROS_MASTER_URI=uri, PYTHONUNBUFFERED="1"), tmp_path / "z.log")
+        start_z = wait(lambda: _heights(echo), 30, "the simulated arm's hand height")[-1]
+
+        pushed_at = time.monotonic()
+        driver.execute_script("window.__pad.axes[3] = -1.0;")  # right stick up (the browser reads up as -1): +z
+        wait(lambda: _heights(echo)[-1] > start_z + 0.03, 30, "the hand to rise 3 cm through the student's node")
+        rise_s = time.monotonic() - pushed_at
+        effects = wait(lambda: [e for e in driver.execute_script("return window.__effects;")
+                                if e[0] == "dual-rumble" and e[1]["strongMagnitude"] > 0.0], 10,
+                       "the student's node's rumble to reach the pad's playEffect")
+        assert effects[-1][1]["strongMagnitude"] == pytest.approx(0.8, abs=0.02), effects[-1]
+        bar = driver.execute_script("return document.querySelector('.hri-bp-bar').style.width;")
+        assert bar not in ("", "0%"), bar
+
+        unplugged_at = time.monotonic()
+        driver.execute_script("window.__pad.connected = false; window.__pads = [null, null, null, null];")
+
+        def at_rest():
+            heights = _heights(echo)
+            return len(heights) > 20 and max(heights[-20:]) - min(heights[-20:]) < 1e-4
+        wait(at_rest, 30, "the hand to come to rest after the pad was unplugged (input lost)")
+        stop_s = time.monotonic() - unplugged_at
+        said = driver.execute_script(_STATUS)
+        assert "no gamepad" in said, said
+        print(f"\nstudent's node, browser pad: 3 cm up in {rise_s:.2f} s, unplugged to rest {stop_s:.2f} s, "
+              f"{len(effects)} rumble effects ({effects[-1][1]['strongMagnitude']:.2f}); {time.monotonic() - started:.0f} s")
+    finally:
+        if echo is not None:
+            echo.stop()
+        if lab is not None:
+            lab.stop()
+        if kernel_pid is not None:
+            try:
+                wait(lambda: process_gone(kernel_pid), 20, "the kernel to exit (its nodes and roscore with it)")
             except AssertionError:
                 os.kill(kernel_pid, signal.SIGKILL)  # ours: started by the server this test started
                 raise
