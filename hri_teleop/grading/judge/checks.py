@@ -281,8 +281,8 @@ def _clock_notes(observation: Optional[ClockedObservation], prefix: str = "", no
     return []
 
 
-_REAL_TIME_NOTE = ("the node did not tick with the grader's /clock (a loop paced by rospy.Rate does; time.sleep "
-                   "does not), so it was run in real time")
+_REAL_TIME_NOTE = ("a node did not publish at every tick of the grader's /clock (a loop kept by rospy.Rate, or by "
+                   "time.sleep in your files, follows it), so it was run in real time")
 
 
 @reusable("teleoperation-launch")
