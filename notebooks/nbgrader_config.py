@@ -1,7 +1,8 @@
 """nbgrader configuration of the HRI lab's Task 4 course (this folder is the course directory).
 
-Run nbgrader from here (``cd notebooks && nbgrader ...``) or through the Makefile
-(``make release``, ``make grade``); notebooks/README.md describes the course.
+Run nbgrader through the Makefile from a fresh shell (``make release``, ``make grade``, ``make formgrader``,
+``make feedback``, ``make release-feedback``, ``make nbgrader ARGS="..."``: nbgrader is in .venv only);
+notebooks/README.md describes the course.
 """
 
 import os

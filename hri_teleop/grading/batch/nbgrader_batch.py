@@ -544,7 +544,7 @@ def grade_course(course: Path, submitted: Path, out: Path, jobs: Optional[int] =
     progress(f"graded {len(rows) - len(not_graded)}/{len(rows)} student(s) in {time.monotonic() - started:.0f} s; "
              f"gradebook {nb.db_url.split('?')[0]}, results in {out} (grades.csv, report.html, lms.csv, "
              "<student>/feedback.txt)"
-             + (f"; {len(manual)} with answers to grade by hand (nbgrader formgrader)" if manual else ""))
+             + (f"; {len(manual)} with answers to grade by hand (make formgrader, then make feedback)" if manual else ""))
     return 2 if not_graded else 0
 
 
