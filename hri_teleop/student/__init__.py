@@ -15,7 +15,8 @@ The gamepad (teleoperation.py, the handout *Task 4: Teleoperation*, Ex. 8-9)
   JOYBUTTONDOWN           1.0  event type: a button was pressed (event.button: south, east, west, north ...)
   JOYBUTTONUP             1.0  event type: a button was released
   normalize_analog_input  1.0  the dead-zone filter of the handout's Figure 8: (value, deadzone) -> -1..1
-  open_gamepad            1.0  opens the pad: "pygame" (the lab's) or "virtual" (scripted, at home and in grading)
+  open_gamepad            1.0  opens the pad: "pygame" (the lab's) or "virtual" (scripted, at home and in grading);
+                               "browser" (the gamepad of the notebook's page, docs/browser-pad.md)
   TwistLimiter            1.0  ramps every twist inside the Franka's limits: step(target, dt_s) -> twist
 
 The sensor (FSR_sensor.py)
