@@ -56,6 +56,17 @@ def test_the_template_left_in_the_lab_package_is_named_as_the_template(folder):
     assert all(p.message.startswith("not judged: the node is the template") for p in result.parts[1:])
 
 
+def test_the_template_left_in_the_lab_package_is_named_by_the_launch_check_that_runs_the_labs_in_its_place(folder):
+    template = make_template((SOLUTIONS / "scripts" / "mapping_node.py").read_text(), "python")
+    files = {name: answer_text(name) for name in ("launch/teleoperation.launch", "scripts/teleoperation.py")}
+    package = write_package(folder / "lab", {**files, "scripts/mapping_node.py": template})
+    result = grade("teleoperation-launch", package, out_dir=folder / "out")
+    assert any("template as handed out" in n and "Ex. 12 d)" in n for n in result.notes), feedback_text([result])
+    answer_key = grade("teleoperation-launch", write_package(folder / "key", {
+        **files, "scripts/mapping_node.py": answer_text("scripts/mapping_node.py")}), out_dir=folder / "out2")
+    assert not any("template" in n for n in answer_key.notes), feedback_text([answer_key])
+
+
 def test_a_subscriber_typed_float32_costs_its_part_only_and_the_type_is_not_given_away(folder):
     result = grade("mapping-node", write_corpus_entry("mapping_subscriber_float32", folder), out_dir=folder / "out")
     failed = _messages(result)
