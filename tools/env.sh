@@ -34,9 +34,14 @@ if [ -n "$_hri_student" ] || [ -n "${HRI_STUDENT_PACKAGE:-}" ]; then
   unset _hri_rest
 fi
 unset _hri_student
-# Debian installs ROS package manifests under /usr/share.
+# Debian installs ROS package manifests under /usr/share; the message definitions without one get
+# theirs from make setup (.venv/share/hri-ros-msgs), so that rosmsg show finds std_msgs.
 if [ -z "${ROS_DISTRO:-}" ]; then
   case ":$ROS_PACKAGE_PATH:" in *":/usr/share:"*) ;; *) export ROS_PACKAGE_PATH="$ROS_PACKAGE_PATH:/usr/share" ;; esac
+  if [ -d "$_hri_root/.venv/share/hri-ros-msgs" ]; then
+    case ":$ROS_PACKAGE_PATH:" in *":$_hri_root/.venv/share/hri-ros-msgs:"*) ;;
+      *) export ROS_PACKAGE_PATH="$ROS_PACKAGE_PATH:$_hri_root/.venv/share/hri-ros-msgs" ;; esac
+  fi
 fi
 case ":$PATH:" in *":$_hri_root/.venv/bin:"*) ;; *) export PATH="$_hri_root/.venv/bin:$PATH" ;; esac
 # A machine without a resolvable hostname still talks to itself.

@@ -20,6 +20,8 @@ apt_packages=(
   python3-std-msgs python3-geometry-msgs python3-sensor-msgs
   python3-diagnostic-msgs python3-std-srvs
   python3-actionlib python3-actionlib-msgs python3-genpy
+  # the message definitions rosmsg show reads (the handout's `rostopic type /force_mapped | rosmsg show`)
+  ros-std-msgs ros-geometry-msgs ros-sensor-msgs ros-actionlib-msgs
   rospack-tools rosbash catkin python3-venv catkin-lint bubblewrap
   # System libraries the pip wheels load and do not carry: pinocchio (the simulated Panda, the 3D
   # view) needs libgomp and libquadmath, pygame's mixer glib. Present on most desktops, not on a
@@ -38,6 +40,7 @@ if [ "$edition" = student ]; then
     python3-std-msgs python3-geometry-msgs python3-sensor-msgs
     python3-diagnostic-msgs python3-std-srvs
     python3-actionlib python3-actionlib-msgs python3-genpy
+    ros-std-msgs ros-geometry-msgs ros-sensor-msgs ros-actionlib-msgs
     rospack-tools rosbash catkin python3-venv bubblewrap
     libgomp1 libquadmath0 libglib2.0-0
     # pip builds the simulated arm's compiled cycle with it (without, the arm runs in Python, slower)
@@ -50,6 +53,7 @@ if [ "$edition" != student ] && grep -qs '^ID=debian' /etc/os-release; then apt_
 # Tests check the "no root" path with a package list of their own.
 if [ -n "${HRI_SETUP_APT_PACKAGES:-}" ]; then read -r -a apt_packages <<<"$HRI_SETUP_APT_PACKAGES"; fi
 uid="$(id -u)"
+debian_ros=0
 [ -z "${HRI_SETUP_PRETEND_UID:-}" ] || uid="$HRI_SETUP_PRETEND_UID"
 
 if [ -n "${CONDA_PREFIX:-}" ] && [ -x "$CONDA_PREFIX/bin/python" ] && "$CONDA_PREFIX/bin/python" -c 'import rospy' 2>/dev/null; then
@@ -96,6 +100,7 @@ else
     "${sudo_cmd[@]}" apt-get install -y -qq --no-install-recommends "${missing[@]}" >/dev/null
   fi
   system_python=/usr/bin/python3
+  debian_ros=1
 fi
 
 if ! "$system_python" -c 'import ensurepip, venv' 2>/dev/null; then
@@ -107,6 +112,22 @@ if [ ! -x "$venv/bin/python" ] || ! "$venv/bin/python" -c 'import sys' 2>/dev/nu
   say "creating $venv (with system site packages, so rospy is importable)"
   rm -rf "$venv"
   "$system_python" -m venv --system-site-packages "$venv"
+fi
+
+# Debian keeps message definitions (ros-std-msgs, ...) in /usr/share/<package>/msg, but their
+# package.xml comes only with the C++ -dev packages: without one, rospack cannot find the package
+# and `rosmsg show std_msgs/Float32` fails ("unknown package [std_msgs]"). A manifest for each
+# such folder, in .venv/share/hri-ros-msgs, which tools/env.sh puts on ROS_PACKAGE_PATH.
+if [ "$debian_ros" = 1 ]; then
+  for msg in /usr/share/*/msg; do
+    package="$(basename "$(dirname "$msg")")"
+    manifest="$venv/share/hri-ros-msgs/$package"
+    if [ -d "$msg" ] && [ ! -f "/usr/share/$package/package.xml" ] && [ ! -f "$manifest/package.xml" ]; then
+      mkdir -p "$manifest"
+      ln -sfn "$msg" "$manifest/msg"
+      printf '<?xml version="1.0"?>\n<package format="2">\n  <name>%s</name>\n  <version>0.0.0</version>\n  <description>Debian'"'"'s message definitions in %s (a manifest made by make setup)</description>\n  <maintainer email="hri-teleop@example.org">hri-teleop setup</maintainer>\n  <license>BSD</license>\n  <buildtool_depend>catkin</buildtool_depend>\n</package>\n' "$package" "$msg" > "$manifest/package.xml"
+    fi
+  done
 fi
 
 # The term's exact versions (constraints.txt, written by `make pins`): every install takes them.

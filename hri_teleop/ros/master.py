@@ -87,7 +87,8 @@ def lab_shell_env(base: Optional[Mapping[str, str]] = None, venv_bin: Optional[P
     ``venv_bin`` first on PATH (default: this interpreter's folder, so a node's
     ``#!/usr/bin/env python3`` finds rospy and hri_teleop), ``package_root``'s ``hri_lab``
     (default: the repository's) first on ROS_PACKAGE_PATH, and Debian's ``/usr/share``
-    package manifests when no ROS distribution was sourced. The package folder itself, not
+    package manifests when no ROS distribution was sourced (with make setup's manifests of
+    Debian's message definitions, ``.venv/share/hri-ros-msgs``). The package folder itself, not
     ``package_root``: rospack searches subfolders, and a copy of hri_lab under ``out/``
     would shadow the lab's.
     """
@@ -101,6 +102,9 @@ def lab_shell_env(base: Optional[Mapping[str, str]] = None, venv_bin: Optional[P
     paths.insert(0, str(package))
     if not env.get("ROS_DISTRO") and "/usr/share" not in paths:
         paths.append("/usr/share")
+    manifests = Path(venv).parent / "share" / "hri-ros-msgs"  # make setup's, for Debian's message definitions
+    if not env.get("ROS_DISTRO") and manifests.is_dir() and str(manifests) not in paths:
+        paths.append(str(manifests))
     env["ROS_PACKAGE_PATH"] = ":".join(paths)
     return env
 

@@ -11,6 +11,8 @@ import shutil
 import subprocess
 from pathlib import Path
 
+import pytest
+
 REPO = Path(__file__).resolve().parents[2]
 
 
@@ -21,7 +23,8 @@ def _sourced(env_sh: Path, cwd: Path, *, before: str = "", environ: dict = None)
     done = subprocess.run(["bash", "-c", script], cwd=cwd, env=env, capture_output=True, text=True, timeout=60,
                           check=True)
     path, student = done.stdout.splitlines()[-2:]
-    return [e for e in path.split(":") if e != "/usr/share"] + [student]
+    system = ("/usr/share", str(env_sh.parents[1] / ".venv" / "share" / "hri-ros-msgs"))  # Debian's, make setup's
+    return [e for e in path.split(":") if e not in system] + [student]
 
 
 def _bundle(tmp_path: Path) -> Path:
@@ -69,3 +72,16 @@ def test_the_notebooks_kernel_keeps_the_toolkits_hri_lab_first_in_an_assignment_
     inherited = f'cd ../preparation && . "{env_sh}" && cd ../lab && HRI_ENV_TOOLKIT_FIRST=1'
     assert _sourced(env_sh, top / "lab", before=inherited) == [toolkit, "unset"]
     assert "HRI_ENV_TOOLKIT_FIRST=1" in (REPO / "tools" / "kernel.sh").read_text()
+
+
+@pytest.mark.skipif(Path("/opt/ros/noetic/setup.sh").exists(), reason="Noetic's std_msgs has its package.xml")
+def test_make_setups_manifests_of_debians_message_definitions_come_after_usr_share(tmp_path):
+    top = _bundle(tmp_path)
+    manifests = top / "toolkit" / ".venv" / "share" / "hri-ros-msgs"
+    manifests.mkdir(parents=True)
+    env = {k: v for k, v in os.environ.items() if not k.startswith(("ROS_", "HRI_"))}
+    script = f'. "{top / "toolkit" / "tools" / "env.sh"}" && . "{top / "toolkit" / "tools" / "env.sh"}" && echo "$ROS_PACKAGE_PATH"'
+    path = subprocess.run(["bash", "-c", script], cwd=top, env=env, capture_output=True, text=True, timeout=60,
+                          check=True).stdout.split()[-1].split(":")
+    assert path[-2:] == ["/usr/share", str(manifests)]
+    assert path.count(str(manifests)) == 1
