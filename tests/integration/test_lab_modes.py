@@ -147,3 +147,31 @@ def test_on_the_labs_master_the_browser_pad_drives_nothing(foreign_master, capsy
     assert out.count("with the browser pad") == 2 and 'set PAD = "pygame"' in out, out
     assert "in the lab your node reads the lab's gamepad" in out
     assert running_nodes(among=["/teleoperation", "/lab_sim", "/mapping_node"]) == []
+
+
+def test_at_home_ex14_with_the_browser_pad_squeezes_the_simulated_egg_from_the_students_nodes_and_rumbles(
+        kernel, capsys):
+    from hri_teleop.core.gamepad import PadState
+    from hri_teleop.core.gamepad.layout import load_layout
+
+    app = lab.start_application(pad="browser", package=ANSWER_KEY)
+    assert app.running, app.output()
+    assert lab_nodes.wait_for_subscriber("/teleoperation/virtual_joy", "/teleoperation", app, 60), app.output()
+    axes, buttons = load_layout("dualshock4").raw_from_state(PadState({}, {"south": True}))
+    # the page's pad as widgets.BrowserPad publishes it: cross held
+    pad = kernel.run(["rostopic", "pub", "-r", "25", "/teleoperation/virtual_joy", "sensor_msgs/Joy",
+                      f"{{axes: {axes}, buttons: {buttons}}}"], "browser_pad")
+    rumble = kernel.run(["rostopic", "echo", "/teleoperation/rumble/data"], "rumble",
+                        extra_env={"PYTHONUNBUFFERED": "1"})
+    try:
+        kernel.wait_for(lambda: any(line.strip() not in ("", "---", "0.0") for line in rumble.output().splitlines())
+                        or not app.running, 60, "the egg squeezed by the student's nodes to rumble the pad")
+        assert app.running, app.output()
+        capsys.readouterr()
+        assert lab.wait_for_quit(app, 600) is None  # it does not wait: the page's pad needs the kernel free
+        assert "not waiting" in capsys.readouterr().out
+    finally:
+        pad.stop()
+        rumble.stop()
+    assert running_nodes(among=["/lab_sim", "/mapping_node", "/gripper_manager", "/teleoperation"]) == [
+        "/gripper_manager", "/lab_sim", "/mapping_node", "/teleoperation"]
