@@ -5,6 +5,7 @@ go, the others killed and named. No process is started or killed; the grace runs
 
 from __future__ import annotations
 
+import sys
 from pathlib import Path
 from types import SimpleNamespace
 from typing import Dict, List, Tuple
@@ -129,3 +130,19 @@ def test_an_orphan_gone_before_its_kill_is_named_and_the_rest_are_still_killed(t
     assert [pid for pid, _c in reap(Path(REPO), SINCE, grace_s=0.0)] == [804, 805]
     assert table.killed == [805]
 
+
+
+# --- how a leftover is named -------------------------------------------------------------------------------------
+
+def test_a_leftover_is_named_by_its_command_line_with_spaces_even_with_bytes_that_are_not_utf_8():
+    """Read from /proc for real: a child started here (not an orphan), read once it says it runs, then ended."""
+    import subprocess
+
+    python, code = sys.executable, "import sys; print(flush=True); sys.stdin.read()"
+    child = subprocess.Popen([python, "-c", code, b"marker-\xff", "last"], stdin=subprocess.PIPE,
+                             stdout=subprocess.PIPE)
+    try:
+        assert child.stdout is not None and child.stdout.readline() == b"\n"
+        assert module._cmdline(child.pid) == f"{python} -c {code} marker-\ufffd last"
+    finally:
+        child.communicate(b"")
