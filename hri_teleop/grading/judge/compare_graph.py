@@ -1,14 +1,10 @@
 """Judging Ex. 15's graph.yaml against the live graph of the lab's pipeline.
 
-The feedback says how many of the pipeline's nodes, topics and connections are missing, quotes back
-the student's own entries that do not belong, and names the command that shows the truth; it never
-names what the student is asked to find (the pipeline's node and topic names, their types).
-
-What each part rewards, and what it depends on (docs/instructors.md, "How the launch and graph parts
-depend on each other"): format -- the file in the asked shape, listing at least one node and one
-topic (a file that lists nothing earns nothing); nodes -- the node names; types -- the topics and
-their types; links -- who publishes and who subscribes each topic. A name the nodes part charged is
-not charged again in links, and links is not judged while a topic or node it connects is unlisted.
+Feedback counts what is missing, quotes back the student's entries that do not belong and names the
+command that shows the truth, never the pipeline's names or types. Each part rewards one thing (the
+format, listing at least one node and one topic; the nodes; the topics and types; the links), and
+links wait for what they connect: docs/instructors.md, "How the launch and graph parts depend on
+each other".
 """
 
 from __future__ import annotations

@@ -1,5 +1,6 @@
-"""Judging the launch files (Ex. 6-7, Ex. 12-13) and the launch in the simulated lab (the graph of Ex. 15:
-:mod:`hri_teleop.grading.judge.compare_graph`).
+"""Judging the launch files (Ex. 6-7, Ex. 12-13) and the launch in the simulated lab.
+
+Ex. 15's graph is judged in :mod:`hri_teleop.grading.judge.compare_graph`.
 """
 
 from __future__ import annotations
