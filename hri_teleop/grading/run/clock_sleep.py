@@ -65,9 +65,14 @@ class _Sleeper:
             self.below[filename] = known
         return known
 
-    def sleep(self, seconds: float) -> None:
+    def sleep(self, seconds: float) -> None:  # pragma: no mutate block (make mutants: nothing may wrap this frame)
+        """time.sleep: judged by the file of the function that called it (this frame's caller)."""
+        return self.sleep_from(sys._getframe(1).f_code.co_filename, seconds)
+
+    def sleep_from(self, filename: str, seconds: float) -> None:
+        """time.sleep(``seconds``) called from a function of ``filename``."""
         rospy: Any = sys.modules.get("rospy")
-        if (rospy is None or not self.from_student(sys._getframe(1).f_code.co_filename)
+        if (rospy is None or not self.from_student(filename)
                 or not rospy.core.is_initialized() or rospy.rostime.is_wallclock() or rospy.core.is_shutdown()):
             return self.original(seconds)
         published, before = _published(rospy), getattr(self.local, "published", None)
