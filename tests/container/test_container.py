@@ -240,3 +240,85 @@ def test_docker_compose_up_serves_jupyterlab_to_the_hosts_browser_and_a_notebook
         down = subprocess.run([*compose, "down"], cwd=bundle, env=env, capture_output=True, text=True, timeout=120)
         assert down.returncode == 0, down.stderr[-1000:]
     assert (bundle / "preparation" / "container_check.ipynb").is_file()  # the work stayed on the host
+
+
+#: The browser pad drives the student's own node in the container (the answer key's, copied in, stands in).
+PAD_CELLS = [
+    "import os\nimport rospy\nfrom pathlib import Path\nfrom std_msgs.msg import Float32\n"
+    "from hri_teleop.course import ensure_ros, lab\nros = ensure_ros()\n"
+    "print('master', os.environ['ROS_MASTER_URI'], ros.mode)",
+    "force = rospy.Publisher('/force_mapped', Float32, queue_size=1)\n"
+    "pressing = rospy.Timer(rospy.Duration(0.05), lambda _event: force.publish(Float32(0.8)))",
+    "PAD = 'browser'\nrobot = lab.start_robot(object='none')\n"
+    "node = lab.run_student(Path('hri_lab') / 'scripts' / 'teleoperation.py', 'teleoperation', **lab.pad_params(PAD))\n"
+    "lab.browser_pad(PAD)",
+]
+
+
+def test_in_the_container_a_pad_in_the_hosts_browser_drives_the_students_node_and_its_rumble_comes_back(
+        bundle, course, image, tmp_path):
+    from test_browser_pad import FAKE_PAD, PAD_STATUS
+
+    from hri_teleop.ros.master import free_port
+
+    needs_browser()
+    compose = _compose()
+    copy_answer_key(bundle, course)  # the student's teleoperation.py: the answer key's stands in
+    port = free_port()
+    env = dict(os.environ, HRI_LAB_PORT=str(port))
+    write_notebook(bundle / "lab" / "browser_pad_check.ipynb", PAD_CELLS)
+    up = subprocess.run([*compose, "up", "-d"], cwd=bundle, env=env, capture_output=True, text=True, timeout=300)
+    assert up.returncode == 0, up.stdout[-2000:] + up.stderr[-2000:]
+    driver = None
+    try:
+        def token() -> str:
+            logs = subprocess.run([*compose, "logs", "--no-color"], cwd=bundle, env=env, capture_output=True,
+                                  text=True, timeout=60).stdout
+            found = re.findall(r"http://127\.0\.0\.1:8888/lab\?token=(\w+)", logs)
+            return found[-1] if found else ""
+
+        secret = wait(token, 120, "JupyterLab's URL in the container's log", poll_s=1.0)
+        from selenium import webdriver
+        from selenium.webdriver.chrome.service import Service
+
+        options = webdriver.ChromeOptions()
+        options.binary_location = CHROMIUM
+        for flag in [*CHROMIUM_FLAGS, f"--user-data-dir={tmp_path / 'chromium'}"]:
+            options.add_argument(flag)
+        driver = webdriver.Chrome(service=Service(CHROMEDRIVER), options=options)
+        driver.set_script_timeout(30)
+        driver.get(f"http://127.0.0.1:{port}/lab/tree/lab/browser_pad_check.ipynb?token={secret}")
+        wait(lambda: driver.execute_script(_KERNEL) == ["idle", "Python 3 (hri-teleop, ROS)"], 120,
+             "the notebook's hri-teleop kernel in the container to be idle", poll_s=0.5)
+        driver.execute_script(FAKE_PAD)  # the stand-in pad: a DualSense in the host's browser
+        _menu(driver, "Run", "Run All Cells")
+        status = wait(lambda: (lambda s: s if "drives /teleoperation" in s else None)(driver.execute_script(PAD_STATUS)),
+                      180, "the browser pad to drive the student's node in the container", poll_s=0.5)
+        assert "DualSense" in status, status
+        text = driver.execute_script(_SLIDER)["text"]
+        assert "Traceback" not in text and "refused" not in text, text[-2000:]
+        uri = re.search(r"master (\S+) home", text).group(1)
+
+        def height() -> float:
+            """The simulated hand's height, read inside the container on the kernel's own master."""
+            echo = subprocess.run([*compose, "exec", "-T", "course", "bash", "-c",
+                                   f". toolkit/tools/env.sh >/dev/null 2>&1; export ROS_MASTER_URI={uri}; "
+                                   "timeout 10 rostopic echo -n 1 /lab_sim/ee_pose/pose/position/z"],
+                                  cwd=bundle, env=env, capture_output=True, text=True, timeout=60)
+            found = re.findall(r"^(-?\d+\.\d+)$", echo.stdout, re.M)
+            return float(found[0]) if found else float("nan")
+
+        start_z = wait(lambda: (lambda z: z if z == z else None)(height()), 60, "the hand's height in the container")
+        driver.execute_script("window.__pad.axes[3] = -1.0;")  # right stick up: +z
+        wait(lambda: height() > start_z + 0.03, 60, "the hand to rise 3 cm through the student's node", poll_s=1.0)
+        effects = wait(lambda: [e for e in driver.execute_script("return window.__effects;")
+                                if e[0] == "dual-rumble" and e[1]["strongMagnitude"] > 0.0], 20,
+                       "the student's node's rumble to reach the pad in the host's browser")
+        assert effects[-1][1]["strongMagnitude"] == pytest.approx(0.8, abs=0.02), effects[-1]
+        driver.execute_script("window.__pad.connected = false; window.__pads = [null, null, null, null];")
+        wait(lambda: "no gamepad" in driver.execute_script(PAD_STATUS), 20, "the page to say the pad is gone")
+    finally:
+        if driver is not None:
+            driver.quit()
+        down = subprocess.run([*compose, "down"], cwd=bundle, env=env, capture_output=True, text=True, timeout=120)
+        assert down.returncode == 0, down.stderr[-1000:]

@@ -46,7 +46,7 @@ window.__pad = {
 window.__pads = [window.__pad, null, null, null];
 Object.defineProperty(Navigator.prototype, 'getGamepads', {value: () => window.__pads, configurable: true});
 """
-_STATUS = "const s = document.querySelector('.hri-bp-status'); return s ? s.textContent : '';"
+PAD_STATUS = "const s = document.querySelector('.hri-bp-status'); return s ? s.textContent : '';"
 
 
 def _values(echo) -> list:
@@ -79,7 +79,7 @@ def test_a_pad_in_the_browser_drives_the_node_rumbles_and_stops_the_robot_when_u
         ros_master.wait_for(lambda: ros_master.connections("/teleoperation", "/teleoperation/virtual_joy") >= 1
                             or not node.running, 30, "the node to connect to the widget's virtual_joy")
         assert node.running, node.output()
-        status = wait(lambda: (lambda s: s if "drives /teleoperation" in s else None)(driver.execute_script(_STATUS)),
+        status = wait(lambda: (lambda s: s if "drives /teleoperation" in s else None)(driver.execute_script(PAD_STATUS)),
                       10, "the page to say the pad drives the node")
         assert "DualSense" in status and "on the pad" in status
         wait(lambda: _values(echo), 10, "the twist on " + TWIST)
@@ -104,7 +104,7 @@ def test_a_pad_in_the_browser_drives_the_node_rumbles_and_stops_the_robot_when_u
         wait(lambda: _values(echo)[-1] == 0.0, 10, "the twist to come to rest after the pad was unplugged")
         stop_s = time.monotonic() - unplugged_at
         assert all(v >= -1e-9 for v in _values(echo)[count:]), "the ramp down overshot"
-        said = wait(lambda: (lambda s: s if "no gamepad" in s else None)(driver.execute_script(_STATUS)), 10,
+        said = wait(lambda: (lambda s: s if "no gamepad" in s else None)(driver.execute_script(PAD_STATUS)), 10,
                     "the page to say there is no gamepad")
         round_trip = driver.execute_script("return document.querySelector('.hri-browser-pad').dataset.roundTripMs;")
         assert node.running, node.output()
@@ -160,7 +160,7 @@ def test_a_pad_in_the_browser_drives_the_students_own_node_and_the_simulated_arm
         driver.execute_script("window.jupyterapp.commands.execute('notebook:run-all-cells');")
         try:
             status = wait(lambda: (lambda s: s if "drives /teleoperation" in s or "Error" in output_text(driver)
-                                   else None)(driver.execute_script(_STATUS)), 120,
+                                   else None)(driver.execute_script(PAD_STATUS)), 120,
                           "the browser pad to drive the student's node", poll_s=0.5)
         except AssertionError as exc:
             raise AssertionError(f"{exc}; the notebook shows: {output_text(driver)[-2000:]}") from None
@@ -193,7 +193,7 @@ def test_a_pad_in_the_browser_drives_the_students_own_node_and_the_simulated_arm
             return len(heights) > 20 and max(heights[-20:]) - min(heights[-20:]) < 1e-4
         wait(at_rest, 30, "the hand to come to rest after the pad was unplugged (input lost)")
         stop_s = time.monotonic() - unplugged_at
-        said = driver.execute_script(_STATUS)
+        said = driver.execute_script(PAD_STATUS)
         assert "no gamepad" in said, said
         print(f"\nstudent's node, browser pad: 3 cm up in {rise_s:.2f} s, unplugged to rest {stop_s:.2f} s, "
               f"{len(effects)} rumble effects ({effects[-1][1]['strongMagnitude']:.2f}); {time.monotonic() - started:.0f} s")
