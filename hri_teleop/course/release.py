@@ -229,6 +229,43 @@ def _validate_job(job: Tuple[str, str]) -> Tuple[str, str, Dict[str, Any]]:
     return kind, path, result
 
 
+#: Left out of a copy of the course where git cannot say what is tracked (as the release leaves them out).
+_UNTRACKED = ("catkin_ws", "__pycache__", "*.pyc", ".ipynb_checkpoints")
+
+
+def tracked_below(folder: PathLike) -> Optional[List[str]]:
+    """The files git tracks below ``folder`` (relative to it; a link as itself), or None where git tracks
+    none there (a course folder outside a checkout)."""
+    try:
+        listed = subprocess.run(["git", "-C", str(folder), "ls-files", "-z", "--", "."], capture_output=True,
+                                check=True).stdout
+    except (OSError, subprocess.CalledProcessError):
+        return None
+    names = [n for n in listed.decode("utf-8", "surrogateescape").split("\0") if n]
+    return names or None
+
+
+def copy_course_sources(course_dir: PathLike, course: Path) -> None:
+    """The course's nbgrader_config.py and each assignment's source folder, less its student package, into
+    ``course``: the files git tracks, never what a run in place left there (the catkin_ws/build of the lab's
+    notebooks, plots, checkpoints), as the release leaves them out."""
+    source = Path(course_dir)
+    (course / "source").mkdir(parents=True)
+    shutil.copy(source / "nbgrader_config.py", course / "nbgrader_config.py")
+    for assignment in ASSIGNMENTS:
+        folder, target = source / "source" / assignment, course / "source" / assignment
+        tracked = tracked_below(folder)
+        if tracked is None:
+            shutil.copytree(folder, target, ignore=shutil.ignore_patterns(STUDENT_PACKAGE, *_UNTRACKED))
+            continue
+        target.mkdir(parents=True)
+        for name in tracked:
+            if Path(name).parts[0] == STUDENT_PACKAGE or not os.path.lexists(folder / name):
+                continue
+            (target / name).parent.mkdir(parents=True, exist_ok=True)
+            shutil.copy2(folder / name, target / name, follow_symlinks=False)
+
+
 def prepare_course_copy(work_dir: PathLike, course_dir: PathLike = COURSE_DIR, release: bool = True) -> Path:
     """A copy of the course under ``work_dir/course`` with the student versions generated (and the kernel installed).
 
@@ -238,11 +275,7 @@ def prepare_course_copy(work_dir: PathLike, course_dir: PathLike = COURSE_DIR, r
     course = Path(work_dir) / "course"
     if course.exists():
         shutil.rmtree(course)
-    (course / "source").mkdir(parents=True)
-    shutil.copy(Path(course_dir) / "nbgrader_config.py", course / "nbgrader_config.py")
-    for assignment in ASSIGNMENTS:
-        shutil.copytree(Path(course_dir) / "source" / assignment, course / "source" / assignment,
-                        ignore=shutil.ignore_patterns(STUDENT_PACKAGE, ".ipynb_checkpoints"))
+    copy_course_sources(course_dir, course)
     if release:
         generate_assignments(course)
     else:
