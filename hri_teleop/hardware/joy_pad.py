@@ -73,7 +73,7 @@ class BrowserJoyPad:
         self.refused = ""
         self.rumbles: List[float] = []  # the node asks for its rumble here; the widget reads ~rumble
         self._closed = threading.Event()
-        self._subscriber: Any = rospy.Subscriber(topic, Joy, self._on_joy, queue_size=1, tcp_nodelay=True)
+        self._subscriber: Any = rospy.Subscriber(topic, Joy, self.on_joy, queue_size=1, tcp_nodelay=True)
         self._watch = threading.Thread(target=self._watch_hardware, name="browser pad: hardware", daemon=True)
         self._watch.start()
 
@@ -85,7 +85,8 @@ class BrowserJoyPad:
     def topic(self) -> str:
         return str(self._subscriber.resolved_name)
 
-    def _on_joy(self, msg: Any) -> None:
+    def on_joy(self, msg: Any) -> None:
+        """One sensor_msgs/Joy from the page (rospy's thread)."""
         with self._lock:
             self.input.receive(msg.axes, msg.buttons, self._clock())
 

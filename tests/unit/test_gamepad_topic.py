@@ -54,3 +54,31 @@ def test_the_browser_pad_refuses_to_open_beside_the_real_robot():
 
     with pytest.raises(GamepadError, match=r"does not drive the real robot.*\(/franka_control\).*'pygame'"):
         BrowserJoyPad(hardware=lambda: ["/franka_control"])
+
+
+class _Joy:
+    def __init__(self, state: PadState) -> None:
+        self.axes, self.buttons = _raw(state)
+
+
+def test_the_browser_pad_reads_unplugged_from_the_moment_the_real_robot_appears(monkeypatch):
+    import time
+
+    from hri_teleop.hardware import joy_pad
+
+    monkeypatch.setattr(joy_pad, "HARDWARE_CHECK_S", 0.01)
+    found = []
+    clock = [10.0]
+    pad = joy_pad.BrowserJoyPad(topic="/teleoperation/virtual_joy", hardware=lambda: list(found), clock=lambda: clock[0],
+                                log=lambda _line: None)
+    try:
+        pad.on_joy(_Joy(PadState({"left_y": 1.0}, {})))
+        assert pad.poll().axis("left_y") == pytest.approx(1.0)
+        found.append("/franka_control")
+        deadline = time.monotonic() + 10.0
+        while not pad.refused and time.monotonic() < deadline:
+            time.sleep(0.01)
+        pad.on_joy(_Joy(PadState({"left_y": 1.0}, {})))
+        assert "(/franka_control)" in pad.refused and pad.poll() == PadState.neutral(connected=False)
+    finally:
+        pad.close()
