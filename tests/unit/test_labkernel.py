@@ -77,3 +77,14 @@ def test_notebook_kernels_talk_over_private_unix_sockets_with_no_tcp_port_to_los
         assert info["transport"] == "ipc" and info["ip"] == first.KernelManager.ip
     assert not folder.exists(), "the sockets' folder outlived the run"
     assert ipc_kernel_argv(tmp_path) == ["--KernelManager.transport=ipc", f"--KernelManager.ip={tmp_path / 'k'}"]
+
+
+def test_the_students_jupyter_config_comes_first_once_and_turns_off_the_instructors_nbgrader(tmp_path):
+    from hri_teleop.apps.lab import INSTRUCTOR_SERVER_EXTENSIONS, student_config, student_env
+
+    config = student_config(tmp_path)
+    env = student_env({"JUPYTER_CONFIG_PATH": f"/elsewhere{os.pathsep}{config}"}, config)
+    assert env["JUPYTER_CONFIG_PATH"].split(os.pathsep) == [str(config), "/elsewhere"]
+    server = json.loads((config / "jupyter_server_config.json").read_text())["ServerApp"]["jpserver_extensions"]
+    assert server == {name: False for name in INSTRUCTOR_SERVER_EXTENSIONS}
+    assert "course_id" in (config / "nbgrader_config.py").read_text()
