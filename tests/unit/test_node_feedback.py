@@ -305,3 +305,12 @@ def test_a_teleoperation_node_that_crashes_shows_its_traceback_once():
     crashes = [m for m in failed.values() if "scripts/teleoperation.py, line 150, in publish" in m]
     assert len(crashes) == 1 and "AttributeError" in crashes[0]
     assert all(m.startswith("not judged") for m in failed.values() if m not in crashes)
+
+
+def test_a_process_last_output_names_the_students_files_from_their_package_not_the_graders_folder():
+    from hri_teleop.grading.judge.compare_common import explain_process
+
+    facts = NodeFacts(exit_code=1, output_tail=f'  File "{PACKAGE}/scripts/mapping_node.py", line 39, in <module>\n'
+                                                "SystemExit: 3\n")
+    message = explain_process(facts, "mapping_node.py")
+    assert 'File "scripts/mapping_node.py", line 39' in message and "/tmp/" not in message

@@ -133,8 +133,12 @@ def process_hints(facts: ProcessFacts) -> List[str]:
     return hints
 
 
+#: The grader's workspace in a process' output: the student's files are named from their package instead.
+_WORKSPACE_PATH = re.compile(r"/[^\s\"']*/ws/(?:hri_lab|ros_intro)/")
+
+
 def _last_lines(text: str, n: int = 6) -> str:
-    lines = [line for line in str(text).strip().splitlines() if line.strip()]
+    lines = [line for line in _WORKSPACE_PATH.sub("", str(text)).strip().splitlines() if line.strip()]
     return "\n".join("    " + line[:300] for line in lines[-n:])
 
 
