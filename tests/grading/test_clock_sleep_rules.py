@@ -236,3 +236,17 @@ def test_each_thread_counts_its_own_messages_and_wake_ups(node):
     thread.start()
     thread.join()
     assert other == [] and wall == [0.001, 0.2]
+
+
+@pytest.mark.parametrize("seconds, end_ns", [(1.0, 2_000 * MS), (2.5, 3_500 * MS), (0.000_000_001, 1_000 * MS + 1)])
+def test_a_sleep_ends_at_its_exact_nanosecond_on_the_clock(node, seconds, end_ns):
+    fake, pause, wall = node
+    _publishing(fake, pause)
+    fake.steps = [end_ns - 1, end_ns, end_ns + 1]
+    pause(seconds)
+    assert fake.now_ns == end_ns and fake.steps == [end_ns + 1]
+
+
+def test_the_clock_env_without_a_pythonpath_is_the_site_folder_alone(tmp_path):
+    env = clock_sleep.student_clock_env(tmp_path)
+    assert env == {ROOT_ENV: str(tmp_path.resolve()), "PYTHONPATH": str(clock_sleep.SITE_DIR)}
