@@ -3,6 +3,7 @@
 from __future__ import annotations
 
 import re
+import time
 
 import pytest
 
@@ -203,3 +204,26 @@ def test_reset_lets_go_of_a_held_button():
         assert not close.held and not after.pad.pressed("south") and after.gripper_width_m == pytest.approx(0.08)
     finally:
         view.close()
+
+
+def test_the_browser_source_shows_the_page_pad_in_the_view_and_reads_it_without_ros():
+    view = ControllerView("browser", autostart=False)
+    try:
+        page_pad = view.pad.widget
+        assert page_pad in view.children and not view.virtual and page_pad.node is None
+        buttons = [[False, 0.0]] * 17
+        buttons[0] = [True, 1.0]  # the standard mapping's bottom face button: cross
+        for number in range(1, 10):  # the page's clock is measured over a few readings in time first
+            page_pad.reading = {"sent_s": time.monotonic() - 50.0, "visible": True, "seq": number,
+                                "pad": {"id": "DualSense (STANDARD GAMEPAD)", "mapping": "standard",
+                                        "connected": True, "axes": [0.0, -1.0, 0.0, 0.0], "buttons": buttons,
+                                        "haptics": True}}
+        view._last_s -= 0.1
+        snap = view.tick()
+        assert snap.pad.pressed("south") and snap.pad.axis("left_y") == 1.0 and snap.gripper_width_m < 0.08
+        assert view.hold_buttons["south"].lit, "a button held on the page's pad is shown held"
+        page_pad.tick()
+        assert "is read by this notebook" in page_pad.status
+    finally:
+        view.close()
+    assert not view.pad.widget.ticker.running
