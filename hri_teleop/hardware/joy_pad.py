@@ -29,8 +29,9 @@ __all__ = ["BROWSER_PAD_TOPIC", "HARDWARE_CHECK_S", "BrowserJoyPad", "hardware_b
 
 #: Where the pad's messages arrive: the node's private topic, as for the lab's node with pad:=virtual.
 BROWSER_PAD_TOPIC = "~virtual_joy"
-#: How often the pad asks the master whether the real robot or board runs beside it, s.
-HARDWARE_CHECK_S = 2.0
+#: How often the pad asks the master whether the real robot or board runs beside it, s (franka_control
+#: registers seconds before its velocity controller listens: the pad reads unplugged long before).
+HARDWARE_CHECK_S = 0.5
 
 
 def hardware_beside() -> List[str]:
