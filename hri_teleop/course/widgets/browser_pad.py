@@ -55,9 +55,10 @@ def pad_line(state: PadState) -> str:
 class BrowserPad(anywidget.AnyWidget):
     """The browser's gamepad as the teleoperation node's virtual pad; the node's rumble back to the pad.
 
-    Start the node with ``pad:=virtual`` (e.g. ``roslaunch hri_lab teleoperation.launch sim:=true
-    pad:=virtual``), show ``widgets.BrowserPad()`` as a cell's last expression, press a button on the
-    pad. ``node``: the teleoperation node's name; ``config``/``layout``: the node's teleop config or
+    The student's node reads it with ``_pad:=browser`` (the notebooks: ``PAD = "browser"``, which shows
+    it through ``lab.browser_pad(PAD)``), the lab's node with ``pad:=virtual``; show
+    ``widgets.BrowserPad()`` as a cell's last expression, press a button on the pad. ``node``: the
+    teleoperation node's name (None: no ROS, a pad for this kernel, :class:`BrowserGamepad`); ``config``/``layout``: the node's teleop config or
     layout (the Joy's order; default: the lab's); ``timeout_s``: the heartbeat (no usable reading
     for this long and the node gets a released pad); ``clock``: the kernel's monotonic clock (tests).
     :meth:`close` stops it and releases the pad.
