@@ -56,9 +56,10 @@ def open_gamepad(kind: str = "pygame", layout: Union[Layout, str, None] = None, 
     if name in ("virtual", "scripted"):
         from hri_teleop.sim.virtual_pad import ScriptedPad, VirtualPad  # noqa: PLC0415 - as above
 
+        ros_time = clock is None and os.environ.get(PAD_CLOCK_ENV, "") == "ros"
         clock = clock if clock is not None else _default_clock()
         if script:
-            return ScriptedPad(script, layout, clock=clock)
+            return ScriptedPad(script, layout, clock=clock, time_begins_after_zero=ros_time)
         if name == "scripted":
             raise GamepadError("pad 'scripted' needs a script: give the path of a pad script YAML, "
                                "or set pad to 'virtual'")

@@ -179,6 +179,33 @@ def test_scripted_pad_replays_on_its_clock(tmp_path):
     assert pad.rumbles == [RumbleRecord(54.0, 0.3, 0.02)]
 
 
+def test_on_ros_time_the_script_starts_when_time_begins_not_at_zero(tmp_path):
+    """Under /use_sim_time rospy reads 0 until the first /clock (the grader's starts at 1 s): before this, a
+    script started at 0 had its first second gone when the clock began, and Ex. 10's drive moved the hand half
+    as far under the grader's clock as in real time."""
+    clock = FakeClock(0.0)
+    pad = ScriptedPad(_script(tmp_path), clock=clock, time_begins_after_zero=True)
+    assert pad.poll() == PadState.neutral()          # time has not begun
+    clock.now = 1.0
+    assert pad.poll().axis("left_y") == 0.0          # time zero = first poll that reads a time
+    clock.now = 1.49
+    assert pad.poll().axis("left_y") == 0.0
+    clock.now = 1.5
+    assert pad.poll().axis("left_y") == 0.8
+    plain = ScriptedPad(_script(tmp_path), clock=FakeClock(0.0))
+    plain.poll()                                     # a clock that starts at 0 starts the script at 0
+    plain._clock.now = 0.5
+    assert plain.poll().axis("left_y") == 0.8
+
+
+def test_a_pad_opened_on_ros_time_waits_for_time_to_begin(tmp_path, monkeypatch):
+    monkeypatch.setenv("HRI_PAD_CLOCK", "ros")
+    assert open_gamepad("virtual", script=_script(tmp_path)).time_begins_after_zero
+    assert not open_gamepad("virtual", script=_script(tmp_path), clock=FakeClock(0.0)).time_begins_after_zero
+    monkeypatch.delenv("HRI_PAD_CLOCK")
+    assert not open_gamepad("virtual", script=_script(tmp_path)).time_begins_after_zero
+
+
 def test_advance_by_hand():
     pad = ScriptedPad(parse_script([{"t": 1, "press": "west"}, {"t": 2, "release": "west"}]))
     assert pad.advance(0.5) == 0

@@ -19,7 +19,15 @@ from typing import Any, Dict, List, Optional, Tuple
 
 from hri_teleop.core.errors import HriTeleopError
 from hri_teleop.grading.batch.notebook_commands import command_cells_values
-from hri_teleop.grading.judge.notebook_answers import MAX_ANSWER_BYTES, MIME, apply_rule, expectations, has_rule
+from hri_teleop.grading.judge.drive_check import ex10_values
+from hri_teleop.grading.judge.notebook_answers import (
+    MAX_ANSWER_BYTES,
+    MIME,
+    WORKED_OUT,
+    apply_rule,
+    expectations,
+    has_rule,
+)
 from hri_teleop.grading.run.untrusted_files import UntrustedFileError, read_regular
 
 __all__ = ["NotebookJudgeError", "CellVerdict", "handed_in", "judge_cell", "verdict_outputs", "judge_notebook",
@@ -114,7 +122,7 @@ def judge_cell(notebook: str, grade_id: str, max_score: float, cell: Optional[Di
     if values is None:
         return CellVerdict(notebook, grade_id, 0.0, max_score, why)
     verdict = apply_rule(grade_id, values, expected)
-    source = "worked out by the grader from your rosparam commands" if worked_out is not None else "handed in"
+    source = WORKED_OUT.get(grade_id, "worked out by the grader") if worked_out is not None else "handed in"
     return CellVerdict(notebook, grade_id, max_score if verdict.passed else 0.0, max_score, verdict.message, values,
                        source)
 
@@ -146,6 +154,14 @@ def _cells_by_id(notebook: Dict[str, Any]) -> Dict[str, Dict[str, Any]]:
     return found
 
 
+def _worked_out(folder: Path, notebook: Dict[str, Any], grade_ids: List[str]) -> Dict[str, Dict[str, Any]]:
+    """grade id -> the values the grader found itself (:data:`WORKED_OUT`), for those among ``grade_ids``."""
+    found = command_cells_values(folder, notebook, grade_ids)
+    if "ex10_drives" in grade_ids:
+        found["ex10_drives"] = ex10_values(folder)
+    return found
+
+
 def judge_notebook(name: str, notebook: Optional[Dict[str, Any]], tests: List[Tuple[str, float]],
                    expected: Dict[str, Optional[Dict[str, Any]]],
                    missing: str = "not judged: the notebook was not handed in",
@@ -156,8 +172,7 @@ def judge_notebook(name: str, notebook: Optional[Dict[str, Any]], tests: List[Tu
     if notebook is None:
         return [CellVerdict(name, grade_id, 0.0, points, missing) for grade_id, points in tests]
     cells = _cells_by_id(notebook)
-    worked_out = command_cells_values(folder, notebook, [g for g, _ in tests if g in cells]) \
-        if folder is not None else {}
+    worked_out = _worked_out(folder, notebook, [g for g, _ in tests if g in cells]) if folder is not None else {}
     verdicts = []
     for grade_id, points in tests:
         cell = cells.get(grade_id)

@@ -260,10 +260,10 @@ def _launch_sim_plan(run: CheckRun, parsed: LaunchParseResult) -> Optional[Teleo
         start_timeout_s=20.0, run_s=case.quit_s + 12.0, clock=grading_clock(), settle_timeout_s=10.0,
         applied_topic="/lab_sim/command_time_s", sensor_chain=[BOARD_TOPIC, "/pub_force", "/force_mapped"],
         expect_nodes=sorted({n.full_name for n in parsed.nodes} | {f"/{name}" for name in supply}),
-        default_rate_hz=_lab_rate_hz())
+        default_rate_hz=lab_rate_hz())
 
 
-def _lab_rate_hz() -> float:
+def lab_rate_hz() -> float:
     """The teleoperation node's loop rate when the launch file sets none: the lab's teleop.yaml."""
     path = REPO / "hri_lab" / "config" / "teleop.yaml"
     try:

@@ -22,7 +22,7 @@ from typing import Any, Callable, Dict, Mapping, Optional, Sequence, Tuple
 from hri_teleop.core.errors import HriTeleopError
 
 __all__ = ["MIME", "MAX_ANSWER_BYTES", "Verdict", "AnswerRuleError", "RULES", "TOLERANCES", "expectations",
-           "judge", "apply_rule", "has_rule", "COMMAND_CELLS", "DUMP_FILE", "command_values"]
+           "judge", "apply_rule", "has_rule", "COMMAND_CELLS", "DUMP_FILE", "WORKED_OUT", "command_values"]
 
 #: The MIME type of a cell's answer output: a JSON object {"grade_id": ..., "values": {...}}.
 MIME = "application/vnd.hri-teleop.answer+json"
@@ -70,6 +70,10 @@ DUMP_FILE = "new_robot_params.yaml"
 #: grade id -> the parameter its rule reads from what the notebook's rosparam commands leave on the server.
 COMMAND_CELLS: Dict[str, str] = {"ex3_integer": "/ex3/integer", "ex3_text": "/ex3/text", "ex3_items": "/ex3/items",
                                  "ex4_loaded": "/robot_mass", "ex4_dumped": ""}
+#: grade id -> how the grader finds the values of a cell itself, as the cell's verdict says it: these cells' rules
+#: never judge what the kernel handed in (Ex. 3, 4: the notebook's commands; Ex. 10: the grader drives the node).
+WORKED_OUT: Dict[str, str] = {**{g: "worked out by the grader from your rosparam commands" for g in COMMAND_CELLS},
+                              "ex10_drives": "measured by the grader, driving your teleoperation.py on the simulated arm"}
 _NOTE_CHARS = 240
 #: Ex. 14: the operator's run (the egg; the longest simulated run, s).
 OPERATOR_RUN = ("egg", 120.0)
