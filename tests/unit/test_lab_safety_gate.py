@@ -8,7 +8,7 @@ hardware nodes are /serial_node (the Arduino's rosserial), /franka_control and /
 
 from __future__ import annotations
 
-from typing import Dict, List, Optional, Sequence
+from typing import List, Optional, Sequence
 
 import pytest
 
@@ -41,12 +41,11 @@ def master(monkeypatch):
 
     def describe_master(own: bool = False, reachable: bool = True, running: Optional[Sequence[str]] = (),
                         hri_mode: Optional[str] = None) -> None:
-        asked: Dict[str, List[str]] = {}
-
         def running_nodes(among: Sequence[str], uri: Optional[str] = None) -> List[str]:
             if running is None:
                 raise MasterApiError("the master does not answer getSystemState")
-            asked.setdefault(str(uri), []).extend(among)
+            if uri != URI:  # another master (the environment's, say) runs nothing of the lab's
+                return []
             return [name for name in among if name in running]
 
         monkeypatch.setattr(gate, "started_here", lambda uri: own and uri == URI)
@@ -102,6 +101,7 @@ def test_the_kernels_own_master_without_hardware_starts_the_simulation(master):
 
 def test_a_master_that_cannot_list_its_nodes_is_judged_by_whose_it_is(master):
     master(own=True, running=None)
+    assert gate.master_mode(URI) == gate.MasterMode(HOME, True, [])
     assert gate.start_refusal([Start("lab_sim.py", simulated=True)], URI) is None
     master(own=False, running=None)
     assert gate.start_refusal([Start("lab_sim.py", simulated=True)], URI) is not None
@@ -195,3 +195,47 @@ def test_lab_mode_on_the_kernels_own_master_names_the_setting_and_a_foreign_mast
 def test_the_modes_line_names_a_foreign_master_only_in_the_lab(mode, own, words):
     line = describe(mode) if own is None else describe(mode, own_master=own)
     assert words in line
+
+
+@pytest.mark.parametrize("own, hri_mode, words", [
+    (False, None, "this master was not started by this process"),
+    (True, "lab", "lab mode (HRI_MODE=lab)"),
+])
+def test_a_refusal_says_why_the_master_counts_as_the_labs(master, own, hri_mode, words):
+    master(own=own, hri_mode=hri_mode)
+    assert words in str(gate.start_refusal([Start("lab_sim.py", simulated=True)], URI))
+
+
+@pytest.mark.parametrize("script, node, params, start", [
+    ("teleoperation.py", "teleoperation", {}, Start("teleoperation.py (node /teleoperation)", pad="pygame")),
+    ("teleoperation.py", "drive", {}, Start("teleoperation.py (node /drive)", pad="pygame")),
+    ("drive.py", "/teleoperation", {}, Start("drive.py (node /teleoperation)", pad="pygame")),
+    ("drive.py", "drive", {}, Start("drive.py (node /drive)")),
+    ("teleoperation_subscriber_publisher.py", "teleoperation_2", {},
+     Start("teleoperation_subscriber_publisher.py (node /teleoperation_2)")),
+    ("my/drive.py", "drive", {"pad": "virtual"}, Start("drive.py (node /drive)", pad="virtual")),
+    ("FSR_sensor.py", "FSR_sensor", {"rate": 100}, Start("FSR_sensor.py (node /FSR_sensor)", simulated=True)),
+    ("lab_sim.py", "lab_sim", {}, Start("lab_sim.py (node /lab_sim)", simulated=True)),
+])
+def test_what_a_node_start_is_named_and_which_pad_it_reads(script, node, params, start):
+    """The teleoperation node (by its file or its name) reads the lab's pad unless told; other nodes read none."""
+    assert node_start(script, node, params) == start
+
+
+def test_what_each_node_of_a_launch_is():
+    teleop = LaunchedNode("/teleoperation", "hri_lab", "teleoperation.py")
+    scripted = LaunchedNode("/teleop2", "hri_lab", "teleoperation.py", pad="virtual")
+    assert launch_starts([MAPPING, BOARD, teleop, scripted], "lab.launch") == [
+        Start("lab.launch, whose node /mapping_node runs mapping_node.py"),
+        Start("lab.launch, whose node /FSR_sensor runs FSR_sensor.py", simulated=True),
+        Start("lab.launch, whose node /teleoperation runs teleoperation.py", pad="pygame"),
+        Start("lab.launch, whose node /teleop2 runs teleoperation.py", pad="virtual"),
+    ]
+
+
+def test_a_refused_start_is_false_runs_nothing_and_its_output_is_the_refusal():
+    refused = gate.NotStarted("refused to start lab_sim.py: it is simulated")
+    assert not refused and refused.running is False
+    assert refused.output() == "refused to start lab_sim.py: it is simulated\n"
+    assert refused.stop() is None and refused.wait() is None and refused.wait(5.0) is None
+    assert repr(refused) == "NotStarted('refused to start lab_sim.py: it is simulated')"
