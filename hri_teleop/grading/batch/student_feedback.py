@@ -10,6 +10,7 @@ add up to its points in grades.csv), and no path of the grading machine is left 
 from __future__ import annotations
 
 import dataclasses
+import functools
 import html
 import json
 import os
@@ -90,11 +91,21 @@ def without_grader_paths(text: str, submissions: Iterable[Path] = (), roots: Ite
     subs = sorted({str(p) for s in submissions for p in (Path(s), Path(s).resolve())}, key=len, reverse=True)
     known = {*subs, *(str(p) for r in roots for p in (Path(r), Path(r).resolve())), str(REPO), str(REPO.resolve()),
              tempfile.gettempdir(), str(Path.home()), *_GENERIC_ROOTS}
-    known = {k.rstrip("/") for k in known if k.rstrip("/")}
-    pattern = re.compile(r"(?<![\w/.+=-])(?:" + "|".join(re.escape(k) for k in sorted(known, key=len, reverse=True))
-                         + rf")(?=/|[{_END}]|$)[^{_END}]*")
-    return pattern.sub(lambda m: _short(m.group(0).rstrip("."), subs) + ("." if m.group(0).endswith(".") else ""),
-                       text)
+    pattern = _pattern(tuple(sorted({k.rstrip("/") for k in known if k.rstrip("/").startswith("/")}, key=len,
+                                    reverse=True)))
+
+    def cut(m: "re.Match[str]") -> str:
+        if m.start() and re.match(r"[\w/.+=-]", text[m.start() - 1]):  # inside a word, a URL or base64 data
+            return m.group(0)
+        return _short(m.group(0).rstrip("."), subs) + ("." if m.group(0).endswith(".") else "")
+
+    return pattern.sub(cut, text)
+
+
+@functools.lru_cache(maxsize=32)
+def _pattern(roots: Tuple[str, ...]) -> "re.Pattern[str]":
+    # "/" first, so that the search skips to each slash (a page is up to megabytes of HTML)
+    return re.compile("/(?:" + "|".join(re.escape(k[1:]) for k in roots) + rf")(?=/|[{_END}]|$)[^{_END}]*")
 
 
 def _text(results: Sequence[CheckResult]) -> str:
