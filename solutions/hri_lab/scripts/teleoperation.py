@@ -23,9 +23,11 @@ Run it:
   rosrun hri_lab teleoperation.py                          # the lab's gamepad
   rosrun hri_lab teleoperation.py _pad:=virtual _pad_script:=/abs/path/script.yaml
                                                            # no gamepad: a scripted virtual pad
+  rosrun hri_lab teleoperation.py _pad:=browser            # a gamepad read by the notebook's page
+                                                           # (widgets.BrowserPad; at home, not in the lab)
 Parameters (private, with their defaults): ~rate 50.0 (Hz), ~k_trans 0.1 (m/s at full
 stick), ~k_rot 0.3 (rad/s at full stick), ~k_gripper 0.04 (m/s), ~deadzone 0.1,
-~pad pygame|virtual, ~layout dualshock4|dualsense|xbox, ~pad_script "" (virtual pad only),
+~pad pygame|virtual|browser, ~layout dualshock4|dualsense|xbox, ~pad_script "" (virtual pad only),
 ~wait_for_robot_s 5.0 (s: how long the pad waits for the robot to listen before it starts),
 ~feedback true (false: the pad never rumbles, Ex. 14's condition without feedback; set it
 before the node starts: rosparam set /teleoperation/feedback false).
