@@ -314,3 +314,40 @@ def test_a_process_last_output_names_the_students_files_from_their_package_not_t
                                                 "SystemExit: 3\n")
     message = explain_process(facts, "mapping_node.py")
     assert 'File "scripts/mapping_node.py", line 39' in message and "/tmp/" not in message
+
+
+def test_a_callback_that_crashes_for_some_counts_shows_the_crash_where_the_answers_are_missing():
+    cases = _cases()
+    outputs = [None if c > cases[0].max_sensor_force else e for c, e in zip(cases[0].counts, cases[0].expected)]
+    tail = CALLBACK_CRASH.replace("NameError: name 'Float64' is not defined", "ValueError: count above the maximum")
+    runs = [_run(cases[0], outputs, tail=tail)] + [_run(c, c.expected) for c in cases[1:]]
+    failed = _failed(compare_mapping(MappingNodeObservation(runs=runs), cases, package_dir=PACKAGE))
+    clip = failed[MAPPING["clip"][0]]
+    assert "got no message back" in clip and "ValueError: count above the maximum" in clip
+    assert "publish one message for every count" not in clip and MAPPING["values"][0] not in failed
+
+
+def test_a_teleoperation_node_that_crashes_at_start_shows_its_traceback_and_nothing_else_is_judged():
+    case = hidden_teleop_node_case(7)
+    tail = (f'Traceback (most recent call last):\n  File "{PACKAGE}/scripts/teleoperation.py", line 250, in main\n'
+            "    rospy.init_node(teleoperation)\nNameError: name 'teleoperation' is not defined\n")
+    observation = TeleopNodeObservation(problem="exited with status 1 before advertising a topic", node=NodeFacts(
+        started=False, exited_by_itself=True, exit_code=1, output_tail=tail))
+    parts = compare_teleop_node(observation, case, package_dir=PACKAGE)
+    assert "scripts/teleoperation.py, line 250, in main" in parts[0].message
+    assert all(p.message == "not judged: the node crashed (see above)" for p in parts[1:])
+
+
+def test_a_force_callback_that_crashes_is_shown_in_the_rumble_part():
+    case = hidden_teleop_node_case(7)
+    observation = _teleop_observation(case, case.gains.rate)
+    tail = ("[ERROR] [1.0]: bad callback: <bound method Teleoperation.on_force of <__main__.Teleoperation object>>\n"
+            f'Traceback (most recent call last):\n  File "{PACKAGE}/scripts/teleoperation.py", line 160, in on_force\n'
+            "    self.force = msg.value\nAttributeError: 'Float32' object has no attribute 'value'\n")
+    messages = dict(observation.messages)
+    messages["/teleoperation/rumble"] = [Message(m.t_s, m.kind, 0.0) for m in messages["/teleoperation/rumble"]]
+    observation = dataclasses.replace(observation, messages=messages,
+                                      node=dataclasses.replace(observation.node, output_tail=tail))
+    failed = _failed(compare_teleop_node(observation, case, package_dir=PACKAGE))
+    rumble = failed[TELEOP["node_rumble"][0]]
+    assert "Teleoperation.on_force()" in rumble and "line 160, in on_force" in rumble and "AttributeError" in rumble
