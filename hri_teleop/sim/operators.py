@@ -12,13 +12,19 @@ from __future__ import annotations
 import random
 from typing import Any, Dict, List
 
+from hri_teleop.core.errors import HriTeleopError
 from hri_teleop.sim.grasp_objects import OBJECTS
 from hri_teleop.sim.virtual_pad import ScriptStep
 
-__all__ = ["random_operator", "script_to_yaml_data", "study_operator", "study_scenario", "squeeze_taps"]
+__all__ = ["OperatorError", "random_operator", "script_to_yaml_data", "study_operator", "study_scenario",
+           "squeeze_taps"]
 
 _STICKS = ("left_x", "left_y", "right_x", "right_y")
 _BUTTONS = ("south", "east", "north")
+
+
+class OperatorError(HriTeleopError, ValueError):
+    """A study operator asked for with a condition, object or timing the simulated study does not have."""
 
 
 def random_operator(seed: int, duration_s: float = 10.0, quit_at_end: bool = True,
@@ -129,14 +135,14 @@ def study_operator(condition: str, seed: int, *, object_width_m: float = 0.044, 
     ``k_gripper_m_per_s``: the teleop gain the fast close is timed for (teleop.yaml's 0.04).
     """
     if condition not in ("feedback", "no_feedback"):
-        raise ValueError(f"condition must be feedback or no_feedback, got {condition!r}")
+        raise OperatorError(f"condition must be feedback or no_feedback, got {condition!r}")
     if not 0 <= skip_taps <= 5:
-        raise ValueError(f"skip_taps must be 0..5 (the careless operator taps at least 6 times), got {skip_taps!r}")
+        raise OperatorError(f"skip_taps must be 0..5 (the careless operator taps at least 6 times), got {skip_taps!r}")
     tap_m = TAP_HOLD_S * k_gripper_m_per_s
     close_s = round((0.08 - (object_width_m + CLOSE_MARGIN_M - skip_taps * tap_m)) / k_gripper_m_per_s, 2)
     if not 0.0 < close_s <= 2.0:
-        raise ValueError(f"object_width_m {object_width_m!r} leaves no room to close fast from 80 mm; "
-                         "give the object's width in m, e.g. 0.044 (an egg)")
+        raise OperatorError(f"object_width_m {object_width_m!r} leaves no room to close fast from 80 mm; "
+                            "give the object's width in m, e.g. 0.044 (an egg)")
     rng = random.Random(seed)
     t = round(start_s + rng.uniform(0.0, 0.3), 2)
     steps = [ScriptStep(t, "axis", ("right_y",), -1.0)]
@@ -176,14 +182,14 @@ def study_scenario(condition: str, seed: int, object_name: str = "egg", *, quick
     hold 0.4 s: a trial of about 7 s instead of 16 s, with the same grasp.
     """
     if object_name not in OBJECTS:
-        raise ValueError(f"object {object_name!r} is not in the simulation's set; "
-                         f"use one of {', '.join(sorted(OBJECTS))}")
+        raise OperatorError(f"object {object_name!r} is not in the simulation's set; "
+                            f"use one of {', '.join(sorted(OBJECTS))}")
     world: Dict[str, Any] = {"object": object_name}
     timing: Dict[str, Any] = {}
     if quick:
         # here, not at the top: the world loads pinocchio (the arm's joints), and ros.trial, so the
         # notebooks' widgets, import this module; a 3D view is what should pay for pinocchio
-        from hri_teleop.sim.world import LAB_ARM_CONFIG  # noqa: PLC0415
+        from hri_teleop.sim.world import LAB_ARM_CONFIG  # noqa: PLC0415 - pinocchio only for a quick trial
 
         approach_s = 1.2
         x, y, z = LAB_ARM_CONFIG.start_position_m
