@@ -15,6 +15,7 @@ import matplotlib.pyplot as plt
 import numpy as np
 from matplotlib.figure import Figure
 
+from hri_teleop.core.errors import HriTeleopError
 from hri_teleop.core.experiment.analysis import StudyResult
 from hri_teleop.core.experiment.metrics import (
     CONDITIONS,
@@ -26,7 +27,7 @@ from hri_teleop.core.experiment.stats import PairedComparison, StatsError, paire
 from hri_teleop.core.run_record import LabRecord
 from hri_teleop.plots.common import save_figure
 
-__all__ = ["PANEL_TITLES", "COLOURS", "draw_study", "study_figure"]
+__all__ = ["PANEL_TITLES", "COLOURS", "StudyFigureError", "draw_study", "study_figure"]
 
 #: The condition colours (the tests look for them in the PNG).
 COLOURS = {"feedback": "tab:blue", "no_feedback": "tab:red"}
@@ -34,12 +35,17 @@ COLOURS = {"feedback": "tab:blue", "no_feedback": "tab:red"}
 PANEL_TITLES = ("Grasp force over time", "Peak force by object (bar: median)", "Outcomes", "Paired comparison")
 
 
+class StudyFigureError(HriTeleopError, ValueError):
+    """The study's figure asked for with calibrations that do not match its trials."""
+
+
 def _per_trial(max_sensor_force: Union[float, Sequence[float]], n: int) -> List[float]:
     if isinstance(max_sensor_force, (int, float)):
         return [float(max_sensor_force)] * n
     values = [float(v) for v in max_sensor_force]
     if len(values) != n:
-        raise ValueError(f"max_sensor_force: {len(values)} values for {n} trials; give one per trial or one for all")
+        raise StudyFigureError(f"max_sensor_force: {len(values)} values for {n} trials; "
+                               "give one per trial or one for all")
     return values
 
 
