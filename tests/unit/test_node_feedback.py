@@ -351,3 +351,14 @@ def test_a_force_callback_that_crashes_is_shown_in_the_rumble_part():
     failed = _failed(compare_teleop_node(observation, case, package_dir=PACKAGE))
     rumble = failed[TELEOP["node_rumble"][0]]
     assert "Teleoperation.on_force()" in rumble and "line 160, in on_force" in rumble and "AttributeError" in rumble
+
+
+def test_a_node_that_takes_no_connection_is_not_said_to_be_ended_by_the_signal_the_grader_sent():
+    cases = _cases()
+    run = _run(cases[0], [], connected=False)
+    run = dataclasses.replace(run, node=dataclasses.replace(run.node, exit_code=-2))
+    failed = _failed(compare_mapping(MappingNodeObservation(runs=[run]), cases))
+    message = failed[MAPPING["pub"][0]]
+    assert "took no connection" in message and "SIGINT" not in message
+    ended = dataclasses.replace(run, node=dataclasses.replace(run.node, exit_code=3, exited_by_itself=True))
+    assert "status 3" in _failed(compare_mapping(MappingNodeObservation(runs=[ended]), cases))[MAPPING["pub"][0]]

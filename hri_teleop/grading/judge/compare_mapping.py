@@ -205,8 +205,9 @@ def compare_mapping(observation: MappingNodeObservation, cases: Sequence[Mapping
         return parts + [not_judged_part(T, k, reason) for k in rest]
     if not public.connected:
         if parts[0].passed or in_topic != "/pub_force":
-            why = (f"the grader could not connect to {in_topic} ({in_type}) and {out_topic}: "
-                   + _failed_node(facts, crash, template))
+            why = f"the grader could not connect to {in_topic} ({in_type}) and {out_topic}: " + (
+                _failed_node(facts, crash, template) if facts.exited_by_itself or crash is not None or template
+                else "the node ran, but took no connection within 5 s (the grader ended it then)")
             parts.append(judged_part(T, "pub", False, why))
             return parts + [not_judged_part(T, k, "no connection to the node") for k in rest]
         # a subscriber of a type the grader cannot send counts in: judged in its own part only
