@@ -12,11 +12,13 @@ import struct
 from dataclasses import dataclass
 from typing import List, Tuple
 
+from hri_teleop.core.errors import HriTeleopError
+
 __all__ = ["ROSSERIAL_BAUD", "TOPIC_REQUEST", "ID_PUBLISHER", "ID_SUBSCRIBER", "ID_TIME", "ID_PARAMETER_REQUEST",
            "ID_LOG", "ID_TX_STOP", "NO_PARAMETER", "INT16_MD5", "Frame", "TopicInfo", "ParamAnswer", "FrameReader",
            "frame", "decode_topic_info", "encode_topic_info", "encode_time", "decode_time", "encode_param_request",
            "decode_param_request", "encode_param_answer", "decode_param_answer", "encode_int16", "decode_int16",
-           "decode_log", "encode_log", "LOG_LEVELS"]
+           "decode_log", "encode_log", "LOG_LEVELS", "FrameError"]
 
 #: rosserial_arduino's default baud rate.
 ROSSERIAL_BAUD = 57600
@@ -40,6 +42,13 @@ ID_PARAMETER_REQUEST = 6
 #: the board's getParam fails at once and the sketch keeps its default, instead of waiting.
 NO_PARAMETER = bytes(12)
 _SYNC = b"\xff\xfe"
+#: The fix a malformed message names: its frame's checksum held, so the two ends disagree on its fields.
+_VERSIONS = ("the board and its host speak different rosserial versions: build the sketch's ros_lib with "
+             "this ROS (rosrun rosserial_arduino make_libraries.py)")
+
+
+class FrameError(HriTeleopError, ValueError):
+    """A message whose frame arrived whole but whose fields do not: too short, or empty."""
 
 
 def _checksum(data: bytes) -> int:
@@ -116,7 +125,7 @@ def _string(payload: bytes, at: int) -> Tuple[str, int]:
 
 
 def decode_topic_info(payload: bytes) -> TopicInfo:
-    """A TopicInfo's fields from its serialized bytes (ValueError when they are cut short)."""
+    """A TopicInfo's fields from its serialized bytes (FrameError when they are cut short)."""
     try:
         topic_id = struct.unpack_from("<H", payload, 0)[0]
         name, at = _string(payload, 2)
@@ -124,7 +133,7 @@ def decode_topic_info(payload: bytes) -> TopicInfo:
         md5, at = _string(payload, at)
         buffer_size = struct.unpack_from("<i", payload, at)[0]
     except struct.error as exc:
-        raise ValueError(f"a TopicInfo cut short ({len(payload)} bytes): {exc}") from None
+        raise FrameError(f"a TopicInfo cut short ({len(payload)} bytes: {exc}); {_VERSIONS}") from None
     return TopicInfo(topic_id, name, kind, md5, buffer_size)
 
 
@@ -145,11 +154,11 @@ def encode_time(sec: int, nsec: int) -> bytes:
 
 
 def decode_time(payload: bytes) -> Tuple[int, int]:
-    """(sec, nsec) of a time answer (ValueError when cut short)."""
+    """(sec, nsec) of a time answer (FrameError when cut short)."""
     try:
         sec, nsec = struct.unpack_from("<II", payload, 0)
     except struct.error as exc:
-        raise ValueError(f"a time cut short ({len(payload)} bytes): {exc}") from None
+        raise FrameError(f"a time cut short ({len(payload)} bytes: {exc}); {_VERSIONS}") from None
     return int(sec), int(nsec)
 
 
@@ -159,11 +168,11 @@ def encode_param_request(name: str) -> bytes:
 
 
 def decode_param_request(payload: bytes) -> str:
-    """The parameter name a board asks for (ValueError when cut short)."""
+    """The parameter name a board asks for (FrameError when cut short)."""
     try:
         name, _at = _string(payload, 0)
     except struct.error as exc:
-        raise ValueError(f"a parameter request cut short ({len(payload)} bytes): {exc}") from None
+        raise FrameError(f"a parameter request cut short ({len(payload)} bytes: {exc}); {_VERSIONS}") from None
     return name
 
 
@@ -184,7 +193,7 @@ def encode_param_answer(answer: ParamAnswer) -> bytes:
 
 
 def decode_param_answer(payload: bytes) -> ParamAnswer:
-    """A parameter answer's values (ValueError when cut short)."""
+    """A parameter answer's values (FrameError when cut short)."""
     try:
         count = struct.unpack_from("<I", payload, 0)[0]
         ints = struct.unpack_from(f"<{count}i", payload, 4)
@@ -199,7 +208,7 @@ def decode_param_answer(payload: bytes) -> ParamAnswer:
             text, at = _string(payload, at)
             strings.append(text)
     except struct.error as exc:
-        raise ValueError(f"a parameter answer cut short ({len(payload)} bytes): {exc}") from None
+        raise FrameError(f"a parameter answer cut short ({len(payload)} bytes: {exc}); {_VERSIONS}") from None
     return ParamAnswer(tuple(int(v) for v in ints), tuple(float(v) for v in floats), tuple(strings))
 
 
@@ -209,20 +218,20 @@ def encode_int16(value: int) -> bytes:
 
 
 def decode_int16(payload: bytes) -> int:
-    """A count from an Int16 frame (ValueError unless exactly 2 bytes)."""
+    """A count from an Int16 frame (FrameError unless exactly 2 bytes)."""
     if len(payload) != 2:
-        raise ValueError(f"an Int16 is 2 bytes, got {len(payload)}")
+        raise FrameError(f"an Int16 is 2 bytes, got {len(payload)}; {_VERSIONS}")
     return int(struct.unpack("<h", payload)[0])
 
 
 def decode_log(payload: bytes) -> Tuple[str, str]:
-    """(level name, text) of a rosserial_msgs/Log from the board (ValueError when cut short)."""
+    """(level name, text) of a rosserial_msgs/Log from the board (FrameError when empty or cut short)."""
     if not payload:
-        raise ValueError("an empty log message")
+        raise FrameError(f"an empty log message; {_VERSIONS}")
     try:
         text, _at = _string(payload, 1)
     except struct.error as exc:
-        raise ValueError(f"a log message cut short ({len(payload)} bytes): {exc}") from None
+        raise FrameError(f"a log message cut short ({len(payload)} bytes: {exc}); {_VERSIONS}") from None
     return LOG_LEVELS.get(payload[0], str(payload[0])), text
 
 
