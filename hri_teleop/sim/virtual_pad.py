@@ -82,11 +82,11 @@ def read_rumble_log(path: Union[str, Path]) -> List[RumbleRecord]:
             continue
         try:
             values = [float(v) for v in line.split()]
-            if len(values) not in (3, 5):
-                raise ValueError(line)
         except ValueError:
+            values = []
+        if len(values) not in (3, 5):
             raise GamepadError(f"{path}:{number}: not a rumble log line ('time_s intensity duration_s low high'): "
-                               f"{line[:60]!r}; the file must come from the node's ~rumble_log") from None
+                               f"{line[:60]!r}; the file must come from the node's ~rumble_log")
         records.append(RumbleRecord(*values))
     return records
 
