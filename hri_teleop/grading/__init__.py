@@ -1,11 +1,11 @@
 """The autograder of handout Task 4: student files checked against the lab's reference rules.
 
-Entry points (grading/README.md): ``hri-grade`` (``cli``), ``make grade`` (``batch``), and the
-notebooks' ``check_*`` (AssertionError with the student's feedback unless every part passes) and
-``grade_*`` (return the result); ``hri-grade traces`` and ``templates`` write the public traces and
-the student templates. No lab node imports it; rospy is needed only by the parts that run ROS. The names below are
-imported when first used, so a grading session or probe (``hri_teleop.grading.run``) does not load
-the checks (0.2 s of CPU per process).
+Entry points (grading/README.md): ``hri-grade`` (``apps/grade.py``; its ``traces`` and ``templates`` write the
+public traces and the student templates), ``make grade`` (``batch``) and the names below: ``grade_*`` return a
+check's result, ``check_*`` raise AssertionError with the student's feedback unless every part passes (the
+notebooks' checks are ``hri_teleop.course.check``). No lab node imports it; rospy is needed only by the parts
+that run ROS. The names below are imported when first used, so a grading session or probe
+(``hri_teleop.grading.run``) does not load the checks (0.2 s of CPU per process).
 """
 
 from __future__ import annotations
