@@ -215,8 +215,9 @@ def start_pipeline(timeout_s: float = 60.0, package: Union[str, Path] = STUDENT_
     while True:
         if not pipeline.running:
             group = pipeline if isinstance(pipeline, NodeGroup) else NodeGroup({"teleoperation.launch": pipeline})
+            message = explain_ended(group.processes, group.scripts)  # before the stop ends the others too
             pipeline.stop()
-            raise CourseError(explain_ended(group.processes, group.scripts))
+            raise CourseError(message)
         state = master_call("getSystemState")
         if _has_publisher(state, "/gripper_width") and settled(state, student_nodes):
             return pipeline

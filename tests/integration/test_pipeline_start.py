@@ -56,6 +56,7 @@ def test_a_template_teleoperation_py_names_the_exercise_to_finish_and_stops_ever
     assert "finish Ex. 9 first" in message
     assert "NotImplementedError" in message and 'File "teleoperation.py", line' in message
     assert "\\n" not in message and "'" not in message.splitlines()[0]  # no repr of a cut-off output
+    assert "/FSR_sensor" not in message and "/gripper_manager" not in message  # only the node that ended
     assert _nothing_left_running() == []
 
 
@@ -78,7 +79,7 @@ def test_a_crashing_mapping_node_is_named_with_its_own_last_traceback_lines(bund
     assert "/mapping_node ended while starting (exit status 1): mapping_node.py crashed: fix mapping_node.py" in message
     assert "NameError: name 'undefined_helper' is not defined" in message
     assert 'File "mapping_node.py", line' in message and "undefined_helper()" in message
-    assert "still the template" not in message
+    assert "still the template" not in message and "/teleoperation" not in message
     assert _nothing_left_running() == []
 
 
