@@ -51,7 +51,7 @@ def course_of(folder: str) -> Tuple[Path, Path]:
 
 def _formgrader(course: Path, extra: Sequence[str]) -> int:
     from hri_teleop.apps.lab import lab_command  # noqa: PLC0415 - jupyterlab only here
-    from hri_teleop.ros.kernel import install_kernelspec  # noqa: PLC0415
+    from hri_teleop.ros.kernel import install_kernelspec  # noqa: PLC0415 - only for the formgrader
 
     install_kernelspec()  # the formgrader can autograde one submission again: the notebooks' kernel
     command = lab_command(course, ["--ServerApp.default_url=/formgrader", *extra])

@@ -91,7 +91,7 @@ def main(argv: Optional[Sequence[str]] = None) -> int:
         notebooks = Path(args[at + 1])
         del args[at:at + 2]
     try:
-        import ipykernel  # noqa: F401, PLC0415
+        import ipykernel  # noqa: F401, PLC0415 - only to say what is missing
         import jupyterlab  # noqa: F401, PLC0415 - only to say what is missing
     except ImportError as exc:
         print(f"lab: {exc.name} is not installed: run `make setup` (it installs the project's [lab] extra)",

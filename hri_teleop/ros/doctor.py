@@ -101,7 +101,7 @@ def check_teleop(mode: str) -> Finding:
 def _latched_bool(topic: str, timeout_s: float = 1.0) -> Optional[bool]:
     """A latched std_msgs/Bool's value, or None when nobody publishes it (within ``timeout_s``)."""
     import rospy  # noqa: PLC0415 - only with a master: the machine checks run without ROS
-    from std_msgs.msg import Bool  # noqa: PLC0415
+    from std_msgs.msg import Bool  # noqa: PLC0415 - with rospy: only with a master
 
     if not _nodes(_state()[0], topic):
         return None
@@ -157,7 +157,7 @@ def home_simulation(say: Callable[[str], None]) -> Iterator[PrivateMaster]:
 def _listen_pub_force(seconds: float) -> Tuple[List[int], List[float]]:
     """Counts on /pub_force and their arrival times, for ``seconds``, through a node of this process."""
     import rospy  # noqa: PLC0415 - only with a master: the machine checks run without ROS
-    from std_msgs.msg import Int16  # noqa: PLC0415
+    from std_msgs.msg import Int16  # noqa: PLC0415 - with rospy: only with a master
 
     _init_node()
     counts: List[int] = []

@@ -159,7 +159,7 @@ def finish(out: Path, policy: Optional[LatePolicy], folder_of: Callable[[str, st
            feedback_html: Optional[Callable[[str, str], Path]] = None, progress: Progress = print_line) -> None:
     """After the jobs: the late policy, grades.csv's totals, lms.csv and report.html over everyone in OUT."""
     # matplotlib only here: every `hri-grade submission` process imports this module
-    from hri_teleop.grading.batch.report import write_class_outputs  # noqa: PLC0415
+    from hri_teleop.grading.batch.report import write_class_outputs  # noqa: PLC0415 - matplotlib only here
 
     apply_late(out, policy, folder_of, feedback_html, progress)
     if feedback_html is not None:  # the pages release_feedback ships: the files' points and feedback, no grader paths
