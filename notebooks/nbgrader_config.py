@@ -8,11 +8,11 @@ notebooks/README.md describes the course.
 import os
 import sys
 
-c = get_config()  # noqa: F821 (nbgrader's config loader defines it)
+c = get_config()  # noqa: F821 - nbgrader's config loader defines it
 
 here = os.path.dirname(os.path.abspath(__file__))
 sys.path.insert(0, os.path.dirname(here))  # the toolkit, also when it is not installed
-from hri_teleop.course.release import exclude_overwriting  # noqa: E402
+from hri_teleop.course.release import exclude_overwriting  # noqa: E402 - after the path above
 
 c.CourseDirectory.course_id = "hri-task4-teleoperation"
 c.CourseDirectory.root = here

@@ -48,7 +48,9 @@ def test_ticks_published_back_to_back_all_reach_the_subscriber_in_order(ros_mast
     echo = ros_master.run(["rostopic", "echo", "/burst_cmd/linear/x"], "burst_echo")
     pub = ros_master.run([sys.executable, "-c", PUBLISHER, "50"], "burst")
     try:
-        seen = lambda: [float(v) for v in re.findall(r"^(-?\d+\.\d+)$", echo.output(), re.M)]  # noqa: E731
+        def seen():
+            return [float(v) for v in re.findall(r"^(-?\d+\.\d+)$", echo.output(), re.M)]
+
         # the publisher says so after its last publish() returned, which may be after the echo printed it
         ros_master.wait_for(lambda: ("published" in pub.output() and float(TICKS - 1) in seen()) or not pub.running,
                             60, "the publisher to finish and its last tick to arrive")

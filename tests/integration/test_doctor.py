@@ -142,7 +142,8 @@ def test_a_port_where_no_sketch_answers_fails_with_the_fix(ros_env):
     assert line.startswith("FAIL") and "neither fsr_serial nor rosserial answers" in line and "upload" in line
 
 
-def test_an_fsr_serial_board_on_a_port_is_found_with_its_rate(firmware, ros_env, tmp_path):  # noqa: F811
+def test_an_fsr_serial_board_on_a_port_is_found_with_its_rate(
+        firmware, ros_env, tmp_path):  # noqa: F811 - the fixture imported above
     link = tmp_path / "ttyACM0"
     profile = write_profile(force_profile([0.0, 1.0], [0.0, 5.0]), tmp_path / "press.txt")
     with SimulatedUno(link, profile, repeat_us=1_000_000):

@@ -224,7 +224,9 @@ def test_a_second_sigint_ends_the_node_at_once(ros_master, tmp_path):
     node = _start_node(ros_master, f"_pad_script:={script}", f"_config:={config}", "_stop_timeout_s:=60.0")
     echo = ros_master.run(["rostopic", "echo", f"{TWIST}/linear/x"], "twist_x")
     try:
-        moving = lambda: [float(v) for v in re.findall(r"^(-?\d+\.\d+(?:e-?\d+)?)$", echo.output(), re.M)]  # noqa: E731
+        def moving():
+            return [float(v) for v in re.findall(r"^(-?\d+\.\d+(?:e-?\d+)?)$", echo.output(), re.M)]
+
         ros_master.wait_for(lambda: any(v > 0.04 for v in moving()) or not node.running, 30, "the twist to move")
         os.killpg(node.pgid, signal.SIGINT)
         ros_master.wait_for(lambda: "ramping the twist to zero" in node.output() or not node.running, 30,

@@ -9,7 +9,7 @@ import pytest
 
 rospy = pytest.importorskip("rospy")
 
-from hri_teleop.ros import clock as C  # noqa: E402
+from hri_teleop.ros import clock as C  # noqa: E402 - only where rospy is
 
 
 class FakeRosTime:
