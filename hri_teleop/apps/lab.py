@@ -13,6 +13,7 @@ from __future__ import annotations
 import json
 import os
 import sys
+import tempfile
 from pathlib import Path
 from typing import Dict, List, Mapping, Optional, Sequence
 
@@ -47,17 +48,28 @@ def student_config(prefix: Path = Path(sys.prefix)) -> Path:
     where nbgrader enables everything) and the user's: the instructors' plugins and server
     extensions are off, and nbgrader reads its nbgrader_config.py (else it warns that it found none).
     """
-    folder = prefix / "etc" / "hri-teleop-student-jupyter"
-    (folder / "labconfig").mkdir(parents=True, exist_ok=True)
     files = {
-        folder / "labconfig" / "page_config.json": {"disabledExtensions": {name: True for name in INSTRUCTOR_LABEXTENSIONS}},
-        folder / "jupyter_server_config.json": {"ServerApp": {"jpserver_extensions": {
-            name: False for name in INSTRUCTOR_SERVER_EXTENSIONS}}},
+        Path("labconfig", "page_config.json"): json.dumps(
+            {"disabledExtensions": {name: True for name in INSTRUCTOR_LABEXTENSIONS}}, indent=2) + "\n",
+        Path("jupyter_server_config.json"): json.dumps(
+            {"ServerApp": {"jpserver_extensions": {name: False for name in INSTRUCTOR_SERVER_EXTENSIONS}}}, indent=2) + "\n",
+        Path("nbgrader_config.py"): STUDENT_NBGRADER_CONFIG,
     }
-    for path, data in files.items():
-        path.write_text(json.dumps(data, indent=2) + "\n", encoding="utf-8")
-    (folder / "nbgrader_config.py").write_text(STUDENT_NBGRADER_CONFIG, encoding="utf-8")
-    return folder
+    # The container's toolkit belongs to root (written at its build, by --install-only) and runs as the
+    # student: a folder that is as it should be is left alone; one that cannot be written, replaced by /tmp's.
+    for folder in (prefix / "etc" / "hri-teleop-student-jupyter",
+                   Path(tempfile.gettempdir()) / f"hri-teleop-student-jupyter-{os.getuid()}"):
+        try:
+            for relative, text in files.items():
+                path = folder / relative
+                if not path.is_file() or path.read_text(encoding="utf-8") != text:
+                    path.parent.mkdir(parents=True, exist_ok=True)
+                    path.write_text(text, encoding="utf-8")
+            return folder
+        except OSError:
+            continue
+    raise KernelError(f"cannot write the students' Jupyter configuration in {prefix / 'etc'} or {tempfile.gettempdir()}: "
+                      "make them writable, or run make setup again")
 
 
 def student_env(environ: Mapping[str, str], config: Path) -> Dict[str, str]:
@@ -103,11 +115,16 @@ def main(argv: Optional[Sequence[str]] = None) -> int:
         print(f"lab: {exc}", file=sys.stderr)
         return 1
     print(f"lab: kernel {KERNEL_NAME!r} ({folder})", flush=True)
+    try:
+        config = student_config()  # also at --install-only: a container's build writes it as root
+    except KernelError as exc:
+        print(f"lab: {exc}", file=sys.stderr)
+        return 1
     if install_only:
         return 0
     notebooks.mkdir(exist_ok=True)
     command = lab_command(notebooks, args)
-    env = student_env(os.environ, student_config()) if student else dict(os.environ)
+    env = student_env(os.environ, config) if student else dict(os.environ)
     os.execve(command[0], command, env)
     return 0  # pragma: no cover - execv does not return
 

@@ -6,6 +6,7 @@ import json
 import os
 import subprocess
 import sys
+import tempfile
 from pathlib import Path
 
 from hri_teleop.apps.lab import lab_command
@@ -88,3 +89,18 @@ def test_the_students_jupyter_config_comes_first_once_and_turns_off_the_instruct
     server = json.loads((config / "jupyter_server_config.json").read_text())["ServerApp"]["jpserver_extensions"]
     assert server == {name: False for name in INSTRUCTOR_SERVER_EXTENSIONS}
     assert "course_id" in (config / "nbgrader_config.py").read_text()
+
+
+def test_the_students_jupyter_config_is_left_alone_when_right_and_made_in_tmp_where_the_toolkit_is_not_writable(
+        tmp_path):
+    from hri_teleop.apps.lab import student_config
+
+    first = student_config(tmp_path / "venv")
+    stamps = {p: p.stat().st_mtime_ns for p in first.rglob("*") if p.is_file()}
+    assert student_config(tmp_path / "venv") == first
+    assert {p: p.stat().st_mtime_ns for p in first.rglob("*") if p.is_file()} == stamps
+    blocked = tmp_path / "root-owned"
+    blocked.mkdir()
+    (blocked / "etc").write_text("a file where the folder would go\n")  # as a toolkit the student cannot write
+    fallback = student_config(blocked)
+    assert fallback.parent == Path(tempfile.gettempdir()) and (fallback / "nbgrader_config.py").is_file()
