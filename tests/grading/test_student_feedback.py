@@ -92,3 +92,25 @@ def test_files_not_graded_are_said_on_the_page_with_the_notebooks_own_score(tmp_
     text = page.read_text()
     assert "(Score: 0.0 / 0.0)</h4>" in text
     assert "Your hri_lab files (preparation) were not graded</strong>: took longer than 600 s" in text
+
+
+def test_only_the_pages_of_handed_in_notebooks_are_marked_and_a_students_own_page_stays_as_it_was(tmp_path):
+    import json
+
+    from hri_teleop.grading.batch.student_feedback import add_files_feedback
+
+    course, out = tmp_path / "course", tmp_path / "grades"
+    submission, feedback = course / "submitted" / "ann" / "preparation", course / "feedback" / "ann" / "preparation"
+    for folder in (submission, feedback, out / "ann" / "preparation"):
+        folder.mkdir(parents=True)
+    (submission / "ex06_07_sensor_launch.ipynb").write_text("{}")
+    (feedback / "ex06_07_sensor_launch.html").write_text(PAGE)
+    (feedback / "notes.html").write_text(f"<html><body>{tmp_path}</body></html>")  # nbgrader copies her notes.html
+    (out / "ann" / "preparation" / "checks.json").write_text(json.dumps([_result("sensor-launch").to_dict()]))
+    jobs = [{"assignment": "preparation", "kind": kind, "status": "graded", "message": ""}
+            for kind in ("notebooks", "files")]
+    marked = add_files_feedback(out, [{"student": "ann", "jobs": jobs}], lambda s, a: course / "submitted" / s / a,
+                                lambda s, a: course / "feedback" / s / a, [out])
+    assert marked == 1 and (feedback / "notes.html").read_text() == f"<html><body>{tmp_path}</body></html>"
+    page = (feedback / "ex06_07_sensor_launch.html").read_text()
+    assert "(Score: 10.0 / 10.0:" in page and "sensor-launch (hri_lab/sensor-launch): 10/10" in page

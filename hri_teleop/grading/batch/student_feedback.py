@@ -191,7 +191,9 @@ def add_files_feedback(out: Path, entries: Sequence[Mapping[str, Any]], folder_o
         submissions = [folder_of(student, a) for a, _k in jobs]
         roots += [c for c in {feedback_of(student, a).parent.parent.parent for a, _k in jobs} if c not in roots]
         for assignment, kind in sorted(jobs):
-            pages = sorted(feedback_of(student, assignment).glob("*.html")) if kind == "notebooks" else []
+            handed_in = folder_of(student, assignment)  # a page of a notebook (nbgrader copies other .html too)
+            pages = sorted(p for p in feedback_of(student, assignment).glob("*.html")
+                           if (handed_in / f"{p.stem}.ipynb").is_file()) if kind == "notebooks" else []
             if not pages:
                 continue
             files = jobs.get((assignment, "files"))
