@@ -28,6 +28,7 @@ BENCHMARKS: Dict[str, str] = {
     "notebooks": "notebooks",  # 5. every notebook headless, make setup when nothing is missing
     "determinism": "determinism",  # 6. the same part scores run after run, idle and loaded
     "doctor": "doctor",        # 7. make doctor at home, beside a roscore start and stop
+    "selfcheck": "selfcheck",  # 8. the student bundle's make check, whole and one exercise
 }
 
 

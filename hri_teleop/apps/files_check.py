@@ -1,8 +1,11 @@
 """The files' half of ``make check`` in the student bundle: each assignment's hri_lab graded as the course grades it.
 
 A deliverable's points are the files' (:mod:`hri_teleop.grading.points`). After the notebooks ran, this
-grades ``<assignment>/hri_lab`` with the assignment's checks and prints the points per check, reusing the
-check cells' results where the same files give the same parts (``HRI_GRADE_RESULTS``): a check runs once.
+grades ``<assignment>/hri_lab`` with the assignment's checks and prints the points per check and, for a
+check that lost points, each failing part with its feedback (what the notebook's check cell shows). It
+reuses the check cells' results where the same files give the same parts (``HRI_GRADE_RESULTS``): a
+check runs once; the checks no cell ran run here, side by side. ``make check`` (:mod:`hri_teleop.apps.selfcheck`)
+grades a copy of each assignment folder, so nothing is written into the student's.
 
     python -m hri_teleop.apps.files_check FOLDER [--only ex05,ex12]
 """
@@ -10,21 +13,44 @@ check cells' results where the same files give the same parts (``HRI_GRADE_RESUL
 from __future__ import annotations
 
 import argparse
+import os
+import shutil
 import sys
 import time
 from pathlib import Path
-from typing import Dict, List, Optional, Sequence, Tuple
+from typing import Callable, Dict, List, Optional, Sequence, Tuple
 
 from hri_teleop.grading.assignments import ASSIGNMENT_CHECKS, ASSIGNMENTS
-from hri_teleop.grading.judge.checks import grade
+from hri_teleop.grading.judge.checks import default_check_jobs, grade
+from hri_teleop.grading.judge.reuse import REUSED_NOTE
 from hri_teleop.grading.points import CHECK_CELLS, check_points
 from hri_teleop.grading.results import CheckResult, GradingError
+from hri_teleop.grading.run.jobs import run_all
 from hri_teleop.grading.run.sandbox import SandboxError
 from hri_teleop.grading.run.workspace import WorkspaceError
 
-__all__ = ["checks_for", "summary_lines", "main"]
+__all__ = ["scratch_copy", "checks_for", "summary_lines", "check_lines", "check_files", "main"]
 
 PACKAGE = "hri_lab"
+
+#: What a copy of an assignment folder leaves out: the catkin workspace (its build holds the
+#: original's absolute paths; the build cells make it again), editor and Python caches, git.
+_NOT_COPIED = shutil.ignore_patterns("catkin_ws", ".ipynb_checkpoints", "__pycache__", ".git")
+#: What a check that cannot run at all raises (said in one line, its points counted as lost).
+_NOT_GRADED = (GradingError, SandboxError, WorkspaceError, OSError)
+
+
+def scratch_copy(folder: Path, assignment: str, scratch: Path) -> Path:
+    """``folder/assignment`` copied to ``scratch/<folder's name>/assignment`` (links kept as links, less
+    :data:`_NOT_COPIED`); the folder's entries that are no assignment (the toolkit) linked beside it.
+    Returns the copy."""
+    top = scratch / folder.name
+    top.mkdir(parents=True)
+    for entry in folder.iterdir():
+        if entry.name not in ASSIGNMENTS:
+            os.symlink(entry, top / entry.name)
+    shutil.copytree(folder / assignment, top / assignment, symlinks=True, ignore=_NOT_COPIED)
+    return top / assignment
 
 
 def checks_for(assignment: str, only: Sequence[str] = ()) -> Tuple[str, ...]:
@@ -40,16 +66,93 @@ def _notebooks_of(assignment: str, check: str) -> str:
                                     if c.assignment == assignment and c.check == check))
 
 
-def summary_lines(assignment: str, results: Sequence[CheckResult], seconds: float) -> List[str]:
-    """One line with each check's points and the assignment's, then one per check that lost points."""
+def check_lines(result: CheckResult, shown_target: str = "") -> List[str]:
+    """A check that lost points: its score, then each failing part with its feedback, as its check cell
+    shows them (``hri_teleop.grading.results.feedback_text``, the passed parts left out)."""
+    lines = [f"      {result.check}: {result.score:g}/{result.max_score:g}"
+             + (f" ({shown_target})" if shown_target else "")]
+    for part in result.parts:
+        if part.passed:
+            continue
+        lines.append(f"        [FAIL] {part.name} ({part.score:g}/{part.points:g})")
+        for text in ([part.note] if part.note else []) + (part.message.splitlines() if part.message else []):
+            lines.append(f"               {text}")
+    if result.seed is not None:
+        lines.append(f"        (hidden inputs from seed {result.seed}; rerun with --seed {result.seed})")
+    lines += [f"        note: {note}" for note in dict.fromkeys(result.notes) if note != REUSED_NOTE]
+    return lines
+
+
+def summary_lines(assignment: str, results: Sequence[CheckResult], seconds: float,
+                  shown: Optional[Dict[str, str]] = None) -> List[str]:
+    """One line with each check's points and the assignment's, then each check that lost points with its
+    failing parts' feedback (``shown``: check -> the file's path as the student knows it)."""
     got, most = sum(r.score for r in results), sum(r.max_score for r in results)
     checks = ", ".join(f"{r.check} {r.score:g}/{r.max_score:g}" for r in results)
     lines = [f"  {assignment}/{PACKAGE}: {checks}: {got:g}/{most:g} points ({seconds:.0f} s)"]
     for r in results:
         if r.score < r.max_score:
-            lines.append(f"      {r.check}: {r.score:g}/{r.max_score:g} -- open {_notebooks_of(assignment, r.check)} "
-                         "and run its check cell to see why")
+            lines += check_lines(r, (shown or {}).get(r.check, ""))
+            lines.append(f"        (the same in {_notebooks_of(assignment, r.check)}, check cell; in a terminal: "
+                         f"hri-grade {r.check} {assignment}/{PACKAGE})")
     return lines
+
+
+def _shown_target(result: CheckResult, package: Path, assignment: str) -> str:
+    """``<assignment>/hri_lab/<file>`` for a result's target inside ``package`` (a copy or the folder)."""
+    if not result.target:
+        return ""
+    try:
+        return f"{assignment}/{PACKAGE}/{Path(result.target).resolve().relative_to(package.resolve())}"
+    except ValueError:
+        return ""
+
+
+def _grade_all(package: Path, checks: Sequence[str]) -> Tuple[Dict[str, CheckResult], Dict[str, str]]:
+    """Every check of ``checks`` on ``package``, side by side (a stored result is taken at once)."""
+    done: Dict[str, CheckResult] = {}
+    failed: Dict[str, str] = {}
+
+    def collect(check: str, result: Optional[CheckResult], error: Optional[BaseException]) -> None:
+        if result is not None:
+            done[check] = result
+        elif isinstance(error, _NOT_GRADED):
+            failed[check] = str(error)
+        elif error is not None:
+            raise error
+
+    def one(check: str) -> Callable[[], CheckResult]:
+        return lambda: grade(check, package)
+
+    run_all([(check, one(check)) for check in checks], default_check_jobs(os.cpu_count()), collect)
+    return done, failed
+
+
+def check_files(folder: Path, only: Sequence[str] = (), scratch: Optional[Path] = None) -> Tuple[float, float]:
+    """Grade each assignment's hri_lab under ``folder`` (in a copy under ``scratch`` when given) and print the
+    points and the failing parts' feedback; returns (points, possible)."""
+    todo: Dict[str, Tuple[str, ...]] = {a: checks_for(a, only) for a in ASSIGNMENTS
+                                        if (folder / a / PACKAGE).is_dir() and checks_for(a, only)}
+    if not todo:
+        return 0.0, 0.0
+    print("check: your hri_lab files, graded as the course grades them (a check's points are your files'; "
+          "the notebooks' check cells show the same feedback and add none)", flush=True)
+    got = most = 0.0
+    for assignment, checks in todo.items():
+        started = time.monotonic()
+        where = scratch_copy(folder, assignment, scratch / assignment) if scratch else folder / assignment
+        package = where / PACKAGE
+        done, failed = _grade_all(package, checks)
+        for check, reason in failed.items():
+            print(f"  {assignment}/{PACKAGE}: {check} not graded: {reason}", flush=True)
+            most += check_points(check)
+        results = [done[c] for c in checks if c in done]
+        shown = {r.check: _shown_target(r, package, assignment) for r in results}
+        if results:
+            print("\n".join(summary_lines(assignment, results, time.monotonic() - started, shown)), flush=True)
+        got, most = got + sum(r.score for r in results), most + sum(r.max_score for r in results)
+    print(f"check: {got:g}/{most:g} points for your files, beside the notebooks' autograded points above", flush=True)
+    return got, most
 
 
 def main(argv: Optional[Sequence[str]] = None) -> int:
@@ -57,29 +160,9 @@ def main(argv: Optional[Sequence[str]] = None) -> int:
     parser.add_argument("folder", nargs="?", default=".")
     parser.add_argument("--only", default="", help="comma-separated notebook name prefixes, e.g. ex05,ex12")
     args = parser.parse_args(argv)
-    folder = Path(args.folder).resolve()
-    only = [p.strip() for p in args.only.split(",") if p.strip()]
-    todo: Dict[str, Tuple[str, ...]] = {a: checks_for(a, only) for a in ASSIGNMENTS
-                                        if (folder / a / PACKAGE).is_dir() and checks_for(a, only)}
-    if not todo:
-        return 0
-    print("check: your hri_lab files, graded as the course grades them (a check's points are your files'; "
-          "the notebooks' check cells show the same feedback and add none)", flush=True)
-    got = most = 0.0
-    for assignment, checks in todo.items():
-        started = time.monotonic()
-        results: List[CheckResult] = []
-        for check in checks:
-            try:
-                results.append(grade(check, folder / assignment / PACKAGE))
-            except (GradingError, SandboxError, WorkspaceError, OSError) as exc:
-                print(f"  {assignment}/{PACKAGE}: {check} not graded: {exc}", flush=True)
-                most += check_points(check)
-        for line in summary_lines(assignment, results, time.monotonic() - started):
-            print(line, flush=True)
-        got, most = got + sum(r.score for r in results), most + sum(r.max_score for r in results)
-    print(f"check: {got:g}/{most:g} points for your files, beside the notebooks' autograded points above", flush=True)
+    check_files(Path(args.folder).resolve(), [p.strip() for p in args.only.split(",") if p.strip()])
     return 0
+
 
 if __name__ == "__main__":
     sys.exit(main())

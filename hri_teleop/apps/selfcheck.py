@@ -1,30 +1,58 @@
-"""``make check`` in the student bundle: run every notebook headless and print its autograded points.
+"""``make check`` in the student bundle: every notebook headless, then the hri_lab files, with the feedback.
 
 Before handing in, a student sees what the autograder will make of the notebooks and files: each
-notebook runs top to bottom in its own ``hri-teleop`` kernel in its assignment folder, as nbgrader's
-autograde runs it, and each autograded cell scores by nbgrader's rule (an error or stderr: 0; a
-number as the result: that many points; else full points). The notebooks are not written back.
+notebook runs top to bottom in its own ``hri-teleop`` kernel, as nbgrader's autograde runs it, and
+each autograded cell scores by nbgrader's rule (an error or stderr: 0; a number as the result: that
+many points; else full points). Then each assignment's ``hri_lab`` gets its checks' points
+(:mod:`hri_teleop.apps.files_check`). A cell or a check that lost points is printed with what its
+cell shows in the notebook.
 
-    python -m hri_teleop.apps.selfcheck FOLDER [--only ex05,ex12] [--timeout 600]
+Nothing in the student's folders changes: each notebook runs in a copy of its assignment folder
+(the plots, dumps and ``catkin_ws/`` it writes go with the copy), the files are graded in another
+copy, and the copies are removed at the end. A copy keeps the folder's last names
+(``task4/lab/hri_lab``), so its hidden inputs are those of the notebook run in place.
+
+Two notebooks (one per core) run at a time, each kernel with its private master; a kernel's
+shutdown (its nodes and roscore stopping) overlaps the next notebook. Each check runs once: the
+check cells store their results (``HRI_GRADE_RESULTS_WRITE``, :mod:`hri_teleop.grading.judge.reuse`)
+and the files' half takes them (``HRI_GRADE_RESULTS``), running only the checks no cell ran.
+
+    python -m hri_teleop.apps.selfcheck FOLDER [--only ex05,ex12] [--timeout 600] [--jobs N]
 """
 
 from __future__ import annotations
 
 import argparse
+import asyncio
 import os
+import re
+import shutil
 import subprocess
 import sys
+import tempfile
 import time
+from contextlib import asynccontextmanager
 from pathlib import Path
-from typing import Any, Dict, List, MutableMapping, Optional, Sequence, Tuple
+from typing import Any, AsyncIterator, Dict, List, MutableMapping, Optional, Sequence, Tuple
 
 import nbformat
 from nbclient import NotebookClient
+from traitlets.config import Config
 
-from hri_teleop.ros.kernel import KernelError, install_kernelspec, ipc_kernel_config
+from hri_teleop.apps.files_check import check_files, scratch_copy
+from hri_teleop.grading.judge import reuse
+from hri_teleop.ros.kernel import KernelError, install_kernelspec
 from hri_teleop.ros.master_api import NO_MASTER_URI
 
-__all__ = ["cell_points", "notebook_points", "find_notebooks", "private_masters", "main"]
+__all__ = ["cell_points", "cell_feedback", "notebook_lines", "find_notebooks", "private_masters", "run_order",
+           "main"]
+
+#: The notebooks that take longest (ROS, catkin, the checks), started first so that the two
+#: at a time end together; the others follow in their folder's order.
+SLOW_FIRST = ("ex12", "ex06", "ex09", "ex10", "ex05", "ex02", "ex14", "ex15")
+#: Lines of a cell's output shown for a cell that lost points (the last ones: the verdict).
+SHOWN_LINES = 15
+_ANSI = re.compile(r"\x1b\[[0-9;?]*[A-Za-z]|\x1b\][^\x07]*\x07")
 
 
 def _number(text: str) -> Optional[float]:
@@ -47,26 +75,30 @@ def cell_points(cell: Any) -> Tuple[float, float]:
     return most, most
 
 
-def notebook_points(path: Path, timeout_s: int = 600) -> Dict[str, Any]:
-    """Run one notebook (not saved) and return {"grades": {grade_id: [got, most]}, "error": str, "seconds": s}."""
-    nb = nbformat.read(str(path), as_version=4)
-    started = time.monotonic()
-    error = ""
-    try:
-        # The kernel's own log (ipykernel's start-up warnings) is not the student's business:
-        # what the cells print comes back through the kernel's channels, not its stderr.
-        with ipc_kernel_config() as config:
-            NotebookClient(nb, config=config, timeout=timeout_s, startup_timeout=120, allow_errors=True,
-                           resources={"metadata": {"path": str(path.parent)}}).execute(stderr=subprocess.DEVNULL)
-    except Exception as exc:  # noqa: BLE001 - a dead kernel or a timeout: say it, keep the points so far
-        error = f"{type(exc).__name__}: {str(exc).strip().splitlines()[0] if str(exc).strip() else ''}"
-    grades: Dict[str, List[float]] = {}
+def cell_feedback(cell: Any, limit: int = SHOWN_LINES) -> List[str]:
+    """The text an executed cell shows in the notebook (printed lines, results, the error's last line),
+    without colour codes; its last ``limit`` lines when longer."""
+    lines: List[str] = []
+    for output in cell.get("outputs", []):
+        kind = output.get("output_type")
+        if kind == "stream":
+            lines += str(output.get("text", "")).splitlines()
+        elif kind in ("display_data", "execute_result"):
+            lines += str(output.get("data", {}).get("text/plain", "")).splitlines()
+        elif kind == "error":
+            lines.append(f"{output.get('ename', '')}: {output.get('evalue', '')}".strip(": "))
+    lines = [_ANSI.sub("", line).rstrip() for line in lines]
+    lines = [line for line in lines if line.strip()]
+    return lines if len(lines) <= limit else ["..."] + lines[-limit:]
+
+
+def _grades(nb: Any) -> Dict[str, Any]:
+    grades: Dict[str, Any] = {}
     for cell in nb.cells:
         meta = cell.get("metadata", {}).get("nbgrader", {})
         if cell.cell_type == "code" and meta.get("grade") and not meta.get("solution"):
-            got, most = cell_points(cell)
-            grades[meta["grade_id"]] = [got, most]
-    return {"grades": grades, "error": error, "seconds": time.monotonic() - started}
+            grades[meta["grade_id"]] = [*cell_points(cell), cell_feedback(cell)]
+    return grades
 
 
 def find_notebooks(folder: Path, only: Sequence[str] = ()) -> List[Path]:
@@ -75,6 +107,13 @@ def find_notebooks(folder: Path, only: Sequence[str] = ()) -> List[Path]:
     if only:
         found = [p for p in found if any(p.stem.startswith(prefix) for prefix in only)]
     return found
+
+
+def run_order(notebooks: Sequence[Path]) -> List[Path]:
+    """The slow notebooks first (:data:`SLOW_FIRST`), the rest in their order."""
+    def rank(path: Path) -> int:
+        return next((i for i, prefix in enumerate(SLOW_FIRST) if path.stem.startswith(prefix)), len(SLOW_FIRST))
+    return sorted(notebooks, key=rank)
 
 
 def private_masters(env: MutableMapping[str, str]) -> None:
@@ -86,11 +125,107 @@ def private_masters(env: MutableMapping[str, str]) -> None:
     env.pop("HRI_MODE", None)
 
 
+class _Client(NotebookClient):
+    """nbclient's client with the kernel's shutdown left to the caller (it overlaps the next notebook)
+    and no signal handlers of its own (two notebooks run at once; Ctrl-C stops every kernel)."""
+
+    @asynccontextmanager
+    async def async_setup_kernel(self, **kwargs: Any) -> AsyncIterator[None]:
+        if self.km is None:
+            self.km = self.create_kernel_manager()
+        if not self.km.has_kernel:
+            await self.async_start_new_kernel(**kwargs)
+        if self.kc is None:
+            await self.async_start_new_kernel_client()
+        yield
+
+
+class _Pool:
+    """Runs notebooks ``jobs`` at a time in one event loop; every kernel started is stopped at the end."""
+
+    def __init__(self, scratch: Path, env: Dict[str, str], timeout_s: int) -> None:
+        self.scratch, self.env, self.timeout_s = scratch, env, timeout_s
+        self.stopping: List["asyncio.Future[Any]"] = []  # one per kernel started, done when it has stopped
+
+    async def run(self, index: int, path: Path) -> Dict[str, Any]:
+        """Run ``path`` (in a copy of its folder; not saved): {"grades": {id: [got, most, lines]}, "error", "seconds"}."""
+        started = time.monotonic()
+        nb = nbformat.read(str(path), as_version=4)
+        config = Config()  # Unix sockets in a folder of this kernel's own (no port race between kernels)
+        config.KernelManager.transport = "ipc"
+        config.KernelManager.ip = str(self.scratch / f"k{index}")
+        error = ""
+        try:
+            where = scratch_copy(path.parent.parent, path.parent.name, self.scratch / f"nb{index}")
+            client = _Client(nb, config=config, timeout=self.timeout_s, startup_timeout=120, allow_errors=True,
+                             resources={"metadata": {"path": str(where)}})
+            try:
+                # The kernel's own log (ipykernel's start-up warnings) is not the student's business:
+                # what the cells print comes back through the kernel's channels, not its stderr.
+                await client.async_execute(env=self.env, stderr=subprocess.DEVNULL)
+            finally:
+                self.stopping.append(asyncio.ensure_future(self._stop(client)))
+        except Exception as exc:  # noqa: BLE001 - a dead kernel or a timeout: say it, keep the points so far
+            text = str(exc).strip()
+            error = f"{type(exc).__name__}: {text.splitlines()[0] if text else ''}"
+        return {"grades": _grades(nb), "error": error, "seconds": time.monotonic() - started}
+
+    @staticmethod
+    async def _stop(client: _Client) -> None:
+        if client.km is not None:
+            try:
+                await client._async_cleanup_kernel()
+            except Exception:  # noqa: BLE001 - already gone
+                pass
+
+    async def close(self) -> None:
+        """Wait for every kernel to have stopped (its nodes and roscore with it)."""
+        if self.stopping:
+            await asyncio.gather(*self.stopping, return_exceptions=True)
+
+
+def notebook_lines(path: Path, result: Dict[str, Any]) -> List[str]:
+    """The notebook's points, then each autograded cell that lost points with what the cell shows."""
+    got = sum(g for g, _m, _f in result["grades"].values())
+    most = sum(m for _g, m, _f in result["grades"].values())
+    lines = [f"  {path.parent.name}/{path.name} ... {got:g}/{most:g} points ({result['seconds']:.0f} s)"
+             + (f"; stopped: {result['error']}" if result["error"] else "")]
+    for grade_id, (g, m, feedback) in result["grades"].items():
+        if g < m:
+            lines.append(f"      {grade_id}: {g:g}/{m:g}" + (", the cell shows:" if feedback else
+                                                               ": the cell shows nothing (it did not run)"))
+            lines += [f"        {line}" for line in feedback]
+    return lines
+
+
+async def run_notebooks(notebooks: Sequence[Path], scratch: Path, env: Dict[str, str], timeout_s: int,
+                        jobs: int) -> Tuple[float, float]:
+    """Run ``notebooks`` ``jobs`` at a time, printing each one's lines when it ends; (points, possible)."""
+    pool = _Pool(scratch, env, timeout_s)
+    queue = list(enumerate(run_order(notebooks)))
+    totals = [0.0, 0.0]
+
+    async def worker() -> None:
+        while queue:
+            index, path = queue.pop(0)
+            result = await pool.run(index, path)
+            totals[0] += sum(g for g, _m, _f in result["grades"].values())
+            totals[1] += sum(m for _g, m, _f in result["grades"].values())
+            print("\n".join(notebook_lines(path, result)), flush=True)
+
+    try:
+        await asyncio.gather(*(worker() for _ in range(max(1, min(jobs, len(queue))))))
+    finally:
+        await asyncio.shield(pool.close())
+    return totals[0], totals[1]
+
+
 def main(argv: Optional[Sequence[str]] = None) -> int:
     parser = argparse.ArgumentParser(prog="make check", description=__doc__.split("\n")[0])
     parser.add_argument("folder", nargs="?", default=".")
     parser.add_argument("--only", default="", help="comma-separated notebook name prefixes, e.g. ex05,ex12")
     parser.add_argument("--timeout", type=int, default=600, help="seconds per cell")
+    parser.add_argument("--jobs", type=int, default=0, help="notebooks at a time (default: the cores)")
     args = parser.parse_args(argv)
     folder = Path(args.folder).resolve()
     only = [p.strip() for p in args.only.split(",") if p.strip()]
@@ -99,7 +234,6 @@ def main(argv: Optional[Sequence[str]] = None) -> int:
         print(f"check: no notebook {'matching ' + args.only + ' ' if only else ''}in {folder}/*/ex*.ipynb: "
               "run `make check` in the bundle's top folder", file=sys.stderr)
         return 1
-
     try:
         install_kernelspec()
     except KernelError as exc:
@@ -107,20 +241,21 @@ def main(argv: Optional[Sequence[str]] = None) -> int:
         return 1
     os.environ.setdefault("HRI_NOTEBOOK_FAST", "1")  # real-time demos run short; the checks are the same
     private_masters(os.environ)
-    total = most_total = 0.0
-    print(f"check: {len(notebooks)} notebook(s), each run top to bottom (not saved)", flush=True)
-    for path in notebooks:
-        print(f"  {path.parent.name}/{path.name} ...", end="", flush=True)
-        result = notebook_points(path, args.timeout)
-        got = sum(g for g, _m in result["grades"].values())
-        most = sum(m for _g, m in result["grades"].values())
-        total, most_total = total + got, most_total + most
-        print(f" {got:g}/{most:g} points ({result['seconds']:.0f} s)"
-              + (f"; stopped: {result['error']}" if result["error"] else ""), flush=True)
-        for grade_id, (g, m) in result["grades"].items():
-            if g < m:
-                print(f"      {grade_id}: {g:g}/{m:g} -- open the notebook and run this cell to see why")
-    print(f"check: {total:g}/{most_total:g} autograded points in all (the rest is graded by hand)")
+    for key in (reuse.WRITE_ENV, reuse.READ_ENV):  # this run's own results only
+        os.environ.pop(key, None)
+    scratch = Path(tempfile.mkdtemp(prefix="hri-check-"))
+    try:
+        results = scratch / "results"
+        kernel_env = dict(os.environ, **{reuse.WRITE_ENV: str(results)})
+        jobs = args.jobs or os.cpu_count() or 1
+        print(f"check: {len(notebooks)} notebook(s), each run top to bottom in a copy of its folder "
+              f"(your folders are not changed), {min(jobs, len(notebooks))} at a time", flush=True)
+        total, most_total = asyncio.run(run_notebooks(notebooks, scratch, kernel_env, args.timeout, jobs))
+        print(f"check: {total:g}/{most_total:g} autograded points in all (the rest is graded by hand)", flush=True)
+        os.environ[reuse.READ_ENV] = str(results)
+        check_files(folder, only, scratch / "files")
+    finally:
+        shutil.rmtree(scratch, ignore_errors=True)
     return 0
 
 
