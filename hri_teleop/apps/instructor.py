@@ -17,10 +17,10 @@ import sys
 from pathlib import Path
 from typing import List, Optional, Sequence, Tuple
 
+from hri_teleop.core.errors import HriTeleopError
 from hri_teleop.core.paths import REPO
 from hri_teleop.grading.batch.class_results import read_summary
 from hri_teleop.grading.batch.folders import BatchError, course_layout
-from hri_teleop.grading.batch.late import LateError
 from hri_teleop.grading.batch.nbgrader_batch import (
     _assignment_order,
     _generate_feedback,
@@ -163,7 +163,7 @@ def main(argv: Optional[Sequence[str]] = None) -> int:
         if command == "release-feedback":
             return _release_feedback(course)
         return _nbgrader(course, rest)
-    except (BatchError, LateError, OSError) as exc:
+    except (HriTeleopError, OSError) as exc:  # BatchError, LateError, KernelError: one line each
         print(f"{command}: {exc}", file=sys.stderr)
         return 2
 
