@@ -241,3 +241,19 @@ def test_every_make_command_the_guide_names_is_a_target_of_the_makefile_it_means
     named = set(re.findall(r"`make ([a-z][\w-]*)", GUIDE.read_text()))
     named |= {shlex.split(c)[1] for c in guide_commands(GUIDE.read_text()) if c.startswith("make ")}
     assert named - ours == {"check"} and "check" in bundle, named - ours
+
+
+def test_release_feedback_names_what_is_missing_in_one_line(tmp_path):
+    course = tmp_path / "course"
+    (course / "feedback").mkdir(parents=True)
+    (course / "nbgrader_config.py").write_text(f"c = get_config()\nc.Exchange.root = {str(tmp_path / 'exchange')!r}\n")
+
+    def release() -> str:
+        proc = subprocess.run([sys.executable, "-m", "hri_teleop.apps.instructor", "release-feedback", str(course)],
+                              capture_output=True, text=True, env=grader_env(), timeout=120)
+        assert proc.returncode == 2 and len(proc.stderr.splitlines()) == 1, proc.stderr
+        return proc.stderr
+
+    assert "no feedback to release; run make grade" in release()
+    (course / "feedback" / "ann" / ASSIGNMENT).mkdir(parents=True)
+    assert f"exchange {tmp_path / 'exchange'} does not exist: create it" in release()
