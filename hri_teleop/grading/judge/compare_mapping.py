@@ -261,7 +261,10 @@ def _hidden_part(runs: Sequence[MappingRun], cases: Sequence[MappingCase], value
     if not (values_ok or clip_ok):
         return not_judged_part(T, "hidden", "the values of the public trace are wrong (see above); the hidden inputs "
                                             "judge where the range comes from once they are right")
-    which: Callable[[int, int], bool] = lambda c, m: (c <= m and values_ok) or (c > m and clip_ok)  # noqa: E731
+
+    def which(count: int, max_count: int) -> bool:
+        return (count <= max_count and values_ok) or (count > max_count and clip_ok)
+
     note = ("" if values_ok and clip_ok else
             "counts above /max_sensor_force left out here: clipping is judged in its own part" if values_ok else
             "counts up to /max_sensor_force left out here: the mapping is judged on the public trace above")
