@@ -107,7 +107,7 @@ def _worked_out(grade_id: str) -> Any:
         return None
     import yaml  # noqa: PLC0415 - only for the cells of Ex. 3 and 4
 
-    from hri_teleop.core.rosparam_model import file_reader, shell_commands, work_out, yaml_reader  # noqa: PLC0415
+    from hri_teleop.core.rosparam_model import file_reader, shell_commands, work_out, yaml_reader  # noqa: PLC0415 - as above
     from hri_teleop.core.yamlfile import BoundedYamlError, load_bounded_all  # noqa: PLC0415 - as above
 
     commands = shell_commands(str(cell) for cell in shell.history_manager.input_hist_raw)

@@ -238,7 +238,7 @@ def hand_z_m(timeout_s: float = 10.0) -> float:
     forward kinematics, so the check of Ex. 10 reads the robot the student drove.
     """
     import rospy  # noqa: PLC0415 - ROS only in the cell that reads the joints
-    from sensor_msgs.msg import JointState  # noqa: PLC0415
+    from sensor_msgs.msg import JointState  # noqa: PLC0415 - as rospy above
 
     from hri_teleop.sim.kinematics import PandaKinematics  # noqa: PLC0415 - pinocchio loads slowly
 

@@ -104,7 +104,7 @@ def _shutdown_at_exit() -> None:
     if rospy is not None and _SESSION is not None and _SESSION.available:
         try:
             rospy.signal_shutdown("kernel stopped")
-        except Exception:  # noqa: BLE001
+        except Exception:  # noqa: BLE001 - stopping anyway: the nodes below still stop
             pass
     stop_all()
     for finalizer in list(_FINALIZERS):
