@@ -13,7 +13,7 @@ from __future__ import annotations
 from typing import Any
 
 try:
-    import ipywidgets as _ipywidgets  # noqa: F401
+    import ipywidgets as _ipywidgets  # noqa: F401 - only to say below what is missing
 except ImportError:  # pragma: no cover - exercised by a subprocess test
     raise ImportError("ipywidgets is not installed: run `make setup` (or `pip install -e '.[lab]'`) to get the "
                       "notebook widgets") from None

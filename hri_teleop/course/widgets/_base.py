@@ -57,7 +57,7 @@ _BY_CELL: "weakref.WeakValueDictionary[Tuple[str, str], Any]" = weakref.WeakValu
 def current_cell_id() -> str:
     """The id of the notebook cell running now ('' outside JupyterLab, which sends it with each run)."""
     try:
-        from IPython import get_ipython  # noqa: PLC0415
+        from IPython import get_ipython  # noqa: PLC0415 - there in a notebook only
     except ImportError:
         return ""
     header = getattr(get_ipython(), "parent_header", None) or {}

@@ -156,8 +156,8 @@ class CalibrationWidget(widgets.VBox):
 
     def start(self, duration_s: Optional[float] = None) -> str:
         """Record from now for ``duration_s`` s (default: the widget's; 0 or None: until :meth:`stop`)."""
-        import rospy  # noqa: PLC0415
-        from std_msgs.msg import Int16  # noqa: PLC0415
+        import rospy  # noqa: PLC0415 - ROS only when a recording starts
+        from std_msgs.msg import Int16  # noqa: PLC0415 - as rospy
 
         seconds = self.duration.value if duration_s is None else duration_s
         self.recorder.start(self._clock(), seconds or None)
@@ -217,7 +217,7 @@ class CalibrationWidget(widgets.VBox):
         Raises CalibrateError / ParamFileError (one line) -- the file is checked before the
         parameter is set, so a refused file changes nothing.
         """
-        import rospy  # noqa: PLC0415
+        import rospy  # noqa: PLC0415 - ROS only when the value is applied
 
         count = self.recorder.result() if value is None else calibration_max([value])
         path = str(file if file is not None else self.file.value).strip()

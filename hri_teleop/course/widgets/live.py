@@ -190,7 +190,7 @@ def _specs(topics: TopicsArg, uri: Optional[str] = None) -> List[TopicSpec]:
             specs.append(known[item])
         else:
             if types is None:
-                from hri_teleop.ros.master_api import master_call  # noqa: PLC0415
+                from hri_teleop.ros.master_api import master_call  # noqa: PLC0415 - for a topic not known here only
 
                 types = dict(master_call("getTopicTypes", uri=uri))
             if item not in types:
@@ -272,7 +272,7 @@ class LivePlot(widgets.VBox):
         self.topics = LiveTopics(topics, maxlen=maxlen)
         if rumble_ok_topic:
             import rospy  # noqa: PLC0415 - ROS only when needed (as _message_class)
-            from std_msgs.msg import Bool  # noqa: PLC0415
+            from std_msgs.msg import Bool  # noqa: PLC0415 - as rospy
 
             self._rumble_ok_sub = rospy.Subscriber(rumble_ok_topic, Bool, self._on_rumble_ok, queue_size=1)
         specs = self.topics.specs
