@@ -307,6 +307,9 @@ def describe(diff: str, source: str, name: str) -> Tuple[int, str]:
 STRING = re.compile(r"""[rbuf]*("[^"\\]*(?:\\.[^"\\]*)*"|'[^'\\]*(?:\\.[^'\\]*)*')""", re.IGNORECASE)
 
 
+BRACES = re.compile(r"\{[^{}]*\}")
+
+
 def is_text_change(change: str) -> bool:
     """True when a mutation changed only what is inside string literals (a message's words or case).
 
@@ -318,6 +321,10 @@ def is_text_change(change: str) -> bool:
     old, _, new = change.partition("  ->  ")
     if old == new or STRING.sub('""', old) != STRING.sub('""', new):
         return False
+    pairs = zip(STRING.finditer(old), STRING.finditer(new))
+    if any(a.group(0) != b.group(0) and "f" in a.group(0).split(a.group(1))[0].lower()
+           and BRACES.sub("{}", a.group(1)) == BRACES.sub("{}", b.group(1)) for a, b in pairs):
+        return False  # inside an f-string's braces: code, not words
     changed = set(STRING.findall(old)) - set(STRING.findall(new))
     return bool(changed) and all(re.search(r"\s", literal[1:-1]) for literal in changed)
 

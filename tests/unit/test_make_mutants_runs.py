@@ -152,3 +152,12 @@ def test_the_run_fails_while_a_survivor_is_not_listed_as_equivalent_with_its_cha
     expected = {"killed": 1, "equivalent": 1} if code == 0 else {"killed": 1, "survived": 1}
     assert summary["modules"]["pkg/m.py"] == expected
     assert "1 killed" in capsys.readouterr().out
+
+
+@pytest.mark.parametrize("change, text", [
+    ("""return f"{'127.0.0.1' if host in ('localhost', '') else host}:{port}"  ->  """
+     """return f"{'XX127.0.0.1XX' if host in ('localhost', '') else host}:{port}\"""", False),
+    ('raise f"no master at {uri}: start one"  ->  raise f"XXno master at {uri}: start oneXX"', True),
+])
+def test_a_change_inside_an_f_strings_braces_is_code_not_words(mutants, change, text):
+    assert mutants.is_text_change(change) is text

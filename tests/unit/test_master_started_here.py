@@ -27,8 +27,9 @@ def world(monkeypatch):
     state: Dict[str, object] = {"answers": {}, "children": {}}
     own: Dict[str, object] = {}
 
-    def master_call(method: str, *args: object, uri: Optional[str] = None, timeout_s: float = 1.0) -> int:
+    def master_call(method: str, *args: object, uri: Optional[str] = None, timeout_s: float = 5.0) -> int:
         assert method == "getPid"
+        state.setdefault("timeouts", []).append(timeout_s)  # type: ignore[union-attr]
         answers = state["answers"]
         assert isinstance(answers, dict)
         if uri not in answers:
@@ -83,6 +84,9 @@ def test_a_port_ours_once_but_now_answered_by_another_master_is_not_ours(world):
     (f"http://127.0.0.1:{PORT}", f"http://localhost:{PORT}/"),
     (f"http://localhost:{PORT}/", f"http://127.0.0.1:{PORT}"),
     (f"http://localhost:{PORT}", f"http://localhost:{PORT}/"),
+    (f"http://127.0.0.1:{PORT}", f"127.0.0.1:{PORT}"),          # without the scheme
+    (f"localhost:{PORT}", f"http://127.0.0.1:{PORT}/"),
+    (f"http://:{PORT}", f"http://localhost:{PORT}"),            # no host: this machine's
 ])
 def test_localhost_and_127_0_0_1_name_the_same_master(world, registered, asked):
     _started(world, registered)
@@ -146,3 +150,12 @@ def test_a_master_started_here_that_ended_falls_back_to_the_mark(world):
     world["answers"][uri] = ROSMASTER_PID  # a descendant of the roscore we started, but that one ended
     assert not started_here(uri, env={})
     assert started_here(uri, env={OWN_MASTER_ENV: f"{uri} {ROSMASTER_PID}"})
+
+
+@pytest.mark.parametrize("bound_s", [0.3, 2.5])
+def test_the_master_is_asked_within_the_callers_bound_so_a_hung_master_cannot_hang_the_kernel(world, bound_s):
+    uri = f"http://127.0.0.1:{PORT}"
+    _started(world, uri)
+    world["answers"][uri] = ROSMASTER_PID
+    assert started_here(uri, timeout_s=bound_s)
+    assert world["timeouts"] == [bound_s]
