@@ -20,7 +20,12 @@ from hri_teleop.core.modes import pad_params as mode_pad_params
 from hri_teleop.course.errors import CourseError
 from hri_teleop.course.master_mode import NotStarted, master_mode, start_refusal
 from hri_teleop.course.nodes import STUDENT_PACKAGE, launch, launch_student, run_provided_node, run_student_node
-from hri_teleop.course.pipeline_start import explain_ended, settled
+from hri_teleop.course.pipeline_start import (
+    STUDENT_GRACE_S,
+    explain_ended,
+    lab_nodes_settled,
+    students_registered,
+)
 from hri_teleop.grading.run.workspace import REFERENCE_PACKAGE
 from hri_teleop.ros.master_api import master_call, running_nodes
 
@@ -212,6 +217,7 @@ def start_pipeline(timeout_s: float = 60.0, package: Union[str, Path] = STUDENT_
     # Up when the graph has settled (every node's registrations at the master, so the graph
     # view draws the whole pipeline), or ended: then one message says which node and why.
     deadline = time.monotonic() + timeout_s
+    lab_up_at: Optional[float] = None
     while True:
         if not pipeline.running:
             group = pipeline if isinstance(pipeline, NodeGroup) else NodeGroup({"teleoperation.launch": pipeline})
@@ -219,8 +225,10 @@ def start_pipeline(timeout_s: float = 60.0, package: Union[str, Path] = STUDENT_
             pipeline.stop()
             raise CourseError(message)
         state = master_call("getSystemState")
-        if _has_publisher(state, "/gripper_width") and settled(state, student_nodes):
-            return pipeline
+        if _has_publisher(state, "/gripper_width") and lab_nodes_settled(state, student_nodes):
+            lab_up_at = lab_up_at if lab_up_at is not None else time.monotonic()
+            if students_registered(state, student_nodes) or time.monotonic() - lab_up_at > STUDENT_GRACE_S:
+                return pipeline
         if time.monotonic() > deadline:
             pipeline.stop()
             raise CourseError(f"the pipeline did not come up within {timeout_s:.0f} s: run the cell again")

@@ -14,7 +14,7 @@ import re
 from pathlib import Path
 from typing import Any, Iterable, List, Mapping, Optional, Sequence, Set, Tuple
 
-__all__ = ["PIPELINE_WIRING", "registrations", "settled", "crash_lines", "template_exercise", "explain_ended",
+__all__ = ["PIPELINE_WIRING", "STUDENT_GRACE_S", "registrations", "lab_nodes_settled", "students_registered", "settled", "crash_lines", "template_exercise", "explain_ended",
            "without_terminal_titles"]
 
 #: (topic, publishing node, subscribing node) of the pipeline without hardware.
@@ -23,6 +23,10 @@ PIPELINE_WIRING: Tuple[Tuple[str, str, str], ...] = (
     ("/force_mapped", "/mapping_node", "/teleoperation"),
     ("/gripper_width", "/teleoperation", "/gripper_manager"),
 )
+
+#: Once the lab's nodes are up, how long a student node may take to register both a publisher and a
+#: subscriber (one that never subscribes, say, is then drawn as it is rather than failing the start).
+STUDENT_GRACE_S = 5.0
 
 #: The exercises that write a student node, for a template whose unfinished part names none.
 NODE_EXERCISES = {"mapping_node.py": "Ex. 5", "teleoperation.py": "Ex. 8 and 9"}
@@ -48,21 +52,28 @@ def registrations(state: Sequence[Any]) -> Set[Registration]:
     return found
 
 
-def settled(state: Sequence[Any], student_nodes: Iterable[str] = (),
-            wiring: Sequence[Tuple[str, str, str]] = PIPELINE_WIRING) -> bool:
-    """True when every registration of the pipeline's nodes is at the master.
-
-    The lab's nodes make exactly those of ``wiring``; a student's node (``student_nodes``) may use
-    other topics, so it counts once it has registered a publisher and a subscriber of its own.
-    """
+def lab_nodes_settled(state: Sequence[Any], student_nodes: Iterable[str] = (),
+                      wiring: Sequence[Tuple[str, str, str]] = PIPELINE_WIRING) -> bool:
+    """True when the lab's nodes (all but ``student_nodes``) have made every registration of ``wiring``."""
     found = registrations(state)
     students = set(student_nodes)
-    for node in students:
-        kinds = {kind for _topic, who, kind in found if who == node}
-        if kinds != {"pub", "sub"}:
-            return False
     expected = {(topic, pub, "pub") for topic, pub, _sub in wiring} | {(topic, sub, "sub") for topic, _pub, sub in wiring}
     return all(reg in found for reg in expected if reg[1] not in students)
+
+
+def students_registered(state: Sequence[Any], student_nodes: Iterable[str]) -> bool:
+    """True when each student node has a publisher and a subscriber at the master, whatever their topics
+    (a student's node may use other topics than the lab's)."""
+    found = registrations(state)
+    return all({kind for _topic, who, kind in found if who == node} == {"pub", "sub"} for node in student_nodes)
+
+
+def settled(state: Sequence[Any], student_nodes: Iterable[str] = (),
+            wiring: Sequence[Tuple[str, str, str]] = PIPELINE_WIRING) -> bool:
+    """True when every registration of the pipeline's nodes is at the master: the lab's nodes' of
+    ``wiring``, and a publisher and a subscriber of each student node."""
+    students = list(student_nodes)
+    return lab_nodes_settled(state, students, wiring) and students_registered(state, students)
 
 
 def _traceback(output: str) -> List[str]:

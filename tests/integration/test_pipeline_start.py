@@ -89,3 +89,15 @@ def test_the_pipeline_returns_once_every_node_has_registered_its_topics(bundle_k
     found = registrations(master_call("getSystemState"))  # read at once, as the graph view's cell does
     for topic, publisher, subscriber in PIPELINE_WIRING:
         assert (topic, publisher, "pub") in found and (topic, subscriber, "sub") in found, (topic, sorted(found))
+
+
+def test_a_student_node_that_never_subscribes_still_starts_the_pipeline_as_it_is(bundle_kernel, tmp_path):
+    text = (ANSWER_KEY / "scripts" / "teleoperation.py").read_text()
+    deaf = text.replace('self.force_sub = rospy.Subscriber("/force_mapped", Float32, self.on_force)',
+                        "self.force_sub = None")
+    assert deaf != text
+    pipeline = lab_nodes.start_pipeline(package=_package(tmp_path, teleoperation=deaf))
+    assert pipeline.running  # the graph view then shows what this node does
+    found = registrations(master_call("getSystemState"))
+    assert ("/gripper_width", "/gripper_manager", "sub") in found
+    assert not any(node == "/teleoperation" and kind == "sub" for _topic, node, kind in found)

@@ -60,3 +60,12 @@ def test_a_template_names_the_exercise_its_unfinished_part_belongs_to(tmp_path):
     plain.write_text("def main():\n    raise NotImplementedError()\n")
     assert template_exercise(OUTPUT.replace("teleoperation.py", "mapping_node.py").replace("line 5", "line 2"),
                              plain) == "Ex. 5"
+
+
+def test_the_lab_nodes_settle_apart_from_the_students_nodes():
+    from hri_teleop.course.pipeline_start import lab_nodes_settled, students_registered
+
+    deaf_teleoperation = [WIRED[0], [WIRED[1][0], WIRED[1][2]], []]  # /teleoperation subscribes nothing
+    students = ["/mapping_node", "/teleoperation"]
+    assert lab_nodes_settled(deaf_teleoperation, students)
+    assert not students_registered(deaf_teleoperation, students)
