@@ -40,7 +40,7 @@ def main(argv: Optional[List[str]] = None) -> int:
             board = SimulatedUno(args.link, profile, repeat_us=int(args.period_s * 1e6))
             board.start(lambda a: subprocess.Popen(a, stdin=subprocess.DEVNULL))
             print(f"simulated Uno on {args.link}: e.g. rosrun hri_lab serial_bridge.py _port:={args.link}, "
-                  f"or python -m hri_teleop.hardware.real.calibrate --port {args.link}; Ctrl-C ends it", flush=True)
+                  f"or python -m hri_teleop.apps.calibrate --port {args.link}; Ctrl-C ends it", flush=True)
             try:
                 assert board.process is not None
                 board.process.wait()

@@ -2,7 +2,8 @@
 
 With the ``fsr_serial`` sketch on the board, ``/max_sensor_force`` (the count with the piston
 pressed level with the housing) needs no roscore: press the piston fully a few times while it
-reads. :func:`calibration_max` is the rule (pure); :func:`read_counts` and :func:`main` the shell.
+reads. :func:`calibration_max` is the rule (pure), :func:`read_counts` the reading; the command is
+:mod:`hri_teleop.apps.calibrate`:
 
     python -m hri_teleop.apps.calibrate --port /dev/ttyACM0 --seconds 10
 """
