@@ -165,8 +165,8 @@ def main(argv: Optional[Sequence[str]] = None) -> int:
             if args.sim:
                 print(f"  {describe_trial(load_trial(sidecar))}")
             else:
-                print(f"  next: python -m hri_teleop.ros.trial outcome {sidecar} --lifted yes|no --crushed yes|no")
-            print(f"  questionnaire: the TLX widget, or python -m hri_teleop.ros.trial tlx {sidecar} --mental ...")
+                print(f"  next: python -m hri_teleop.apps.trial outcome {sidecar} --lifted yes|no --crushed yes|no")
+            print(f"  questionnaire: the TLX widget, or python -m hri_teleop.apps.trial tlx {sidecar} --mental ...")
             return 0
 
         return run_reporting(run, "trial")

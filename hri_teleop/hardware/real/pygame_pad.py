@@ -151,7 +151,7 @@ class PygamePad:
         self._layout = as_layout(DEFAULT_LAYOUT)
         self.layout_reason = "auto: not identified, the default"
         self._log("gamepad %r (GUID %s) has no known layout: %s; using layout %s. If its buttons or sticks do "
-                  "the wrong thing, set layout:= one of %s (check it with `python -m hri_teleop.hardware.real."
+                  "the wrong thing, set layout:= one of %s (check it with `python -m hri_teleop.apps."
                   "pad_check --layout NAME`)" % (name, guid or "?", guess.reason, DEFAULT_LAYOUT,
                                                  ", ".join(available_layouts())))
 
