@@ -415,7 +415,7 @@ def _unlink(links: Sequence[str]) -> None:
 
 
 def main(argv: Optional[Sequence[str]] = None) -> int:
-    """``python -m hri_teleop.grading.run.kernel_sandbox --connection-file F --policy JSON -- KERNEL...``."""
+    """``kernel_box.py --connection-file F --policy JSON -- KERNEL...``, run by its path (kernel_sandbox)."""
     args = list(sys.argv[1:] if argv is None else argv)
     try:
         split = args.index("--")
