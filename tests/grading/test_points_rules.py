@@ -117,3 +117,35 @@ def test_an_assignments_total_is_its_notebooks_plus_its_files_each_once():
 def test_a_graded_notebooks_job_alone_is_its_assignments_total():
     jobs = [{"assignment": "lab", "kind": "notebooks", "status": "graded", "score": None, "max_score": None}]
     assert assignment_points(jobs) == {"lab": (0.0, 0.0)}
+
+
+def test_a_notebook_nbgrader_cannot_read_does_not_hide_the_next_ones_problems(tmp_path):
+    (tmp_path / "lab").mkdir()
+    (tmp_path / "lab" / "a_broken.ipynb").write_text("{not json")
+    (tmp_path / "lab" / "b_list.ipynb").write_text("[1, 2]")
+    _notebook(tmp_path, "lab", "c_new", [_cell("ex99_new", "check.graph(PACKAGE)", points=1)])
+    assert [p.split(":")[0] for p in check_cell_problems(tmp_path)] == ["lab/c_new.ipynb"]
+
+
+def test_cells_without_nbgrader_metadata_source_or_cells_at_all_are_not_graded_cells(tmp_path):
+    (tmp_path / "lab").mkdir()
+    (tmp_path / "lab" / "a_empty.ipynb").write_text(json.dumps({"metadata": {}, "nbformat": 4}))
+    _notebook(tmp_path, "lab", "b_plain", [
+        {"cell_type": "markdown", "source": "# Ex. 9"},
+        {"cell_type": "code", "metadata": {}, "source": ["check.graph(PACKAGE)\n"], "outputs": []},
+        {"cell_type": "code", "metadata": {"nbgrader": {"grade": False}}, "outputs": []},
+        _cell("ex99_bad", ["x = 1\n", "check.graph(PACKAGE)\n"], points=4),
+    ])
+    problems = check_cell_problems(tmp_path)
+    assert len(problems) == 1 and problems[0].startswith("lab/b_plain.ipynb: cell ex99_bad runs a check")
+
+
+def test_each_assignment_is_counted_whatever_comes_before_it():
+    jobs = [
+        {"assignment": "extra", "kind": "files", "status": "graded", "score": 3, "max_score": 3},
+        {"assignment": "preparation", "kind": "notebooks", "status": "failed", "score": 0, "max_score": 10},
+        {"assignment": "preparation", "kind": "files", "status": "graded", "score": 40, "max_score": 40},
+        {"assignment": "lab", "kind": "notebooks", "status": "graded", "score": 10, "max_score": 10},
+        {"assignment": "lab", "kind": "files", "status": "graded", "score": 49, "max_score": 49},
+    ]
+    assert assignment_points(jobs) == {"preparation": (None, None), "lab": (59.0, 59.0)}
