@@ -359,9 +359,11 @@ class ControllerView(widgets.VBox):
         self._show(self.model.advance(0.0))
 
     def close(self) -> None:
-        """Stop the loop and release the pad."""
+        """Stop the loop and release the pad (and the hold buttons' page parts)."""
         self.ticker.stop()
         try:
             self.pad.close()
         finally:
+            for button in self.hold_buttons.values():
+                button.close()
             super().close()
