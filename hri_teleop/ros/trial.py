@@ -277,7 +277,7 @@ def analyse_folder(folder: Union[str, Path, None] = None, *, figure: Union[str, 
     folder = Path(folder) if folder is not None else default_trials_folder()
     if not folder.is_dir():
         raise MetricsError(f"{folder}: no such folder of trials; record a session first (python -m "
-                           f"hri_teleop.ros.trial rehearse --out {folder}) or give the folder the trials are in")
+                           f"hri_teleop.apps.trial rehearse --out {folder}) or give the folder the trials are in")
     trials = load_trials(folder)
     if not trials:
         raise MetricsError(f"{folder}: no trials in this folder (no *.yaml sidecar beside a *.bag); record some "
