@@ -82,7 +82,7 @@ class Start:
     """What a shell is about to start, as the rules see it.
 
     ``simulated``: it stands in for hardware (the simulated board or robot). ``pad``: for a
-    teleoperation node, the pad it reads (``virtual``: a script or a browser plays it).
+    teleoperation node, the pad it reads (``virtual``: a script plays it; ``browser``: the notebook's page).
     """
 
     what: str
