@@ -3,7 +3,7 @@
 Everything downstream sees a :class:`PadState` with positional button names
 (south/east/west/north = cross/circle/square/triangle on PlayStation, A/B/X/Y on Xbox)
 and sticks that read +1 right/up. Raw indices live in ``layouts/*.yaml`` only. The pads
-themselves (pygame, virtual, scripted) are in :mod:`hri_teleop.hardware`.
+themselves: pygame and browser in :mod:`hri_teleop.hardware`, virtual and scripted in :mod:`hri_teleop.sim`.
 """
 
 from __future__ import annotations

@@ -1,1 +1,1 @@
-"""Step 4 of grading: many submissions, as folders or through nbgrader, two at a time."""
+"""Step 4 of grading: many submissions, as folders or through nbgrader, one per core at a time (or JOBS)."""
