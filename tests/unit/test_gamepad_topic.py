@@ -82,3 +82,8 @@ def test_the_browser_pad_reads_unplugged_from_the_moment_the_real_robot_appears(
         assert "(/franka_control)" in pad.refused and pad.poll() == PadState.neutral(connected=False)
     finally:
         pad.close()
+
+
+def test_a_timeout_that_is_not_positive_is_one_line_with_an_example():
+    with pytest.raises(GamepadError, match=r"timeout_s is 0: give a positive number of seconds, e\.g\. 0\.5"):
+        TopicPadInput(LAYOUT, 0)

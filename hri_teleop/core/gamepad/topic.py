@@ -12,7 +12,7 @@ from __future__ import annotations
 from typing import Optional, Sequence, Union
 
 from hri_teleop.core.gamepad.layout import Layout
-from hri_teleop.core.gamepad.state import PadState
+from hri_teleop.core.gamepad.state import GamepadError, PadState
 
 __all__ = ["TOPIC_PAD_TIMEOUT_S", "TopicPadInput"]
 
@@ -26,7 +26,8 @@ class TopicPadInput:
 
     def __init__(self, layout: Layout, timeout_s: float = TOPIC_PAD_TIMEOUT_S) -> None:
         if not timeout_s > 0.0:
-            raise ValueError(f"timeout_s must be > 0 s, got {timeout_s!r}")
+            raise GamepadError(f"the topic pad's timeout_s is {timeout_s!r}: give a positive number of seconds, "
+                               f"e.g. {TOPIC_PAD_TIMEOUT_S}")
         self.layout = layout
         self.timeout_s = float(timeout_s)
         self._state = PadState.neutral(connected=False)
