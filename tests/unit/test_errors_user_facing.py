@@ -23,8 +23,6 @@ PACKAGE = ROOT / "hri_teleop"
 PLAIN = ("ValueError", "KeyError", "TypeError", "RuntimeError")
 #: (module, enclosing function, built-in) -> why the raise is a programming error no person reads.
 INTERNAL: Dict[Tuple[str, str, str], str] = {
-    ("hri_teleop/core/gamepad/topic.py", "TopicPadInput.__init__", "ValueError"):
-        "a constructor's argument: its one caller (hardware/joy_pad.py) passes TOPIC_PAD_TIMEOUT_S; nobody sets it",
     ("hri_teleop/core/paramfile.py", "_Tag.value_of", "KeyError"):
         "called only for an attribute the caller has checked is there: firing is a bug in paramfile",
     ("hri_teleop/grading/results.py", "CheckResult.part", "KeyError"):
