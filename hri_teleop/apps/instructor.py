@@ -5,8 +5,7 @@
     python -m hri_teleop.apps.instructor release-feedback [DIR]                       make release-feedback
     python -m hri_teleop.apps.instructor nbgrader [DIR] ARGS...                       make nbgrader ARGS=...
 
-DIR is the course (default notebooks/) or its submitted/, as for ``make grade``. nbgrader lives in the
-project's .venv only: these run it there, in the course folder, where its nbgrader_config.py is read.
+DIR: the course (default notebooks/) or its submitted/, as for ``make grade``; nbgrader runs from .venv, in the course.
 """
 
 from __future__ import annotations

@@ -1,12 +1,10 @@
 """What a notebook's ``rosparam`` commands do to a parameter server, worked out without one.
 
-Handout Ex. 3 and 4 ask for terminal commands: ``rosparam set``, ``load``, ``delete`` and ``dump``. The grader
-judges those commands as the student wrote them in the notebook (the shell lines of its code cells), not a
-value the student's kernel reports, which a hook in the kernel could make up. :func:`shell_commands` finds
-the commands of a cell; :class:`ParamModel` applies them as rosparam and the master would: the same name
-resolution, a dictionary set as an update, ``_ns`` in loaded documents, a dump of the tree below a
-namespace. YAML is parsed by a function the caller passes (the grader's runs in a box), files are read the
-same way: no I/O here. Runs on Python 3.8 (the kernel runs it at home).
+Handout Ex. 3 and 4 ask for terminal commands (``rosparam set``, ``load``, ``delete``, ``dump``); the grader
+judges them as written in the notebook's shell lines, not a value the kernel reports (a hook could make one up).
+:func:`shell_commands` finds a cell's commands; :class:`ParamModel` applies them as rosparam and the master
+would (name resolution, a dictionary set as an update, ``_ns`` in loaded documents, a dump below a namespace).
+YAML and files are read by functions the caller passes (the grader's run in a box): no I/O here. Python 3.8.
 """
 
 from __future__ import annotations
