@@ -4,11 +4,8 @@
 second on ``/teleoperation/virtual_joy``; a node that opens this pad (the student's teleoperation.py
 with ``_pad:=browser``) reads it as it would read a pad plugged in. Messages that stop are input lost:
 the pad reads released and unplugged (:class:`~hri_teleop.core.gamepad.topic.TopicPadInput`), and the
-node's twist ramps to zero. The node's ``~rumble`` goes back to the page through the widget.
-
-Never beside the real robot: on a master that runs the lab's hardware (franka_control, franka_gripper,
-the board's serial_node), whoever started it, the pad refuses to open, and if the hardware appears later
-it reads unplugged from then on. In the lab the student's node reads the lab's gamepad.
+node's twist ramps to zero. The node's ``~rumble`` goes back to the page through the widget. Never
+beside the real robot (:class:`BrowserJoyPad`).
 """
 
 from __future__ import annotations
@@ -52,7 +49,12 @@ def _refusal(hardware: List[str]) -> str:
 
 
 class BrowserJoyPad:
-    """A pad whose state arrives as sensor_msgs/Joy on ``topic`` (default ``~virtual_joy``), in ``layout``'s order."""
+    """A pad whose state arrives as sensor_msgs/Joy on ``topic`` (default ``~virtual_joy``), in ``layout``'s order.
+
+    Never beside the real robot: on a master that runs the lab's hardware (franka_control, franka_gripper,
+    the board's serial_node), whoever started it, the pad refuses to open, and if the hardware appears later
+    it reads unplugged from then on. In the lab the student's node reads the lab's gamepad.
+    """
 
     stale_input_watch = False  # a page's pad may rightly hold a value bit for bit
 
