@@ -1,13 +1,11 @@
 """``hand_in``: an autograded cell hands the student's values out as plain data; the grader judges them.
 
-The cell's output carries the values as JSON under a MIME type of the course's own
-(:data:`hri_teleop.grading.judge.notebook_answers.MIME`) beside a line of text. After nbgrader's
-autograde the grader reads that output from the autograded notebook and applies the cell's rule in
-its own process (:mod:`hri_teleop.grading.batch.notebook_judge`): nothing the kernel decides gives a
-point. At home ``hand_in`` runs the same rule on the same plain data, so the student sees the verdict
-the grader will give; a wrong answer ends the cell with one line saying why. The cells of Ex. 3 and 4 judge
-what the notebook's rosparam commands do: here, as in the grader, those values are worked out from the cells
-this kernel ran (:mod:`hri_teleop.core.rosparam_model`), not read back from the server. Runs on Python 3.8.
+The cell's output carries the values as JSON under the course's own MIME type
+(:data:`hri_teleop.grading.judge.notebook_answers.MIME`) beside a line of text. After nbgrader's autograde the
+grader applies the cell's rule to that output in its own process (:mod:`hri_teleop.grading.batch.notebook_judge`):
+nothing the kernel decides gives a point. At home ``hand_in`` runs the same rule, so the student sees the verdict
+(a wrong answer: one line saying why). Ex. 3 and 4's values are worked out from the cells this kernel ran
+(:mod:`hri_teleop.core.rosparam_model`), as in the grader, not read back from the server. Runs on Python 3.8.
 """
 
 from __future__ import annotations

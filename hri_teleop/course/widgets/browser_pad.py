@@ -1,13 +1,11 @@
 """A gamepad read by the browser drives the teleoperation node (widgets.BrowserPad): in a container, on a server.
 
 Such a kernel (the course's container on macOS or Windows, JupyterHub, the lab PC reached from a laptop)
-cannot open a pad plugged into the laptop, but the page can (the Gamepad API). The page (browser_pad.js)
-sends the pad 25 times a second; the kernel publishes it on the node's ``~virtual_joy`` -- the student's
-node started with the pad ``"browser"`` reads it there (``hri_teleop.hardware.joy_pad``), as does the lab's
-node with pad:=virtual -- released once the page falls silent
-(:class:`~hri_teleop.core.gamepad.browser.BrowserInput`), and sends the node's ``~rumble`` back to the
-pad's motors, or to a bar on screen. With ``node=None`` it is a pad for the kernel alone
-(``ControllerView(source="browser")``). docs/browser-pad.md: browsers, pads, numbers.
+cannot open a pad plugged into the laptop, but the page can (the Gamepad API). The page (browser_pad.js) sends
+the pad 25 times a second; the kernel publishes it on the node's ``~virtual_joy``, where the student's node with
+pad ``"browser"`` (``hri_teleop.hardware.joy_pad``) or the lab's with pad:=virtual reads it, released once the page
+falls silent (:class:`~hri_teleop.core.gamepad.browser.BrowserInput`); the node's ``~rumble`` goes back to the
+pad's motors or a bar on screen. ``node=None``: a pad for the kernel alone. Browsers, pads: docs/browser-pad.md.
 """
 
 from __future__ import annotations

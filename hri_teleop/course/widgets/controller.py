@@ -5,8 +5,7 @@ check their understanding before they write ``teleoperation.py``. :class:`Contro
 :class:`~hri_teleop.core.teleop.TeleopController` at the configured rate, as the node does. The pad
 is a real one when plugged in, the gamepad of the browser page (``source="browser"``), else the
 virtual pad driven from the widget's sliders and buttons (cross and circle act only while held:
-:class:`~hri_teleop.course.widgets.hold_button.HoldButton`); without a display pygame uses SDL's
-dummy video driver and simply finds no pad.
+:class:`~hri_teleop.course.widgets.hold_button.HoldButton`); without a display pygame finds no pad.
 """
 
 from __future__ import annotations
