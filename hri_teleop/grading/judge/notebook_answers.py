@@ -3,12 +3,9 @@
 A graded cell hands the student's values out as plain data (:func:`hri_teleop.course.answers.hand_in`); the
 grader judges them in its own process (:mod:`hri_teleop.grading.batch.notebook_judge`) against
 :func:`expectations` it computes itself. A rule is pure, never raises on what a student hands in, and its
-message names the cause, never the value to find. The kernel runs the same rule at home only to show the
-verdict (Python 3.8).
-
-The cells of Ex. 3 and 4 (:data:`COMMAND_CELLS`) judge what the notebook's ``rosparam`` commands do, not a
-value the kernel read back: the grader works the commands out itself (:mod:`hri_teleop.core.rosparam_model`,
-in a box) from the notebook handed in, so a hook in the kernel has nothing to report that counts.
+message names the cause, never the value to find; the kernel runs it at home only to show the verdict (Python
+3.8). Ex. 3 and 4 (:data:`COMMAND_CELLS`): the grader works the notebook's ``rosparam`` commands out itself
+(:mod:`hri_teleop.core.rosparam_model`, in a box), so a hook in the kernel has nothing to report that counts.
 """
 
 from __future__ import annotations
