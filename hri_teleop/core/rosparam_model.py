@@ -12,8 +12,8 @@ from __future__ import annotations
 import copy
 import posixpath
 import shlex
-from pathlib import PurePosixPath
 from dataclasses import dataclass, field
+from pathlib import PurePosixPath
 from typing import Any, Callable, Dict, Iterable, List, Mapping, Optional, Sequence, Tuple
 
 from hri_teleop.core.errors import HriTeleopError

@@ -16,7 +16,14 @@ from typing import Any, Dict, List
 
 from hri_teleop.core.errors import HriTeleopError
 from hri_teleop.course.errors import CourseError
-from hri_teleop.grading.judge.notebook_answers import COMMAND_CELLS, MAX_ANSWER_BYTES, MIME, command_values, has_rule, judge
+from hri_teleop.grading.judge.notebook_answers import (
+    COMMAND_CELLS,
+    MAX_ANSWER_BYTES,
+    MIME,
+    command_values,
+    has_rule,
+    judge,
+)
 
 __all__ = ["hand_in", "plain", "WrongAnswer"]
 

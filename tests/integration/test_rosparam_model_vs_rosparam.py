@@ -12,8 +12,14 @@ from typing import Any, Dict, List
 import pytest
 import yaml
 
-from hri_teleop.core.rosparam_model import ROSCORE_PARAMS, ParamModel, file_reader, shell_commands, shell_lines, \
-    yaml_reader
+from hri_teleop.core.rosparam_model import (
+    ROSCORE_PARAMS,
+    ParamModel,
+    file_reader,
+    shell_commands,
+    shell_lines,
+    yaml_reader,
+)
 from hri_teleop.core.yamlfile import BoundedYamlError, load_bounded_all
 from hri_teleop.ros.master import PrivateMaster
 
