@@ -11,7 +11,7 @@ import sys
 from pathlib import Path
 from typing import Any, Union
 
-from hri_teleop.course.errors import CourseError
+from hri_teleop.course.errors import CourseError, MissingFileError
 
 __all__ = ["FAST_ENV", "fast", "seconds", "show_file", "import_student_file"]
 
@@ -34,8 +34,8 @@ def show_file(path: PathLike) -> Path:
     """Show where a student file is: a link that opens it in JupyterLab's editor, and its text."""
     target = Path(path)
     if not target.is_file():
-        raise FileNotFoundError(f"{target}: not found next to this notebook; it comes with the assignment "
-                                f"(restore it from the released version if you deleted it)")
+        raise MissingFileError(f"{target}: not found next to this notebook; it comes with the assignment "
+                               f"(restore it from the released version if you deleted it)")
     try:
         from IPython.display import Code, Markdown, display  # noqa: PLC0415 - plain Python has no IPython
     except ImportError:  # plain Python: print it
