@@ -2,7 +2,7 @@
 
 The toolkit's errors (:class:`hri_teleop.core.errors.HriTeleopError`) are the ones a node, a cell or
 the grader prints as one line; a plain built-in is a bug and keeps its traceback. So a ``raise
-ValueError("...")`` (or KeyError, TypeError, RuntimeError) with a message in hri_teleop is either one
+ValueError("...")`` (or KeyError, TypeError, RuntimeError, OSError, FileNotFoundError) with a message in hri_teleop is either one
 of the few internal checks listed in INTERNAL below, each with why no person ever reads it, or a
 mistake: it should raise the module's own error class (``HriTeleopError`` and the same built-in).
 """
@@ -20,7 +20,7 @@ from hri_teleop.core.errors import HriTeleopError
 ROOT = Path(__file__).resolve().parents[2]
 PACKAGE = ROOT / "hri_teleop"
 #: The built-ins a message must not be raised as, outside INTERNAL.
-PLAIN = ("ValueError", "KeyError", "TypeError", "RuntimeError")
+PLAIN = ("ValueError", "KeyError", "TypeError", "RuntimeError", "OSError", "FileNotFoundError")
 #: (module, enclosing function, built-in) -> why the raise is a programming error no person reads.
 INTERNAL: Dict[Tuple[str, str, str], str] = {
     ("hri_teleop/core/paramfile.py", "_Tag.value_of", "KeyError"):
@@ -29,6 +29,12 @@ INTERNAL: Dict[Tuple[str, str, str], str] = {
         "a lookup by part name for code and tests; a wrong name is the caller's bug, and KeyError is a lookup's error",
     ("hri_teleop/grading/run/session.py", "_observe", "TypeError"):
         "every plan the judge builds has a session; another type is a bug in the grader",
+    ("hri_teleop/course/answers.py", "_read_capped", "OSError"):
+        "a file reader's contract: rosparam_model.file_reader turns an OSError into the command's note",
+    ("hri_teleop/grading/run/probe.py", "rosparam_commands.read", "OSError"):
+        "a file reader's contract in the grader's box: rosparam_model.file_reader makes it the command's note",
+    ("hri_teleop/grading/run/probe.py", "rosparam_commands.read", "FileNotFoundError"):
+        "a file reader's contract in the grader's box: rosparam_model.file_reader makes it the command's note",
 }
 
 
@@ -74,7 +80,7 @@ def test_every_internal_raise_listed_is_still_there_and_says_why():
 def test_the_scan_finds_a_plain_raise_with_a_message_and_its_function():
     source = ("class A:\n    def f(self):\n        raise ValueError('x must be > 0')\n"
               "def g():\n    raise KeyError\n"
-              "def h():\n    raise OSError('not ours to judge here')\n"
+              "def h():\n    raise LookupError('not one of PLAIN')\n"
               "raise TypeError(f'{1}')\n")
     assert plain_raises(source) == [("A.f", "ValueError", 3), ("", "TypeError", 8)]
 
@@ -122,3 +128,14 @@ def test_a_malformed_rosserial_message_is_one_line_naming_the_fix(decoder, paylo
         getattr(rosserial_frames, decoder)(payload)
     message = str(caught.value)
     assert "\n" not in message and "make_libraries.py" in message
+
+
+def test_a_student_file_missing_from_show_file_is_one_line_and_still_a_file_not_found_error(tmp_path):
+    from hri_teleop.course.cells import show_file
+    from hri_teleop.course.errors import MissingFileError
+
+    with pytest.raises(FileNotFoundError) as caught:
+        show_file(tmp_path / "mapping_node.py")
+    assert isinstance(caught.value, MissingFileError) and isinstance(caught.value, HriTeleopError)
+    assert caught.value._render_traceback_() == [f"MissingFileError: {caught.value}"]  # IPython: one line
+    assert "restore it from the released version" in str(caught.value)
