@@ -16,9 +16,10 @@ import argparse
 import os
 import shutil
 import sys
+import threading
 import time
 from pathlib import Path
-from typing import Callable, Dict, List, Optional, Sequence, Tuple
+from typing import AbstractSet, Callable, Dict, List, Mapping, Optional, Sequence, Tuple
 
 from hri_teleop.grading.assignments import ASSIGNMENT_CHECKS, ASSIGNMENTS
 from hri_teleop.grading.judge.checks import default_check_jobs, grade
@@ -29,7 +30,7 @@ from hri_teleop.grading.run.jobs import run_all
 from hri_teleop.grading.run.sandbox import SandboxError
 from hri_teleop.grading.run.workspace import WorkspaceError
 
-__all__ = ["scratch_copy", "checks_for", "summary_lines", "check_lines", "check_files", "main"]
+__all__ = ["scratch_copy", "checks_for", "summary_lines", "check_lines", "FilesHalf", "check_files", "main"]
 
 PACKAGE = "hri_lab"
 
@@ -75,7 +76,8 @@ def check_lines(result: CheckResult, shown_target: str = "") -> List[str]:
         if part.passed:
             continue
         lines.append(f"        [FAIL] {part.name} ({part.score:g}/{part.points:g})")
-        for text in ([part.note] if part.note else []) + (part.message.splitlines() if part.message else []):
+        for text in ([part.note] if part.note else []) + (part.message.splitlines() if part.message else []) \
+                + [f"plot: {plot}" for plot in part.plots]:
             lines.append(f"               {text}")
     if result.seed is not None:
         lines.append(f"        (hidden inputs from seed {result.seed}; rerun with --seed {result.seed})")
@@ -128,31 +130,72 @@ def _grade_all(package: Path, checks: Sequence[str]) -> Tuple[Dict[str, CheckRes
     return done, failed
 
 
+class FilesHalf:
+    """The files' half of one ``make check``: each assignment's package (under ``scratch``, a copy made at
+    once, so the run grades the files as they were when it started), the checks no notebook of the run keeps
+    a result of graded in the background from the start (:meth:`start`), the rest at the end (:meth:`finish`)."""
+
+    def __init__(self, folder: Path, only: Sequence[str] = (), scratch: Optional[Path] = None) -> None:
+        self.todo: Dict[str, Tuple[str, ...]] = {a: checks_for(a, only) for a in ASSIGNMENTS
+                                                 if (folder / a / PACKAGE).is_dir() and checks_for(a, only)}
+        self.packages = {a: (scratch_copy(folder, a, scratch / a) if scratch else folder / a) / PACKAGE
+                         for a in self.todo}
+        self.done: Dict[str, Dict[str, CheckResult]] = {a: {} for a in self.todo}
+        self.failed: Dict[str, Dict[str, str]] = {a: {} for a in self.todo}
+        self.seconds: Dict[str, float] = {a: 0.0 for a in self.todo}
+        self._early: Optional[threading.Thread] = None
+
+    def _grade(self, assignment: str, checks: Sequence[str]) -> None:
+        started = time.monotonic()
+        done, failed = _grade_all(self.packages[assignment], checks)
+        self.done[assignment].update(done)
+        self.failed[assignment].update(failed)
+        self.seconds[assignment] += time.monotonic() - started
+
+    def start(self, kept: Mapping[str, AbstractSet[str]]) -> None:
+        """Grade now, beside the notebooks, the checks whose result no notebook of the run keeps
+        (``kept``: assignment -> checks whose result a check cell of the run keeps)."""
+        early = {a: [c for c in checks if c not in kept.get(a, ())] for a, checks in self.todo.items()}
+        early = {a: checks for a, checks in early.items() if checks}
+        def grade_early() -> None:
+            for assignment, checks in early.items():
+                self._grade(assignment, checks)
+
+        if early:
+            self._early = threading.Thread(target=grade_early, name="files-half")
+            self._early.start()
+
+    def finish(self) -> Tuple[float, float]:
+        """Grade what is left (a kept result is taken at once), print the points and the failing parts'
+        feedback; returns (points, possible)."""
+        if self._early is not None:
+            self._early.join()
+        if not self.todo:
+            return 0.0, 0.0
+        print("check: your hri_lab files, graded as the course grades them (a check's points are your files'; "
+              "the notebooks' check cells show the same feedback and add none)", flush=True)
+        got = most = 0.0
+        for assignment, checks in self.todo.items():
+            left = [c for c in checks if c not in self.done[assignment] and c not in self.failed[assignment]]
+            if left:
+                self._grade(assignment, left)
+            for check, reason in self.failed[assignment].items():
+                print(f"  {assignment}/{PACKAGE}: {check} not graded: {reason}", flush=True)
+                most += check_points(check)
+            results = [self.done[assignment][c] for c in checks if c in self.done[assignment]]
+            shown = {r.check: _shown_target(r, self.packages[assignment], assignment) for r in results}
+            if results:
+                print("\n".join(summary_lines(assignment, results, self.seconds[assignment], shown)), flush=True)
+            got, most = got + sum(r.score for r in results), most + sum(r.max_score for r in results)
+        print(f"check: {got:g}/{most:g} points for your files, beside the notebooks' autograded points above",
+              flush=True)
+        return got, most
+
+
 def check_files(folder: Path, only: Sequence[str] = (), scratch: Optional[Path] = None) -> Tuple[float, float]:
     """Grade each assignment's hri_lab under ``folder`` (in a copy under ``scratch`` when given) and print the
     points and the failing parts' feedback; returns (points, possible)."""
-    todo: Dict[str, Tuple[str, ...]] = {a: checks_for(a, only) for a in ASSIGNMENTS
-                                        if (folder / a / PACKAGE).is_dir() and checks_for(a, only)}
-    if not todo:
-        return 0.0, 0.0
-    print("check: your hri_lab files, graded as the course grades them (a check's points are your files'; "
-          "the notebooks' check cells show the same feedback and add none)", flush=True)
-    got = most = 0.0
-    for assignment, checks in todo.items():
-        started = time.monotonic()
-        where = scratch_copy(folder, assignment, scratch / assignment) if scratch else folder / assignment
-        package = where / PACKAGE
-        done, failed = _grade_all(package, checks)
-        for check, reason in failed.items():
-            print(f"  {assignment}/{PACKAGE}: {check} not graded: {reason}", flush=True)
-            most += check_points(check)
-        results = [done[c] for c in checks if c in done]
-        shown = {r.check: _shown_target(r, package, assignment) for r in results}
-        if results:
-            print("\n".join(summary_lines(assignment, results, time.monotonic() - started, shown)), flush=True)
-        got, most = got + sum(r.score for r in results), most + sum(r.max_score for r in results)
-    print(f"check: {got:g}/{most:g} points for your files, beside the notebooks' autograded points above", flush=True)
-    return got, most
+    return FilesHalf(folder, only, scratch).finish()
 
 
 def main(argv: Optional[Sequence[str]] = None) -> int:

@@ -15,7 +15,8 @@ copy, and the copies are removed at the end. A copy keeps the folder's last name
 Two notebooks (one per core) run at a time, each kernel with its private master; a kernel's
 shutdown (its nodes and roscore stopping) overlaps the next notebook. Each check runs once: the
 check cells store their results (``HRI_GRADE_RESULTS_WRITE``, :mod:`hri_teleop.grading.judge.reuse`)
-and the files' half takes them (``HRI_GRADE_RESULTS``), running only the checks no cell ran.
+and the files' half takes them (``HRI_GRADE_RESULTS``); the checks no check cell of the run runs whole
+(:func:`kept_checks`) it grades from the start, beside the notebooks.
 
     python -m hri_teleop.apps.selfcheck FOLDER [--only ex05,ex12] [--timeout 600] [--jobs N]
 """
@@ -33,19 +34,20 @@ import tempfile
 import time
 from contextlib import asynccontextmanager
 from pathlib import Path
-from typing import Any, AsyncIterator, Dict, List, MutableMapping, Optional, Sequence, Tuple
+from typing import Any, AsyncIterator, Dict, List, MutableMapping, Optional, Sequence, Set, Tuple
 
 import nbformat
 from nbclient import NotebookClient
 from traitlets.config import Config
 
-from hri_teleop.apps.files_check import check_files, scratch_copy
+from hri_teleop.apps.files_check import FilesHalf, scratch_copy
+from hri_teleop.course.check import KEEPS_RESULT
 from hri_teleop.grading.judge import reuse
 from hri_teleop.ros.kernel import KernelError, install_kernelspec
 from hri_teleop.ros.master_api import NO_MASTER_URI
 
-__all__ = ["cell_points", "cell_feedback", "notebook_lines", "find_notebooks", "private_masters", "run_order",
-           "main"]
+__all__ = ["cell_points", "cell_feedback", "notebook_lines", "find_notebooks", "kept_checks", "private_masters",
+           "run_order", "main"]
 
 #: The notebooks that take longest (ROS, catkin, the checks), started first so that the two
 #: at a time end together; the others follow in their folder's order.
@@ -99,6 +101,22 @@ def _grades(nb: Any) -> Dict[str, Any]:
         if cell.cell_type == "code" and meta.get("grade") and not meta.get("solution"):
             grades[meta["grade_id"]] = [*cell_points(cell), cell_feedback(cell)]
     return grades
+
+
+_CHECK_CALL = re.compile(r"\bcheck\.(\w+)\(")
+
+
+def kept_checks(notebooks: Sequence[Path]) -> Dict[str, Set[str]]:
+    """assignment -> the checks whose whole result a check cell of ``notebooks`` keeps for the files' half
+    (:data:`hri_teleop.course.check.KEEPS_RESULT`); the files' half starts the others at once."""
+    kept: Dict[str, Set[str]] = {}
+    for path in notebooks:
+        for cell in nbformat.read(str(path), as_version=4).cells:
+            if cell.cell_type == "code":
+                for name in _CHECK_CALL.findall(cell.source):
+                    if name in KEEPS_RESULT:
+                        kept.setdefault(path.parent.name, set()).add(KEEPS_RESULT[name])
+    return kept
 
 
 def find_notebooks(folder: Path, only: Sequence[str] = ()) -> List[Path]:
@@ -250,10 +268,12 @@ def main(argv: Optional[Sequence[str]] = None) -> int:
         jobs = args.jobs or os.cpu_count() or 1
         print(f"check: {len(notebooks)} notebook(s), each run top to bottom in a copy of its folder "
               f"(your folders are not changed), {min(jobs, len(notebooks))} at a time", flush=True)
+        files = FilesHalf(folder, only, scratch / "files")  # the files as they are now, in a copy
+        files.start(kept_checks(notebooks))  # the checks no check cell runs whole: beside the notebooks
         total, most_total = asyncio.run(run_notebooks(notebooks, scratch, kernel_env, args.timeout, jobs))
         print(f"check: {total:g}/{most_total:g} autograded points in all (the rest is graded by hand)", flush=True)
         os.environ[reuse.READ_ENV] = str(results)
-        check_files(folder, only, scratch / "files")
+        files.finish()
     finally:
         shutil.rmtree(scratch, ignore_errors=True)
     return 0

@@ -23,10 +23,18 @@ from hri_teleop.grading.judge.graph import grade_graph
 from hri_teleop.grading.judge.package_check import grade_catkin_package
 from hri_teleop.grading.results import CheckResult, feedback_text
 
-__all__ = ["robot_params", "mapping_node", "sensor_launch", "teleoperation_parts", "teleoperation_node",
+__all__ = ["KEEPS_RESULT", "robot_params", "mapping_node", "sensor_launch", "teleoperation_parts", "teleoperation_node",
            "catkin_package", "teleoperation_launch", "graph"]
 
 PathLike = Union[str, Path]
+
+#: The functions below whose check cell runs its whole check as the files' half of ``make check`` runs it
+#: (the package alone, no other argument), so that the files' half takes the cell's result
+#: (:mod:`hri_teleop.grading.judge.reuse`). ``teleoperation_parts`` (Ex. 8, no node) and
+#: ``catkin_package`` (one exercise's parts) judge less than their check: the files' half runs those.
+KEEPS_RESULT = {"robot_params": "robot-params", "mapping_node": "mapping-node", "sensor_launch": "sensor-launch",
+                "teleoperation_node": "teleoperation", "teleoperation_launch": "teleoperation-launch",
+                "graph": "graph"}
 
 
 #: The last line a check cell prints: where its points count (hri_teleop.grading.points).

@@ -14,7 +14,7 @@ import subprocess
 import tarfile
 import tempfile
 from pathlib import Path
-from typing import Dict, Optional
+from typing import Dict, List, Optional
 
 import pytest
 from bundle_helpers import copy_answer_key, files_points, notebook_points
@@ -172,13 +172,87 @@ def _checked_points() -> float:
     return sum(check_points(c) for a in ASSIGNMENTS for c in checks_for(a, CHECKED.split(",")))
 
 
-def test_untouched_the_bundle_scores_zero(installed, home):
+def _listing(bundle: Path) -> Dict[str, tuple]:
+    """Every entry of the student's side of the bundle (all but the toolkit), folders included, with its
+    kind, size and modification time: a file written, changed or removed anywhere changes it."""
+    entries = {".": bundle.lstat()}
+    for top in bundle.iterdir():
+        if top.name != "toolkit":
+            entries[top.name] = top.lstat()
+            if top.is_dir() and not top.is_symlink():
+                entries.update({str(p.relative_to(bundle)): p.lstat() for p in top.rglob("*")})
+    return {name: (st.st_mode, st.st_size, st.st_mtime_ns) for name, st in sorted(entries.items())}
+
+
+@pytest.fixture(scope="module")
+def untouched_check(installed, home):
+    """`make check ONLY=CHECKED` of an untouched bundle: (bundle, listing before, listing after, the run)."""
     bundle = _copy(installed, home, "untouched")
+    before = _listing(bundle)
     done = _make(bundle, "check", f"ONLY={CHECKED}", timeout=1200)
     assert done.returncode == 0, done.stdout[-3000:] + done.stderr[-3000:]
+    return bundle, before, _listing(bundle), done
+
+
+def test_untouched_the_bundle_scores_zero(untouched_check):
+    _bundle, _before, _after, done = untouched_check
     scores = notebook_points(done.stdout)
     assert len(scores) == 3 and all(got == 0 for got, _most in scores.values()), done.stdout
     assert files_points(done.stdout) == (0, _checked_points()), done.stdout
+
+
+def _failing_parts(feedback: str) -> List[str]:
+    """The lines of each failing part of a check's feedback (its [FAIL] line and its message), without the
+    grader's scratch paths (a new folder in every run)."""
+    shown, failing = [], False
+    for line in feedback.splitlines():
+        if line.startswith("  ["):
+            failing = line.startswith("  [FAIL]")
+        elif not line.startswith("         "):
+            failing = False
+        if failing and "/tmp/hri-grade-" not in line:
+            shown.append(line.strip())
+    return shown
+
+
+@pytest.mark.parametrize("cell, package", [("mapping_node", "preparation"), ("graph", "lab")])
+def test_make_check_shows_each_failing_part_with_the_feedback_its_check_cell_shows(installed, untouched_check, cell,
+                                                                                  package):
+    bundle, _before, _after, done = untouched_check
+    # the installed bundle's Python, as the notebooks' kernel runs it (this copy's .venv is a link to it,
+    # and a student process started through the link would not find it in its box)
+    python = installed / "toolkit" / ".venv" / "bin" / "python"
+    in_the_cell = subprocess.run(
+        ["bash", "-c", f". toolkit/tools/env.sh && {python} -c "
+                       f"'from hri_teleop.course import check; check.{cell}(\"{package}/{STUDENT_PACKAGE}\")'"],
+        cwd=bundle, env=_student_env(), capture_output=True, text=True, timeout=300, stdin=subprocess.DEVNULL)
+    assert in_the_cell.returncode == 0, in_the_cell.stdout[-2000:] + in_the_cell.stderr[-2000:]
+    expected = _failing_parts(in_the_cell.stdout)
+    assert expected and any(line.startswith("[FAIL]") for line in expected), in_the_cell.stdout
+    printed = {line.strip() for line in done.stdout.splitlines()}
+    assert [line for line in expected if line not in printed] == [], done.stdout
+
+
+def test_make_check_leaves_the_students_folders_as_they_were(untouched_check):
+    _bundle, before, after, done = untouched_check
+    assert "in a copy of its folder" in done.stdout
+    assert {k: v for k, v in after.items() if before.get(k) != v} == {}
+    assert [k for k in before if k not in after] == []
+
+
+def test_the_readme_names_hri_grade_and_its_lines_run_in_the_bundle(installed, home):
+    bundle = _copy(installed, home, "hri-grade")
+    readme = (bundle / "README.md").read_text(encoding="utf-8")
+    block = readme.split("One check on its own", 1)[1].split("```bash\n", 1)[1].split("```", 1)[0]
+    lines = [_command(line) for line in block.splitlines() if line.strip()]
+    assert lines[0] == "source toolkit/tools/env.sh" and "toolkit/.venv/bin/hri-grade" in readme
+    assert len(lines) > 2 and all(line.startswith("hri-grade ") for line in lines[1:]), lines
+    for line in lines[1:]:
+        ran = subprocess.run(["bash", "-c", f"{lines[0]} && {line}"], cwd=bundle, env=_student_env(),
+                             capture_output=True, text=True, timeout=600, stdin=subprocess.DEVNULL)
+        # exit 1: a check failed (the bundle is untouched); 2 would be the grader unable to run
+        assert ran.returncode in (0, 1), f"{line}: exit {ran.returncode}\n{ran.stdout[-2000:]}{ran.stderr[-2000:]}"
+        assert "total: 0/" in ran.stdout or line.endswith("-h"), f"{line}:\n{ran.stdout[-2000:]}"
 
 
 def test_with_the_answer_key_copied_in_the_bundle_gets_full_marks_even_run_on_the_lab_pcs_master(

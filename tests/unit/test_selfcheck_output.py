@@ -9,7 +9,7 @@ from pathlib import Path
 import nbformat
 
 from hri_teleop.apps.files_check import check_lines, scratch_copy, summary_lines
-from hri_teleop.apps.selfcheck import SLOW_FIRST, cell_feedback, notebook_lines, run_order
+from hri_teleop.apps.selfcheck import SLOW_FIRST, cell_feedback, kept_checks, notebook_lines, run_order
 from hri_teleop.grading.cases.inputs import seed_for
 from hri_teleop.grading.judge.reuse import REUSED_NOTE
 from hri_teleop.grading.results import CheckResult, Part
@@ -53,7 +53,8 @@ def test_a_notebook_line_lists_each_cell_that_lost_points_with_its_feedback():
 def _result(notes=()):
     return CheckResult("mapping-node", "/tmp/x/hri_lab/scripts/mapping_node.py", [
         Part("subscribes /pub_force", 3, True),
-        Part("publishes /force_mapped", 3, False, "nothing arrived on /force_mapped\nits last output:\n  NameError"),
+        Part("publishes /force_mapped", 3, False, "nothing arrived on /force_mapped\nits last output:\n  NameError",
+             plots=("/tmp/out/force_mapped.png",)),
         Part("clips above the range", 2, False, "not judged: the node did not publish", note="hidden inputs"),
     ], seed=7, notes=notes)
 
@@ -65,7 +66,7 @@ def test_a_check_that_lost_points_prints_each_failing_part_with_its_feedback_and
     assert "subscribes /pub_force" not in text
     for shown in ("[FAIL] publishes /force_mapped (0/3)", "nothing arrived on /force_mapped", "  NameError",
                   "[FAIL] clips above the range (0/2)", "hidden inputs", "not judged: the node did not publish",
-                  "rerun with --seed 7", "note: Ex. 8 parts still failing"):
+                  "rerun with --seed 7", "note: Ex. 8 parts still failing", "plot: /tmp/out/force_mapped.png"):
         assert shown in text, shown
     assert REUSED_NOTE not in text  # make grade's note: not true of make check
 
@@ -106,3 +107,13 @@ def test_a_scratch_copy_leaves_out_the_workspace_caches_and_other_assignments_li
     assert seed_for(copy / "hri_lab") == seed_for(package)
     (copy / "ex10_drive.yaml").write_text("changed\n")
     assert (bundle / "lab" / "ex10_drive.yaml").read_text() == "[]\n"
+
+
+def test_the_check_cells_that_keep_a_whole_result_are_known_and_ex08s_parts_only_cell_is_not_one():
+    source = Path(__file__).resolve().parents[2] / "notebooks" / "source"
+    lab = sorted((source / "lab").glob("ex*.ipynb"))
+    assert kept_checks([p for p in lab if p.stem.startswith("ex08")]) == {}
+    assert kept_checks([p for p in lab if p.stem.startswith(("ex09", "ex12", "ex15"))]) == {
+        "lab": {"teleoperation", "teleoperation-launch", "graph"}}
+    preparation = sorted((source / "preparation").glob("ex*.ipynb"))
+    assert kept_checks(preparation) == {"preparation": {"robot-params", "mapping-node", "sensor-launch"}}
