@@ -10,10 +10,17 @@ export PYGAME_HIDE_SUPPORT_PROMPT := 1
 
 .PHONY: setup demo doctor demo-sensor lab-twin test lint clean bench
 
+# The lab's robot, chosen once for everything started from here (docs/lab-day.md, "Another Franka arm"):
+# ROBOT=fr3 is the Franka Research 3 (hri_teleop/core/robots/fr3.yaml), a path names a profile of one's own;
+# unset: the Panda, or HRI_ROBOT as the shell has it.
+ifneq ($(ROBOT),)
+export HRI_ROBOT := $(ROBOT)
+endif
+
 setup:
 	@bash tools/setup.sh
 
-# The whole lab simulated: teleoperation.launch sim:=true with the default scenario (~25 s).
+# The whole lab simulated: teleoperation.launch sim:=true with the default scenario (~25 s); ROBOT=fr3 on the FR3.
 demo: setup
 	@$(ENV) $(PY) -m hri_teleop.apps.demo $(DEMO_ARGS)
 

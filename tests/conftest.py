@@ -25,6 +25,9 @@ settings.load_profile("compat" if COMPAT else "hri-teleop")
 
 REPO = Path(__file__).resolve().parents[1]
 
+# The suite pins the Panda's numbers: a lab shell's HRI_ROBOT=fr3 (tools/env.sh keeps it) must not change them
+# (tests/unit/test_robot_fr3.py runs the FR3 in processes of its own).
+os.environ.pop("HRI_ROBOT", None)
 os.environ.setdefault("SDL_VIDEODRIVER", "dummy")
 os.environ.setdefault("SDL_AUDIODRIVER", "dummy")
 os.environ.setdefault("PYGAME_HIDE_SUPPORT_PROMPT", "1")

@@ -30,10 +30,8 @@ from std_msgs.msg import Float32, Float64, Header, Int16, UInt32
 from std_srvs.srv import Trigger, TriggerResponse
 
 from hri_teleop.core.joints import (
-    FINGER_JOINT_NAMES,
     FRANKA_JOINT_STATES_TOPIC,
     JOINT_ERRORS,
-    JOINT_NAMES,
     nearest_limit,
 )
 from hri_teleop.core.reflex import explain_reflex
@@ -74,7 +72,6 @@ from hri_teleop.sim.world import LabWorld, ObjectStatus
 NODE_KEYS = ("config", "scenario", "twist_topic", "gripper_ns", "control_ns", "board", "frame_id", "gripper_rate_hz",
              "state_controller_rate_hz", "state_rate_hz", "status_rate_hz", "object_rate_hz", "loop_period_s",
              "stall_s")
-FINGER_JOINTS = list(FINGER_JOINT_NAMES)
 #: Every name the arm reports a violation under, in the order ~arm_status lists them.
 ARM_ERRORS = (VELOCITY_LIMITS_VIOLATION, VELOCITY_DISCONTINUITY, ACCELERATION_DISCONTINUITY, NON_FINITE_COMMAND,
               *(error for _what, error in JOINT_ERRORS))
@@ -154,6 +151,9 @@ class LabSimNode:
         # cancel callbacks), never the other way round: goal results are sent outside it.
         self._lock = threading.Lock()
         self.world = LabWorld(self.config, start_s=0.0)
+        # the joints as the robot of this world reports them (its profile: HRI_ROBOT, or sim.yaml's robot:)
+        self.joint_names = list(self.config.robot.joint_names)
+        self.finger_joints = list(self.config.robot.gripper.finger_joints)
         self.clock = NodeClock()
         self.sim_time = self.clock.sim_time
         # On the wall clock the world starts now; under /clock when the clock starts (run()),
@@ -378,7 +378,7 @@ class LabSimNode:
         stamp = rospy.Time.now()
         if due["joints"]:
             self.joints_pub.publish(JointState(
-                header=self._header(stamp, ""), name=FINGER_JOINTS, position=[0.5 * width, 0.5 * width],
+                header=self._header(stamp, ""), name=self.finger_joints, position=[0.5 * width, 0.5 * width],
                 velocity=list(joint_v), effort=[0.0, 0.0]))
         if due["arm_joints"]:
             self._publish_joint_states(stamp, arm_q, arm_dq, width, joint_v)
@@ -425,11 +425,11 @@ class LabSimNode:
                               width: float, finger_v: Tuple[float, float]) -> None:
         """franka_state_controller's arm joints, and /joint_states: the arm's then the fingers (width/2
         each), as joint_state_publisher merges them; the fingers alone when the arm has no joints."""
-        names, position, velocity = list(FINGER_JOINTS), [0.5 * width, 0.5 * width], list(finger_v)
+        names, position, velocity = list(self.finger_joints), [0.5 * width, 0.5 * width], list(finger_v)
         if q is not None and dq is not None and self.arm_joints_pub is not None:
-            self.arm_joints_pub.publish(JointState(header=self._header(stamp, ""), name=list(JOINT_NAMES),
+            self.arm_joints_pub.publish(JointState(header=self._header(stamp, ""), name=list(self.joint_names),
                                                    position=list(q), velocity=list(dq), effort=[0.0] * 7))
-            names, position, velocity = list(JOINT_NAMES) + names, list(q) + position, list(dq) + velocity
+            names, position, velocity = list(self.joint_names) + names, list(q) + position, list(dq) + velocity
         self.all_joints_pub.publish(JointState(header=self._header(stamp, ""), name=names, position=position,
                                                velocity=velocity, effort=[0.0] * len(names)))
 
@@ -451,7 +451,7 @@ class LabSimNode:
             return "", ""
         explanation = "\n".join(explain_reflex([violation.cause() for violation in arm.reflex_violations]))
         q = arm.joint_positions
-        return explanation, (nearest_limit(q).describe() if q is not None else "")
+        return explanation, (nearest_limit(q, self.config.robot.joint_limits).describe() if q is not None else "")
 
     def _arm_status_values(self) -> DiagnosticStatus:
         """~arm_status from the arm (call under the lock)."""

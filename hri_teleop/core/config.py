@@ -18,11 +18,11 @@ from typing import Any, Dict, Mapping, Optional, Tuple, Union
 from hri_teleop.core.checks import is_finite_number
 from hri_teleop.core.errors import HriTeleopError
 from hri_teleop.core.gamepad import AUTO_LAYOUT, DEFAULT_LAYOUT, PAD_KINDS
-from hri_teleop.core.limits import DEFAULT_LIMITS, PANDA_LIMITS, AxisLimits, CartesianLimits, LimitsError, TwistLimiter
+from hri_teleop.core.limits import DEFAULT_LIMITS, ROBOT_LIMITS, AxisLimits, CartesianLimits, LimitsError, TwistLimiter
 from hri_teleop.core.mapping import ADC_MAX_COUNT
 from hri_teleop.core.paths import LAB_CONFIG
-from hri_teleop.core.robot import PANDA, RobotFileError, RobotProfile, robot_named
-from hri_teleop.core.robot_file import panda_file
+from hri_teleop.core.robot import LAB_ROBOT, RobotFileError, RobotProfile, robot_named
+from hri_teleop.core.robot_file import lab_robot_file
 from hri_teleop.core.teleop import (
     HANDOUT_BUTTONS,
     OPTIONAL_BUTTONS,
@@ -52,7 +52,7 @@ __all__ = [
 
 DEFAULT_PAD = "pygame"  # one of hri_teleop.core.gamepad.PAD_KINDS; DEFAULT_LAYOUT comes from there too
 #: The Cartesian velocity controller's command topic (geometry_msgs/Twist).
-DEFAULT_TWIST_TOPIC: str = panda_file()["topics"]["twist_command"]
+DEFAULT_TWIST_TOPIC: str = lab_robot_file()["topics"]["twist_command"]
 #: The lab's teleoperation config in a checkout (what teleoperation.py reads by default).
 LAB_TELEOP_CONFIG = LAB_CONFIG / "teleop.yaml"
 #: The lab's calibration value, /max_sensor_force (Ex. 11), in one file (docs/instructors.md).
@@ -86,7 +86,7 @@ _LIMIT_NAMES = ("velocity", "acceleration", "jerk")
 
 #: Every top-level key the teleop config may have.
 CONFIG_KEYS = tuple(sorted(list(_NUMBER_KEYS) + list(_STRING_KEYS) + list(_BOOL_KEYS) + list(_CHOICE_KEYS)
-                           + ["limits", "axes", "buttons", "robot"]))
+                           + ["limits", "limits_by_robot", "axes", "buttons", "robot"]))
 
 
 class ConfigError(HriTeleopError, ValueError):
@@ -102,7 +102,7 @@ class TeleopConfig:
     layout: str  # "auto" (a real pad identifies itself), a shipped layout's name or a YAML path
     pad: str  # "pygame" | "virtual"
     twist_topic: str
-    robot: RobotProfile = PANDA  # ``robot:``: whose limits ``limits`` stay inside, and its twist topic
+    robot: RobotProfile = LAB_ROBOT  # ``robot:``: whose limits ``limits`` stay inside, and its twist topic
 
 
 def load_yaml(path: Union[str, Path]) -> Dict[str, Any]:
@@ -142,7 +142,31 @@ def _mapping(value: object, key: str, source: str, example: str) -> Mapping[str,
     return value
 
 
-def _limits_from(value: object, source: str, hard: CartesianLimits = PANDA_LIMITS) -> CartesianLimits:
+def _limits_for_robot(d: Mapping[str, Any], robot: str, source: str) -> Optional[Mapping[str, Any]]:
+    """``limits:`` with what ``limits_by_robot:`` gives the robot named ``robot`` written over it, group by group
+    (None: neither says anything). The lab's limits fit the Panda's budget at 50 Hz; a robot whose budget they
+    do not fit (the FR3's jerk) gets its own numbers there, and the robot is chosen once (HRI_ROBOT)."""
+    given = d.get("limits")
+    if "limits_by_robot" not in d:
+        return given
+    table = _mapping(d["limits_by_robot"], "limits_by_robot", source,
+                     "limits_by_robot: {fr3: {translation: {acceleration: 0.2}}}")
+    if robot not in table:
+        return given
+    own = _mapping(table[robot], f"limits_by_robot.{robot}", source,
+                   f"limits_by_robot: {{{robot}: {{translation: {{acceleration: 0.2}}}}}}")
+    merged: Dict[str, Any] = {str(g): dict(v) if isinstance(v, Mapping) else v
+                              for g, v in (_mapping(given, "limits", source, "limits: {translation: {velocity: 0.25}}")
+                                           if given is not None else {}).items()}
+    for group, entries in own.items():
+        if isinstance(entries, Mapping) and isinstance(merged.get(group), dict):
+            merged[str(group)].update(entries)
+        else:
+            merged[str(group)] = entries  # _limits_from judges it, naming limits.<group>
+    return merged
+
+
+def _limits_from(value: object, source: str, hard: CartesianLimits = ROBOT_LIMITS) -> CartesianLimits:
     groups = _mapping(value, "limits", source, "limits: {translation: {velocity: 0.25}}")
     built = {}
     for group in groups:
@@ -252,12 +276,13 @@ def teleop_config_from_dict(d: Mapping[str, Any], source: str = "<dict>") -> Tel
         robot = robot_named(d.get("robot"))
     except RobotFileError as exc:
         raise ConfigError(f"{source}: robot: {exc}") from None
-    limits = _limits_from(d["limits"], source, robot.cartesian_limits) if "limits" in d else DEFAULT_LIMITS
+    given = _limits_for_robot(d, robot.name, source)
+    limits = _limits_from(given, source, robot.cartesian_limits) if given is not None else DEFAULT_LIMITS
     kwargs["gripper_max_width_m"] = robot.gripper.max_width_m
     for key in ("width_max", "initial_width"):  # unset: the robot's hand fully open
         if key not in d:
             kwargs[_NUMBER_KEYS[key][0]] = robot.gripper.max_width_m
-    if "limits" not in d:  # _limits_from checked given limits against the robot already
+    if given is None:  # _limits_from checked given limits against the robot already
         try:
             TwistLimiter(limits, hard_limits=robot.cartesian_limits)
         except LimitsError as exc:

@@ -13,11 +13,11 @@ from typing import Callable, Optional, Sequence, Tuple
 
 from hri_teleop.core.checks import is_finite_number, is_number
 from hri_teleop.core.errors import HriTeleopError
-from hri_teleop.core.robot_file import panda_file
+from hri_teleop.core.robot_file import lab_robot_file
 
-#: The Franka Hand's largest opening (the robot's profile). Here, not in core.teleop: the student API and the
+#: The hand's largest opening (the lab's robot's profile: HRI_ROBOT). Here, not in core.teleop: the student API and the
 #: provided gripper manager import this module, and a graded student process may not load the teleoperation rule.
-GRIPPER_MAX_WIDTH_M: float = panda_file()["gripper"]["max_width_m"]
+GRIPPER_MAX_WIDTH_M: float = lab_robot_file()["gripper"]["max_width_m"]
 
 
 class GripperError(HriTeleopError, ValueError):

@@ -14,10 +14,10 @@ from typing import Iterable, List, Optional, Sequence, Tuple
 
 from hri_teleop.core.checks import is_finite_number
 from hri_teleop.core.errors import HriTeleopError
-from hri_teleop.core.robot_file import panda_file
+from hri_teleop.core.robot_file import lab_robot_file
 
 __all__ = [
-    "JointsError", "JointLimits", "PANDA_JOINT_LIMITS", "JOINT_NAMES", "FINGER_JOINT_NAMES", "FRANKA_JOINT_STATES_TOPIC",
+    "JointsError", "JointLimits", "ROBOT_JOINT_LIMITS", "JOINT_NAMES", "FINGER_JOINT_NAMES", "FRANKA_JOINT_STATES_TOPIC",
     "READY_POSE_RAD", "JointVector",
     "JOINT_POSITION_LIMITS_VIOLATION", "JOINT_VELOCITY_LIMITS_VIOLATION", "JOINT_VELOCITY_DISCONTINUITY",
     "JOINT_ACCELERATION_DISCONTINUITY", "JOINT_ERRORS", "JointViolation", "joint_violations", "LimitDistance",
@@ -27,25 +27,27 @@ __all__ = [
 
 JointVector = Tuple[float, float, float, float, float, float, float]
 
-# The Panda's names, limits and poses come from its robot profile (core/robots/franka_panda.yaml).
-_PANDA = panda_file()
+# The names, limits and poses of the lab's robot come from its profile (HRI_ROBOT; unset: the Panda's,
+# core/robots/franka_panda.yaml).
+_ROBOT = lab_robot_file()
 #: The arm's joint names, as franka_state_controller publishes them on ``joint_states``.
-JOINT_NAMES: Tuple[str, ...] = _PANDA["joints"]["names"]
+JOINT_NAMES: Tuple[str, ...] = _ROBOT["joints"]["names"]
 #: Where franka_state_controller publishes the arm's joints (lab_sim at home, the same name).
-FRANKA_JOINT_STATES_TOPIC: str = _PANDA["topics"]["arm_joint_states"]
+FRANKA_JOINT_STATES_TOPIC: str = _ROBOT["topics"]["arm_joint_states"]
 #: The Franka Hand's two finger joints (each moves half the opening), as franka_gripper publishes them.
-FINGER_JOINT_NAMES: Tuple[str, str] = _PANDA["gripper"]["finger_joints"]
-#: The Panda's "ready" pose (rad): the hand 0.31 m in front of the base, 0.49 m up, pointing down.
-READY_POSE_RAD: JointVector = _PANDA["joints"]["ready_pose_rad"]
+FINGER_JOINT_NAMES: Tuple[str, str] = _ROBOT["gripper"]["finger_joints"]
+#: The robot's "ready" pose (rad); the Panda's and the FR3's: the hand 0.31 m in front of the base, 0.49 m up,
+#: pointing down.
+READY_POSE_RAD: JointVector = _ROBOT["joints"]["ready_pose_rad"]
 
 # libfranka's franka::Errors flags for the joint-side checks of a Cartesian motion generator
 # ("... after IK calculation"): what the robot reports when the joints, not the twist, break a limit.
-JOINT_POSITION_LIMITS_VIOLATION: str = _PANDA["errors"]["joint"]["position"]
-JOINT_VELOCITY_LIMITS_VIOLATION: str = _PANDA["errors"]["joint"]["velocity"]
+JOINT_POSITION_LIMITS_VIOLATION: str = _ROBOT["errors"]["joint"]["position"]
+JOINT_VELOCITY_LIMITS_VIOLATION: str = _ROBOT["errors"]["joint"]["velocity"]
 #: joint acceleration above its limit: "joint velocity ... is discontinuous after IK calculation"
-JOINT_VELOCITY_DISCONTINUITY: str = _PANDA["errors"]["joint"]["acceleration"]
+JOINT_VELOCITY_DISCONTINUITY: str = _ROBOT["errors"]["joint"]["acceleration"]
 #: joint jerk above its limit: "joint acceleration ... is discontinuous after IK calculation"
-JOINT_ACCELERATION_DISCONTINUITY: str = _PANDA["errors"]["joint"]["jerk"]
+JOINT_ACCELERATION_DISCONTINUITY: str = _ROBOT["errors"]["joint"]["jerk"]
 #: Which error each judged quantity raises, in the order they are judged.
 JOINT_ERRORS = (("position", JOINT_POSITION_LIMITS_VIOLATION), ("velocity", JOINT_VELOCITY_LIMITS_VIOLATION),
                 ("acceleration", JOINT_VELOCITY_DISCONTINUITY), ("jerk", JOINT_ACCELERATION_DISCONTINUITY))
@@ -94,8 +96,8 @@ class JointLimits:
                 raise JointsError(f"joint {j}: position_min_rad {low:g} must be below position_max_rad {high:g}")
 
 
-#: The Franka Panda's joint limits (Franka's control-parameter documentation, Panda table; FR3 differs).
-PANDA_JOINT_LIMITS = JointLimits(**{key: _PANDA["joints"][key] for key in (
+#: The lab's robot's joint limits (its profile: Franka's control-parameter documentation, each robot's table).
+ROBOT_JOINT_LIMITS = JointLimits(**{key: _ROBOT["joints"][key] for key in (
     "position_min_rad", "position_max_rad", "velocity_rad_per_s", "acceleration_rad_per_s2", "jerk_rad_per_s3")})
 
 
@@ -111,7 +113,7 @@ class JointViolation:
 
 
 def joint_violations(position_rad: Sequence[float], velocity: Sequence[float], acceleration: Sequence[float],
-                     jerk: Sequence[float], time_s: float = 0.0, limits: JointLimits = PANDA_JOINT_LIMITS,
+                     jerk: Sequence[float], time_s: float = 0.0, limits: JointLimits = ROBOT_JOINT_LIMITS,
                      rel_tol: float = 1e-9) -> List[JointViolation]:
     """Every limit the joints break in one cycle: the position the step leads to, and the velocity,
     acceleration and jerk of the step (backward differences at 1 kHz, as the robot takes them).
@@ -152,7 +154,7 @@ class LimitDistance:
                 f"({self.position_rad:+.2f} of {self.limit_rad:+.2f} rad): turn it back ({way}) before the robot stops")
 
 
-def nearest_limit(position_rad: Sequence[float], limits: JointLimits = PANDA_JOINT_LIMITS) -> LimitDistance:
+def nearest_limit(position_rad: Sequence[float], limits: JointLimits = ROBOT_JOINT_LIMITS) -> LimitDistance:
     """The joint closest to one of its position limits (the first of equals)."""
     q = _seven("position_rad", position_rad)
     best: Optional[LimitDistance] = None
@@ -173,7 +175,7 @@ class JointLimitWatch:
     not one per tick while it hovers at the edge). While it lasts, :meth:`rumble` pulses.
     """
 
-    def __init__(self, limits: JointLimits = PANDA_JOINT_LIMITS, warn_margin_rad: float = WARNING_MARGIN_RAD,
+    def __init__(self, limits: JointLimits = ROBOT_JOINT_LIMITS, warn_margin_rad: float = WARNING_MARGIN_RAD,
                  clear_margin_rad: float = CLEAR_MARGIN_RAD, rumble_level: float = WARNING_RUMBLE,
                  pulse_period_s: float = WARNING_PULSE_S) -> None:
         if not (is_finite_number(warn_margin_rad) and warn_margin_rad > 0.0):

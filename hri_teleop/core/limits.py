@@ -15,13 +15,13 @@ from typing import List, Optional, Sequence, Tuple
 
 from hri_teleop.core.checks import is_positive_number
 from hri_teleop.core.errors import HriTeleopError
-from hri_teleop.core.robot_file import panda_file
+from hri_teleop.core.robot_file import lab_robot_file
 
 __all__ = [
     "LimitsError",
     "AxisLimits",
     "CartesianLimits",
-    "PANDA_LIMITS",
+    "ROBOT_LIMITS",
     "DEFAULT_LIMITS",
     "TwistLimiter",
     "Watchdog",
@@ -86,10 +86,10 @@ class CartesianLimits:
         return tuple(out)
 
 
-#: Franka Panda Cartesian limits (Franka's control-parameter documentation; FR3 differs), from the
-#: robot profile (core/robots/franka_panda.yaml).
-PANDA_LIMITS = CartesianLimits(AxisLimits(**panda_file()["cartesian_limits"]["translation"]),
-                               AxisLimits(**panda_file()["cartesian_limits"]["rotation"]))
+#: The Cartesian limits of the lab's robot (Franka's control-parameter documentation, each robot's table), from
+#: its profile (HRI_ROBOT; unset: the Panda's, core/robots/franka_panda.yaml).
+ROBOT_LIMITS = CartesianLimits(AxisLimits(**lab_robot_file()["cartesian_limits"]["translation"]),
+                               AxisLimits(**lab_robot_file()["cartesian_limits"]["rotation"]))
 
 #: The lab's defaults, well inside the Panda's.  Why these numbers:
 #:
@@ -123,7 +123,7 @@ def max_step_per_command(hard: AxisLimits, robot_period_s: float = ROBOT_PERIOD_
     return min(hard.acceleration * robot_period_s, hard.jerk * robot_period_s ** 2)
 
 
-def check_command_rate(limits: CartesianLimits, rate_hz: float, hard: CartesianLimits = PANDA_LIMITS,
+def check_command_rate(limits: CartesianLimits, rate_hz: float, hard: CartesianLimits = ROBOT_LIMITS,
                        robot_period_s: float = ROBOT_PERIOD_S) -> None:
     """Refuse limits whose largest change per command (a_max / rate) the robot would take as a step.
 
@@ -296,7 +296,7 @@ class TwistLimiter:
     a varying ``dt_s`` the limits still hold; the approach is then no longer deadbeat.
     """
 
-    def __init__(self, limits: CartesianLimits = DEFAULT_LIMITS, *, hard_limits: CartesianLimits = PANDA_LIMITS) -> None:
+    def __init__(self, limits: CartesianLimits = DEFAULT_LIMITS, *, hard_limits: CartesianLimits = ROBOT_LIMITS) -> None:
         if not isinstance(limits, CartesianLimits):
             raise LimitsError(f"limits must be a CartesianLimits, got {type(limits).__name__}; build one from AxisLimits")
         too_high = limits.excess(hard_limits)

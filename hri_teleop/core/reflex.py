@@ -17,16 +17,16 @@ from hri_teleop.core.joints import (
     JOINT_VELOCITY_DISCONTINUITY,
     JOINT_VELOCITY_LIMITS_VIOLATION,
 )
-from hri_teleop.core.robot_file import panda_file
+from hri_teleop.core.robot_file import lab_robot_file
 
 __all__ = ["ERROR_RECOVERY_ACTION", "ReflexCause", "CARTESIAN_VELOCITY_LIMITS_VIOLATION", "CARTESIAN_VELOCITY_DISCONTINUITY",
            "CARTESIAN_ACCELERATION_DISCONTINUITY", "NON_FINITE_COMMAND", "RECOVERY_HINT", "explain_cause",
            "explain_reflex"]
 
 # The names come from the robot profile (core/robots/franka_panda.yaml).
-_ERRORS = panda_file()["errors"]
+_ERRORS = lab_robot_file()["errors"]
 #: franka_control's error recovery action (franka_msgs/ErrorRecoveryAction); lab_sim serves it at home.
-ERROR_RECOVERY_ACTION: str = panda_file()["topics"]["error_recovery"]
+ERROR_RECOVERY_ACTION: str = lab_robot_file()["topics"]["error_recovery"]
 #: ``|v|`` above the Cartesian velocity limit (franka::Errors field).
 CARTESIAN_VELOCITY_LIMITS_VIOLATION: str = _ERRORS["cartesian"]["velocity"]
 #: ``|dv/dt|`` above the acceleration limit: "commanded velocity ... is discontinuous".

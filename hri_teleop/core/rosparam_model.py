@@ -14,7 +14,7 @@ import posixpath
 import shlex
 from dataclasses import dataclass, field
 from pathlib import PurePosixPath
-from typing import Any, Callable, Dict, Iterable, List, Mapping, Optional, Sequence, Tuple
+from typing import Any, Callable, Dict, Iterable, List, Mapping, Optional, Sequence, Tuple, Type
 
 from hri_teleop.core.errors import HriTeleopError
 
@@ -324,7 +324,7 @@ def file_reader(read_bytes: Callable[[str], bytes]) -> FileText:
     return read
 
 
-def yaml_reader(load_all: Callable[[str], List[Any]], errors: Tuple[type, ...]) -> YamlText:
+def yaml_reader(load_all: Callable[[str], List[Any]], errors: Tuple[Type[BaseException], ...]) -> YamlText:
     """``yaml_text`` for :meth:`ParamModel.run`: ``load_all`` (a bounded safe loader), its ``errors`` as
     rosparam's own refusal."""
     def read(text: str) -> List[Any]:

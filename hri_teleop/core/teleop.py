@@ -22,7 +22,7 @@ from hri_teleop.core.gamepad.stale import STALE_INPUT_TIMEOUT_S
 from hri_teleop.core.gripper import GRIPPER_MAX_WIDTH_M
 from hri_teleop.core.limits import (
     DEFAULT_LIMITS,
-    PANDA_LIMITS,
+    ROBOT_LIMITS,
     CartesianLimits,
     LimitsError,
     Twist,
@@ -270,7 +270,7 @@ class TeleopController:
     """Handout Ex. 8 as a state machine (mode, gripper width, quit) plus the twist limiter."""
 
     def __init__(self, params: Optional[TeleopParams] = None, limits: CartesianLimits = DEFAULT_LIMITS,
-                 hard_limits: CartesianLimits = PANDA_LIMITS) -> None:
+                 hard_limits: CartesianLimits = ROBOT_LIMITS) -> None:
         """``hard_limits``: the robot's (its profile's), which ``limits`` must stay inside."""
         self._params = params if params is not None else TeleopParams()
         if not isinstance(self._params, TeleopParams):

@@ -47,6 +47,20 @@ REPLAY_TOPICS = ("/joint_states",)
 DEFAULT_TIMEOUT_S = 60.0
 
 
+
+def robot_ran() -> str:
+    """The robot lab_sim ran: the lab's sim.yaml read as lab_sim reads it (its robot:, else HRI_ROBOT's)."""
+    from hri_teleop.sim.config import SimConfigError, default_sim_yaml, load_world_config  # noqa: PLC0415 - pinocchio
+
+    path = default_sim_yaml()
+    if path is None:
+        return "unknown (no sim.yaml in hri_lab/config)"
+    try:
+        robot = load_world_config(path).robot
+    except SimConfigError as exc:
+        return f"unknown ({exc})"
+    return f"{robot.name}: {robot.description}"
+
 def _values(msg: Any) -> Dict[str, str]:
     return {kv.key: kv.value for kv in msg.values}
 
@@ -167,6 +181,7 @@ def run(scenario: Optional[Path], out_dir: Path, timeout_s: float, extra: Mappin
     name = Path(scenario).stem if scenario is not None else "default"
     png = lab_timeline(rec, out_dir / "teleop_demo.png", f"make demo: the simulated lab, {name} scenario")
     lines: List[str] = ["", "Teleoperation lab, simulated (teleoperation.launch sim:=true):"]
+    lines.append(f"  robot             {robot_ran()}")
     lines += ["  " + line for line in format_summary(summary)]
     lines += [f"  bag               {bag_path}", f"  timeline plot     {png}"]
     if expected is not None:

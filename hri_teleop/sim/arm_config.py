@@ -1,4 +1,4 @@
-"""What the simulated Panda is told and what it reports: its settings, limit violations and events.
+"""What the simulated arm (the Panda or the FR3, as its profile says) is told and what it reports: its settings, limit violations and events.
 
 :class:`SimArmConfig` holds every number the arm judges with and where it starts; the records are
 what a node logs or a test inspects. The arm itself: :mod:`hri_teleop.sim.arm`.
@@ -12,8 +12,8 @@ from typing import Dict, Iterable, Optional, Tuple
 
 from hri_teleop.core.checks import is_finite_number, is_positive_number
 from hri_teleop.core.errors import HriTeleopError
-from hri_teleop.core.joints import PANDA_JOINT_LIMITS, JointLimits
-from hri_teleop.core.limits import PANDA_LIMITS, AxisLimits, CartesianLimits, LimitsError, TwistLimiter, Vec3
+from hri_teleop.core.joints import ROBOT_JOINT_LIMITS, JointLimits
+from hri_teleop.core.limits import ROBOT_LIMITS, AxisLimits, CartesianLimits, LimitsError, TwistLimiter, Vec3
 from hri_teleop.core.reflex import (
     CARTESIAN_ACCELERATION_DISCONTINUITY as ACCELERATION_DISCONTINUITY,
 )
@@ -24,10 +24,10 @@ from hri_teleop.core.reflex import (
     CARTESIAN_VELOCITY_LIMITS_VIOLATION as VELOCITY_LIMITS_VIOLATION,
 )
 from hri_teleop.core.reflex import NON_FINITE_COMMAND, ReflexCause
-from hri_teleop.core.robot import PANDA, RobotProfile
+from hri_teleop.core.robot import LAB_ROBOT, RobotProfile
 
 __all__ = [
-    "ArmModel", "PANDA_MODEL", "SimArmError", "SimArmConfig", "LimitViolation", "ArmEvent", "ArmPose", "VELOCITY_LIMITS_VIOLATION",
+    "ArmModel", "ROBOT_MODEL", "SimArmError", "SimArmConfig", "LimitViolation", "ArmEvent", "ArmPose", "VELOCITY_LIMITS_VIOLATION",
     "VELOCITY_DISCONTINUITY", "ACCELERATION_DISCONTINUITY", "NON_FINITE_COMMAND", "LIBFRANKA_ERROR_FOR",
     "CONTROLLERS", "GENTLE_STOP_LIMITS", "STATE_IDLE", "STATE_MOVING", "STATE_TIMEOUT", "STATE_REFLEX", "EVENT_REFLEX", "EVENT_TIMEOUT",
     "EVENT_WORKSPACE", "EVENT_RECOVERED", "EVENT_IGNORED", "AXES",
@@ -47,11 +47,11 @@ class ArmModel:
 
     @classmethod
     def of(cls, robot: RobotProfile) -> "ArmModel":
-        return cls(robot.urdf, robot.tool_frame, robot.elbow_joint - 1, robot.joint_names, robot.gripper.finger_joints)
+        return cls(robot.urdf, robot.tool_frame, robot.elbow_joint - 1, robot.urdf_joint_names, robot.urdf_finger_joints)
 
 
-#: The Panda's, from its profile.
-PANDA_MODEL = ArmModel.of(PANDA)
+#: The lab's robot's (HRI_ROBOT), from its profile.
+ROBOT_MODEL = ArmModel.of(LAB_ROBOT)
 
 #: Which libfranka error a violated Cartesian limit raises, keyed by the limit's name in AxisLimits.
 LIBFRANKA_ERROR_FOR: Dict[str, str] = {
@@ -61,7 +61,8 @@ LIBFRANKA_ERROR_FOR: Dict[str, str] = {
 }
 #: The controller's ramp to zero after a command timeout: smooth enough for the joints too (the
 #: robot's own Cartesian limits would stop in a few ms, a jerk its IK turns into a joint reflex).
-GENTLE_STOP_LIMITS = CartesianLimits(AxisLimits(1.7, 1.0, 100.0), AxisLimits(2.5, 2.0, 200.0))
+GENTLE_STOP_LIMITS = CartesianLimits(AxisLimits(ROBOT_LIMITS.translation.velocity, 1.0, 100.0),
+                                     AxisLimits(ROBOT_LIMITS.rotation.velocity, 2.0, 200.0))
 #: What the lab's velocity controller does between two commands (see SimArmConfig.controller).
 CONTROLLERS = ("interpolate", "hold")
 
@@ -156,7 +157,7 @@ class SimArmConfig:
     * ``model``: the arm description the joints follow (the robot profile's kinematics).
     """
 
-    limits: CartesianLimits = PANDA_LIMITS
+    limits: CartesianLimits = ROBOT_LIMITS
     timeout_s: float = 0.1
     workspace_min_m: Vec3 = (0.2, -0.5, 0.05)
     workspace_max_m: Vec3 = (0.8, 0.5, 0.8)
@@ -164,16 +165,16 @@ class SimArmConfig:
     start_orientation_xyzw: Tuple[float, float, float, float] = (1.0, 0.0, 0.0, 0.0)
     stop_limits: Optional[CartesianLimits] = GENTLE_STOP_LIMITS
     rel_tol: float = 1e-9
-    joint_limits: JointLimits = PANDA_JOINT_LIMITS
+    joint_limits: JointLimits = ROBOT_JOINT_LIMITS
     controller: str = "interpolate"
     command_period_s: float = 0.02
     joints: bool = True
-    model: ArmModel = PANDA_MODEL
+    model: ArmModel = ROBOT_MODEL
 
     def __post_init__(self) -> None:
         if not isinstance(self.joint_limits, JointLimits):
             raise SimArmError(f"joint_limits must be a JointLimits, got {type(self.joint_limits).__name__}; "
-                              "use hri_teleop.core.joints.PANDA_JOINT_LIMITS")
+                              "use hri_teleop.core.joints.ROBOT_JOINT_LIMITS")
         if not isinstance(self.joints, bool):
             raise SimArmError(f"joints must be true or false, got {self.joints!r}")
         if self.controller not in CONTROLLERS:
@@ -184,7 +185,7 @@ class SimArmConfig:
                               "e.g. 0.02 (the teleoperation node's 50 Hz)")
         if not isinstance(self.limits, CartesianLimits):
             raise SimArmError(f"limits must be a CartesianLimits, got {type(self.limits).__name__}; "
-                              "use hri_teleop.core.limits.PANDA_LIMITS")
+                              "use hri_teleop.core.limits.ROBOT_LIMITS")
         if self.stop_limits is not None and not isinstance(self.stop_limits, CartesianLimits):
             raise SimArmError(f"stop_limits must be a CartesianLimits or None, got {type(self.stop_limits).__name__}")
         if not is_positive_number(self.timeout_s):

@@ -19,7 +19,7 @@ from hri_teleop.core.attachment import Attachment, AttachmentError
 from hri_teleop.core.checks import is_finite_number, is_int
 from hri_teleop.core.errors import HriTeleopError
 from hri_teleop.core.paths import LAB_CONFIG
-from hri_teleop.core.robot import PANDA, RobotFileError, RobotProfile, robot_named
+from hri_teleop.core.robot import RobotFileError, RobotProfile, robot_named
 from hri_teleop.core.yamlfile import read_yaml
 from hri_teleop.sim.arm import SimArmConfig, SimArmError
 from hri_teleop.sim.board import HANDOUT_FIRMWARE_RATE_HZ, BoardConfig, BoardError
@@ -324,7 +324,8 @@ class _Builder:
         return value.strip()
 
     def robot(self) -> RobotProfile:
-        """``robot:``: a profile's name in hri_teleop/core/robots/ or a YAML path (absent or null: the Panda)."""
+        """``robot:``: a profile's name in hri_teleop/core/robots/ or a YAML path (absent or null: the lab's robot,
+        HRI_ROBOT)."""
         if self._robot is None:
             try:
                 self._robot = robot_named(self.merged.get("robot"))
@@ -505,7 +506,7 @@ def describe(config: WorldConfig) -> str:
     board = config.board
     period_ms = 1000.0 / board.rate_hz
     start = config.arm.start_position_m
-    robot = "" if config.robot is PANDA else f"robot {config.robot.name}; "
+    robot = f"robot {config.robot.name}; "
     return (f"{robot}{what}; arm starts at ({start[0]:g}, {start[1]:g}, {start[2]:g}) m, command timeout "
             f"{config.arm.timeout_s:g} s; sensor board {board.rate_hz:g} Hz ({period_ms:.4g} ms), noise "
             f"{board.noise_counts:g} counts; piston {config.attachment.piston_travel_m * 1000:g} mm, "

@@ -15,13 +15,13 @@ import numpy as np
 import pinocchio as pin
 
 from hri_teleop.core.joints import (
-    PANDA_JOINT_LIMITS,
     READY_POSE_RAD,
+    ROBOT_JOINT_LIMITS,
     JointLimits,
     JointVector,
     joint_violations,
 )
-from hri_teleop.sim.arm_config import PANDA_MODEL, ArmModel
+from hri_teleop.sim.arm_config import ROBOT_MODEL, ArmModel
 from hri_teleop.sim.arm_kernel import JOINT_CONST_SIZE, JOINT_STATE_SIZE, JOINT_TYPES
 from hri_teleop.sim.kinematics import PandaKinematics, Vector
 
@@ -33,7 +33,7 @@ JointStep = Tuple[str, int, float, float]
 
 @lru_cache(maxsize=64)
 def start_joints(position_m: Tuple[float, float, float], orientation_xyzw: Tuple[float, float, float, float],
-                 limits: JointLimits = PANDA_JOINT_LIMITS, arm: ArmModel = PANDA_MODEL) -> JointVector:
+                 limits: JointLimits = ROBOT_JOINT_LIMITS, arm: ArmModel = ROBOT_MODEL) -> JointVector:
     """The joints of a start pose, found from the ready pose (cached: many arms start alike)."""
     return PandaKinematics(limits, arm).inverse(position_m, orientation_xyzw, seed=READY_POSE_RAD)
 
@@ -41,8 +41,8 @@ def start_joints(position_m: Tuple[float, float, float], orientation_xyzw: Tuple
 class JointMotion:
     """The seven joints: where they are, the joint velocity the command asks of them, and the judge."""
 
-    def __init__(self, start_rad: Sequence[float], limits: JointLimits = PANDA_JOINT_LIMITS,
-                 rel_tol: float = 1e-9, arm: ArmModel = PANDA_MODEL) -> None:
+    def __init__(self, start_rad: Sequence[float], limits: JointLimits = ROBOT_JOINT_LIMITS,
+                 rel_tol: float = 1e-9, arm: ArmModel = ROBOT_MODEL) -> None:
         self.kinematics = PandaKinematics(limits, arm)
         self.limits = limits
         self.rel_tol = rel_tol

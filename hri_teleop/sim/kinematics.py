@@ -20,20 +20,20 @@ import pinocchio as pin
 
 from hri_teleop.core.errors import HriTeleopError
 from hri_teleop.core.joints import (
-    PANDA_JOINT_LIMITS,
     READY_POSE_RAD,
+    ROBOT_JOINT_LIMITS,
     JointLimits,
     JointVector,
 )
-from hri_teleop.sim.arm_config import PANDA_MODEL, ArmModel
+from hri_teleop.sim.arm_config import ROBOT_MODEL, ArmModel
 
 __all__ = ["KinematicsError", "panda_urdf", "panda_package_dir", "PandaKinematics", "TCP_FRAME", "ELBOW_JOINT"]
 
 # The model, its tool frame and its elbow come from the robot profile (core/robots/franka_panda.yaml).
 #: The frame the lab's commands move: between the fingertips (franka_description's ``panda_hand_tcp``).
-TCP_FRAME: str = PANDA_MODEL.tool_frame
+TCP_FRAME: str = ROBOT_MODEL.tool_frame
 #: Franka's "elbow": the joint whose angle a Cartesian velocity command leaves as it is (index 2 = joint 3).
-ELBOW_JOINT: int = PANDA_MODEL.elbow_index
+ELBOW_JOINT: int = ROBOT_MODEL.elbow_index
 Vector = npt.NDArray[np.float64]
 
 
@@ -41,7 +41,7 @@ class KinematicsError(HriTeleopError, RuntimeError):
     """The Panda model cannot be loaded, or a pose cannot be reached (the message names the fix)."""
 
 
-def panda_urdf(urdf: str = PANDA_MODEL.urdf) -> Path:
+def panda_urdf(urdf: str = ROBOT_MODEL.urdf) -> Path:
     """The URDF at ``urdf`` (default: the Panda's) as example-robot-data installs it."""
     try:
         files = importlib.metadata.files("example-robot-data") or []
@@ -83,7 +83,7 @@ def _quaternion_xyzw(rotation: Vector) -> Tuple[float, float, float, float]:
 class PandaKinematics:
     """Forward kinematics and the twist-to-joint-velocity map of the arm, one instance per arm."""
 
-    def __init__(self, limits: JointLimits = PANDA_JOINT_LIMITS, arm: ArmModel = PANDA_MODEL) -> None:
+    def __init__(self, limits: JointLimits = ROBOT_JOINT_LIMITS, arm: ArmModel = ROBOT_MODEL) -> None:
         self.model = _arm_model(arm)
         if tuple(self.model.names)[1:] != arm.joint_names:
             raise KinematicsError(f"the model's joints are {tuple(self.model.names)[1:]}, not the robot profile's "

@@ -13,6 +13,7 @@ import random
 from typing import Any, Dict, List
 
 from hri_teleop.core.errors import HriTeleopError
+from hri_teleop.core.gripper import GRIPPER_MAX_WIDTH_M
 from hri_teleop.sim.grasp_objects import OBJECTS
 from hri_teleop.sim.virtual_pad import ScriptStep
 
@@ -139,9 +140,10 @@ def study_operator(condition: str, seed: int, *, object_width_m: float = 0.044, 
     if not 0 <= skip_taps <= 5:
         raise OperatorError(f"skip_taps must be 0..5 (the careless operator taps at least 6 times), got {skip_taps!r}")
     tap_m = TAP_HOLD_S * k_gripper_m_per_s
-    close_s = round((0.08 - (object_width_m + CLOSE_MARGIN_M - skip_taps * tap_m)) / k_gripper_m_per_s, 2)
+    close_s = round((GRIPPER_MAX_WIDTH_M - (object_width_m + CLOSE_MARGIN_M - skip_taps * tap_m)) / k_gripper_m_per_s, 2)
     if not 0.0 < close_s <= 2.0:
-        raise OperatorError(f"object_width_m {object_width_m!r} leaves no room to close fast from 80 mm; "
+        raise OperatorError(f"object_width_m {object_width_m!r} leaves no room to close fast from "
+                            f"{GRIPPER_MAX_WIDTH_M * 1000:g} mm; "
                             "give the object's width in m, e.g. 0.044 (an egg)")
     rng = random.Random(seed)
     t = round(start_s + rng.uniform(0.0, 0.3), 2)

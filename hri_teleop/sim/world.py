@@ -17,7 +17,7 @@ from hri_teleop.core.attachment import Attachment
 from hri_teleop.core.checks import is_finite_number
 from hri_teleop.core.errors import HriTeleopError
 from hri_teleop.core.limits import ROBOT_PERIOD_S, AxisLimits, CartesianLimits
-from hri_teleop.core.robot import PANDA, RobotProfile
+from hri_teleop.core.robot import LAB_ROBOT, RobotProfile
 from hri_teleop.core.run_record import LIFTED_M
 from hri_teleop.sim.arm import SimArm, SimArmConfig
 from hri_teleop.sim.arm_config import ArmModel
@@ -51,7 +51,7 @@ ROBOT_HAND_KEYS = ("max_width_m", "max_speed_m_per_s", "max_force_n", "move_forc
 def robot_arm(robot: RobotProfile, base: SimArmConfig = LAB_ARM_CONFIG) -> SimArmConfig:
     """``base`` judged with ``robot``'s Cartesian and joint limits; the gentle stop after a timeout
     stays inside them (each of its numbers at most the robot's)."""
-    if robot == PANDA:
+    if robot == LAB_ROBOT:
         return base
     stop = base.effective_stop_limits
     hard = robot.cartesian_limits
@@ -85,7 +85,7 @@ class WorldConfig:
     table_z_m: float = 0.0
     capture_radius_m: float = 0.01
     board: BoardConfig = field(default_factory=BoardConfig)
-    robot: RobotProfile = PANDA  # what ``arm`` and ``hand`` were made from (robot_world)
+    robot: RobotProfile = LAB_ROBOT  # what ``arm`` and ``hand`` were made from (robot_world)
 
     def __post_init__(self) -> None:
         for name, kind in (("arm", SimArmConfig), ("hand", HandParams), ("attachment", Attachment),

@@ -17,7 +17,7 @@ import pytest
 import yaml
 
 from hri_teleop.core.config import load_teleop_config
-from hri_teleop.core.joints import JOINT_NAMES, JOINT_POSITION_LIMITS_VIOLATION, PANDA_JOINT_LIMITS, READY_POSE_RAD
+from hri_teleop.core.joints import JOINT_NAMES, JOINT_POSITION_LIMITS_VIOLATION, ROBOT_JOINT_LIMITS, READY_POSE_RAD
 from hri_teleop.ros.bags import read_topics
 
 pytestmark = pytest.mark.ros
@@ -102,7 +102,7 @@ def test_turning_to_joint_7s_limit_warns_before_the_reflex_and_options_recovers(
     # where the joint was when it was warned: inside the margin, short of the limit
     states = [m for t, m in data["/franka_state_controller/joint_states"] if t <= warned_t]
     assert list(states[-1].name) == list(JOINT_NAMES)
-    q7_limit = PANDA_JOINT_LIMITS.position_max_rad[6]
+    q7_limit = ROBOT_JOINT_LIMITS.position_max_rad[6]
     assert 0.0 < q7_limit - states[-1].position[6] < 0.1  # the state that started it: inside 0.1 rad
     assert states[0].position[6] == pytest.approx(READY_POSE_RAD[6], abs=1e-6)
 
@@ -142,7 +142,7 @@ def test_without_a_recovery_server_options_says_so_in_one_line(ros_master, tmp_p
 
 
 def test_stale_joint_states_end_the_warning_and_its_rumble(ros_master, tmp_path):
-    near = list(READY_POSE_RAD[:6]) + [PANDA_JOINT_LIMITS.position_max_rad[6] - 0.05]
+    near = list(READY_POSE_RAD[:6]) + [ROBOT_JOINT_LIMITS.position_max_rad[6] - 0.05]
     script = tmp_path / "still.yaml"  # a connected pad that stays still (a silent pad would stop the node's rumble)
     script.write_text(yaml.safe_dump([{"t": 600.0, "axis": "left_x", "value": 0.0}]))
     node = _start_teleop(ros_master, "_joint_states_topic:=/test_joint_states", f"_pad_script:={script}",

@@ -11,7 +11,7 @@ import pytest
 import yaml
 from test_teleoperation_node import TELEOP  # tests/integration, on sys.path under pytest
 
-from hri_teleop.core.joints import JOINT_NAMES, PANDA_JOINT_LIMITS, READY_POSE_RAD, WARNING_MARGIN_RAD, WARNING_RUMBLE
+from hri_teleop.core.joints import JOINT_NAMES, ROBOT_JOINT_LIMITS, READY_POSE_RAD, WARNING_MARGIN_RAD, WARNING_RUMBLE
 from hri_teleop.sim.virtual_pad import read_rumble_log
 
 pytestmark = pytest.mark.ros
@@ -22,7 +22,7 @@ FORCE = 0.3
 def test_force_on_the_strong_motor_warning_on_the_weak_one_and_rumble_ok_latched(ros_master, tmp_path):
     master = ros_master
     near = list(READY_POSE_RAD)
-    near[6] = PANDA_JOINT_LIMITS.position_max_rad[6] - WARNING_MARGIN_RAD / 2  # joint 7 inside the margin
+    near[6] = ROBOT_JOINT_LIMITS.position_max_rad[6] - WARNING_MARGIN_RAD / 2  # joint 7 inside the margin
     states = yaml.safe_dump({"name": list(JOINT_NAMES), "position": near}, default_flow_style=True).strip()
     master.run(["rostopic", "pub", "-r", "30", "/franka_state_controller/joint_states", "sensor_msgs/JointState",
                 states], "joint_states")

@@ -14,8 +14,8 @@ import pytest
 from hri_teleop.core.gamepad import PadState
 from hri_teleop.core.joints import (
     JOINT_NAMES,
-    PANDA_JOINT_LIMITS,
     READY_POSE_RAD,
+    ROBOT_JOINT_LIMITS,
     JointLimitWatch,
     JointsError,
     JointStateWarning,
@@ -24,7 +24,7 @@ from hri_teleop.core.joints import (
 from hri_teleop.core.teleop import ButtonPress, TeleopError, TeleopParams, check_extra_button, combined_rumble
 
 FINGERS = ["panda_finger_joint1", "panda_finger_joint2"]
-NEAR = tuple(READY_POSE_RAD[:6]) + (PANDA_JOINT_LIMITS.position_max_rad[6] - 0.05,)  # joint 7 inside 0.1 rad
+NEAR = tuple(READY_POSE_RAD[:6]) + (ROBOT_JOINT_LIMITS.position_max_rad[6] - 0.05,)  # joint 7 inside 0.1 rad
 
 
 # --- joint states by name -------------------------------------------------------------------

@@ -15,8 +15,8 @@ from hri_teleop.core.joints import (
     JOINT_POSITION_LIMITS_VIOLATION,
     JOINT_VELOCITY_DISCONTINUITY,
     JOINT_VELOCITY_LIMITS_VIOLATION,
-    PANDA_JOINT_LIMITS,
     READY_POSE_RAD,
+    ROBOT_JOINT_LIMITS,
     WARNING_MARGIN_RAD,
     JointLimits,
     JointLimitWatch,
@@ -36,7 +36,7 @@ from hri_teleop.core.reflex import (
     explain_reflex,
 )
 
-L = PANDA_JOINT_LIMITS
+L = ROBOT_JOINT_LIMITS
 ZERO7 = (0.0,) * 7
 
 

@@ -17,7 +17,7 @@ from hypothesis import strategies as st
 
 from hri_teleop.core.limits import (
     DEFAULT_LIMITS,
-    PANDA_LIMITS,
+    ROBOT_LIMITS,
     AxisLimits,
     CartesianLimits,
     LimitsError,
@@ -61,7 +61,7 @@ def axis_limits(v_hi: float, a_hi: float, j_hi: float, v_lo: float = 0.01, a_lo:
 
 any_limits = st.one_of(
     st.just(DEFAULT_LIMITS),
-    st.just(PANDA_LIMITS),
+    st.just(ROBOT_LIMITS),
     st.builds(CartesianLimits, axis_limits(1.7, 13.0, 6500.0), axis_limits(2.5, 25.0, 12500.0)),
 )
 component = st.one_of(
@@ -77,13 +77,13 @@ dt_any = st.floats(min_value=1e-3, max_value=0.1)
 
 
 def test_panda_limits_are_the_documented_ones():
-    assert PANDA_LIMITS == CartesianLimits(AxisLimits(1.7, 13.0, 6500.0), AxisLimits(2.5, 25.0, 12500.0))
+    assert ROBOT_LIMITS == CartesianLimits(AxisLimits(1.7, 13.0, 6500.0), AxisLimits(2.5, 25.0, 12500.0))
 
 
 def test_default_limits_are_well_inside_the_panda():
-    assert DEFAULT_LIMITS.within(PANDA_LIMITS)
+    assert DEFAULT_LIMITS.within(ROBOT_LIMITS)
     for group in ("translation", "rotation"):
-        mine, panda = getattr(DEFAULT_LIMITS, group), getattr(PANDA_LIMITS, group)
+        mine, panda = getattr(DEFAULT_LIMITS, group), getattr(ROBOT_LIMITS, group)
         for name in ("velocity", "acceleration", "jerk"):
             assert getattr(mine, name) <= 0.25 * getattr(panda, name)
     # Above the full-stick speeds of the default gains (k_trans 0.1 m/s, k_rot 0.3 rad/s).
@@ -92,7 +92,7 @@ def test_default_limits_are_well_inside_the_panda():
     # the Panda's acceleration and jerk (see the DEFAULT_LIMITS comment).
     for group in ("translation", "rotation"):
         step = getattr(DEFAULT_LIMITS, group).acceleration * 0.02
-        panda = getattr(PANDA_LIMITS, group)
+        panda = getattr(ROBOT_LIMITS, group)
         assert step / 1e-3 <= panda.acceleration and step / 1e-6 <= panda.jerk
 
 
@@ -105,9 +105,9 @@ def test_axis_limits_reject_non_positive_or_non_numbers(bad):
 
 def test_within_and_excess():
     above = CartesianLimits(AxisLimits(2.0, 1.0, 1.0), AxisLimits(1.0, 1.0, 13000.0))
-    assert not above.within(PANDA_LIMITS)
-    assert above.excess(PANDA_LIMITS) == ("translation.velocity", "rotation.jerk")
-    assert PANDA_LIMITS.within(PANDA_LIMITS)
+    assert not above.within(ROBOT_LIMITS)
+    assert above.excess(ROBOT_LIMITS) == ("translation.velocity", "rotation.jerk")
+    assert ROBOT_LIMITS.within(ROBOT_LIMITS)
 
 
 def test_limits_above_the_robot_are_refused():
@@ -115,9 +115,9 @@ def test_limits_above_the_robot_are_refused():
     with pytest.raises(LimitsError, match=r"translation\.velocity=2 > 1\.7") as info:
         TwistLimiter(above)
     assert "\n" not in str(info.value)
-    TwistLimiter(PANDA_LIMITS)  # exactly the robot's is allowed
+    TwistLimiter(ROBOT_LIMITS)  # exactly the robot's is allowed
     with pytest.raises(LimitsError):
-        TwistLimiter(PANDA_LIMITS, hard_limits=DEFAULT_LIMITS)
+        TwistLimiter(ROBOT_LIMITS, hard_limits=DEFAULT_LIMITS)
 
 
 @pytest.mark.parametrize("dt", [0.0, -0.02, float("nan"), float("inf"), True, "0.02"])
@@ -215,8 +215,8 @@ EDGE_LIMITS = CartesianLimits(AxisLimits(1.0, 12.5, 6250.0), AxisLimits(2.5, 25.
     steps=st.lists(st.tuples(target, dt_any), min_size=1, max_size=60),
 )
 @example(limits=DEFAULT_LIMITS, steps=SATURATING)
-@example(limits=PANDA_LIMITS, steps=SATURATING)
-@example(limits=PANDA_LIMITS, steps=[((1.7, 0.0, 0.0, 2.5, 0.0, 0.0), 0.1)] * 5 + [((-1.7, 0.0, 0.0, -2.5, 0.0, 0.0), 0.1)] * 5)
+@example(limits=ROBOT_LIMITS, steps=SATURATING)
+@example(limits=ROBOT_LIMITS, steps=[((1.7, 0.0, 0.0, 2.5, 0.0, 0.0), 0.1)] * 5 + [((-1.7, 0.0, 0.0, -2.5, 0.0, 0.0), 0.1)] * 5)
 @example(limits=DEFAULT_LIMITS, steps=[((3.0,) * 6, 1e-3)] * 60)
 @example(limits=EDGE_LIMITS, steps=[((1.0, 0.0, 0.0, 2.5, 0.0, 0.0), 0.02)] * 20 + [((0.0,) * 6, 0.02)] * 20)
 @example(limits=DEFAULT_LIMITS, steps=[((math.nan, math.inf, -math.inf, 1e308, -1e308, 0.0), 0.02)] * 10
@@ -238,8 +238,8 @@ def test_any_target_sequence_stays_within_the_limits(limits, steps):
 )
 @example(limits=DEFAULT_LIMITS, level=5.0, period=1, dt=0.02)
 @example(limits=DEFAULT_LIMITS, level=0.25, period=15, dt=0.1)  # at the translation velocity limit
-@example(limits=PANDA_LIMITS, level=5.0, period=1, dt=1e-3)
-@example(limits=PANDA_LIMITS, level=1.7, period=7, dt=0.1)
+@example(limits=ROBOT_LIMITS, level=5.0, period=1, dt=1e-3)
+@example(limits=ROBOT_LIMITS, level=1.7, period=7, dt=0.1)
 @example(limits=EDGE_LIMITS, level=2.5, period=2, dt=0.02)  # the rotation at the Panda's velocity limit
 def test_bang_bang_targets_stay_within_the_limits(limits, level, period, dt):
     # The hardest input for a velocity limit: full reversals, held for random times.
@@ -251,7 +251,7 @@ def test_bang_bang_targets_stay_within_the_limits(limits, level, period, dt):
 
 reachable_limits = st.one_of(
     st.just(DEFAULT_LIMITS),
-    st.just(PANDA_LIMITS),
+    st.just(ROBOT_LIMITS),
     # Ranges keep the settling time a few thousand steps so the test stays fast.
     st.builds(
         CartesianLimits,
@@ -279,7 +279,7 @@ def settle_bound_s(limits: CartesianLimits, dt: float) -> float:
 @example(limits=DEFAULT_LIMITS, prefix=[], goal=(0.25, 0.0, 0.0, 0.5, 0.0, 0.0), dt=0.02)  # at the velocity limits
 @example(limits=DEFAULT_LIMITS, prefix=[], goal=(0.3, 0.0, 0.0, -0.6, 0.0, 0.0), dt=0.02)  # beyond: scaled down
 @example(limits=DEFAULT_LIMITS, prefix=[(-3.0,) * 6] * 20, goal=(0.0,) * 6, dt=0.005)  # to rest from a reversal
-@example(limits=PANDA_LIMITS, prefix=[(3.0,) * 6] * 5, goal=(-3.0, 0.0, 0.0, 0.0, 0.0, 3.0), dt=0.05)
+@example(limits=ROBOT_LIMITS, prefix=[(3.0,) * 6] * 5, goal=(-3.0, 0.0, 0.0, 0.0, 0.0, 3.0), dt=0.05)
 def test_a_constant_target_is_reached_in_bounded_time_and_held(limits, prefix, goal, dt):
     limiter = TwistLimiter(limits)
     outputs = run(limiter, prefix, [dt] * len(prefix))

@@ -49,16 +49,16 @@ def test_the_pattern_catches_each_outside_reference():
 
 
 def test_the_lab_facts_page_quotes_the_limits_the_code_enforces():
-    from hri_teleop.core.limits import PANDA_LIMITS
+    from hri_teleop.core.limits import ROBOT_LIMITS
     from hri_teleop.core.teleop import GRIPPER_MAX_WIDTH_M
 
     facts = (ROOT / "docs" / "lab-facts.md").read_text(encoding="utf-8")
-    t, r = PANDA_LIMITS.translation, PANDA_LIMITS.rotation
+    t, r = ROBOT_LIMITS.translation, ROBOT_LIMITS.rotation
     row_t = f"| translation | {t.velocity:g} m/s | {t.acceleration:g} m/s² | {t.jerk:g} m/s³ |"
     row_r = f"| rotation | {r.velocity:g} rad/s | {r.acceleration:g} rad/s² | {r.jerk:g} rad/s³ |"
     assert row_t in facts and row_r in facts
     assert f"0..{GRIPPER_MAX_WIDTH_M:g} m" in facts
-    from hri_teleop.core.joints import PANDA_JOINT_LIMITS as J
+    from hri_teleop.core.joints import ROBOT_JOINT_LIMITS as J
 
     for label, values in (("position min (rad)", J.position_min_rad), ("position max (rad)", J.position_max_rad),
                           ("velocity (rad/s)", J.velocity_rad_per_s), ("acceleration (rad/s²)", J.acceleration_rad_per_s2),

@@ -11,7 +11,8 @@ import yaml
 
 from hri_teleop.core import joints, limits, reflex
 from hri_teleop.core.config import DEFAULT_TWIST_TOPIC, load_teleop_config
-from hri_teleop.core.robot import PANDA, load_robot_profile
+from hri_teleop.core.robot import LAB_ROBOT as PANDA  # HRI_ROBOT unset (tests/conftest.py): the Panda
+from hri_teleop.core.robot import load_robot_profile
 from hri_teleop.core.robot_file import PANDA_FILE, RobotFileError
 from hri_teleop.core.run_record import summarize
 from hri_teleop.core.teleop import GRIPPER_MAX_WIDTH_M
@@ -50,9 +51,9 @@ def made_up_robot(tmp_path: Path, **changes: object) -> Path:
 
 
 def test_the_cores_panda_numbers_are_the_profiles():
-    assert limits.PANDA_LIMITS == PANDA.cartesian_limits
-    assert (limits.PANDA_LIMITS.translation.velocity, limits.PANDA_LIMITS.rotation.jerk) == (1.7, 12500.0)
-    assert joints.PANDA_JOINT_LIMITS == PANDA.joint_limits and joints.PANDA_JOINT_LIMITS.jerk_rad_per_s3[1] == 3750.0
+    assert limits.ROBOT_LIMITS == PANDA.cartesian_limits
+    assert (limits.ROBOT_LIMITS.translation.velocity, limits.ROBOT_LIMITS.rotation.jerk) == (1.7, 12500.0)
+    assert joints.ROBOT_JOINT_LIMITS == PANDA.joint_limits and joints.ROBOT_JOINT_LIMITS.jerk_rad_per_s3[1] == 3750.0
     assert joints.JOINT_NAMES == PANDA.joint_names == tuple(f"panda_joint{i}" for i in range(1, 8))
     assert joints.READY_POSE_RAD == PANDA.ready_pose_rad
     assert joints.FINGER_JOINT_NAMES == PANDA.gripper.finger_joints

@@ -21,7 +21,7 @@ from hypothesis import strategies as st
 from hri_teleop.core.joints import READY_POSE_RAD
 from hri_teleop.core.limits import (
     DEFAULT_LIMITS,
-    PANDA_LIMITS,
+    ROBOT_LIMITS,
     ROBOT_PERIOD_S,
     AxisLimits,
     CartesianLimits,
@@ -67,7 +67,7 @@ def drive(arm: SimArm, limiter: TwistLimiter, targets: Sequence[Sequence[float]]
     return t
 
 
-def ramp_to(arm: SimArm, target: Sequence[float], limits: CartesianLimits = PANDA_LIMITS,
+def ramp_to(arm: SimArm, target: Sequence[float], limits: CartesianLimits = ROBOT_LIMITS,
             seconds: float = 0.5) -> float:
     """Reach ``target`` smoothly with commands every 1 ms; returns the time of the last command."""
     limiter = TwistLimiter(limits)
@@ -121,7 +121,7 @@ def rotation_between(q0: Sequence[float], q1: Sequence[float]) -> Tuple[float, T
 
 def test_default_config_is_the_panda_at_its_ready_pose():
     arm = SimArm()
-    assert arm.config.limits == PANDA_LIMITS and arm.config.joints and arm.config.controller == "interpolate"
+    assert arm.config.limits == ROBOT_LIMITS and arm.config.joints and arm.config.controller == "interpolate"
     assert arm.joint_positions == pytest.approx(READY_POSE_RAD, abs=2e-3)
     assert arm.config.timeout_s == 0.1
     assert arm.pose.position_m == (0.3069, 0.0, 0.4867)
@@ -187,7 +187,7 @@ def test_above_the_velocity_limit_is_a_velocity_limits_violation(group, axis, li
     arm = SimArm(SimArmConfig(**HAND))
     target = [0.0] * 6
     target[axis] = limit  # the limiter stops a hair below the limit
-    limiter = TwistLimiter(PANDA_LIMITS)
+    limiter = TwistLimiter(ROBOT_LIMITS)
     t = 0.0
     for _ in range(500):
         t += ROBOT_PERIOD_S
@@ -261,7 +261,7 @@ def _sim_first_reflex(twists: Sequence[Sequence[float]]) -> Tuple[Optional[int],
 
 
 def _first_problem(twists: Sequence[Sequence[float]]) -> Tuple[Optional[int], List[Tuple[str, str]]]:
-    problems = limit_violations(PANDA_LIMITS, twists, [ROBOT_PERIOD_S] * len(twists))
+    problems = limit_violations(ROBOT_LIMITS, twists, [ROBOT_PERIOD_S] * len(twists))
     if not problems:
         return None, []
     first = int(problems[0].split(":")[0].split()[1])
@@ -278,7 +278,7 @@ def kilohertz_sequences(draw):
     steps = draw(st.lists(st.tuples(*[st.floats(-1.0, 1.0)] * 6), min_size=1, max_size=40))
     out: List[Tuple[float, ...]] = []
     if near is not None:
-        limiter = TwistLimiter(PANDA_LIMITS)
+        limiter = TwistLimiter(ROBOT_LIMITS)
         target = [0.0] * 6
         target[near[0]] = near[1]
         out = [limiter.step(target, ROBOT_PERIOD_S) for _ in range(400)]
@@ -318,7 +318,7 @@ def test_any_limited_50_hz_stream_held_at_1_khz_has_no_violation(segments):
     limiter = TwistLimiter(DEFAULT_LIMITS)
     commands = [limiter.step(target, 1.0 / RATE_HZ) for target in targets]
     held = hold_at_robot_rate(commands, RATE_HZ)
-    assert limit_violations(PANDA_LIMITS, held, [ROBOT_PERIOD_S] * len(held)) == []
+    assert limit_violations(ROBOT_LIMITS, held, [ROBOT_PERIOD_S] * len(held)) == []
     arm = SimArm(SimArmConfig(**HAND, workspace_min_m=(-1e3,) * 3, workspace_max_m=(1e3,) * 3))
     t = 0.0
     for command in commands:
@@ -381,7 +381,7 @@ def test_a_gentler_stop_ramp_can_be_configured():
 def test_a_timeout_in_mid_acceleration_still_ramps_without_violation(target, n_commands):
     """timeout_s below one cycle: the stop starts while the command is still accelerating."""
     arm = SimArm(SimArmConfig(**HAND, timeout_s=0.0005, workspace_min_m=(-1e3,) * 3, workspace_max_m=(1e3,) * 3))
-    limiter = TwistLimiter(PANDA_LIMITS)
+    limiter = TwistLimiter(ROBOT_LIMITS)
     t = 0.0
     for _ in range(n_commands):
         t += ROBOT_PERIOD_S

@@ -16,8 +16,8 @@ from hri_teleop.core.joints import (
     JOINT_POSITION_LIMITS_VIOLATION,
     JOINT_VELOCITY_DISCONTINUITY,
     JOINT_VELOCITY_LIMITS_VIOLATION,
-    PANDA_JOINT_LIMITS,
     READY_POSE_RAD,
+    ROBOT_JOINT_LIMITS,
 )
 from hri_teleop.core.limits import DEFAULT_LIMITS, TwistLimiter
 from hri_teleop.core.reflex import explain_reflex
@@ -154,7 +154,7 @@ def test_turning_the_hand_about_z_ends_at_joint_7s_limit_with_libfrankas_name():
     turn_until_reflex(arm, -0.3, 12.0)
     assert arm.state == STATE_REFLEX and arm.reflex_errors == (JOINT_POSITION_LIMITS_VIOLATION,)
     (violation,) = arm.reflex_violations
-    assert violation.group == "joint 7" and violation.limit == PANDA_JOINT_LIMITS.position_max_rad[6]
+    assert violation.group == "joint 7" and violation.limit == ROBOT_JOINT_LIMITS.position_max_rad[6]
     assert 2.8973 < violation.value < 2.8973 + 0.3 * 0.001 * 1.01  # the step that would have passed it
     assert arm.joint_positions[6] <= 2.8973  # not moved past it
     text = "\n".join(explain_reflex([violation.cause()]))

@@ -12,7 +12,7 @@ from hypothesis import strategies as st
 from hri_teleop.core.gamepad import AXES, BUTTONS, PadState
 from hri_teleop.core.limits import (
     DEFAULT_LIMITS,
-    PANDA_LIMITS,
+    ROBOT_LIMITS,
     ROBOT_PERIOD_S,
     AxisLimits,
     CartesianLimits,
@@ -402,12 +402,12 @@ def test_held_at_1_khz_the_commands_stay_inside_the_pandas_limits(p, lim, pads_s
     twists += [c.step(None, None, 0.0, 1.0 / p.rate_hz).twist for _ in range(int(3 * p.rate_hz))]  # pad lost
     held = hold_at_robot_rate(twists, p.rate_hz)
     dt = 1.0 / (p.rate_hz * round(len(held) / len(twists)))  # the hold's actual cycle
-    assert limit_violations(PANDA_LIMITS, held, [max(dt, ROBOT_PERIOD_S)] * len(held), rel_tol=1e-6) == []
+    assert limit_violations(ROBOT_LIMITS, held, [max(dt, ROBOT_PERIOD_S)] * len(held), rel_tol=1e-6) == []
 
 
 def test_the_pandas_own_limits_at_50_hz_are_refused_with_the_fix():
     with pytest.raises(TeleopError) as info:
-        TeleopController(TeleopParams(rate_hz=50.0), PANDA_LIMITS)
+        TeleopController(TeleopParams(rate_hz=50.0), ROBOT_LIMITS)
     message = str(info.value)
     assert "\n" not in message
     assert "limits.translation.acceleration" in message and "raise rate" in message

@@ -19,7 +19,7 @@ from types import SimpleNamespace
 import numpy as np
 import pytest
 
-from hri_teleop.core.joints import JOINT_NAMES, PANDA_JOINT_LIMITS, READY_POSE_RAD
+from hri_teleop.core.joints import JOINT_NAMES, READY_POSE_RAD, ROBOT_JOINT_LIMITS
 from hri_teleop.course.widgets.arm3d import (
     ArmView,
     ArmViewError,
@@ -82,7 +82,7 @@ def _path(link):
 
 
 def _some_pose():
-    low, high = np.array(PANDA_JOINT_LIMITS.position_min_rad), np.array(PANDA_JOINT_LIMITS.position_max_rad)
+    low, high = np.array(ROBOT_JOINT_LIMITS.position_min_rad), np.array(ROBOT_JOINT_LIMITS.position_max_rad)
     return tuple(float(v) for v in low + np.array([0.3, 0.6, 0.45, 0.7, 0.35, 0.55, 0.8]) * (high - low))
 
 

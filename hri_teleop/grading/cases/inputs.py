@@ -19,6 +19,7 @@ from typing import Dict, FrozenSet, List, Optional, Sequence, Set, Tuple, Union
 from hri_teleop.core.config import lab_max_sensor_force
 from hri_teleop.core.errors import HriTeleopError
 from hri_teleop.core.gamepad import AXES, PadState
+from hri_teleop.core.gripper import GRIPPER_MAX_WIDTH_M
 from hri_teleop.core.mapping import ADC_MAX_COUNT, map_force
 from hri_teleop.core.teleop import Mode, TeleopController, TeleopParams
 from hri_teleop.grading.run.gains import TeleopGains
@@ -144,7 +145,7 @@ def reference_params(gains: TeleopGains) -> TeleopParams:
     """The reference controller's parameters for ``gains``: the handout's rules (no rumble threshold)."""
     return TeleopParams(rate_hz=gains.rate, k_trans=gains.k_trans, k_rot=gains.k_rot,
                         k_gripper=gains.k_gripper, deadzone=gains.deadzone, rumble_threshold=0.0,
-                        initial_width_m=0.08, width_min_m=0.0, width_max_m=0.08)
+                        initial_width_m=GRIPPER_MAX_WIDTH_M, width_min_m=0.0, width_max_m=GRIPPER_MAX_WIDTH_M)
 
 
 PUBLIC_GAINS = TeleopGains()
@@ -365,7 +366,7 @@ def _node_case(label: str, gains: TeleopGains, forward: float, sideways: float, 
         Plateau(f"left stick at {forward:+.3f} up in translation mode: v_x", 0, vx, 1.0, 3.0),
         Plateau(f"left stick at {sideways:+.3f} right in rotation mode: w_y", 4, wy, t_side, t_quit - 0.3),
     )
-    final_width = max(0.0, min(0.08, 0.08 - gains.k_gripper * close_s))
+    final_width = max(0.0, min(GRIPPER_MAX_WIDTH_M, GRIPPER_MAX_WIDTH_M - gains.k_gripper * close_s))
     return TeleopNodeCase(label, gains, script, force, plateaus, close_s, final_width, t_quit, hidden)
 
 
