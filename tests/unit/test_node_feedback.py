@@ -362,3 +362,42 @@ def test_a_node_that_takes_no_connection_is_not_said_to_be_ended_by_the_signal_t
     assert "took no connection" in message and "SIGINT" not in message
     ended = dataclasses.replace(run, node=dataclasses.replace(run.node, exit_code=3, exited_by_itself=True))
     assert "status 3" in _failed(compare_mapping(MappingNodeObservation(runs=[ended]), cases))[MAPPING["pub"][0]]
+
+
+@pytest.mark.parametrize("subs, fed, words", [
+    ([Topic("/force_mapped", "std_msgs/Float64")], [Topic("/force_mapped", "std_msgs/Float64")],
+     "subscribes /force_mapped as std_msgs/Float64"),
+    ([Topic("/force_maped", "std_msgs/Float32")], [Topic("/force_maped", "std_msgs/Float32")],
+     "subscribes /force_maped, not /force_mapped"),
+])
+def test_a_force_subscriber_of_another_type_or_topic_costs_the_start_part_only(subs, fed, words):
+    case = hidden_teleop_node_case(7)
+    observation = _teleop_observation(case, case.gains.rate)
+    observation = dataclasses.replace(observation, fed_force=fed,
+                                      node=dataclasses.replace(observation.node, subscriptions=subs))
+    failed = _failed(compare_teleop_node(observation, case))
+    start = failed[TELEOP["node_start"][0]]
+    assert words in start and f"the grader sent the force to {fed[0].name} as {fed[0].type}" in start
+    assert TELEOP["node_rumble"][0] not in failed
+
+
+def test_a_force_subscriber_that_took_no_connection_all_run_fails_the_start_part_and_the_rumble_is_not_judged():
+    case = hidden_teleop_node_case(7)
+    observation = _teleop_observation(case, case.gains.rate)
+    silent = {**observation.messages,
+              "/teleoperation/rumble": [Message(m.t_s, m.kind, 0.0) for m in observation.messages["/teleoperation/rumble"]]}
+    unconnected = dataclasses.replace(observation, force_connected=False, messages=silent)
+    failed = _failed(compare_teleop_node(unconnected, case))
+    assert "took no connection" in failed[TELEOP["node_start"][0]] and "Float" not in failed[TELEOP["node_start"][0]]
+    assert failed[TELEOP["node_rumble"][0]].startswith("not judged: the node's force subscriber got nothing")
+    connected = _failed(compare_teleop_node(dataclasses.replace(observation, messages=silent), case))
+    assert TELEOP["node_start"][0] not in connected and "keep the value" in connected[TELEOP["node_rumble"][0]]
+
+
+def test_a_node_that_ran_too_short_to_tell_is_not_said_to_have_taken_no_connection():
+    case = hidden_teleop_node_case(7)
+    observation = _teleop_observation(case, case.gains.rate)
+    twist = "/cartesian_velocity_controller/cmd_vel"
+    short = dataclasses.replace(observation, force_connected=False,
+                                messages={**observation.messages, twist: observation.messages[twist][:9]})
+    assert not any("took no connection" in m for m in _failed(compare_teleop_node(short, case)).values())

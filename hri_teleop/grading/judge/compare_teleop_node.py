@@ -85,6 +85,14 @@ def real_time_note(observation: TeleopNodeObservation, case: TeleopNodeCase, twi
             "by rospy.Rate at ~rate that publishes both each tick does), so it was run in real time")
 
 
+def _fed(observation: TeleopNodeObservation) -> str:
+    """What the grader did to judge the rest when the node's force subscriber was not /force_mapped's."""
+    if not observation.fed_force:
+        return ""
+    topic, kind = observation.fed_force[0]
+    return f" (the grader sent the force to {topic} as {kind} to judge the rumble)"
+
+
 def _start_failure(facts: NodeFacts, crash: Optional[Crash]) -> str:
     return crash_text(crash, NODE) if crash is not None else explain_process(facts, NODE)
 
@@ -109,16 +117,25 @@ def compare_teleop_node(observation: TeleopNodeObservation, case: TeleopNodeCase
     parts: List[Part] = []
     subs = facts.subscriptions
     force_sub = [t for topic, t in subs if topic == "/force_mapped"]
-    if force_sub == ["std_msgs/Float32"]:
+    ran = len(_twists(observation, _topic_of_type(facts, "geometry_msgs/Twist", twist_topic)[0])) >= _MIN_TICKS
+    unconnected = force_sub == ["std_msgs/Float32"] and not observation.force_connected and ran
+    if unconnected:  # the master shows the grader's type for the topic; the node's subscriber had another
+        parts.append(judged_part(T, "node_start", False, (
+            "the node subscribes /force_mapped, but its subscriber took no connection from the grader's publisher of "
+            "/force_mapped (the type mapping_node publishes) in the whole run: rospy connects a subscriber only to "
+            "publishers of its own type; `rostopic info /force_mapped` with mapping_node running shows both ends' "
+            "types")))
+    elif force_sub == ["std_msgs/Float32"]:
         parts.append(judged_part(T, "node_start", True))
     elif force_sub:
         parts.append(judged_part(T, "node_start", False, f"the node subscribes /force_mapped as {force_sub[0]}, which "
                                                          "is not the type mapping_node publishes on it: `rostopic info "
-                                                         "/force_mapped` shows both ends' types"))
+                                                         "/force_mapped` shows both ends' types" + _fed(observation)))
     else:
-        listed = ", ".join(topic for topic, _ in subs) or "no topic"
+        listed = ", ".join(topic for topic, _ in subs if topic != "/clock") or "no topic"  # /clock: the grader's
         parts.append(judged_part(T, "node_start", False, f"the node subscribes {listed}, not /force_mapped: "
-                                                         "rospy.Subscriber('/force_mapped', ..., self.on_force)"))
+                                                         "rospy.Subscriber('/force_mapped', ..., self.on_force)"
+                                                         + _fed(observation)))
     messages = observation.messages
     pubs = facts.publications
 
@@ -216,6 +233,8 @@ def compare_teleop_node(observation: TeleopNodeObservation, case: TeleopNodeCase
         if not ok and crash is not None and crash.callback:
             message = crash_text(crash, NODE)
         rumble_part = judged_part(T, "node_rumble", ok, message)
+        if not ok and unconnected:
+            rumble_part = not_judged_part(T, "node_rumble", "the node's force subscriber got nothing (see the start part)")
 
     code = observation.exit_code
     last = twists[-1][2] if twists else None

@@ -29,6 +29,7 @@ from hri_teleop.grading.run.records import (
     SensorLaunchPlan,
     TeleopNodeObservation,
     TeleopNodePlan,
+    Topic,
 )
 from hri_teleop.grading.run.ros_session import (
     IGNORED_TOPICS,
@@ -236,19 +237,7 @@ def run_sensor_launch(session: Session, plan: SensorLaunchPlan) -> SensorLaunchO
 
 def run_teleop_node(session: Session, plan: TeleopNodePlan) -> TeleopNodeObservation:
     """The student's teleoperation.py with a scripted virtual pad and a steady /force_mapped."""
-    import rospy  # noqa: PLC0415 - ROS in the session, once its master's environment is set
-    from std_msgs.msg import Float32  # noqa: PLC0415 - ROS in the session, once its master's environment is set
-
-    force_pub = rospy.Publisher("/force_mapped", Float32, queue_size=10)
-    stop_force = threading.Event()
-
-    def feed_force() -> None:
-        while not stop_force.is_set():
-            force_pub.publish(Float32(data=plan.force))
-            stop_force.wait(0.05)
-
-    feeder = threading.Thread(target=feed_force, daemon=True)
-    feeder.start()
+    feeder = _ForceFeeder(plan.force)
     params = [f"_{k}:={v}" for k, v in plan.gains.as_dict().items()]
     argv = [session.python, plan.script, "_pad:=virtual", "_layout:=dualshock4",
             f"_pad_script:={plan.pad_script}", *params]
@@ -282,7 +271,11 @@ def run_teleop_node(session: Session, plan: TeleopNodePlan) -> TeleopNodeObserva
             pub = pub + [x for x in pub2 if x not in pub]
         for topic, _kind in pub:
             recorder.add(topic)
+        feeder.follow(sub)
+        feeder.sample()
 
+    if ok:
+        feeder.follow(sub)
     if ok and clock is not None:
         clock.wait_for_listener(nodes, proc, plan.start_timeout_s)
         # The loop's first tick comes at the start time, before any step: step only after it,
@@ -314,14 +307,74 @@ def run_teleop_node(session: Session, plan: TeleopNodePlan) -> TeleopNodeObserva
     exited = not proc.running
     exit_code = proc.returncode
     proc.stop()
-    stop_force.set()
-    feeder.join(1.0)
+    feeder.close()
     recorder.drain(Recorder.DRAIN_TIMEOUT_S)  # the node has ended: what it sent last is read, in every run
     recorder.close()
     return TeleopNodeObservation(
         problem=problem, quit_in_time=exited, clock="real time" if clock is None or clock.paced else "grader",
         rescued_steps=clock.rescues if clock else 0, node=node_facts(proc, nodes, sub, pub, problem, exited),
-        exit_code=exit_code, messages=recorded_since(recorder, started))
+        exit_code=exit_code, messages=recorded_since(recorder, started), fed_force=list(feeder.fed),
+        force_connected=feeder.connected)
+
+
+#: The std_msgs types a force 0..1 can be sent in: a node whose force subscriber has one of them (on
+#: /force_mapped or its only such topic) gets the force there (its subscriber is judged in its own part).
+FORCE_TYPES = ("std_msgs/Float32", "std_msgs/Float64")
+
+
+class _ForceFeeder:
+    """The steady force every 50 ms of wall time: on /force_mapped as std_msgs/Float32, or where the node's
+    own force subscriber listens instead (:meth:`follow`)."""
+
+    def __init__(self, force: float) -> None:
+        import rospy  # noqa: PLC0415 - ROS in the session, once its master's environment is set
+        from std_msgs.msg import Float32  # noqa: PLC0415 - ROS in the session, once its master's environment is set
+
+        self._rospy = rospy
+        self._force = force
+        self._lock = threading.Lock()
+        self._pubs: List[Any] = [(rospy.Publisher("/force_mapped", Float32, queue_size=10), Float32)]
+        self.fed: List[Topic] = []
+        #: a subscriber was connected at one of the samples (the node's loop runs for seconds: a subscriber of
+        #: the force's type is connected at most of them, one of another type at none)
+        self.connected = False
+        self._stop = threading.Event()
+        self._thread = threading.Thread(target=self._run, daemon=True)
+        self._thread.start()
+
+    def _run(self) -> None:
+        while not self._stop.is_set():
+            with self._lock:  # a publisher is swapped under the lock: never one published after its unregister
+                for publisher, make in self._pubs:
+                    publisher.publish(make(data=self._force))
+            self._stop.wait(0.05)
+
+    def follow(self, subs: List[Topic]) -> None:
+        """Once: send the force where the node listens when that is not /force_mapped as std_msgs/Float32."""
+        if self.fed or Topic("/force_mapped", "std_msgs/Float32") in subs:
+            return
+        others = [s for s in subs if s.type in FORCE_TYPES]
+        if len(others) != 1:
+            return
+        import roslib.message  # noqa: PLC0415 - ROS in the session, once its master's environment is set
+
+        topic, kind = others[0]
+        make = roslib.message.get_message_class(kind)
+        with self._lock:
+            if topic == "/force_mapped":  # rospy keeps one type per topic in a process
+                for publisher, _ in self._pubs:
+                    publisher.unregister()
+                self._pubs = []
+            self._pubs.append((self._rospy.Publisher(topic, make, queue_size=10), make))
+        self.fed.append(Topic(topic, kind))
+
+    def sample(self) -> None:
+        with self._lock:
+            self.connected = self.connected or any(p.get_num_connections() > 0 for p, _ in self._pubs)
+
+    def close(self) -> None:
+        self._stop.set()
+        self._thread.join(1.0)
 
 
 #: How long a step waits for the sensor chain to pass on a tick's counts (s); a chain that

@@ -268,6 +268,11 @@ class TeleopNodeObservation(ClockedObservation):
     node: NodeFacts = field(default_factory=NodeFacts)
     exit_code: Optional[int] = None
     messages: Dict[str, List[Message]] = field(default_factory=dict)
+    #: where the grader sent the steady force instead of /force_mapped (std_msgs/Float32): the topic and
+    #: type the node subscribes, so a subscriber of another type or topic costs its own part only
+    fed_force: List[Topic] = field(default_factory=list)
+    #: whether a subscriber of the node was connected to the grader's force publisher at some point of the run
+    force_connected: bool = True
 
 
 @dataclass(frozen=True)
