@@ -10,6 +10,7 @@ timeline. With a real pad: ``roslaunch hri_lab teleoperation.launch sim:=true pa
 from __future__ import annotations
 
 import math
+import re
 import sys
 import time
 from pathlib import Path
@@ -105,10 +106,12 @@ def record_from_bag(bag_path: Path) -> LabRecord:
 
 def record_teleop_launch(master: PrivateMaster, bag_path: Path, launch_args: Mapping[str, object],
                          timeout_s: float = DEFAULT_TIMEOUT_S,
-                         progress: Callable[[str], None] = lambda _m: None) -> LabRecord:
+                         progress: Callable[[str], None] = lambda _m: None,
+                         output: Optional[List[str]] = None) -> LabRecord:
     """Record a ``teleoperation.launch`` run on ``master`` until it ends (or ``timeout_s``).
 
-    The demo and the integration tests share this, so both judge the same run.
+    The demo and the integration tests share this, so both judge the same run. ``output``: gets the
+    launch's output (its last 3000 characters), for a run that recorded nothing to show why.
     """
     recorder = master.record(bag_path, TOPICS + REPLAY_TOPICS)
     started = time.monotonic()
@@ -127,6 +130,8 @@ def record_teleop_launch(master: PrivateMaster, bag_path: Path, launch_args: Map
     finally:
         code = launch.stop()
         recorder.stop()
+        if output is not None:
+            output.append(launch.output()[-3000:])
     if ended_by == "launch failed" or (ended_by == "quit" and code not in (0, None)):
         raise MasterError(f"teleoperation.launch failed (exit {code}):\n{launch.output()[-3000:]}")
     rec = record_from_bag(bag_path)
@@ -153,6 +158,15 @@ def expected_reflex(scenario: Optional[Path]) -> Optional[str]:
     return expect["reflex"]
 
 
+def node_errors(output: str, limit: int = 8) -> List[str]:
+    """The lines of a launch's ``output`` that say why a node stopped: its errors and what died (at most
+    ``limit``, the last ones), terminal colours removed."""
+    clean = re.sub(r"\x1b\[[0-9;]*m", "", output)
+    marks = ("[ERROR]", "[FATAL]", "Error:", "error:", "process has died", "process has finished cleanly")
+    lines = [line.strip() for line in clean.splitlines() if any(mark in line for mark in marks)]
+    return [line if len(line) <= 300 else line[:297] + "..." for line in lines[-limit:]]
+
+
 def _progress(message: str) -> None:
     print(f"[demo] {message}", flush=True)
 
@@ -171,11 +185,15 @@ def run(scenario: Optional[Path], out_dir: Path, timeout_s: float, extra: Mappin
     with PrivateMaster() as master:
         _progress(f"roscore up on port {master.port}; roslaunch hri_lab teleoperation.launch "
                   + " ".join(f"{k}:={v}" for k, v in args.items()))
-        rec = record_teleop_launch(master, bag_path, args, timeout_s, _progress)
+        said: List[str] = []
+        rec = record_teleop_launch(master, bag_path, args, timeout_s, _progress, said)
     _progress(f"stopped roscore and nodes ({time.monotonic() - started:.1f} s in all)")
     if not rec.count or not rec.rumble:
-        print(f"demo: nothing recorded ({len(rec.count)} /pub_force, {len(rec.rumble)} rumble messages); "
-              "see the node output above", file=sys.stderr)
+        causes = node_errors("".join(said))
+        print(f"demo: nothing recorded ({len(rec.count)} /pub_force, {len(rec.rumble)} rumble messages)"
+              + (":\n" + "\n".join(f"  {line}" for line in causes) if causes else "; the launch said nothing "
+                 "about why (run roslaunch hri_lab teleoperation.launch sim:=true to see its output)"),
+              file=sys.stderr)
         return 1
     summary = summarize(rec)
     name = Path(scenario).stem if scenario is not None else "default"

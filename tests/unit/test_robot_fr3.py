@@ -124,3 +124,14 @@ def test_limits_by_robot_writes_the_fr3s_numbers_over_the_labs_and_leaves_the_pa
     with pytest.raises(ConfigError) as caught:
         load_teleop_config(lab, {"robot": "fr3", "limits_by_robot": {"fr3": 0.2}})
     assert "limits_by_robot.fr3 must be a mapping" in str(caught.value) and "\n" not in str(caught.value)
+
+
+def test_a_demo_that_recorded_nothing_says_the_nodes_own_words():
+    from hri_teleop.ros.teleop_demo import node_errors
+
+    said = ("started roslaunch server\n\x1b[31m[FATAL] [1.2]: limits.translation.acceleration 0.3 m/s^2 ... lower it"
+            "\x1b[0m\n[teleoperation-4] process has died [pid 1, exit code 1, cmd x].\nshutting down\n")
+    assert node_errors(said) == ["[FATAL] [1.2]: limits.translation.acceleration 0.3 m/s^2 ... lower it",
+                                 "[teleoperation-4] process has died [pid 1, exit code 1, cmd x]."]
+    assert node_errors("all fine\n") == []
+    assert node_errors("[ERROR] a\n[ERROR] b\n[ERROR] c\n", limit=2) == ["[ERROR] b", "[ERROR] c"]
