@@ -165,11 +165,15 @@ class FilesHalf:
             self._early = threading.Thread(target=grade_early, name="files-half")
             self._early.start()
 
+    def join(self) -> None:
+        """Wait for the checks :meth:`start` began."""
+        if self._early is not None:
+            self._early.join()
+
     def finish(self) -> Tuple[float, float]:
         """Grade what is left (a kept result is taken at once), print the points and the failing parts'
         feedback; returns (points, possible)."""
-        if self._early is not None:
-            self._early.join()
+        self.join()
         if not self.todo:
             return 0.0, 0.0
         print("check: your hri_lab files, graded as the course grades them (a check's points are your files'; "

@@ -28,9 +28,11 @@ import asyncio
 import os
 import re
 import shutil
+import signal
 import subprocess
 import sys
 import tempfile
+import threading
 import time
 from contextlib import asynccontextmanager
 from pathlib import Path
@@ -159,11 +161,13 @@ class _Client(NotebookClient):
 
 
 class _Pool:
-    """Runs notebooks ``jobs`` at a time in one event loop; every kernel started is stopped at the end."""
+    """Runs notebooks in one event loop; every kernel started is stopped, once, before :meth:`close` returns."""
 
     def __init__(self, scratch: Path, env: Dict[str, str], timeout_s: int) -> None:
         self.scratch, self.env, self.timeout_s = scratch, env, timeout_s
-        self.stopping: List["asyncio.Future[Any]"] = []  # one per kernel started, done when it has stopped
+        self.stops: Dict[_Client, "asyncio.Future[None]"] = {}  # one per kernel started, done when it has stopped
+        self.running: Set[_Client] = set()
+        self.stopped = False
 
     async def run(self, index: int, path: Path) -> Dict[str, Any]:
         """Run ``path`` (in a copy of its folder; not saved): {"grades": {id: [got, most, lines]}, "error", "seconds"}."""
@@ -177,29 +181,43 @@ class _Pool:
             where = scratch_copy(path.parent.parent, path.parent.name, self.scratch / f"nb{index}")
             client = _Client(nb, config=config, timeout=self.timeout_s, startup_timeout=120, allow_errors=True,
                              resources={"metadata": {"path": str(where)}})
+            self.running.add(client)
             try:
                 # The kernel's own log (ipykernel's start-up warnings) is not the student's business:
                 # what the cells print comes back through the kernel's channels, not its stderr.
                 await client.async_execute(env=self.env, stderr=subprocess.DEVNULL)
             finally:
-                self.stopping.append(asyncio.ensure_future(self._stop(client)))
+                self.running.discard(client)
+                self._stop(client)  # while the next notebook runs
+        except asyncio.CancelledError:
+            if not self.stopped:  # nbclient's own tasks end so when their kernel is shut down under them
+                raise
+            error = "stopped"
         except Exception as exc:  # noqa: BLE001 - a dead kernel or a timeout: say it, keep the points so far
             text = str(exc).strip()
             error = f"{type(exc).__name__}: {text.splitlines()[0] if text else ''}"
         return {"grades": _grades(nb), "error": error, "seconds": time.monotonic() - started}
 
-    @staticmethod
-    async def _stop(client: _Client) -> None:
-        if client.km is not None:
+    def _stop(self, client: _Client) -> None:
+        """Shut ``client``'s kernel down as Jupyter does (the kernel stops its nodes and roscore), once."""
+        async def stop() -> None:
             try:
                 await client._async_cleanup_kernel()
             except Exception:  # noqa: BLE001 - already gone
                 pass
+        if client not in self.stops and client.km is not None:
+            self.stops[client] = asyncio.ensure_future(stop())
+
+    def stop(self) -> None:
+        """Ctrl-C: no notebook more, and the running ones' kernels shut down (their cells end at once)."""
+        self.stopped = True
+        for client in list(self.running):
+            self._stop(client)
 
     async def close(self) -> None:
         """Wait for every kernel to have stopped (its nodes and roscore with it)."""
-        if self.stopping:
-            await asyncio.gather(*self.stopping, return_exceptions=True)
+        if self.stops:
+            await asyncio.gather(*self.stops.values(), return_exceptions=True)
 
 
 def notebook_lines(path: Path, result: Dict[str, Any]) -> List[str]:
@@ -217,25 +235,36 @@ def notebook_lines(path: Path, result: Dict[str, Any]) -> List[str]:
 
 
 async def run_notebooks(notebooks: Sequence[Path], scratch: Path, env: Dict[str, str], timeout_s: int,
-                        jobs: int) -> Tuple[float, float]:
-    """Run ``notebooks`` ``jobs`` at a time, printing each one's lines when it ends; (points, possible)."""
+                        jobs: int) -> Tuple[float, float, bool]:
+    """Run ``notebooks`` ``jobs`` at a time, printing each one's lines when it ends; (points, possible,
+    stopped by Ctrl-C or SIGTERM)."""
     pool = _Pool(scratch, env, timeout_s)
     queue = list(enumerate(run_order(notebooks)))
     totals = [0.0, 0.0]
 
     async def worker() -> None:
-        while queue:
+        while queue and not pool.stopped:
             index, path = queue.pop(0)
             result = await pool.run(index, path)
+            if pool.stopped:
+                return
             totals[0] += sum(g for g, _m, _f in result["grades"].values())
             totals[1] += sum(m for _g, m, _f in result["grades"].values())
             print("\n".join(notebook_lines(path, result)), flush=True)
 
+    # Ctrl-C or SIGTERM: no notebook more, the running ones' kernels shut down, and every kernel has
+    # stopped as Jupyter stops it (its nodes and roscore with it) before make check ends.
+    loop = asyncio.get_running_loop()
+    signals = [signal.SIGINT, signal.SIGTERM] if threading.current_thread() is threading.main_thread() else []
+    for signum in signals:
+        loop.add_signal_handler(signum, pool.stop)
     try:
         await asyncio.gather(*(worker() for _ in range(max(1, min(jobs, len(queue))))))
     finally:
         await asyncio.shield(pool.close())
-    return totals[0], totals[1]
+        for signum in signals:
+            loop.remove_signal_handler(signum)
+    return totals[0], totals[1], pool.stopped
 
 
 def main(argv: Optional[Sequence[str]] = None) -> int:
@@ -262,6 +291,7 @@ def main(argv: Optional[Sequence[str]] = None) -> int:
     for key in (reuse.WRITE_ENV, reuse.READ_ENV):  # this run's own results only
         os.environ.pop(key, None)
     scratch = Path(tempfile.mkdtemp(prefix="hri-check-"))
+    files: Optional[FilesHalf] = None
     try:
         results = scratch / "results"
         kernel_env = dict(os.environ, **{reuse.WRITE_ENV: str(results)})
@@ -270,11 +300,22 @@ def main(argv: Optional[Sequence[str]] = None) -> int:
               f"(your folders are not changed), {min(jobs, len(notebooks))} at a time", flush=True)
         files = FilesHalf(folder, only, scratch / "files")  # the files as they are now, in a copy
         files.start(kept_checks(notebooks))  # the checks no check cell runs whole: beside the notebooks
-        total, most_total = asyncio.run(run_notebooks(notebooks, scratch, kernel_env, args.timeout, jobs))
+        try:
+            total, most_total, stopped = asyncio.run(run_notebooks(notebooks, scratch, kernel_env, args.timeout,
+                                                                   jobs))
+        except (asyncio.CancelledError, KeyboardInterrupt):
+            total = most_total = 0.0
+            stopped = True
+        if stopped:
+            print("check: stopped (Ctrl-C); every notebook's kernel, its nodes and roscore have stopped",
+                  file=sys.stderr, flush=True)
+            return 130
         print(f"check: {total:g}/{most_total:g} autograded points in all (the rest is graded by hand)", flush=True)
         os.environ[reuse.READ_ENV] = str(results)
         files.finish()
     finally:
+        if files is not None:
+            files.join()
         shutil.rmtree(scratch, ignore_errors=True)
     return 0
 

@@ -240,6 +240,42 @@ def test_make_check_leaves_the_students_folders_as_they_were(untouched_check):
     assert [k for k in before if k not in after] == []
 
 
+def _carrying(marker: str) -> Dict[int, str]:
+    """pid -> command line of each live process whose environment holds HRI_TEST_MARKER=marker."""
+    needle, found = f"HRI_TEST_MARKER={marker}".encode(), {}
+    for entry in Path("/proc").iterdir():
+        try:
+            if entry.name.isdigit() and needle in (entry / "environ").read_bytes().split(b"\0") \
+                    and (entry / "stat").read_text().rsplit(")", 1)[-1].split()[0] != "Z":
+                found[int(entry.name)] = (entry / "cmdline").read_bytes().replace(b"\0", b" ").decode(errors="replace")
+        except (OSError, IndexError):  # ended meanwhile, or another user's
+            continue
+    return found
+
+
+def test_ctrl_c_stops_make_check_with_every_kernel_node_and_roscore_it_started(installed, home):
+    bundle = _copy(installed, home, "ctrl-c")
+    marker = f"ctrl-c-{os.getpid()}"
+    proc = subprocess.Popen(["make", "-C", str(bundle), "check"], env=dict(_student_env(), HRI_TEST_MARKER=marker),
+                            stdout=subprocess.PIPE, stderr=subprocess.STDOUT, text=True, stdin=subprocess.DEVNULL,
+                            start_new_session=True)
+    try:
+        seen = []
+        for line in proc.stdout:  # the first notebook ended: two more kernels, their masters and nodes run
+            seen.append(line)
+            if ".ipynb ... " in line:
+                break
+        assert _carrying(marker), "".join(seen)
+        os.killpg(proc.pid, signal.SIGINT)  # what Ctrl-C in the terminal does
+        rest, _ = proc.communicate(timeout=300)
+    finally:
+        if proc.poll() is None:
+            os.killpg(proc.pid, signal.SIGKILL)
+    assert "check: stopped (Ctrl-C)" in rest, "".join(seen) + rest
+    assert "points for your files" not in rest
+    assert _carrying(marker) == {}
+
+
 def test_the_readme_names_hri_grade_and_its_lines_run_in_the_bundle(installed, home):
     bundle = _copy(installed, home, "hri-grade")
     readme = (bundle / "README.md").read_text(encoding="utf-8")
