@@ -101,3 +101,27 @@ def test_a_twist_on_another_topic_is_named_and_there_is_no_clock_note(folder):
     assert list(failed) == [TELEOP["node_twist_topic"][0]], feedback_text([result])
     assert "/cmd_vel" in failed[TELEOP["node_twist_topic"][0]]
     assert not any("clock" in n for n in result.notes)
+
+
+def test_a_force_subscriber_on_a_misspelt_topic_costs_the_start_part_only(folder):
+    package = _package(folder, "force_topic", "scripts/teleoperation.py", 'rospy.Subscriber("/force_mapped", Float32,',
+                       'rospy.Subscriber("/force_maped", Float32,')
+    result = grade("teleoperation", package, out_dir=folder / "out")
+    failed = _messages(result)
+    assert list(failed) == [TELEOP["node_start"][0]], feedback_text([result])
+    assert "/force_maped, not /force_mapped" in failed[TELEOP["node_start"][0]]
+
+
+def test_a_force_subscriber_of_another_type_fails_the_start_part_not_the_rumbles_advice(folder):
+    text = answer_text("scripts/teleoperation.py")
+    for old, new in (("from std_msgs.msg import Float32", "from std_msgs.msg import Float32, Float64"),
+                     ('rospy.Subscriber("/force_mapped", Float32,', 'rospy.Subscriber("/force_mapped", Float64,')):
+        assert text.count(old) == 1, f"{old!r} is no longer in the answer key's teleoperation.py: update this test"
+        text = text.replace(old, new)
+    result = grade("teleoperation", write_package(folder / "force_type", {"scripts/teleoperation.py": text}),
+                   out_dir=folder / "out")
+    failed = _messages(result)
+    assert set(failed) == {TELEOP["node_start"][0], TELEOP["node_rumble"][0]}, feedback_text([result])
+    assert "took no connection" in failed[TELEOP["node_start"][0]]
+    assert failed[TELEOP["node_rumble"][0]].startswith("not judged")
+    assert "Float32" not in failed[TELEOP["node_start"][0]]
