@@ -370,7 +370,12 @@ def main(argv: Optional[Sequence[str]] = None) -> int:
     top = prepare(work, "", RELOCATE)
     (work / "pyproject.toml").write_text(work_pyproject(mutmut, table, pytest_ini, args.only, top), encoding="utf-8")
     patterns = mutant_patterns([RELOCATE.get(m, m) for m in scope], functions)
-    run = subprocess.run([str(command), "run", "--max-children", str(args.jobs), *patterns], cwd=work)
+    # processes the tests start (a box's Python, a node) import the mutated package too, as the tests do; the
+    # folder exists before mutmut starts, or its Python would cache the entry as missing
+    (work / "mutants").mkdir(exist_ok=True)
+    env = dict(os.environ, PYTHONPATH=os.pathsep.join(p for p in (str(work / "mutants"), os.environ.get("PYTHONPATH", ""))
+                                                      if p))
+    run = subprocess.run([str(command), "run", "--max-children", str(args.jobs), *patterns], cwd=work, env=env)
     if run.returncode != 0:
         print(f"mutants: mutmut stopped with exit code {run.returncode} (its output above says why)", file=sys.stderr)
         return run.returncode
