@@ -199,6 +199,10 @@ def test_on_ros_time_the_script_starts_when_time_begins_not_at_zero(tmp_path):
 
 
 def test_a_pad_opened_on_ros_time_waits_for_time_to_begin(tmp_path, monkeypatch):
+    import sys
+    import types
+
+    monkeypatch.setitem(sys.modules, "rospy", types.SimpleNamespace(get_time=lambda: 0.0))  # ROS time not begun
     monkeypatch.setenv("HRI_PAD_CLOCK", "ros")
     assert open_gamepad("virtual", script=_script(tmp_path)).time_begins_after_zero
     assert not open_gamepad("virtual", script=_script(tmp_path), clock=FakeClock(0.0)).time_begins_after_zero

@@ -19,6 +19,7 @@ from actionlib import CommState
 from actionlib_msgs.msg import GoalStatus
 from std_msgs.msg import Float32
 
+from hri_teleop.core.gripper import GRIPPER_MAX_WIDTH_M
 from hri_teleop.student import (
     GoalThrottle,
     MoveAction,
@@ -44,12 +45,12 @@ class GripperManager:
         self.action_ns = get_param("~action_ns", "/franka_gripper/move", kind=str)
         self.speed = get_param("~speed", 0.1, kind=float)
         self.width_min = get_param("~width_min_m", 0.0, kind=float)
-        self.width_max = get_param("~width_max_m", 0.08, kind=float)
+        self.width_max = get_param("~width_max_m", GRIPPER_MAX_WIDTH_M, kind=float)  # the robot's hand, open
         if not self.speed > 0:
             fail(f"parameter {name}/speed is {self.speed!r}; set it to a positive speed in m/s, e.g. 0.1")
         if not 0.0 <= self.width_min < self.width_max:
             fail(f"parameters {name}/width_min_m={self.width_min!r} and width_max_m={self.width_max!r} "
-                 "do not form a range; use 0.0 and 0.08 (the Franka Hand)")
+                 f"do not form a range; use 0.0 and {GRIPPER_MAX_WIDTH_M:g} (the robot's hand)")
         self.throttle = GoalThrottle(
             min_step_m=get_param("~min_step_m", 0.002, kind=float),
             max_goal_rate_hz=get_param("~max_goal_rate_hz", 5.0, kind=float),
