@@ -12,7 +12,7 @@ Nothing in the student's folders changes: each notebook runs in a copy of its as
 copy, and the copies are removed at the end. A copy keeps the folder's last names
 (``task4/lab/hri_lab``), so its hidden inputs are those of the notebook run in place.
 
-Two notebooks (one per core) run at a time, each kernel with its private master; a kernel's
+One notebook per core runs at a time (``--jobs``), each kernel with its private master; a kernel's
 shutdown (its nodes and roscore stopping) overlaps the next notebook. Each check runs once: the
 check cells store their results (``HRI_GRADE_RESULTS_WRITE``, :mod:`hri_teleop.grading.judge.reuse`)
 and the files' half takes them (``HRI_GRADE_RESULTS``); the checks no check cell of the run runs whole
