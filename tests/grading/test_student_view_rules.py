@@ -86,3 +86,12 @@ def test_the_gradescope_course_is_masked_where_the_checkout_has_it(tmp_path, mon
     monkeypatch.chdir(tmp_path)
     masked = toolkit_view({}, repo=str(repo), cwd="/").masked_folders
     assert masked == ((str(repo / "hri_teleop/grading/gradescope"),) if gradescope else ())
+
+
+def test_a_search_path_inside_the_checkout_is_shown_only_inside_the_toolkit(tmp_path):
+    repo = _checkout(tmp_path / "c")
+    (repo / "solutions").mkdir()
+    env = {"PYTHONPATH": f"{repo}/hri_lab/scripts:{repo}/solutions:{repo}"}
+    shown = toolkit_view(env, repo=str(repo), cwd="/").shown
+    assert str(repo / "hri_lab") in shown
+    assert not [s for s in shown if view_module.under(s, str(repo / "solutions")) or s == str(repo)]
