@@ -88,10 +88,13 @@ def test_the_gradescope_course_is_masked_where_the_checkout_has_it(tmp_path, mon
     assert masked == ((str(repo / "hri_teleop/grading/gradescope"),) if gradescope else ())
 
 
-def test_a_search_path_inside_the_checkout_is_shown_only_inside_the_toolkit(tmp_path):
+def test_a_search_path_inside_the_checkout_is_shown_only_inside_the_toolkit(tmp_path, monkeypatch):
+    """The checkout under tmp_path, with /tmp taken off the never-shown list, so that this rule decides alone."""
+    monkeypatch.setattr(view_module, "_NEVER", tuple(n for n in view_module._NEVER if n not in ("/tmp", "/var/tmp")))
     repo = _checkout(tmp_path / "c")
     (repo / "solutions").mkdir()
-    env = {"PYTHONPATH": f"{repo}/hri_lab/scripts:{repo}/solutions:{repo}"}
+    env = {"PYTHONPATH": f"{repo}/hri_lab/scripts:{repo}/solutions:{repo}:{repo}/tools"}
+    assert shown_search_paths(env, str(repo), [str(repo / "hri_lab")]) == [str(repo / "hri_lab/scripts")]
     shown = toolkit_view(env, repo=str(repo), cwd="/").shown
     assert str(repo / "hri_lab") in shown
     assert not [s for s in shown if view_module.under(s, str(repo / "solutions")) or s == str(repo)]
