@@ -401,3 +401,18 @@ def test_a_node_that_ran_too_short_to_tell_is_not_said_to_have_taken_no_connecti
     short = dataclasses.replace(observation, force_connected=False,
                                 messages={**observation.messages, twist: observation.messages[twist][:9]})
     assert not any("took no connection" in m for m in _failed(compare_teleop_node(short, case)).values())
+
+
+SHUTDOWN = (f'Traceback (most recent call last):\n  File "{PACKAGE}/scripts/mapping_node.py", line 50, in <module>\n'
+            "    rate.sleep()\nrospy.exceptions.ROSInterruptException: ROS shutdown request\n")
+
+
+@pytest.mark.parametrize("output, error", [
+    (SHUTDOWN, None),
+    (SHUTDOWN.replace("rospy.exceptions.ROSInterruptException: ROS shutdown request", "KeyboardInterrupt"), None),
+    (START_CRASH + SHUTDOWN, "KeyError: '/max_force'"),
+    (SHUTDOWN + START_CRASH, "KeyError: '/max_force'"),
+])
+def test_a_shutdown_is_no_crash_and_the_crash_before_it_is_found(output, error):
+    crash = find_crash(output, PACKAGE)
+    assert (crash.error if crash is not None else None) == error

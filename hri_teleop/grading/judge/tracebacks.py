@@ -67,12 +67,26 @@ def _relative(path: str, package_dir: str) -> Optional[str]:
     return match.group("relative") if match else None
 
 
+#: Exceptions a node raises because it is being shut down (rospy's sleeps after a shutdown, Ctrl-C): not a crash.
+_SHUTDOWN = ("ROSInterruptException", "KeyboardInterrupt")
+
+
 def find_crash(output: str, package_dir: str = "") -> Optional[Crash]:
-    """The last traceback in ``output`` (a process' last output), or None when it printed none."""
+    """The last traceback in ``output`` (a process' last output) that is not one of a shutdown, or None."""
     text = str(output or "")
-    start = text.rfind(_TRACEBACK)
-    if start < 0:
-        return None
+    end = len(text)
+    while True:
+        start = text.rfind(_TRACEBACK, 0, end)
+        if start < 0:
+            return None
+        crash = _crash_at(text, start, package_dir)
+        if crash is None or not crash.exception.endswith(_SHUTDOWN):
+            return crash
+        end = start  # rospy's shutdown: the crash, if any, came before it
+
+
+def _crash_at(text: str, start: int, package_dir: str) -> Optional[Crash]:
+    """The traceback that starts at ``start`` in ``text``; None when the text ends inside it."""
     before = text[max(0, start - 400):start].splitlines()[-2:]
     callback = ""
     for line in before:
