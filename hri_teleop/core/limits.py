@@ -23,6 +23,9 @@ __all__ = [
     "CartesianLimits",
     "ROBOT_LIMITS",
     "DEFAULT_LIMITS",
+    "LAB_LIMITS",
+    "LAB_RATE_HZ",
+    "lab_limits_for",
     "TwistLimiter",
     "Watchdog",
     "limit_violations",
@@ -106,7 +109,9 @@ ROBOT_LIMITS = CartesianLimits(AxisLimits(**lab_robot_file()["cartesian_limits"]
 #: * jerk 2 m/s^3 and 4 rad/s^3: the acceleration builds up in 0.15 s, which the operator
 #:   feels as a smooth start and stop; full stick (0.1 m/s) is reached or left in
 #:   about 0.5 s, with a stopping distance of about 2.5 cm.
-DEFAULT_LIMITS = CartesianLimits(AxisLimits(0.25, 0.3, 2.0), AxisLimits(0.5, 0.6, 4.0))
+LAB_LIMITS = CartesianLimits(AxisLimits(0.25, 0.3, 2.0), AxisLimits(0.5, 0.6, 4.0))
+#: The rate the lab's teleoperation node commands at (teleop.yaml's ``rate``), Hz.
+LAB_RATE_HZ = 50.0
 
 
 #: The Franka control loop: the robot differentiates every command at 1 kHz (docs/lab-facts.md).
@@ -121,6 +126,26 @@ def max_step_per_command(hard: AxisLimits, robot_period_s: float = ROBOT_PERIOD_
     goes again, a jerk of dv/(1 ms)^2. Both must stay inside the robot's limits.
     """
     return min(hard.acceleration * robot_period_s, hard.jerk * robot_period_s ** 2)
+
+
+def lab_limits_for(hard: CartesianLimits, rate_hz: float = LAB_RATE_HZ, step: float = 0.05) -> CartesianLimits:
+    """:data:`LAB_LIMITS` for a robot with the Cartesian limits ``hard``: each acceleration lowered (to a multiple
+    of ``step``) until one command's change at ``rate_hz`` fits what the robot takes in one cycle
+    (:func:`max_step_per_command`). The Panda's budget takes the lab's numbers as they are; the FR3's jerk
+    (4500 m/s^3, 8500 rad/s^3) lowers them to 0.2 m/s^2 and 0.4 rad/s^2."""
+    groups = {}
+    for group in ("translation", "rotation"):
+        lab: AxisLimits = getattr(LAB_LIMITS, group)
+        budget = max_step_per_command(getattr(hard, group)) * float(rate_hz)
+        acceleration = lab.acceleration
+        if acceleration > budget * (1.0 + _MARGIN):
+            acceleration = math.floor(budget / step + 1e-9) * step or budget
+        groups[group] = AxisLimits(lab.velocity, round(acceleration, 9), lab.jerk)
+    return CartesianLimits(**groups)
+
+
+#: The lab's limits for its robot (HRI_ROBOT): the Panda's are :data:`LAB_LIMITS`.
+DEFAULT_LIMITS = lab_limits_for(ROBOT_LIMITS)
 
 
 def check_command_rate(limits: CartesianLimits, rate_hz: float, hard: CartesianLimits = ROBOT_LIMITS,

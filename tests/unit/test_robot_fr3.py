@@ -46,13 +46,15 @@ print(json.dumps({"names": list(joints.JOINT_NAMES), "fingers": list(joints.FING
                   "rotation": [lim.rotation.velocity, lim.rotation.acceleration, lim.rotation.jerk]},
     "width": gripper.GRIPPER_MAX_WIDTH_M, "lab": LAB_ROBOT.name, "default": robot_named(None).name,
     "teleop": load_teleop_config(REPO / "hri_lab" / "config" / "teleop.yaml").robot.name,
-    "topic": DEFAULT_TWIST_TOPIC}))
+    "topic": DEFAULT_TWIST_TOPIC,
+    "lab_limits": [limits.DEFAULT_LIMITS.translation.acceleration, limits.DEFAULT_LIMITS.rotation.acceleration]}))
 """)
     assert found["names"] == [f"fr3_joint{i}" for i in range(1, 8)]
     assert found["fingers"] == ["fr3_finger_joint1", "fr3_finger_joint2"]
     assert found["joints"] == FR3_JOINTS
     assert found["cartesian"] == FR3_CARTESIAN
     assert found["width"] == 0.08 and found["lab"] == found["default"] == found["teleop"] == "fr3"
+    assert found["lab_limits"] == [0.2, 0.4]  # the lab's 0.3 and 0.6, lowered to the FR3's budget at 50 Hz
     assert found["topic"] == "/cartesian_velocity_controller/cmd_vel"
 
 
@@ -135,3 +137,27 @@ def test_a_demo_that_recorded_nothing_says_the_nodes_own_words():
                                  "[teleoperation-4] process has died [pid 1, exit code 1, cmd x]."]
     assert node_errors("all fine\n") == []
     assert node_errors("[ERROR] a\n[ERROR] b\n[ERROR] c\n", limit=2) == ["[ERROR] b", "[ERROR] c"]
+
+
+def test_the_labs_limits_are_lowered_to_a_robots_budget_only_where_they_do_not_fit():
+    from hri_teleop.core.limits import LAB_LIMITS, AxisLimits, CartesianLimits, check_command_rate, lab_limits_for
+    from hri_teleop.core.robot import load_robot_profile
+
+    panda = load_robot_profile(REPO / "hri_teleop" / "core" / "robots" / "franka_panda.yaml").cartesian_limits
+    fr3 = load_robot_profile(REPO / "hri_teleop" / "core" / "robots" / "fr3.yaml").cartesian_limits
+    assert lab_limits_for(panda) == LAB_LIMITS
+    lowered = lab_limits_for(fr3)
+    assert (lowered.translation.acceleration, lowered.rotation.acceleration) == (0.2, 0.4)
+    assert lowered.translation.velocity == 0.25 and lowered.rotation.jerk == 4.0
+    check_command_rate(lowered, 50.0, fr3)  # fits
+    # a budget the lab's number fits exactly keeps it: 0.3 m/s^2 at 50 Hz is 6 mm/s, a jerk of 6000 m/s^3 takes 6
+    exact = CartesianLimits(AxisLimits(3.0, 9.0, 6000.0), AxisLimits(2.5, 25.0, 12000.0))
+    assert lab_limits_for(exact).translation.acceleration == 0.3
+    # one just below takes the next step down
+    below = CartesianLimits(AxisLimits(3.0, 9.0, 5999.0), AxisLimits(2.5, 25.0, 12000.0))
+    assert lab_limits_for(below).translation.acceleration == 0.25
+    # and the teleop.yaml of the lab writes the same numbers for the FR3
+    import yaml
+
+    fr3_yaml = yaml.safe_load((REPO / "hri_lab" / "config" / "teleop.yaml").read_text())["limits_by_robot"]["fr3"]
+    assert (fr3_yaml["translation"]["acceleration"], fr3_yaml["rotation"]["acceleration"]) == (0.2, 0.4)
