@@ -416,3 +416,16 @@ SHUTDOWN = (f'Traceback (most recent call last):\n  File "{PACKAGE}/scripts/mapp
 def test_a_shutdown_is_no_crash_and_the_crash_before_it_is_found(output, error):
     crash = find_crash(output, PACKAGE)
     assert (crash.error if crash is not None else None) == error
+
+
+def test_a_crash_as_the_node_ends_is_shown_in_the_quit_part_only():
+    case = hidden_teleop_node_case(7)
+    observation = _teleop_observation(case, case.gains.rate)  # twists until square
+    tail = (f'Traceback (most recent call last):\n  File "{PACKAGE}/scripts/teleoperation.py", line 230, in stop\n'
+            "    self.pad.close()\nAttributeError: 'NoneType' object has no attribute 'close'\n")
+    widths = [Message(m.t_s, m.kind, 0.05) for m in observation.messages["/gripper_width"]]
+    ended = dataclasses.replace(observation, exit_code=1, messages={**observation.messages, "/gripper_width": widths},
+                                node=dataclasses.replace(observation.node, output_tail=tail, exit_code=1))
+    failed = _failed(compare_teleop_node(ended, case, package_dir=PACKAGE))
+    assert "line 230, in stop" in failed[TELEOP["node_quit"][0]]
+    assert "crashed" not in failed[TELEOP["node_width"][0]] and "width should be" in failed[TELEOP["node_width"][0]]

@@ -39,6 +39,8 @@ NODE = "teleoperation.py"
 RATE_TOLERANCE = 0.1
 #: Fewer distinct instants than this tell no rate.
 _MIN_TICKS = 10
+#: A node whose twists went on until this long before square ran the whole script (a crash came as it ended).
+_LATE_S = 0.5
 NOT_JUDGED_RATE = "the loop does not keep ~rate (see the gripper width part)"
 
 
@@ -254,6 +256,9 @@ def compare_teleop_node(observation: TeleopNodeObservation, case: TeleopNodeCase
     symptoms += [width_part, rumble_part, quit_part]
     judged = ("node_twist", "node_width", "node_rumble", "node_quit")
     if crash is not None and not crash.callback and code not in (0, None):
+        if twists and twists[-1].t_s >= case.quit_s - _LATE_S:  # it ran until square: the crash came as it ended
+            return parts + [judged_part(T, "node_quit", False, crash_text(crash, NODE)) if key == "node_quit"
+                            and not p.passed else p for key, p in zip(judged, symptoms)]
         return parts + _one_crash(judged, symptoms, crash)
     if not rate_ok:  # the rate is judged in the width part: what it explains is not judged again
         symptoms = [not_judged_part(T, key, NOT_JUDGED_RATE) if not p.passed and key in ("node_twist", "node_quit")
