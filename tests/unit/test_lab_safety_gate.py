@@ -240,3 +240,11 @@ def test_a_refused_start_is_false_runs_nothing_and_its_output_is_the_refusal():
     assert refused.output() == "refused to start lab_sim.py: it is simulated\n"
     assert refused.stop() is None and refused.wait() is None and refused.wait(5.0) is None
     assert repr(refused) == "NotStarted('refused to start lab_sim.py: it is simulated')"
+
+
+def test_a_master_with_hardware_is_described_by_its_hardware_nodes_in_order():
+    from hri_teleop.core.modes import master_description
+
+    assert master_description(True, ["/serial_node", "/franka_control"]) == (
+        "this master runs real hardware (/franka_control, /serial_node)")
+    assert master_description(True, []) == ""
