@@ -149,3 +149,15 @@ def test_each_assignment_is_counted_whatever_comes_before_it():
         {"assignment": "lab", "kind": "files", "status": "graded", "score": 49, "max_score": 49},
     ]
     assert assignment_points(jobs) == {"preparation": (None, None), "lab": (59.0, 59.0)}
+
+
+def test_a_problem_names_the_points_at_stake_zero_when_the_cell_names_none(tmp_path):
+    check = _cell("ex99_check", "check.graph(PACKAGE)")
+    del check["metadata"]["nbgrader"]["points"]
+    no_rule = _cell("ex99_other", "x = 1")
+    del no_rule["metadata"]["nbgrader"]["points"]
+    _notebook(tmp_path, "lab", "ex99", [check, no_rule, _cell("ex99_third", "y = 2", points=2.5)])
+    problems = check_cell_problems(tmp_path)
+    assert "carries 0 nbgrader points" in problems[0]
+    assert "so its 0 points could not be given" in problems[1]
+    assert "so its 2.5 points could not be given" in problems[2]
