@@ -9,6 +9,7 @@ import math
 import re
 from typing import Any, Dict, List, Optional, Sequence, Tuple
 
+from hri_teleop.core.gripper import GRIPPER_MAX_WIDTH_M
 from hri_teleop.grading.results import Part, not_judged
 from hri_teleop.grading.run.records import ProcessFacts
 from hri_teleop.grading.run.sandbox import OUTPUT_CAP_BYTES, describe_exit
@@ -29,7 +30,8 @@ MAPPING: Dict[str, Tuple[str, float]] = {
 TELEOP: Dict[str, Tuple[str, float]] = {
     # 0 points: the template already builds (the constructor is given); it gates the parts below.
     "import": ("imports and builds Teleoperation(rate, k_trans, k_rot, k_gripper, deadzone)", 0),
-    "gripper": ("gripper width: k_gripper / rate per tick while cross/circle is held, within 0..0.08 m", 3),
+    "gripper": ("gripper width: k_gripper / rate per tick while cross/circle is held, within "
+                f"0..{GRIPPER_MAX_WIDTH_M:g} m", 3),
     "twist": ("sticks -> cartesian_velocity with the dead zone and k_trans / k_rot", 4),
     "toggle": ("triangle toggles translation <-> rotation once per press", 2),
     "rumble": ("rumble from the mapped force, limited to 0..1", 2),

@@ -11,6 +11,7 @@ from pathlib import Path
 from typing import Any, List, Optional, Sequence, Tuple
 
 from hri_teleop.core.gamepad import PadState
+from hri_teleop.core.gripper import GRIPPER_MAX_WIDTH_M
 from hri_teleop.core.teleop import TeleopController, TeleopParams
 from hri_teleop.grading.cases.inputs import (
     ExpectedTick,
@@ -78,12 +79,13 @@ def _judge_gripper(case: TeleopPartsCase, exp: List[ExpectedTick], got: List[Par
         return True, "", []
     i = bad[0]
     value = as_float(got[i].gripper_width)
-    previous = as_float(got[i - 1].gripper_width) if i > 0 else 0.08
+    previous = as_float(got[i - 1].gripper_width) if i > 0 else GRIPPER_MAX_WIDTH_M
     held = case.ticks[i].buttons
     if value is None:
         hint = "self.gripper_width must stay a number in metres"
-    elif value < -1e-12 or value > 0.08 + 1e-12:
-        hint = "keep the width within GRIPPER_MIN_WIDTH .. GRIPPER_MAX_WIDTH (0 .. 0.08 m): clip it after the step"
+    elif value < -1e-12 or value > GRIPPER_MAX_WIDTH_M + 1e-12:
+        hint = (f"keep the width within GRIPPER_MIN_WIDTH .. GRIPPER_MAX_WIDTH (0 .. {GRIPPER_MAX_WIDTH_M:g} m): "
+                "clip it after the step")
     elif previous is not None and abs(abs(value - previous) - case.gains.k_gripper) <= 1e-9:
         hint = f"the width changed by k_gripper per tick; it must change by k_gripper / rate = {step:.6g} m"
     elif previous is not None and "south" in held and "east" not in held and value > previous:

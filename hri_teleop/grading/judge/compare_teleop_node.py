@@ -14,6 +14,7 @@ from pathlib import Path
 from typing import List, Optional, Sequence, Tuple
 
 from hri_teleop.core.config import DEFAULT_TWIST_TOPIC
+from hri_teleop.core.gripper import GRIPPER_MAX_WIDTH_M
 from hri_teleop.grading.cases.inputs import TeleopNodeCase
 from hri_teleop.grading.judge.compare_common import (
     TELEOP,
@@ -212,8 +213,9 @@ def compare_teleop_node(observation: TeleopNodeObservation, case: TeleopNodeCase
         final = float(widths[-1][2])
         first = float(widths[0][2])
         problems = []
-        if abs(first - 0.08) > 1e-6:
-            problems.append(f"the first width published was {first:.6g} m; the gripper starts open at 0.08 m")
+        if abs(first - GRIPPER_MAX_WIDTH_M) > 1e-6:
+            problems.append(f"the first width published was {first:.6g} m; the gripper starts open at "
+                            f"{GRIPPER_MAX_WIDTH_M:g} m")
         if abs(final - case.final_width) > 3 * step + 1e-6:
             problems.append(f"after holding cross for {case.close_s:g} s (k_gripper {case.gains.k_gripper:g} m/s) the "
                             f"width should be {case.final_width:.6g} m (within 3 steps of {step:.4g} m), it ended at "
