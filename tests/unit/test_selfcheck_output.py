@@ -9,7 +9,7 @@ from pathlib import Path
 import nbformat
 
 from hri_teleop.apps.files_check import check_lines, scratch_copy, summary_lines
-from hri_teleop.apps.selfcheck import SLOW_FIRST, cell_feedback, kept_checks, notebook_lines, run_order
+from hri_teleop.apps.selfcheck import SLOW_FIRST, cell_feedback, default_jobs, kept_checks, notebook_lines, run_order
 from hri_teleop.grading.cases.inputs import seed_for
 from hri_teleop.grading.judge.reuse import REUSED_NOTE
 from hri_teleop.grading.results import CheckResult, Part
@@ -117,3 +117,7 @@ def test_the_check_cells_that_keep_a_whole_result_are_known_and_ex08s_parts_only
         "lab": {"teleoperation", "teleoperation-launch", "graph"}}
     preparation = sorted((source / "preparation").glob("ex*.ipynb"))
     assert kept_checks(preparation) == {"preparation": {"robot-params", "mapping-node", "sensor-launch"}}
+
+
+def test_one_notebook_more_than_the_cores_runs_at_a_time():
+    assert [default_jobs(n) for n in (None, 1, 2, 8)] == [2, 2, 3, 9]
