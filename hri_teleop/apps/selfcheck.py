@@ -51,8 +51,8 @@ from hri_teleop.ros.master_api import NO_MASTER_URI
 __all__ = ["cell_points", "cell_feedback", "notebook_lines", "default_jobs", "find_notebooks", "kept_checks",
            "private_masters", "run_order", "main"]
 
-#: The notebooks that take longest (ROS, catkin, the checks), started first so that the two
-#: at a time end together; the others follow in their folder's order.
+#: The notebooks that take longest (ROS, catkin, the checks), started first so that the notebooks
+#: side by side end together; the others follow in their folder's order.
 SLOW_FIRST = ("ex12", "ex06", "ex09", "ex10", "ex05", "ex02", "ex14", "ex15")
 #: Lines of a cell's output shown for a cell that lost points (the last ones: the verdict).
 SHOWN_LINES = 15
@@ -154,7 +154,7 @@ def private_masters(env: MutableMapping[str, str]) -> None:
 
 class _Client(NotebookClient):
     """nbclient's client with the kernel's shutdown left to the caller (it overlaps the next notebook)
-    and no signal handlers of its own (two notebooks run at once; Ctrl-C stops every kernel)."""
+    and no signal handlers of its own (notebooks run side by side; Ctrl-C stops every kernel)."""
 
     @asynccontextmanager
     async def async_setup_kernel(self, **kwargs: Any) -> AsyncIterator[None]:
