@@ -98,3 +98,17 @@ def test_a_search_path_inside_the_checkout_is_shown_only_inside_the_toolkit(tmp_
     shown = toolkit_view(env, repo=str(repo), cwd="/").shown
     assert str(repo / "hri_lab") in shown
     assert not [s for s in shown if view_module.under(s, str(repo / "solutions")) or s == str(repo)]
+
+
+def test_a_kernels_box_shows_nothing_of_the_answer_key_the_course_or_the_checkouts_history():
+    """The notebooks' kernels run in a box of the same allowlist: solutions/ is not in what it shows."""
+    from hri_teleop.core.paths import REPO
+    from hri_teleop.grading.run.kernel_box import KernelPolicy, kernel_view
+
+    view = kernel_view(KernelPolicy(hidden=(str(REPO / "notebooks"),)), dict(os.environ), None)
+    for secret in ("solutions", "solutions/hri_lab/scripts/teleoperation.py", ".git", "notebooks/source", "out",
+                   "benchmarks"):
+        path = str(REPO / secret)
+        assert not [s for s in view.shown if view_module.under(path, s)], f"{secret} is readable from a kernel's box"
+    assert str(REPO / "hri_teleop") in view.shown or any(view_module.under(str(REPO / "hri_teleop"), s)
+                                                         for s in view.shown)
