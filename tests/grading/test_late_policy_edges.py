@@ -3,11 +3,21 @@ of two lines, an LMS export whose row is shorter than its header. Each edge writ
 
 from __future__ import annotations
 
-from datetime import datetime, timezone
+from datetime import datetime, timedelta, timezone
 
 import pytest
 
-from hri_teleop.grading.batch.late import ALL_ASSIGNMENTS, Extension, parse_timestamp, read_late_policy, read_times
+from hri_teleop.grading.batch.late import (
+    ALL_ASSIGNMENTS,
+    Extension,
+    Lateness,
+    LatePolicy,
+    duration_text,
+    judge_lateness,
+    parse_timestamp,
+    read_late_policy,
+    read_times,
+)
 
 STAMP = "2026-12-01 23:59:00.000000"  # nbgrader's form: no zone, read as UTC
 
@@ -37,3 +47,38 @@ def test_a_row_shorter_than_the_header_has_blank_cells(tmp_path):
     path.write_text("student,assignment,submitted_at\nann,lab,2026-12-01T20:00:00Z\nbob,lab\ncleo\n")
     assert read_times(path) == {("ann", "lab"): datetime(2026, 12, 1, 20, tzinfo=timezone.utc), ("bob", "lab"): None,
                                 ("cleo", ALL_ASSIGNMENTS): None}
+
+
+def _policy() -> LatePolicy:
+    return LatePolicy(source="late.yaml", deadlines={ALL_ASSIGNMENTS: DEADLINE}, per_day=0.1, cap=0.5,
+                      count="started")
+
+
+DEADLINE = datetime(2026, 12, 1, 23, 59, tzinfo=timezone.utc)
+
+
+def test_a_submission_without_a_time_is_judged_with_everything_it_was_given_and_nothing_taken():
+    got = judge_lateness(_policy(), "ann", "lab", None, source="times.csv", problem="no row for ann", stamp_refused=True)
+    assert got == Lateness("ann", "lab", None, "times.csv", DEADLINE, False, 0.0, 0.0, 0.0, "no row for ann", True)
+    plain = judge_lateness(_policy(), "bob", "preparation", None)
+    assert plain == Lateness("bob", "preparation", None, "", DEADLINE, False, 0.0, 0.0, 0.0, "no submission time",
+                             False)
+
+
+def test_a_late_submission_is_judged_with_its_source_and_no_problem():
+    when = DEADLINE + timedelta(hours=25)
+    got = judge_lateness(_policy(), "ann", "lab", when, source="times.csv")
+    assert got == Lateness("ann", "lab", when, "times.csv", DEADLINE, False, 90000.0, 2.0, 0.2, "", False)
+
+
+@pytest.mark.parametrize("seconds, text", [(59, "59 s"), (60, "1 min"), (90, "1 min"), (3600, "1 h"),
+                                           (3630, "1 h"), (86400, "1 d"), (90061, "1 d 1 h 1 min")])
+def test_a_duration_is_written_in_whole_units_leaving_out_the_empty_ones(seconds, text):
+    assert duration_text(seconds) == text
+
+
+@pytest.mark.parametrize("value, fraction", [("0%", 0.0), ("100%", 1.0), ("0", 0.0), ("1", 1.0)])
+def test_a_penalty_of_0_or_100_percent_is_a_fraction(tmp_path, value, fraction):
+    path = tmp_path / "late.yaml"
+    path.write_text(f'deadline: "2026-12-01 23:59 UTC"\nper_day: "{value}"\n')
+    assert read_late_policy(path).per_day == fraction
