@@ -17,6 +17,7 @@ from hri_teleop.grading.batch.late import (
     parse_timestamp,
     read_late_policy,
     read_times,
+    student_stamp,
 )
 
 STAMP = "2026-12-01 23:59:00.000000"  # nbgrader's form: no zone, read as UTC
@@ -82,3 +83,31 @@ def test_a_penalty_of_0_or_100_percent_is_a_fraction(tmp_path, value, fraction):
     path = tmp_path / "late.yaml"
     path.write_text(f'deadline: "2026-12-01 23:59 UTC"\nper_day: "{value}"\n')
     assert read_late_policy(path).per_day == fraction
+
+
+def _sub(folder, name: str, content):
+    (folder / name).mkdir(parents=True)
+    if isinstance(content, bytes):
+        (folder / name / "timestamp.txt").write_bytes(content)
+    else:
+        (folder / name / "timestamp.txt").symlink_to(content)
+
+
+def test_a_submissions_timestamps_are_shown_each_in_the_graders_words_refused_ones_first_named(tmp_path):
+    """A link is not followed and the next sub-folder's stamp is still read; at most three are shown."""
+    _sub(tmp_path, "a", "/etc/hostname")                          # a link: refused, not followed
+    _sub(tmp_path, "b", b"2026-12-01 20:00:00.000000")            # read, as UTC
+    _sub(tmp_path, "c", b"not a time")
+    _sub(tmp_path, "d", b"2026-12-02 01:00:00+01:00")
+    stamp, refused = student_stamp(tmp_path)
+    assert refused is True
+    assert stamp == ("the submission's a sub-folder's timestamp.txt is a link (not followed); a sub-folder's "
+                     "timestamp.txt says 2026-12-01 20:00:00+00:00; a sub-folder's timestamp.txt does not hold a date "
+                     "and time (not used, shown to the instructor)")
+
+
+def test_a_submissions_own_readable_timestamp_is_shown_and_not_used(tmp_path):
+    (tmp_path / "timestamp.txt").write_bytes(b"2026-12-02 01:00:00+01:00\n")
+    assert student_stamp(tmp_path) == ("the submission's timestamp.txt says 2026-12-02 00:00:00+00:00 (not used)",
+                                       False)
+    assert student_stamp(tmp_path / "nothing-here") == ("", False)
