@@ -111,3 +111,9 @@ def test_a_submissions_own_readable_timestamp_is_shown_and_not_used(tmp_path):
     assert student_stamp(tmp_path) == ("the submission's timestamp.txt says 2026-12-02 00:00:00+00:00 (not used)",
                                        False)
     assert student_stamp(tmp_path / "nothing-here") == ("", False)
+
+
+def test_a_timestamp_that_is_only_a_link_is_refused(tmp_path):
+    (tmp_path / "timestamp.txt").symlink_to("/etc/hostname")
+    assert student_stamp(tmp_path) == ("the submission's timestamp.txt is a link (not followed) (not used, shown to "
+                                       "the instructor)", True)
