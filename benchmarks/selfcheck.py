@@ -29,7 +29,7 @@ from benchmarks.report import BenchError, BenchOptions, BenchRow
 from hri_teleop.core.paths import SOLUTIONS
 from hri_teleop.course.bundle import answer_files, assemble_bundle, pack_bundle
 from hri_teleop.course.nodes import STUDENT_PACKAGE
-from hri_teleop.course.release import prepare_course_copy
+from hri_teleop.course.release import STUDENT_MAKES_EXECUTABLE, prepare_course_copy
 from hri_teleop.grading.assignments import ASSIGNMENTS
 
 Progress = Callable[[str], None]
@@ -86,6 +86,9 @@ def answer_key_into(bundle: Path, course: Path) -> None:
                 (package / relative).write_text(text)
                 if relative.suffix == ".py":
                     (package / relative).chmod(0o755)
+        for script in STUDENT_MAKES_EXECUTABLE:  # the handout's chmod +x (Ex. 9, Ex. 12 c)
+            if (package / script).is_file():
+                (package / script).chmod(0o755)
         for notebook in (bundle / assignment).glob("ex*.ipynb"):
             source = json.loads((course / "source" / assignment / notebook.name).read_text())
             answers = {c["metadata"]["nbgrader"]["grade_id"]: c["source"] for c in source["cells"]

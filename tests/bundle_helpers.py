@@ -9,6 +9,7 @@ from pathlib import Path
 from hri_teleop.core.paths import SOLUTIONS
 from hri_teleop.course.bundle import answer_files
 from hri_teleop.course.nodes import STUDENT_PACKAGE
+from hri_teleop.course.release import STUDENT_MAKES_EXECUTABLE
 from hri_teleop.grading.assignments import ASSIGNMENTS
 
 
@@ -22,6 +23,9 @@ def copy_answer_key(bundle: Path, course: Path) -> None:
                 (package / relative).write_text(text)
                 if relative.suffix == ".py":
                     (package / relative).chmod(0o755)
+        for script in STUDENT_MAKES_EXECUTABLE:  # the handout's chmod +x (Ex. 9, Ex. 12 c)
+            if (package / script).is_file():
+                (package / script).chmod(0o755)
         for notebook in (bundle / assignment).glob("ex*.ipynb"):
             source = json.loads((course / "source" / assignment / notebook.name).read_text())
             answers = {c["metadata"]["nbgrader"]["grade_id"]: c["source"] for c in source["cells"]
