@@ -296,11 +296,9 @@ def describe(diff: str, source: str, name: str) -> Tuple[int, str]:
     if span is not None:
         line = span[0] + max(offset, 1) - 1
         lines = source.splitlines()
-        if old:
-            for number in range(span[0], span[1] + 1):
-                if lines[number - 1].strip() == old[0]:
-                    line = number
-                    break
+        same = [n for n in range(span[0], span[1] + 1) if old and lines[n - 1].strip() == old[0]]
+        if same:  # the line as written, nearest to where the diff says it is (a line may occur twice)
+            line = min(same, key=lambda n: abs(n - line))
     return line, f"{' '.join(old)}  ->  {' '.join(new)}" if old or new else "(no diff)"
 
 

@@ -161,3 +161,11 @@ def test_the_run_fails_while_a_survivor_is_not_listed_as_equivalent_with_its_cha
 ])
 def test_a_change_inside_an_f_strings_braces_is_code_not_words(mutants, change, text):
     assert mutants.is_text_change(change) is text
+
+
+def test_a_survivor_on_a_line_written_twice_in_its_function_is_placed_on_the_right_one(mutants):
+    source = ("def f(a):\n    try:\n        g()\n    except KeyError:\n        ok = True\n        return 1\n"
+              "    except OSError:\n        ok = True\n        return 2\n")
+    diff = ("--- m.py\n+++ m.py\n@@ -6,4 +6,4 @@\n     except OSError:\n-        ok = True\n+        ok = False\n"
+            "         return 2\n")
+    assert mutants.describe(diff, source, "m.x_f__mutmut_9") == (8, "ok = True  ->  ok = False")
