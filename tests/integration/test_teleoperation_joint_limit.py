@@ -17,7 +17,7 @@ import pytest
 import yaml
 
 from hri_teleop.core.config import load_teleop_config
-from hri_teleop.core.joints import JOINT_NAMES, JOINT_POSITION_LIMITS_VIOLATION, ROBOT_JOINT_LIMITS, READY_POSE_RAD
+from hri_teleop.core.joints import JOINT_NAMES, JOINT_POSITION_LIMITS_VIOLATION, READY_POSE_RAD, ROBOT_JOINT_LIMITS
 from hri_teleop.ros.bags import read_topics
 
 pytestmark = pytest.mark.ros

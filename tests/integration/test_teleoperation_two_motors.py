@@ -11,7 +11,7 @@ import pytest
 import yaml
 from test_teleoperation_node import TELEOP  # tests/integration, on sys.path under pytest
 
-from hri_teleop.core.joints import JOINT_NAMES, ROBOT_JOINT_LIMITS, READY_POSE_RAD, WARNING_MARGIN_RAD, WARNING_RUMBLE
+from hri_teleop.core.joints import JOINT_NAMES, READY_POSE_RAD, ROBOT_JOINT_LIMITS, WARNING_MARGIN_RAD, WARNING_RUMBLE
 from hri_teleop.sim.virtual_pad import read_rumble_log
 
 pytestmark = pytest.mark.ros
