@@ -1,15 +1,9 @@
 """Benchmark 8: the student bundle's ``make check``, the whole bundle and one exercise.
 
-The bundle is built as ``make release`` packs it, unpacked where no checkout is, set up with its own
-``make setup`` (not timed) and given the answer key, so that every notebook and every check runs to its
-end. Each run is ``make check`` as a student types it (the student's environment: no ROS variables, no
-project ``.venv``). The figure is its wall time (the median of the runs) and its share of the target
-issue 43 set (:data:`PROMISE_S`); the reference, from the same run, is the sum of the seconds make check
-itself prints for each notebook and for the files' checks. Those are measured side by side, each longer
-than it would take alone, so the sum is more than one after another would cost; the ratio (below 1) says
-how much of the notebooks' own time the wait is. A run short of full points, or one that fails or
-hangs, is a :class:`BenchError`, never a time. ``make check`` writes nothing into the bundle's folders,
-so the runs start alike.
+A bundle as ``make release`` packs it, set up (not timed) and given the answer key; each run is ``make
+check`` as a student types it. The figure is its median wall time and its share of the target
+(:data:`PROMISE_S`); the reference, from the same run, is the sum of the seconds make check prints for each
+notebook and the files' checks (measured side by side). A run short of full points is a :class:`BenchError`.
 """
 
 from __future__ import annotations

@@ -1,11 +1,8 @@
 """The files' half of ``make check`` in the student bundle: each assignment's hri_lab graded as the course grades it.
 
-A deliverable's points are the files' (:mod:`hri_teleop.grading.points`). After the notebooks ran, this
-grades ``<assignment>/hri_lab`` with the assignment's checks and prints the points per check and, for a
-check that lost points, each failing part with its feedback (what the notebook's check cell shows). It
-reuses the check cells' results where the same files give the same parts (``HRI_GRADE_RESULTS``): a
-check runs once; the checks no cell ran run here, side by side. ``make check`` (:mod:`hri_teleop.apps.selfcheck`)
-grades a copy of each assignment folder, so nothing is written into the student's.
+Points per check and, for a check that lost points, each failing part with its feedback (what the
+notebook's check cell shows). It reuses the check cells' results where the same files give the same parts
+(``HRI_GRADE_RESULTS``), so a check runs once; ``make check`` grades a copy of each assignment folder.
 
     python -m hri_teleop.apps.files_check FOLDER [--only ex05,ex12]
 """

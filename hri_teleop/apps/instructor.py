@@ -21,10 +21,10 @@ from hri_teleop.core.paths import REPO
 from hri_teleop.grading.batch.class_results import read_summary
 from hri_teleop.grading.batch.folders import BatchError, course_layout
 from hri_teleop.grading.batch.nbgrader_batch import (
-    _assignment_order,
-    _generate_feedback,
-    _nbgrader_config,
-    _open_course,
+    assignment_order,
+    generate_feedback,
+    nbgrader_config,
+    open_course,
     refresh_course,
 )
 
@@ -65,12 +65,12 @@ def _feedback(course: Path, submitted: Path, out: Path, late: Optional[Path]) ->
     if not entries:
         raise BatchError(f"{out}: no results of make grade in it (summary.json); run make grade first, "
                          "or give its folder with OUT=...")
-    assignments = _assignment_order(sorted({str(j["assignment"]) for e in entries for j in e.get("jobs", ())
+    assignments = assignment_order(sorted({str(j["assignment"]) for e in entries for j in e.get("jobs", ())
                                             if j["kind"] == "notebooks" and j["status"] == "graded"}))
-    nb = _open_course(course, submitted, assignments)
+    nb = open_course(course, submitted, assignments)
     failed_any = False
     for assignment in assignments:  # the manual points into nbgrader's pages (they are rebuilt, then sanitized)
-        ok, failed = _generate_feedback(nb, assignment, out)
+        ok, failed = generate_feedback(nb, assignment, out)
         failed_any |= not ok or bool(failed)
         print(f"feedback: nbgrader generate_feedback {assignment} -> {course / 'feedback'}/<student>/{assignment}/"
               + (f" (errors for {', '.join(sorted(failed)) or 'some'}: see {out / f'generate_feedback.{assignment}.log'})"
@@ -87,7 +87,7 @@ def unreleasable(course: Path, assignment: str) -> List[str]:
 
 def exchange_problem(course: Path) -> str:
     """Why nbgrader's exchange of the course cannot take feedback ("" when it can)."""
-    config = _nbgrader_config(course)
+    config = nbgrader_config(course)
     root = str(config.Exchange.root) if "root" in config.Exchange else DEFAULT_EXCHANGE
     if os.path.isdir(root) and os.access(root, os.W_OK | os.X_OK):
         return ""
@@ -97,7 +97,7 @@ def exchange_problem(course: Path) -> str:
 
 
 def _release_feedback(course: Path) -> int:
-    assignments = _assignment_order(sorted({p.name for p in (course / "feedback").glob("*/*/")
+    assignments = assignment_order(sorted({p.name for p in (course / "feedback").glob("*/*/")
                                              if p.is_dir()} if (course / "feedback").is_dir() else set()))
     if not assignments:
         raise BatchError(f"{course / 'feedback'}: no feedback to release; run make grade (and make feedback after "

@@ -1,22 +1,8 @@
 """``make check`` in the student bundle: every notebook headless, then the hri_lab files, with the feedback.
 
-Before handing in, a student sees what the autograder will make of the notebooks and files: each
-notebook runs top to bottom in its own ``hri-teleop`` kernel, as nbgrader's autograde runs it, and
-each autograded cell scores by nbgrader's rule (an error or stderr: 0; a number as the result: that
-many points; else full points). Then each assignment's ``hri_lab`` gets its checks' points
-(:mod:`hri_teleop.apps.files_check`). A cell or a check that lost points is printed with what its
-cell shows in the notebook.
-
-Nothing in the student's folders changes: each notebook runs in a copy of its assignment folder
-(the plots, dumps and ``catkin_ws/`` it writes go with the copy), the files are graded in another
-copy, and the copies are removed at the end. A copy keeps the folder's last names
-(``task4/lab/hri_lab``), so its hidden inputs are those of the notebook run in place.
-
-One notebook more than the cores runs at a time (``--jobs``; :func:`default_jobs`), each kernel with its
-private master; a kernel's shutdown (its nodes and roscore stopping) overlaps the next notebook. Each check runs once: the
-check cells store their results (``HRI_GRADE_RESULTS_WRITE``, :mod:`hri_teleop.grading.judge.reuse`)
-and the files' half takes them (``HRI_GRADE_RESULTS``); the checks no check cell of the run runs whole
-(:func:`kept_checks`) it grades from the start, beside the notebooks.
+Each notebook runs top to bottom in its own kernel, scored by nbgrader's rule, in a copy of its assignment
+folder (its last names kept, so the hidden inputs are those of the notebook in place); then the files get
+their checks' points (:mod:`hri_teleop.apps.files_check`). What lost points is printed as its cell shows it.
 
     python -m hri_teleop.apps.selfcheck FOLDER [--only ex05,ex12] [--timeout 600] [--jobs N]
 """

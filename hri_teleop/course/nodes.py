@@ -24,7 +24,7 @@ from hri_teleop.ros.launch_inspect import LaunchedNode, LaunchInspectError, laun
 from hri_teleop.ros.master import ManagedProcess, stop_side_by_side
 from hri_teleop.ros.master_api import master_call, running_nodes
 
-__all__ = ["start_gated", "STUDENT_PACKAGE", "stop_nodes", "run_provided_node", "run_student_node", "rosrun_student", "launch",
+__all__ = ["STARTED", "start_gated", "STUDENT_PACKAGE", "stop_nodes", "run_provided_node", "run_student_node", "rosrun_student", "launch",
            "wait_for_publisher", "student_workspace", "launch_student", "node_start", "launch_starts"]
 
 PathLike = Union[str, Path]
@@ -32,7 +32,7 @@ PathLike = Union[str, Path]
 STUDENT_PACKAGE = "hri_lab"
 
 #: The nodes this kernel started (stop_nodes stops them) and its scratch folders (gone at exit).
-_STARTED: List[Any] = []
+STARTED: List[Any] = []
 _SCRATCH: List[Path] = []
 
 
@@ -77,14 +77,14 @@ def start_gated(argv: Sequence[str], name: str, starts: Sequence[Start], extra_e
     env.update({"PYTHONUNBUFFERED": "1", **(extra_env or {})})
     log = _scratch("hri-notebook-node-") / f"{name}.log"
     proc = ManagedProcess(list(argv), env, log, cwd=cwd)
-    _STARTED.append(proc)
+    STARTED.append(proc)
     return proc
 
 
 def stop_nodes() -> None:
     """Stop every node and launch this notebook started, side by side (the master keeps running)."""
-    procs = list(_STARTED)
-    _STARTED.clear()
+    procs = list(STARTED)
+    STARTED.clear()
     stop_side_by_side(procs)
 
 

@@ -32,7 +32,7 @@ from hri_teleop.ros.processes import (
     stop_side_by_side,
 )
 
-__all__ = ["OWN_MASTER_ENV", "Registrations", "started_here", "lab_shell_env", "finds_hri_lab", "free_port",
+__all__ = ["uri_key", "OWN_MASTER_ENV", "Registrations", "started_here", "lab_shell_env", "finds_hri_lab", "free_port",
            "PrivateMaster", "RunningMaster", "run_reporting",
            # where the callers have always imported them from (hri_teleop.ros.processes)
            "LIVE_PROCESSES", "ManagedProcess", "MasterError", "interrupt_nodes", "stop_all", "stop_side_by_side"]
@@ -46,7 +46,7 @@ OWN_MASTER_ENV = "HRI_OWN_MASTER"
 _OWN_MASTERS: "Dict[str, ManagedProcess]" = {}
 
 
-def _uri_key(uri: str) -> str:
+def uri_key(uri: str) -> str:
     """``http://localhost:N/`` and ``http://127.0.0.1:N`` name the same master."""
     rest = uri.strip().rstrip("/")
     rest = rest[len("http://"):] if rest.startswith("http://") else rest
@@ -61,13 +61,13 @@ def started_here(uri: str, env: Optional[Mapping[str, str]] = None, timeout_s: f
     Asked of the master itself: its pid must be the one recorded at its start, so a port
     taken over by somebody else's master, or a copied setting, is not ours.
     """
-    key = _uri_key(uri)
+    key = uri_key(uri)
     core = _OWN_MASTERS.get(key)
     if core is not None and not core.running:
         core = None
     if core is None:
         mark = (os.environ if env is None else env).get(OWN_MASTER_ENV, "").split()
-        if len(mark) != 2 or _uri_key(mark[0]) != key or not mark[1].isdigit():
+        if len(mark) != 2 or uri_key(mark[0]) != key or not mark[1].isdigit():
             return False
         expected = int(mark[1])
     try:
@@ -186,7 +186,7 @@ class PrivateMaster:
                                                   self.work_dir / "rosout.log", is_master=True)
                     self.started.append(self._rosout)
                 if self.is_online() and "/rosout" in self.node_names():
-                    _OWN_MASTERS[_uri_key(self.uri)] = self.core
+                    _OWN_MASTERS[uri_key(self.uri)] = self.core
                     self.env[OWN_MASTER_ENV] = f"{self.uri} {self.master_pid()}"
                     return self
                 time.sleep(0.02 if rosout else 0.1)
@@ -245,7 +245,7 @@ class PrivateMaster:
             child.stop()
         self.children.clear()
         if self.core is not None:
-            _OWN_MASTERS.pop(_uri_key(self.uri), None)
+            _OWN_MASTERS.pop(uri_key(self.uri), None)
         self._stop_core(quick)
         if self._own_dir:
             shutil.rmtree(self.work_dir, ignore_errors=True)

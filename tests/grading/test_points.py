@@ -154,7 +154,7 @@ def test_a_check_cell_with_points_is_refused_by_make_grade_and_make_gradescope(t
         build_zip(tmp_path / "zip", repo=tmp_path / "repo")
     course = tmp_path / "repo" / "notebooks"
     (course / "submitted" / "alice" / "preparation").mkdir(parents=True)
-    monkeypatch.setattr(nbgrader_batch, "_open_course", lambda *a: None)  # no gradebook needed to refuse
+    monkeypatch.setattr(nbgrader_batch, "open_course", lambda *a: None)  # no gradebook needed to refuse
     with pytest.raises(BatchError, match="cell ex5_node runs a check"):
         nbgrader_batch.grade_course(course, course / "submitted", tmp_path / "out")
     assert not (tmp_path / "out").exists()
@@ -355,5 +355,6 @@ def test_make_check_grades_the_checks_the_chosen_notebooks_show():
     assert checks_for("lab", ["ex05"]) == () and checks_for("preparation", ["ex01", "ex05"]) == ("mapping-node",)
     lines = summary_lines("lab", [_full_marks("graph"), CheckResult("teleoperation", "", [Part("a", 2, False)])], 3.0)
     assert lines[0] == "  lab/hri_lab: graph 9/9, teleoperation 0/2: 9/11 points (3 s)"
-    assert lines[1:] == ["      teleoperation: 0/2 -- open ex08_gamepad_commands.ipynb / ex09_teleoperation_node.ipynb "
-                         "and run its check cell to see why"]
+    assert lines[1:] == ["      teleoperation: 0/2", "        [FAIL] a (0/2)",
+                         "        (the same in ex08_gamepad_commands.ipynb / ex09_teleoperation_node.ipynb, check cell; "
+                         "in a terminal: hri-grade teleoperation lab/hri_lab)"]

@@ -90,7 +90,7 @@ def test_the_gradescope_course_is_masked_where_the_checkout_has_it(tmp_path, mon
 
 def test_a_search_path_inside_the_checkout_is_shown_only_inside_the_toolkit(tmp_path, monkeypatch):
     """The checkout under tmp_path, with /tmp taken off the never-shown list, so that this rule decides alone."""
-    monkeypatch.setattr(view_module, "_NEVER", tuple(n for n in view_module._NEVER if n not in ("/tmp", "/var/tmp")))
+    monkeypatch.setattr(view_module, "NEVER_SHOWN", tuple(n for n in view_module.NEVER_SHOWN if n not in ("/tmp", "/var/tmp")))
     repo = _checkout(tmp_path / "c")
     (repo / "solutions").mkdir()
     env = {"PYTHONPATH": f"{repo}/hri_lab/scripts:{repo}/solutions:{repo}:{repo}/tools"}

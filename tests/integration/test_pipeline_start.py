@@ -42,7 +42,7 @@ def _package(tmp_path: Path, **scripts: str) -> Path:
 
 
 def _nothing_left_running() -> list:
-    return [" ".join(p.argv[-3:]) for p in nodes._STARTED if p.anything_left]
+    return [" ".join(p.argv[-3:]) for p in nodes.STARTED if p.anything_left]
 
 
 def test_a_template_teleoperation_py_names_the_exercise_to_finish_and_stops_every_node_it_started(bundle_kernel,

@@ -51,7 +51,7 @@ def world(monkeypatch):
 
 def _started(world, uri: str, running: bool = True) -> None:
     """This process started a roscore (pid ROSCORE_PID) whose rosmaster is ROSMASTER_PID, registered as ``uri``."""
-    world["own"][master_module._uri_key(uri)] = SimpleNamespace(running=running, popen=SimpleNamespace(pid=ROSCORE_PID))
+    world["own"][master_module.uri_key(uri)] = SimpleNamespace(running=running, popen=SimpleNamespace(pid=ROSCORE_PID))
     world["children"][ROSCORE_PID] = [ROSMASTER_PID, ROSMASTER_PID + 1]
 
 

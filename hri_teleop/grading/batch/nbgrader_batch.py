@@ -65,7 +65,7 @@ from hri_teleop.grading.run.kernel_sandbox import (
 from hri_teleop.grading.run.sandbox import bwrap_problem, sandbox_mode
 from hri_teleop.ros.kernel import install_kernelspec, ipc_kernel_argv
 
-__all__ = ["retry_cause", "BatchError", "JobOutcome", "course_layout", "course_submissions", "grade_course", "refresh_course",
+__all__ = ["assignment_order", "nbgrader_config", "open_course", "generate_feedback", "retry_cause", "BatchError", "JobOutcome", "course_layout", "course_submissions", "grade_course", "refresh_course",
            "nbgrader_job_env"]
 
 _NOTEBOOK_TIMEOUT_S = 1800.0        # nbgrader autograde of one (student, assignment); a cell has 300 s of its own
@@ -96,7 +96,7 @@ class JobOutcome:
         return self.assignment if self.kind == "notebooks" else f"{self.assignment}/{FILES_JOB}"
 
 
-def _assignment_order(names: Sequence[str]) -> List[str]:
+def assignment_order(names: Sequence[str]) -> List[str]:
 
     known = [a for a in ASSIGNMENTS if a in names]
     return known + sorted(set(names) - set(known))
@@ -128,7 +128,7 @@ def course_submissions(course: Path, submitted: Path) -> Tuple[List[Tuple[str, s
     return found, empty
 
 
-def _nbgrader_config(course: Path) -> Any:
+def nbgrader_config(course: Path) -> Any:
     """nbgrader's configuration as its apps load it: Jupyter's config folders, then the course's file."""
     config = Config()
     for folder in [*reversed(jupyter_config_path()), str(course)]:
@@ -161,7 +161,7 @@ class Course:
         return argv
 
 
-def _open_course(course: Path, submitted: Path, assignments: Sequence[str]) -> Course:
+def open_course(course: Path, submitted: Path, assignments: Sequence[str]) -> Course:
     try:
         import nbgrader  # noqa: F401, PLC0415 - optional (not on Python 3.8): courses only
         from nbgrader.api import Gradebook, MissingEntry  # noqa: PLC0415 - optional (not on Python 3.8): courses only
@@ -169,7 +169,7 @@ def _open_course(course: Path, submitted: Path, assignments: Sequence[str]) -> C
     except ImportError:
         raise BatchError(f"nbgrader is not installed for {sys.executable}, and {course} is an nbgrader course: "
                          "run `make setup` (nbgrader needs Python >= 3.9)") from None
-    config = _nbgrader_config(course)
+    config = nbgrader_config(course)
     config.CourseDirectory.root = str(course)
     coursedir = CourseDirectory(config=config)
     db_url = _with_busy_timeout(coursedir.db_url)
@@ -360,7 +360,7 @@ def autograde_one(course_root: Path, student: str, assignment: str, out: Path, t
     ``submitted/<student>/<assignment>/`` and gradebook), as make grade runs it (the Gradescope autograder).
     ``sandbox``: the kernels' sandbox (the course folder is hidden from them too); None: none. ``seed``: the
     check cells' hidden inputs (None: :func:`~hri_teleop.grading.cases.inputs.student_seed` of ``student``)."""
-    course = _open_course(course_root, course_root / "submitted", [assignment])
+    course = open_course(course_root, course_root / "submitted", [assignment])
     out.mkdir(parents=True, exist_ok=True)
     if sandbox is not None:
         sandbox = replace(sandbox, hidden=(*sandbox.hidden, str(course.root), str(out)))
@@ -375,7 +375,7 @@ def grade_files(course: Course, student: str, assignment: str, out: Path, checks
                       sandboxed=not bwrap_problem())
 
 
-def _generate_feedback(course: Course, assignment: str, out: Path,
+def generate_feedback(course: Course, assignment: str, out: Path,
                        student: Optional[str] = None) -> Tuple[bool, Dict[str, str]]:
     """``nbgrader generate_feedback`` for every autograded student of ``assignment`` (or ``student`` only):
     (ok, {student: failure})."""
@@ -426,9 +426,9 @@ def grade_course(course: Path, submitted: Path, out: Path, jobs: Optional[int] =
     only = select_student(sorted({s for s, _a in pairs} | set(empty)), student, submitted)
     if only is not None:
         pairs, empty = [p for p in pairs if p[0] == only], [s for s in empty if s == only]
-    assignments = _assignment_order(sorted({a for _s, a in pairs}))
+    assignments = assignment_order(sorted({a for _s, a in pairs}))
     check_policy(policy, assignments)
-    nb = _open_course(course, submitted, assignments)
+    nb = open_course(course, submitted, assignments)
     counted_twice = check_cell_problems(course / "source")
     if counted_twice:  # a check's points are the files': a graded check cell would count them again
         raise BatchError(counted_twice[0])
@@ -491,7 +491,7 @@ def grade_course(course: Path, submitted: Path, out: Path, jobs: Optional[int] =
                   if o.assignment == assignment and o.kind == "notebooks" and o.status == "graded"]
         if not graded:
             continue
-        ok, failed = _generate_feedback(nb, assignment, out, only)
+        ok, failed = generate_feedback(nb, assignment, out, only)
         for student, why in failed.items():
             feedback_problems[(student, assignment)] = why
         problems = "" if ok else f"; errors, see {out / f'generate_feedback.{assignment}.log'}"
@@ -530,7 +530,7 @@ def grade_course(course: Path, submitted: Path, out: Path, jobs: Optional[int] =
                         "feedback": {a: str(course / "feedback" / student / a) for (a, k), o in sorted(mine.items())
                                      if k == "notebooks" and o.status == "graded"
                                      and (student, a) not in feedback_problems}})
-    everyone = _assignment_order(sorted(set(assignments) | {str(j["assignment"]) for e in read_summary(out)
+    everyone = assignment_order(sorted(set(assignments) | {str(j["assignment"]) for e in read_summary(out)
                                                               if only is not None for j in e.get("jobs", ())}))
     columns = ["student", *[f"{a}_{x}" for a in everyone for x in ("score", "max")], "notebooks_score",
                "notebooks_max", "files_score", "files_max", "needs_manual_grade", "status", "seconds", "message"]
@@ -558,9 +558,9 @@ def refresh_course(course: Path, submitted: Path, out: Path, progress: Progress 
     if not entries:
         raise BatchError(f"{out}: no results of make grade in it (summary.json); run make grade first, "
                          "or give its folder with OUT=...")
-    assignments = _assignment_order(sorted({str(j["assignment"]) for e in entries for j in e.get("jobs", ())}))
+    assignments = assignment_order(sorted({str(j["assignment"]) for e in entries for j in e.get("jobs", ())}))
     check_policy(policy, assignments)
-    nb = _open_course(course, submitted, assignments)
+    nb = open_course(course, submitted, assignments)
     lock = threading.Lock()
     for entry in entries:
         for job in entry.get("jobs", ()):

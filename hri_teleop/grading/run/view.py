@@ -16,7 +16,7 @@ from typing import Dict, List, Mapping, Optional, Sequence, Tuple
 
 from hri_teleop.core.paths import REPO
 
-__all__ = ["SYSTEM", "TOOLKIT_SHOWN", "TOOLKIT_MASKED", "FOLDERS_MASKED", "SEARCH_PATH_KEYS", "View", "toolkit_view",
+__all__ = ["NEVER_SHOWN", "SYSTEM", "TOOLKIT_SHOWN", "TOOLKIT_MASKED", "FOLDERS_MASKED", "SEARCH_PATH_KEYS", "View", "toolkit_view",
            "under", "shown_search_paths", "python_packages", "view_argv"]
 
 #: The machine's own software, shown read-only (a link among them is made again as the same link).
@@ -35,7 +35,7 @@ FOLDERS_MASKED = ("hri_teleop/grading/gradescope",)
 SEARCH_PATH_KEYS = ("PATH", "PYTHONPATH", "ROS_PACKAGE_PATH", "CMAKE_PREFIX_PATH", "LD_LIBRARY_PATH",
                     "PKG_CONFIG_PATH", "ROS_ROOT", "ROS_ETC_DIR")
 #: Never shown, nor anything above them: shown search paths below them are refused.
-_NEVER = ("/home", "/root", "/tmp", "/var/tmp", "/run", "/mnt", "/media", "/srv", "/proc", "/dev")
+NEVER_SHOWN = ("/home", "/root", "/tmp", "/var/tmp", "/run", "/mnt", "/media", "/srv", "/proc", "/dev")
 
 
 def under(path: str, folder: str) -> bool:
@@ -59,7 +59,7 @@ class View:
 def _allowed(entry: str, repo: str, allowed_in_repo: Sequence[str]) -> bool:
     """Whether a search path's folder may be shown: not at or above the checkout, a home or /tmp, and inside
     the checkout only below ``allowed_in_repo``."""
-    if entry == "/" or under(repo, entry) or any(under(entry, n) or under(n, entry) for n in _NEVER):
+    if entry == "/" or under(repo, entry) or any(under(entry, n) or under(n, entry) for n in NEVER_SHOWN):
         return False
     return not under(entry, repo) or any(under(entry, a) for a in allowed_in_repo)
 
@@ -68,7 +68,7 @@ def python_packages(entry: str, repo: str) -> bool:
     """Whether a folder of the running Python's own path is one of its package folders (``site-packages``,
     ``dist-packages``: a venv reused from a clone under /tmp, say) that may be shown wherever it lies, as long
     as it is not at or above the checkout, a home or /tmp."""
-    if entry == "/" or under(repo, entry) or any(under(n, entry) for n in _NEVER):
+    if entry == "/" or under(repo, entry) or any(under(n, entry) for n in NEVER_SHOWN):
         return False
     return any(part.endswith("-packages") for part in entry.split("/"))
 
