@@ -19,8 +19,8 @@ from actionlib import CommState
 from actionlib_msgs.msg import GoalStatus
 from std_msgs.msg import Float32
 
-from hri_teleop.core.gripper import GRIPPER_MAX_WIDTH_M
 from hri_teleop.student import (
+    GRIPPER_MAX_WIDTH_M,
     GoalThrottle,
     MoveAction,
     MoveGoal,

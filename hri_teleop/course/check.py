@@ -23,7 +23,7 @@ from hri_teleop.grading.judge.graph import grade_graph
 from hri_teleop.grading.judge.package_check import grade_catkin_package
 from hri_teleop.grading.results import CheckResult, feedback_text
 
-__all__ = ["KEEPS_RESULT", "robot_params", "mapping_node", "sensor_launch", "teleoperation_parts", "teleoperation_node",
+__all__ = ["robot_params", "mapping_node", "sensor_launch", "teleoperation_parts", "teleoperation_node",
            "catkin_package", "teleoperation_launch", "graph"]
 
 PathLike = Union[str, Path]

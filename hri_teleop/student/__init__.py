@@ -6,7 +6,7 @@ is renamed or withdrawn keeps working, with a DeprecationWarning naming its repl
 next major version. Policy and changes: docs/student-api.md. Importing this module loads neither
 rospy nor pygame; the ROS helpers are imported the first time a file asks for them.
 
-Student API 1.1. Each name, what it is for, and the version it appeared in:
+Student API 1.2. Each name, what it is for, and the version it appeared in:
 
 The gamepad (teleoperation.py, the handout *Task 4: Teleoperation*, Ex. 8-9)
   PadState                1.0  one snapshot of the pad: sticks and buttons by position; PadState.neutral()
@@ -30,6 +30,7 @@ The gripper (gripper_manager.py)
   MoveAction              1.0  franka_gripper's move action (for actionlib.SimpleActionClient)
   MoveGoal                1.0  franka_gripper's move goal: width (m) and speed (m/s)
   goal_status_name        1.1  actionlib's name of a goal status (SUCCEEDED, ABORTED, ...) for a log line
+  GRIPPER_MAX_WIDTH_M     1.2  the hand's width fully open, m, from the lab's robot profile (0.08: the Franka Hand)
 
 The provided nodes (parameters, errors, time)
   get_param               1.0  a ROS parameter read and type-checked; a bad one ends the node with the fix
@@ -49,7 +50,7 @@ from hri_teleop.core.checks import ADC_MAX_COUNT
 from hri_teleop.core.gamepad.deadzone import normalize_analog_input
 from hri_teleop.core.gamepad.events import JOYAXISMOTION, JOYBUTTONDOWN, JOYBUTTONUP, pad_events
 from hri_teleop.core.gamepad.state import PadState
-from hri_teleop.core.gripper import GoalThrottle, usable_width_m
+from hri_teleop.core.gripper import GRIPPER_MAX_WIDTH_M, GoalThrottle, usable_width_m
 from hri_teleop.core.limits import TwistLimiter
 from hri_teleop.hardware.gamepad import open_gamepad
 from hri_teleop.sim.sensor_profile import FSR_SENSOR_RATE_HZ, press_profile_count
@@ -62,14 +63,14 @@ if TYPE_CHECKING:  # imported when first asked for (__getattr__ below): their mo
     from hri_teleop.ros.params import fail, get_param, refuse_beside_hardware, run_node
 
 #: The student API's version: the minor grows when a name is added or deprecated, the major when one goes.
-API_VERSION = "1.1"
+API_VERSION = "1.2"
 __version__ = API_VERSION
 
 __all__ = [
     "PadState", "pad_events", "JOYAXISMOTION", "JOYBUTTONDOWN", "JOYBUTTONUP", "normalize_analog_input",
     "open_gamepad", "TwistLimiter",
     "ADC_MAX_COUNT", "FSR_SENSOR_RATE_HZ", "press_profile_count",
-    "GoalThrottle", "usable_width_m", "MoveAction", "MoveGoal", "goal_status_name",
+    "GoalThrottle", "usable_width_m", "MoveAction", "MoveGoal", "goal_status_name", "GRIPPER_MAX_WIDTH_M",
     "get_param", "fail", "run_node", "refuse_beside_hardware", "NodeClock", "ClockError",
 ]
 

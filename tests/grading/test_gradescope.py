@@ -272,7 +272,8 @@ def test_messy_uploads_are_found_and_the_student_is_told_where(graded):
     assert "found your package in submission.zip/Archive/inner.zip/Lab 4/my work/hri_lab/" in zipped["output"]
     loose, _ = graded["teleop_no_deadzone"]
     assert "took scripts/teleoperation.py from teleoperation.py" in loose["output"]
-    hidden = _failed(zipped)["mapping-node: takes the range from /max_sensor_force (hidden inputs, other values)"]
+    every = {t["name"]: t for t in zipped["tests"]}  # no clamp costs the clip part alone (issue 43): hidden passes
+    hidden = every["mapping-node: takes the range from /max_sensor_force (hidden inputs, other values)"]
     assert hidden["visibility"] == "after_published"
     assert _failed(zipped)["mapping-node: clips counts above /max_sensor_force to 1.0 (public trace)"]["visibility"] == "visible"
 

@@ -144,6 +144,15 @@ def _last_lines(text: str, n: int = 6) -> str:
     return "\n".join("    " + line[:300] for line in lines[-n:])
 
 
+def with_box_hints(crash_message: str, facts: ProcessFacts, what: str) -> str:
+    """A crash's feedback, and what the box says about it: a write outside its folder, a fork loop at the process
+    limit (the crash's own lines alone would not say why the call failed while grading)."""
+    hints = [h for h in process_hints(facts) if "NotImplementedError" not in h]
+    crowded = facts.problem if "processes and threads" in facts.problem else ""
+    return (crash_message + ("\nhint: " + "; ".join(hints) if hints else "")
+            + (f"\n{what} {crowded}" if crowded else ""))
+
+
 def explain_process(facts: ProcessFacts, what: str) -> str:
     """'<what> <problem>. <hints>. Its last output: ...'"""
     problem = facts.problem or describe_exit(facts.exit_code)

@@ -22,6 +22,7 @@ from hri_teleop.grading.judge.compare_common import (
     fmt_value,
     judged_part,
     not_judged_part,
+    with_box_hints,
 )
 from hri_teleop.grading.judge.plots import mapping_plot
 from hri_teleop.grading.judge.tracebacks import NOT_JUDGED_CRASH, Crash, crash_text, find_crash
@@ -143,7 +144,7 @@ def _failed_node(facts: NodeFacts, crash: Optional[Crash], template: bool) -> st
     if template:
         return TEMPLATE_MESSAGE
     if crash is not None:
-        return crash_text(crash, NODE)
+        return with_box_hints(crash_text(crash, NODE), facts, NODE)
     return explain_process(facts, NODE)
 
 

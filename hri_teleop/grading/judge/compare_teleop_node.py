@@ -25,6 +25,7 @@ from hri_teleop.grading.judge.compare_common import (
     judged_part,
     not_judged_part,
     process_hints,
+    with_box_hints,
 )
 from hri_teleop.grading.judge.plots import expected_vs_actual
 from hri_teleop.grading.judge.tracebacks import NOT_JUDGED_CRASH, Crash, crash_text, find_crash
@@ -97,7 +98,7 @@ def _fed(observation: TeleopNodeObservation) -> str:
 
 
 def _start_failure(facts: NodeFacts, crash: Optional[Crash]) -> str:
-    return crash_text(crash, NODE) if crash is not None else explain_process(facts, NODE)
+    return with_box_hints(crash_text(crash, NODE), facts, NODE) if crash is not None else explain_process(facts, NODE)
 
 
 def compare_teleop_node(observation: TeleopNodeObservation, case: TeleopNodeCase,
