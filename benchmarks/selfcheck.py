@@ -8,7 +8,6 @@ notebook and the files' checks (measured side by side). A run short of full poin
 
 from __future__ import annotations
 
-import json
 import os
 import re
 import shutil
@@ -21,10 +20,8 @@ from pathlib import Path
 from typing import Callable, Dict, List, Tuple
 
 from benchmarks.report import BenchError, BenchOptions, BenchRow
-from hri_teleop.core.paths import SOLUTIONS
-from hri_teleop.course.bundle import answer_files, assemble_bundle, pack_bundle
-from hri_teleop.course.nodes import STUDENT_PACKAGE
-from hri_teleop.course.release import STUDENT_MAKES_EXECUTABLE, prepare_course_copy
+from hri_teleop.course.bundle import assemble_bundle, pack_bundle
+from hri_teleop.course.release import copy_answer_key, prepare_course_copy
 from hri_teleop.grading.assignments import ASSIGNMENTS
 
 Progress = Callable[[str], None]
@@ -71,31 +68,6 @@ def _make(bundle: Path, *args: str) -> Tuple[float, str]:
     return seconds, output
 
 
-def answer_key_into(bundle: Path, course: Path) -> None:
-    """What a student who knows every answer hands in: the answer key's files and solution cells."""
-    for assignment in ASSIGNMENTS:
-        package = bundle / assignment / STUDENT_PACKAGE
-        for where, text in answer_files().items():
-            relative = Path(where).relative_to(SOLUTIONS)
-            if (package / relative).is_file():
-                (package / relative).write_text(text)
-                if relative.suffix == ".py":
-                    (package / relative).chmod(0o755)
-        for script in STUDENT_MAKES_EXECUTABLE:  # the handout's chmod +x (Ex. 9, Ex. 12 c)
-            if (package / script).is_file():
-                (package / script).chmod(0o755)
-        for notebook in (bundle / assignment).glob("ex*.ipynb"):
-            source = json.loads((course / "source" / assignment / notebook.name).read_text())
-            answers = {c["metadata"]["nbgrader"]["grade_id"]: c["source"] for c in source["cells"]
-                       if c.get("metadata", {}).get("nbgrader", {}).get("solution")}
-            student = json.loads(notebook.read_text())
-            for cell in student["cells"]:
-                grade_id = cell.get("metadata", {}).get("nbgrader", {}).get("grade_id")
-                if grade_id in answers:
-                    cell["source"] = answers[grade_id]
-            notebook.write_text(json.dumps(student))
-
-
 def prepare_bundle(work: Path, progress: Progress) -> Path:
     """The answer key in a bundle as ``make release`` packs it, unpacked and set up."""
     if work.exists():
@@ -110,7 +82,7 @@ def prepare_bundle(work: Path, progress: Progress) -> Path:
     bundle = home / "task4"
     seconds, _ = _make(bundle, "setup")
     progress(f"selfcheck: bundle set up in {seconds:.0f} s (not timed below)")
-    answer_key_into(bundle, course)
+    copy_answer_key(bundle, course)
     return bundle
 
 

@@ -38,7 +38,7 @@ from hri_teleop.grading.cases.templates import generate_templates
 from hri_teleop.grading.run.workspace import DELIVERABLES
 from hri_teleop.ros.kernel import install_kernelspec, ipc_kernel_config
 
-__all__ = [
+__all__ = ["copy_answer_key",
     "REPO", "COURSE_DIR", "SOLUTIONS", "STUDENT_MAKES_EXECUTABLE",
     "student_files", "exclude_overwriting", "link_answer_key", "source_notebooks", "solution_texts",
     "bundle_leaks", "generate_assignments", "build_release", "notebook_output_problems", "strip_outputs",
@@ -307,3 +307,34 @@ def run_course(course: PathLike, jobs: int = 2) -> Dict[str, Dict[str, Any]]:
 def check_course(work_dir: PathLike, course_dir: PathLike = COURSE_DIR, jobs: int = 2) -> Dict[str, Dict[str, Any]]:
     """The whole course checked in a copy under ``work_dir``: :func:`prepare_course_copy`, then :func:`run_course`."""
     return run_course(prepare_course_copy(work_dir, course_dir), jobs)
+
+
+def copy_answer_key(bundle: Path, course: Path) -> None:
+    """What a student who knows every answer hands in, put into an unpacked ``bundle``: the answer key's files
+    (executable where the handout has students chmod +x) and the solution cells of ``course``'s source notebooks
+    (tests and ``make bench`` grade a bundle that gets full marks with it)."""
+    import json  # noqa: PLC0415 - only the tests' and benchmarks' helper reads notebooks here
+
+    from hri_teleop.course.bundle import answer_files  # noqa: PLC0415 - as above
+
+    for assignment in ASSIGNMENTS:
+        package = bundle / assignment / STUDENT_PACKAGE
+        for where, text in answer_files().items():
+            relative = Path(where).relative_to(SOLUTIONS)
+            if (package / relative).is_file():
+                (package / relative).write_text(text)
+                if relative.suffix == ".py":
+                    (package / relative).chmod(0o755)
+        for script in STUDENT_MAKES_EXECUTABLE:  # the handout's chmod +x (Ex. 9, Ex. 12 c)
+            if (package / script).is_file():
+                (package / script).chmod(0o755)
+        for notebook in (bundle / assignment).glob("ex*.ipynb"):
+            source = json.loads((course / "source" / assignment / notebook.name).read_text())
+            answers = {c["metadata"]["nbgrader"]["grade_id"]: c["source"] for c in source["cells"]
+                       if c.get("metadata", {}).get("nbgrader", {}).get("solution")}
+            student = json.loads(notebook.read_text())
+            for cell in student["cells"]:
+                grade_id = cell.get("metadata", {}).get("nbgrader", {}).get("grade_id")
+                if grade_id in answers:
+                    cell["source"] = answers[grade_id]
+            notebook.write_text(json.dumps(student))
