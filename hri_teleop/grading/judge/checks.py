@@ -222,6 +222,21 @@ def grade_teleoperation(path: PathLike, *, seed: Optional[int] = None, out_dir: 
     return finish_check("teleoperation", run, parts, seed, notes)
 
 
+def scripted_pad_launch(node: str, scenario: PathLike) -> str:
+    """The parameter launch file that gives the teleoperation ``node`` the grader's scripted virtual pad."""
+    return ("<launch>\n  <!-- hri-grade: no gamepad here; the teleoperation node gets a scripted virtual pad -->\n"
+            + "".join(f'  <param name="{node}/{k}" type="string" value="{v}"/>\n'
+                      for k, v in (("pad", "virtual"), ("layout", "dualshock4"), ("pad_script", scenario)))
+            + "</launch>\n")
+
+
+def lab_sim_argv(scenario: PathLike) -> List[str]:
+    """The grader's lab_sim (the lab's, trusted) with ``scenario``'s world, its board on the stand-in's topic."""
+    return [str(REPO / "hri_lab" / "scripts" / "lab_sim.py"), "__name:=lab_sim",
+            f"_config:={REPO / 'hri_lab' / 'config' / 'sim.yaml'}", f"_scenario:={scenario}",
+            f"/pub_force:={BOARD_TOPIC}"]
+
+
 def _launch_sim_plan(run: CheckRun, parsed: LaunchParseResult) -> Optional[TeleopLaunchSimPlan]:
     """The ``teleop-launch-sim`` session for a parsed teleoperation.launch; None without a teleoperation node."""
     node = compare.teleop_node_name(parsed)
@@ -233,10 +248,7 @@ def _launch_sim_plan(run: CheckRun, parsed: LaunchParseResult) -> Optional[Teleo
     scenario = grader_dir / "launch-sim.scenario.yaml"
     scenario.write_text(yaml.safe_dump(case.scenario(), sort_keys=False), encoding="utf-8")
     params = grader_dir / "launch-sim.params.launch"
-    params.write_text("<launch>\n  <!-- hri-grade: no gamepad here; the teleoperation node gets a scripted virtual pad -->\n"
-                      + "".join(f'  <param name="{node}/{k}" type="string" value="{v}"/>\n'
-                                for k, v in (("pad", "virtual"), ("layout", "dualshock4"), ("pad_script", scenario)))
-                      + "</launch>\n", encoding="utf-8")
+    params.write_text(scripted_pad_launch(node, scenario), encoding="utf-8")
     for path in (scenario, params):
         if run.uid is not None:
             os.chown(path, run.uid, run.uid)
@@ -252,9 +264,7 @@ def _launch_sim_plan(run: CheckRun, parsed: LaunchParseResult) -> Optional[Teleo
     return TeleopLaunchSimPlan(
         launch_file=str(run.space.file("teleoperation_launch")), params_launch=str(params), teleop_node=node,
         twist_topic=TWIST_TOPIC, supply=supply, set_max_sensor_force=None if param_ok else C.PUBLIC_MAX_SENSOR_FORCE,
-        lab_sim=[str(REPO / "hri_lab" / "scripts" / "lab_sim.py"), "__name:=lab_sim",
-                 f"_config:={REPO / 'hri_lab' / 'config' / 'sim.yaml'}", f"_scenario:={scenario}",
-                 f"/pub_force:={BOARD_TOPIC}"],
+        lab_sim=lab_sim_argv(scenario),
         record=[TWIST_TOPIC, "/force_mapped", "/pub_force", "/gripper_width", "/franka_gripper/joint_states",
                 "/lab_sim/ee_pose", "/lab_sim/object", f"{node}/rumble"],
         start_timeout_s=20.0, run_s=case.quit_s + 12.0, clock=grading_clock(), settle_timeout_s=10.0,

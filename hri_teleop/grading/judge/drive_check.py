@@ -14,12 +14,10 @@ from typing import Any, Dict, List, Sequence, Tuple
 
 import yaml
 
-from hri_teleop.core.paths import REPO
-from hri_teleop.grading.judge.checks import lab_rate_hz
+from hri_teleop.grading.judge.checks import lab_rate_hz, lab_sim_argv, scripted_pad_launch
 from hri_teleop.grading.judge.harness import TWIST_TOPIC, grading_clock, require_ros, start_check
 from hri_teleop.grading.results import CheckResult
 from hri_teleop.grading.run.records import TeleopLaunchSimObservation, TeleopLaunchSimPlan
-from hri_teleop.grading.run.standins import BOARD_TOPIC
 
 __all__ = ["EX10_DRIVE", "POSE_TOPIC", "ex10_plan_files", "ex10_values"]
 
@@ -46,8 +44,7 @@ def ex10_plan_files(grader_dir: Path, uid: Any) -> Tuple[Path, Path, Path]:
     launch.write_text('<launch>\n  <node pkg="hri_lab" type="teleoperation.py" name="teleoperation" output="screen"/>\n'
                       "</launch>\n", encoding="utf-8")
     params = grader_dir / "ex10.params.launch"
-    params.write_text("<launch>\n" + "".join(f'  <param name="{_NODE}/{k}" type="string" value="{v}"/>\n' for k, v in (
-        ("pad", "virtual"), ("layout", "dualshock4"), ("pad_script", scenario))) + "</launch>\n", encoding="utf-8")
+    params.write_text(scripted_pad_launch(_NODE, scenario), encoding="utf-8")
     for path in (scenario, launch, params):
         if uid is not None:
             os.chown(path, uid, uid)
@@ -81,9 +78,7 @@ def ex10_values(folder: Path, timeout_s: float = 90.0) -> Dict[str, Any]:
         plan = TeleopLaunchSimPlan(
             launch_file=str(launch), params_launch=str(params), teleop_node=_NODE, twist_topic=TWIST_TOPIC,
             supply={}, set_max_sensor_force=None,
-            lab_sim=[str(REPO / "hri_lab" / "scripts" / "lab_sim.py"), "__name:=lab_sim",
-                     f"_config:={REPO / 'hri_lab' / 'config' / 'sim.yaml'}", f"_scenario:={scenario}",
-                     f"/pub_force:={BOARD_TOPIC}"],
+            lab_sim=lab_sim_argv(scenario),
             record=[POSE_TOPIC], start_timeout_s=20.0, run_s=_RUN_S, clock=grading_clock(), settle_timeout_s=10.0,
             applied_topic="/lab_sim/command_time_s", sensor_chain=[], expect_nodes=[_NODE],
             default_rate_hz=lab_rate_hz())
