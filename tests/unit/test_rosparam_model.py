@@ -204,3 +204,12 @@ def test_a_failing_command_leaves_a_note_and_the_ones_after_it_run():
     assert value_at(tree, "/y") == (True, 1) and value_at(tree, "/x") == (False, None)
     assert notes == ["`rosparam set /x` fails: rosparam set: give a parameter name and a value"]
     assert dumps == []
+
+
+def test_a_python_tag_in_a_value_runs_nothing_and_is_refused_as_rosparam_refuses_it(tmp_path):
+    marker = tmp_path / "ran"
+    _tree, _dumps, notes = work_out([["rosparam", "set", "/x", f"!!python/object/apply:os.system ['touch {marker}']"],
+                                     ["rosparam", "load", "evil.yaml"]], YAML,
+                                    _files({"evil.yaml": f"x: !!python/object/apply:os.system ['touch {marker}']\n"}))
+    assert not marker.exists()
+    assert len(notes) == 2 and all("not YAML rosparam reads" in n for n in notes), notes
