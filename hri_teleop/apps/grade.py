@@ -23,6 +23,7 @@ from hri_teleop.grading.batch.late import LateError
 from hri_teleop.grading.batch.nbgrader_batch import grade_course, refresh_course
 from hri_teleop.grading.cases.templates import TemplateError, generate_templates
 from hri_teleop.grading.cases.tracefiles import TRACE_DIR, write_traces
+from hri_teleop.grading.exercises.registry import exercise, exercises
 from hri_teleop.grading.judge.checks import CHECKS, default_check_jobs, grade, grade_submission
 from hri_teleop.grading.results import CheckResult, GradingError, feedback_text, gradescope_json
 from hri_teleop.grading.run.sandbox import SandboxError, sandbox_mode
@@ -44,7 +45,7 @@ def _parser() -> argparse.ArgumentParser:
         p.add_argument("--json", action="store_true", help="print the Gradescope results JSON")
         p.add_argument("--seed", type=int, default=None, help="seed of the hidden inputs (default: $HRI_GRADE_SEED, else from the folder)")
         p.add_argument("--out", default=None, help="where plots, logs and results go (default: a new temp folder)")
-        if name in ("submission", "graph"):
+        if name == "submission" or (name in CHECKS and "graph_cache" in exercise(name).grade_kwargs):
             p.add_argument("--graph-cache", default=None,
                            help="file with the lab's live graph (read if it exists, else written)")
         if name == "submission":
@@ -100,7 +101,8 @@ def main(argv: Optional[List[str]] = None) -> int:
 
     try:
         if args.command == "traces":
-            for path in write_traces(Path(args.out) if args.out else TRACE_DIR):
+            traces = {name: build for found in exercises() for name, build in found.public_traces.items()}
+            for path in write_traces(Path(args.out) if args.out else TRACE_DIR, traces):
                 print(path)
             return EXIT_PASSED
         if args.command == "templates":
@@ -141,7 +143,7 @@ def main(argv: Optional[List[str]] = None) -> int:
             results = grade_submission(args.path, seed=args.seed, out_dir=out_dir, checks=checks or tuple(CHECKS),
                                        graph_cache=Path(args.graph_cache) if args.graph_cache else None,
                                        jobs=args.jobs if args.jobs is not None else default_check_jobs(os.cpu_count()))
-        elif args.command == "graph":
+        elif "graph_cache" in exercise(args.command).grade_kwargs:
             results = [grade(args.command, args.path, seed=args.seed, out_dir=out_dir,
                              graph_cache=Path(args.graph_cache) if args.graph_cache else None)]
         else:

@@ -7,35 +7,15 @@ deliverable's points are counted once, with the files (:mod:`hri_teleop.grading.
 
 from __future__ import annotations
 
-import dataclasses
 from pathlib import Path
-from typing import Any, Set, Union
+from typing import Any, Callable, Dict, Union
 
-from hri_teleop.grading.judge.checks import (
-    grade_mapping_node,
-    grade_robot_params,
-    grade_sensor_launch,
-    grade_teleoperation,
-    grade_teleoperation_launch,
-)
-from hri_teleop.grading.judge.compare import TELEOP
-from hri_teleop.grading.judge.graph import grade_graph
-from hri_teleop.grading.judge.package_check import grade_catkin_package
+from hri_teleop.grading.exercises.registry import exercises
 from hri_teleop.grading.results import CheckResult, feedback_text
 
-__all__ = ["robot_params", "mapping_node", "sensor_launch", "teleoperation_parts", "teleoperation_node",
-           "catkin_package", "teleoperation_launch", "graph"]
+__all__ = ["score", "POINTS_NOTE", "KEEPS_RESULT", "calls"]
 
 PathLike = Union[str, Path]
-
-#: The functions below whose check cell runs its whole check as the files' half of ``make check`` runs it
-#: (the package alone, no other argument), so that the files' half takes the cell's result
-#: (:mod:`hri_teleop.grading.judge.reuse`). ``teleoperation_parts`` (Ex. 8, no node) and
-#: ``catkin_package`` (one exercise's parts) judge less than their check: the files' half runs those.
-KEEPS_RESULT = {"robot_params": "robot-params", "mapping_node": "mapping-node", "sensor_launch": "sensor-launch",
-                "teleoperation_node": "teleoperation", "teleoperation_launch": "teleoperation-launch",
-                "graph": "graph"}
-
 
 #: The last line a check cell prints: where its points count (hri_teleop.grading.points).
 POINTS_NOTE = ("these points are your hri_lab files': the course counts them once, with the files you hand in "
@@ -53,62 +33,28 @@ def score(result: CheckResult) -> float:
     return float(result.score)
 
 
-def _node_part_names() -> Set[str]:
-    return {name for key, (name, _points) in TELEOP.items() if key.startswith("node_")}
+def calls() -> Dict[str, Callable[..., CheckResult]]:
+    """The names a notebook's check cell calls (``check.mapping_node(PACKAGE)``) -> the result they show:
+    each exercise's ``notebook_calls``."""
+    return {name: call for found in exercises() for name, call in found.notebook_calls.items()}
 
 
-def teleoperation_parts_result(package: PathLike, **kwargs: Any) -> CheckResult:
-    """Ex. 8: the teleoperation check's parts of the class (gripper, sticks, toggle, rumble), no ROS node."""
-    result = grade_teleoperation(package, node=False, **kwargs)
-    node = _node_part_names()
-    return dataclasses.replace(result, parts=[p for p in result.parts if p.name not in node])
+#: The calls whose check cell runs its whole check as the files' half of ``make check`` runs it (the
+#: package alone, no other argument), so that the files' half takes the cell's result
+#: (:mod:`hri_teleop.grading.judge.reuse`); the others (Ex. 8's class alone, one exercise's catkin parts)
+#: judge less than their check: the files' half runs those. call name -> its check.
+KEEPS_RESULT: Dict[str, str] = {name: found.check for found in exercises() for name in found.whole_check_calls}
 
 
-def teleoperation_node_result(package: PathLike, **kwargs: Any) -> CheckResult:
-    """Ex. 9: the teleoperation check's parts of the ROS node (topics, types, values with the virtual pad)."""
-    result = grade_teleoperation(package, **kwargs)
-    node = _node_part_names()
-    failed_ex8 = [p.name for p in result.parts if p.name not in node and not p.passed]
-    notes = tuple(result.notes) + ((f"Ex. 8 parts still failing (see notebook 08): {'; '.join(failed_ex8)}",)
-                                   if failed_ex8 else ())
-    return dataclasses.replace(result, parts=[p for p in result.parts if p.name in node], notes=notes)
+def __getattr__(name: str) -> Callable[..., float]:
+    """``check.<call>(package, ...)``: the exercise's check, its feedback printed, its points returned."""
+    call = calls().get(name)
+    if call is None:
+        raise AttributeError(f"module {__name__!r} has no attribute {name!r}")
 
+    def cell(package: PathLike, *args: Any, **kwargs: Any) -> float:
+        return score(call(package, *args, **kwargs))
 
-def robot_params(package: PathLike) -> float:
-    """Ex. 4: ``config/robot_params.yaml`` loads with rosparam and holds Table 1."""
-    return score(grade_robot_params(package))
-
-
-def mapping_node(package: PathLike) -> float:
-    """Ex. 5: ``scripts/mapping_node.py`` run as a node, fed counts, its /force_mapped compared."""
-    return score(grade_mapping_node(package))
-
-
-def sensor_launch(package: PathLike) -> float:
-    """Ex. 6-7: ``launch/sensor.launch`` launched, its nodes and parameters and /force_mapped."""
-    return score(grade_sensor_launch(package))
-
-
-def teleoperation_parts(package: PathLike) -> float:
-    """Ex. 8: the Teleoperation class of ``scripts/teleoperation.py``, without ROS."""
-    return score(teleoperation_parts_result(package))
-
-
-def teleoperation_node(package: PathLike) -> float:
-    """Ex. 9: ``scripts/teleoperation.py`` as a ROS node driven by the virtual pad."""
-    return score(teleoperation_node_result(package))
-
-
-def catkin_package(package: PathLike, exercise: int) -> float:
-    """Ex. 9 and 12: the scripts executable and listed in ``CMakeLists.txt``."""
-    return score(grade_catkin_package(package, exercise=exercise))
-
-
-def teleoperation_launch(package: PathLike) -> float:
-    """Ex. 12-13: ``launch/teleoperation.launch`` launched with the simulated lab in place of the hardware."""
-    return score(grade_teleoperation_launch(package))
-
-
-def graph(package: PathLike) -> float:
-    """Ex. 15: ``graph.yaml``, the student's flowchart, against the running pipeline."""
-    return score(grade_graph(package))
+    cell.__name__ = name
+    cell.__doc__ = call.__doc__
+    return cell

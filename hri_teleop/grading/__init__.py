@@ -1,10 +1,11 @@
 """The autograder of handout Task 4: student files checked against the lab's reference rules.
 
 Entry points (grading/README.md): ``hri-grade`` (``apps/grade.py``; its ``traces`` and ``templates`` write the
-public traces and the student templates), ``make grade`` (``batch``) and the names below: ``grade_*`` return a
-check's result, ``check_*`` raise AssertionError with the student's feedback unless every part passes (the
-notebooks' checks are ``hri_teleop.course.check``). No lab node imports it; rospy is needed only by the parts
-that run ROS. The names below are imported when first used, so a grading session or probe
+public traces and the student templates), ``make grade`` (``batch``) and the names below: ``grade`` returns a
+check's result, ``check`` raises AssertionError with the student's feedback unless every part passes (the
+notebooks' checks are ``hri_teleop.course.check``). Each deliverable's check lives in its module of
+``exercises`` (docs/adding-an-exercise.md). No lab node imports it; rospy is needed only by the parts that
+run ROS. The names below are imported when first used, so a grading session or probe
 (``hri_teleop.grading.run``) does not load the checks (0.2 s of CPU per process).
 """
 
@@ -14,39 +15,16 @@ import importlib
 from typing import TYPE_CHECKING, Any, Dict
 
 if TYPE_CHECKING:
-    from hri_teleop.grading.judge.checks import (
-        CHECKS,
-        check_graph,
-        check_mapping_node,
-        check_robot_params,
-        check_sensor_launch,
-        check_teleoperation,
-        check_teleoperation_launch,
-        grade,
-        grade_mapping_node,
-        grade_robot_params,
-        grade_sensor_launch,
-        grade_submission,
-        grade_teleoperation,
-        grade_teleoperation_launch,
-    )
-    from hri_teleop.grading.judge.graph import grade_graph
-    from hri_teleop.grading.judge.package_check import grade_catkin_package
+    from hri_teleop.grading.judge.checks import CHECKS, check, grade, grade_submission
     from hri_teleop.grading.results import CheckResult, GradingError, Part, feedback_text, gradescope_json
 
-__all__ = [
-    "CHECKS", "CheckResult", "GradingError", "Part", "feedback_text", "gradescope_json", "grade", "grade_submission",
-    "grade_robot_params", "grade_mapping_node", "grade_sensor_launch", "grade_teleoperation",
-    "grade_teleoperation_launch", "grade_graph", "grade_catkin_package", "check_robot_params", "check_mapping_node", "check_sensor_launch",
-    "check_teleoperation", "check_teleoperation_launch", "check_graph",
-]
+__all__ = ["CHECKS", "CheckResult", "GradingError", "Part", "feedback_text", "gradescope_json", "grade", "check",
+           "grade_submission"]
 
 _RESULTS = ("CheckResult", "GradingError", "Part", "feedback_text", "gradescope_json")
 #: Where each name of ``__all__`` lives.
 _HOME: Dict[str, str] = {name: "hri_teleop.grading.judge.checks" for name in __all__ if name not in _RESULTS}
 _HOME.update({name: "hri_teleop.grading.results" for name in _RESULTS})
-_HOME.update({"grade_graph": "hri_teleop.grading.judge.graph",
-              "grade_catkin_package": "hri_teleop.grading.judge.package_check"})
 
 
 def __getattr__(name: str) -> Any:

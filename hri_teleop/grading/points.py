@@ -16,10 +16,8 @@ from pathlib import Path
 from typing import Any, Dict, Iterable, List, Mapping, Optional, Sequence, Tuple
 
 from hri_teleop.grading.assignments import ASSIGNMENT_CHECKS
-from hri_teleop.grading.judge.compare_common import GRAPH, MAPPING, SENSOR_LAUNCH, TELEOP, TELEOP_LAUNCH
+from hri_teleop.grading.exercises import registry
 from hri_teleop.grading.judge.notebook_answers import has_rule
-from hri_teleop.grading.judge.package_check import CATKIN_PACKAGE
-from hri_teleop.grading.judge.robot_params import part_table
 
 __all__ = ["POINTS_LIVE_IN", "CheckCell", "CHECK_CELLS", "CHECK_CALL", "part_tables", "check_points",
            "files_points", "is_check_cell", "check_cell_problems", "assignment_points"]
@@ -38,6 +36,8 @@ class CheckCell:
     notebook: str
     grade_id: str
     check: str
+    #: the keys of the check's parts the cell shows (empty: all of them)
+    parts: Tuple[str, ...] = ()
 
 
 #: Every check cell of the course (the notebooks' metadata follows this table: a test says so).
@@ -45,10 +45,13 @@ CHECK_CELLS: Tuple[CheckCell, ...] = (
     CheckCell("preparation", "ex04_robot_params", "ex4_file", "robot-params"),
     CheckCell("preparation", "ex05_mapping_node", "ex5_node", "mapping-node"),
     CheckCell("preparation", "ex06_07_sensor_launch", "ex6_launch", "sensor-launch"),
-    CheckCell("lab", "ex08_gamepad_commands", "ex8_parts", "teleoperation"),
-    CheckCell("lab", "ex09_teleoperation_node", "ex9_package", "catkin-package"),
-    CheckCell("lab", "ex09_teleoperation_node", "ex9_node", "teleoperation"),
-    CheckCell("lab", "ex12_13_teleoperation_launch", "ex12_package", "catkin-package"),
+    CheckCell("lab", "ex08_gamepad_commands", "ex8_parts", "teleoperation",
+              ("import", "gripper", "twist", "toggle", "rumble")),
+    CheckCell("lab", "ex09_teleoperation_node", "ex9_package", "catkin-package", ("teleop_executable", "teleop_cmake")),
+    CheckCell("lab", "ex09_teleoperation_node", "ex9_node", "teleoperation",
+              ("node_start", "node_twist_topic", "node_width_topic", "node_twist", "node_width", "node_rumble",
+               "node_quit")),
+    CheckCell("lab", "ex12_13_teleoperation_launch", "ex12_package", "catkin-package", ("gm_executable", "gm_cmake")),
     CheckCell("lab", "ex12_13_teleoperation_launch", "ex12_launch", "teleoperation-launch"),
     CheckCell("lab", "ex15_computation_graph", "ex15_graph", "graph"),
 )
@@ -56,9 +59,7 @@ CHECK_CELLS: Tuple[CheckCell, ...] = (
 
 def part_tables() -> Dict[str, Dict[str, Tuple[str, float]]]:
     """check -> part key -> (part name as students see it, points), for every check."""
-    return {"robot-params": part_table(), "mapping-node": MAPPING, "sensor-launch": SENSOR_LAUNCH,
-            "teleoperation": TELEOP, "teleoperation-launch": TELEOP_LAUNCH, "graph": GRAPH,
-            "catkin-package": CATKIN_PACKAGE}
+    return {check: dict(table) for check, table in registry.part_tables().items()}
 
 
 def check_points(check: str) -> float:

@@ -24,8 +24,8 @@ from hri_teleop.grading.batch.class_results import read_summary, write_rows, wri
 from hri_teleop.grading.batch.finish import check_policy, find_late_policy, finish
 from hri_teleop.grading.batch.report_data import FILES_ONLY
 from hri_teleop.grading.cases.inputs import student_seed
+from hri_teleop.grading.exercises.registry import exercises
 from hri_teleop.grading.judge import reuse
-from hri_teleop.grading.judge.graph import live_graph
 from hri_teleop.grading.run.jobs import (
     Progress,
     Run,
@@ -152,16 +152,20 @@ def grade_one(folder: Path, out: Path, graph_cache: Optional[Path], checks: Opti
 
 
 def live_graph_cache(out: Path, checks: Optional[Sequence[str]]) -> Optional[Path]:
-    """The graph of the lab's pipeline, computed once into ``out`` for every submission's ``graph`` check.
+    """What a check reads in every submission (the lab's live graph), computed once into ``out`` by the
+    exercise's ``batch_cache``; handed to each ``hri-grade`` as ``--graph-cache``.
 
-    None when ``checks`` leaves ``graph`` out.
+    None when ``checks`` (None or empty: all) leaves every exercise with a ``batch_cache`` out.
     """
-    if checks and "graph" not in checks:
+    caching = [e for e in exercises() if e.batch_cache is not None and (not checks or e.check in checks)]
+    if not caching:
         return None
     cache = out / "live_graph.json"
     if cache.exists():
         cache.unlink()  # the lab's graph of today, not of an earlier run
-    live_graph(cache)
+    for found in caching:
+        assert found.batch_cache is not None  # for mypy: filtered above
+        found.batch_cache(cache)
     return cache
 
 

@@ -445,7 +445,7 @@ def grade_course(course: Path, submitted: Path, out: Path, jobs: Optional[int] =
     files_checks = {a: [c for c in ASSIGNMENT_CHECKS.get(a, ()) if not checks or c in checks] for a in assignments}
     sandbox_mode()  # says once, up front, when bubblewrap is missing
     wanted = sorted({c for cs in files_checks.values() for c in cs})
-    graph_cache = live_graph_cache(out, wanted) if "graph" in wanted else None
+    graph_cache = live_graph_cache(out, wanted) if wanted else None
     students = sorted({s for s, _a in pairs} | set(empty))
     db_lock = threading.Lock()
 

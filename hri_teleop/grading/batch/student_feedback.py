@@ -20,9 +20,7 @@ from pathlib import Path
 from typing import Any, Callable, Dict, FrozenSet, Iterable, List, Mapping, Optional, Sequence, Set, Tuple
 
 from hri_teleop.core.paths import REPO
-from hri_teleop.grading.judge.compare_common import TELEOP
-from hri_teleop.grading.judge.package_check import CATKIN_PACKAGE, EXERCISE_PARTS
-from hri_teleop.grading.points import CHECK_CELLS, CheckCell
+from hri_teleop.grading.points import CHECK_CELLS, CheckCell, part_tables
 from hri_teleop.grading.results import CheckResult, feedback_text
 
 __all__ = ["BLOCK_ID", "shown_parts", "notebook_results", "without_grader_paths", "files_block", "mark_page",
@@ -41,13 +39,10 @@ _END = r"\s'\"<>&,;:()\[\]{}|`"
 
 def shown_parts(cell: CheckCell) -> Optional[FrozenSet[str]]:
     """The names of the parts a check cell shows (None: all of its check's), as hri_teleop.course.check splits them."""
-    if cell.check == "teleoperation":
-        node = frozenset(name for key, (name, _p) in TELEOP.items() if key.startswith("node_"))
-        return node if cell.grade_id == "ex9_node" else frozenset(n for n, _p in TELEOP.values()) - node
-    if cell.check == "catkin-package":
-        exercise = int(re.match(r"ex(\d+)", cell.grade_id).group(1))  # type: ignore[union-attr]
-        return frozenset(CATKIN_PACKAGE[key][0] for key in EXERCISE_PARTS[exercise])
-    return None
+    if not cell.parts:
+        return None
+    table = part_tables()[cell.check]
+    return frozenset(table[key][0] for key in cell.parts)
 
 
 def notebook_results(assignment: str, results: Sequence[CheckResult],

@@ -11,16 +11,12 @@ from __future__ import annotations
 from dataclasses import dataclass
 from typing import Any, Dict, List, Mapping, Optional, Sequence, Tuple
 
+from hri_teleop.grading.exercises.registry import checks, exercise
 from hri_teleop.grading.points import part_tables
 from hri_teleop.grading.results import CheckResult, gradescope_json
 
-__all__ = ["HIDDEN_INPUT_PARTS", "Unjudged", "part_tables", "visibility", "results_payload"]
+__all__ = ["Unjudged", "part_tables", "visibility", "results_payload"]
 
-#: check -> keys of its parts whose verdict rests on hidden inputs only (the seeded cases).
-HIDDEN_INPUT_PARTS: Dict[str, Tuple[str, ...]] = {
-    "mapping-node": ("hidden",),
-    "teleoperation": ("node_twist", "node_width", "node_rumble", "node_quit"),
-}
 VISIBLE, AFTER_PUBLISHED = "visible", "after_published"
 
 
@@ -35,7 +31,8 @@ class Unjudged:
 def visibility(check: str, part_name: str) -> str:
     """``after_published`` for a part judged on hidden inputs only, else ``visible``."""
     table = part_tables().get(check, {})
-    hidden_names = {table[key][0] for key in HIDDEN_INPUT_PARTS.get(check, ()) if key in table}
+    hidden = exercise(check).hidden_parts if check in checks() else ()
+    hidden_names = {table[key][0] for key in hidden if key in table}
     return AFTER_PUBLISHED if part_name in hidden_names else VISIBLE
 
 

@@ -9,7 +9,6 @@ import math
 import re
 from typing import Any, Dict, List, Optional, Sequence, Tuple
 
-from hri_teleop.core.gripper import GRIPPER_MAX_WIDTH_M
 from hri_teleop.grading.results import Part, not_judged
 from hri_teleop.grading.run.records import ProcessFacts
 from hri_teleop.grading.run.sandbox import OUTPUT_CAP_BYTES, describe_exit
@@ -18,52 +17,6 @@ from hri_teleop.grading.run.sandbox import OUTPUT_CAP_BYTES, describe_exit
 TOLERANCE = 1e-6
 TWIST_TOLERANCE = 1e-9
 
-# Part names and points, per check (names are what students see; tests refer to the keys).
-MAPPING: Dict[str, Tuple[str, float]] = {
-    "sub": ("subscribes /pub_force with the type the sensor publishes", 3),
-    "pub": ("publishes /force_mapped, one message per count", 3),
-    "type": ("/force_mapped is std_msgs/Float32", 2),
-    "values": ("maps 0../max_sensor_force to 0..1 (public trace, /max_sensor_force = 700)", 4),
-    "clip": ("clips counts above /max_sensor_force to 1.0 (public trace)", 3),
-    "hidden": ("takes the range from /max_sensor_force (hidden inputs, other values)", 5),
-}
-TELEOP: Dict[str, Tuple[str, float]] = {
-    # 0 points: the template already builds (the constructor is given); it gates the parts below.
-    "import": ("imports and builds Teleoperation(rate, k_trans, k_rot, k_gripper, deadzone)", 0),
-    "gripper": ("gripper width: k_gripper / rate per tick while cross/circle is held, within "
-                f"0..{GRIPPER_MAX_WIDTH_M:g} m", 3),
-    "twist": ("sticks -> cartesian_velocity with the dead zone and k_trans / k_rot", 4),
-    "toggle": ("triangle toggles translation <-> rotation once per press", 2),
-    "rumble": ("rumble from the mapped force, limited to 0..1", 2),
-    "node_start": ("node: starts and subscribes /force_mapped (std_msgs/Float32)", 2),
-    "node_twist_topic": ("node: publishes geometry_msgs/Twist on /cartesian_velocity_controller/cmd_vel", 2),
-    "node_width_topic": ("node: publishes std_msgs/Float32 on /gripper_width", 2),
-    "node_twist": ("node: the published twist follows the sticks", 2),
-    "node_width": ("node: the published gripper width follows cross", 1),
-    "node_rumble": ("node: the rumble follows /force_mapped", 1),
-    "node_quit": ("node: square brings the twist to zero and ends the node", 1),
-}
-SENSOR_LAUNCH: Dict[str, Tuple[str, float]] = {
-    "parse": ("parses with roslaunch", 1),
-    "nodes": ("starts FSR_sensor.py and mapping_node.py", 3),
-    "param": ("sets /max_sensor_force (a count, 0 < value <= 1023)", 2),
-    "yaml": ("Ex. 7 (voluntary): loads config/robot_params.yaml", 0),
-    "flow": ("launched: /force_mapped flows as std_msgs/Float32 and stays in [0, 1]", 4),
-}
-TELEOP_LAUNCH: Dict[str, Tuple[str, float]] = {
-    "parse": ("parses with roslaunch", 1),
-    "nodes": ("starts teleoperation.py, gripper_manager.py and mapping_node.py", 3),
-    "serial": ("starts rosserial_python's serial_node.py with ~port /dev/ttyACM0 (a string)", 2),
-    "param": ("sets /max_sensor_force (a count, 0 < value <= 1023)", 2),
-    "include": ("includes franka_control's franka_control_cartesian_velocity.launch", 2),
-    "sim": ("launched in simulation: the pad moves the arm, closes the hand, and the force reaches /force_mapped", 4),
-}
-GRAPH: Dict[str, Tuple[str, float]] = {
-    "format": ("graph.yaml has a list of nodes and a mapping of topics", 1),
-    "nodes": ("the pipeline's nodes", 2),
-    "types": ("the pipeline's topics and their message types", 3),
-    "links": ("who publishes and who subscribes each topic", 3),
-}
 
 STUDENT_PACKAGES = ("hri_lab", "ros_intro")  # the handout has Ex. 2-6 done in ros_intro
 

@@ -14,8 +14,9 @@ from typing import Any, Dict, List, Sequence, Tuple
 
 import yaml
 
-from hri_teleop.grading.judge.checks import lab_rate_hz, lab_sim_argv, scripted_pad_launch
+from hri_teleop.grading.exercises.registry import by_file
 from hri_teleop.grading.judge.harness import TWIST_TOPIC, grading_clock, require_ros, start_check
+from hri_teleop.grading.judge.lab_sim import lab_rate_hz, lab_sim_argv, scripted_pad_launch
 from hri_teleop.grading.results import CheckResult
 from hri_teleop.grading.run.records import TeleopLaunchSimObservation, TeleopLaunchSimPlan
 
@@ -31,6 +32,8 @@ EX10_DRIVE: Tuple[Dict[str, Any], ...] = (
 #: Where the simulated arm says where its hand is ([x, y, z] in the recorder's words).
 POSE_TOPIC = "/lab_sim/ee_pose"
 _NODE = "/teleoperation"
+#: The file Ex. 10 drives: the node the student wrote in Ex. 9.
+NODE_FILE = "scripts/teleoperation.py"
 _RUN_S = 4.0  # s on the grader's clock: the stick is let go at 1.5 s, the arm at rest well before 4 s
 
 
@@ -70,7 +73,7 @@ def ex10_values(folder: Path, timeout_s: float = 90.0) -> Dict[str, Any]:
     """The values the rule of ``ex10_drives`` judges (``z_start_m``, ``z_m``), measured by the grader with the
     submission's teleoperation.py in ``folder``; ``{"not_judged": why}`` when it could not measure them."""
     require_ros()
-    run, _seed = start_check("teleoperation", folder, None, None)
+    run, _seed = start_check(by_file(NODE_FILE), folder, None, None)
     if isinstance(run, CheckResult):
         return {"not_judged": "the grader found no teleoperation.py in your hri_lab/scripts to drive (Ex. 9)"}
     try:

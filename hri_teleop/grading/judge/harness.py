@@ -20,12 +20,16 @@ from pathlib import Path
 from typing import Any, Callable, Dict, List, Optional, Sequence, Tuple, Type, TypeVar, Union
 
 from hri_teleop.core.config import DEFAULT_TWIST_TOPIC
+from hri_teleop.core.paths import SOLUTIONS
 from hri_teleop.grading.cases import inputs as C
-from hri_teleop.grading.judge import compare, reuse
+from hri_teleop.grading.cases.templates import TemplateError, kind_of, make_template
+from hri_teleop.grading.exercises.exercise import Exercise
+from hri_teleop.grading.judge import reuse
 from hri_teleop.grading.judge.reference_guard import reference_uses, refusal
-from hri_teleop.grading.judge.robot_params import part_table
+from hri_teleop.grading.judge.tracebacks import is_template
 from hri_teleop.grading.results import CheckResult, GradingError, Part, not_judged
 from hri_teleop.grading.run.records import (
+    ClockedObservation,
     LaunchParseResult,
     Obs,
     ProbeResult,
@@ -263,23 +267,31 @@ def run_session_plan(context: SessionContext, plan: SessionPlan[Obs], session_di
     return observation.from_json(json.loads(out.read_text(encoding="utf-8")))
 
 
-def missing_result(check: str, key: str, table: Dict[str, Tuple[str, float]], root: Path, seed: Optional[int]) -> CheckResult:
-    sub = DELIVERABLES[key]
-    entries = list(table.values())
+def missing_result(exercise: Exercise, root: Path, seed: Optional[int]) -> CheckResult:
+    """Every part failed: the deliverable is not in the package."""
+    sub = DELIVERABLES[exercise.key]
+    entries = list(exercise.parts.values())
     parts = [Part(entries[0][0], entries[0][1], False, f"{sub} was not found in {root}: put it at {sub} in your "
                                                         "hri_lab package")]
     parts += [not_judged(name, points, f"{sub} was not found") for name, points in entries[1:]]
-    return CheckResult(check, str(root / sub), parts, seed)
+    return CheckResult(exercise.check, str(root / sub), parts, seed if exercise.hidden_inputs else None)
 
 
-def refused_result(check: str, key: str, table: Dict[str, Tuple[str, float]], root: Path, reason: str,
-                   seed: Optional[int]) -> CheckResult:
+def refused_result(exercise: Exercise, root: Path, reason: str, seed: Optional[int]) -> CheckResult:
     """Every part failed: the deliverable is a link, a special file or too large (``reason``); nothing of it read."""
-    sub = DELIVERABLES[key]
-    entries = list(table.values())
+    sub = DELIVERABLES[exercise.key]
+    entries = list(exercise.parts.values())
     parts = [Part(entries[0][0], entries[0][1], False, reason)]
     parts += [not_judged(name, points, f"{sub} was not read (see above)") for name, points in entries[1:]]
-    return CheckResult(check, str(root / sub), parts, seed)
+    return CheckResult(exercise.check, str(root / sub), parts, seed if exercise.hidden_inputs else None)
+
+
+def deliverable_key(sub: str) -> str:
+    """The key of the deliverable at ``sub`` in the package (``scripts/mapping_node.py`` -> its exercise's key)."""
+    for key, path in DELIVERABLES.items():
+        if path == sub:
+            return key
+    raise GradingError(f"{sub} is no deliverable of the course (hri_teleop/grading/exercises lists them)")
 
 
 def resolve_deliverable(path: PathLike, key: str) -> Tuple[Path, Optional[Path], Optional[Path], str]:
@@ -298,66 +310,52 @@ def resolve_deliverable(path: PathLike, key: str) -> Tuple[Path, Optional[Path],
     return root, None, found, refusal_for(root, key, found)
 
 
-def finish_check(check: str, run: CheckRun, parts: List[Part], seed: Optional[int], notes: Sequence[str] = ()) -> CheckResult:
-    target = run.space.originals.get(_KEY[check])
+def finish_check(exercise: Exercise, run: CheckRun, parts: List[Part], notes: Sequence[str] = (),
+                 seed: Optional[int] = None) -> CheckResult:
+    """The result of a check that ran (``seed``: named in it when the exercise has hidden inputs)."""
+    target = run.space.originals.get(exercise.key)
     mode = sandbox_mode(warn=False)
     all_notes = list(notes) + ([] if mode == "bwrap" else ["student code ran without bubblewrap (limits only)"])
     if run.space.substituted:
         names = ", ".join(Path(DELIVERABLES[k]).name for k in run.space.substituted)
         all_notes.append(f"ran the lab's {names} in place of yours: each is graded in its own check, so a mistake "
                          "there costs points there only")
-    result = CheckResult(check, str(target) if target else "", parts, seed, time.monotonic() - run.started,
-                         tuple(all_notes))
+    result = CheckResult(exercise.check, str(target) if target else "", parts,
+                         seed if exercise.hidden_inputs else None, time.monotonic() - run.started, tuple(all_notes))
     run.close()
     return result
 
 
-#: Other exercises' deliverables a check's run needs: the lab's versions stand in for the student's.
-_REFERENCE_FOR: Dict[str, Tuple[str, ...]] = {"sensor-launch": ("mapping_node", "robot_params"),
-                                              "teleoperation-launch": ("mapping_node", "teleoperation")}
-_KEY = {"robot-params": "robot_params", "mapping-node": "mapping_node", "sensor-launch": "sensor_launch",
-        "teleoperation": "teleoperation", "teleoperation-launch": "teleoperation_launch", "graph": "graph"}
-
-
-def table_for(check: str) -> Dict[str, Tuple[str, float]]:
-    """A check's parts: key -> (part name, points)."""
-    if check == "robot-params":
-        return part_table()
-    return {"mapping-node": compare.MAPPING, "sensor-launch": compare.SENSOR_LAUNCH, "teleoperation": compare.TELEOP,
-            "teleoperation-launch": compare.TELEOP_LAUNCH, "graph": compare.GRAPH}[check]
-
-
-def start_check(check: str, path: PathLike, out_dir: Optional[PathLike], seed: Optional[int]
-           ) -> Tuple[Union[CheckRun, CheckResult], int]:
+def start_check(exercise: Exercise, path: PathLike, out_dir: Optional[PathLike], seed: Optional[int]
+                ) -> Tuple[Union[CheckRun, CheckResult], int]:
     """(the check's run, or its result when the file is missing: every part failed; the seed)."""
-    key = _KEY[check]
+    key = exercise.key
     root, given, found, refused = resolve_deliverable(path, key)
     seed = C.default_seed(root) if seed is None else int(seed)
-    hidden = check in ("mapping-node", "teleoperation")
     if refused:
-        return refused_result(check, key, table_for(check), root, refused, seed if hidden else None), seed
+        return refused_result(exercise, root, refused, seed), seed
     if found is None:
-        return missing_result(check, key, table_for(check), root, seed if hidden else None), seed
+        return missing_result(exercise, root, seed), seed
     sandbox_mode()  # says once when bubblewrap is missing
-    return CheckRun(check, root if given is None else given, out_dir, key, given or found,
-                reference=_REFERENCE_FOR.get(check, ())), seed
+    stand_ins = [k for k, sub in DELIVERABLES.items() if sub in exercise.lab_stand_ins]
+    return CheckRun(exercise.check, root if given is None else given, out_dir, key, given or found,
+                    reference=stand_ins), seed
 
 
-def refuse_reference(run: CheckRun, check: str, table: Dict[str, Tuple[str, float]], seed: Optional[int]
-                      ) -> Optional[CheckResult]:
+def refuse_reference(run: CheckRun, exercise: Exercise, seed: Optional[int]) -> Optional[CheckResult]:
     """Every part failed when the student's file uses the lab's reference rules (None: it does not)."""
-    target = run.space.files[_KEY[check]]
+    target = run.space.files[exercise.key]
     try:
         uses = reference_uses(read_regular(target, root=run.space.package).decode("utf-8")) if target is not None else []
     except (OSError, UnicodeDecodeError):  # UntrustedFileError is an OSError
         uses = []  # the check itself says the file cannot be read
     if not uses:
         return None
-    entries = list(table.values())
-    message = refusal(Path(DELIVERABLES[_KEY[check]]).name, uses)
+    entries = list(exercise.parts.values())
+    message = refusal(Path(DELIVERABLES[exercise.key]).name, uses)
     parts = [Part(entries[0][0], entries[0][1], False, message)]
     parts += [not_judged(name, points, "the file uses the lab's reference implementation") for name, points in entries[1:]]
-    return finish_check(check, run, parts, seed)
+    return finish_check(exercise, run, parts, seed=seed)
 
 
 def parse_launch(run: CheckRun, key: str) -> Tuple[LaunchParseResult, ProcessFacts]:
@@ -377,3 +375,30 @@ def grading_clock() -> str:
         raise GradingError(f"{CLOCK_ENV} is {value!r}; use grader (the default: the grader owns /clock) or real "
                            "(the nodes run in real time)")
     return "grader" if value == "grader" else "real time"
+
+
+def left_as_template(run: CheckRun, key: str, submission: Optional[Path] = None) -> bool:
+    """The student's deliverable is still the template handed out (every part YOUR CODE HERE unfilled): its
+    workspace copy, or with ``submission`` (the package's folder) the file handed in (the lab's may stand in)."""
+    target = run.space.originals.get(key) if submission is not None else run.space.files.get(key)
+    solution = SOLUTIONS / DELIVERABLES[key]
+    try:
+        root = submission if submission is not None else run.space.package
+        text = read_regular(target, root=root).decode("utf-8") if target is not None else ""
+        template = make_template(solution.read_text(encoding="utf-8"), kind_of(solution)) if solution.is_file() else ""
+    except (OSError, UnicodeDecodeError, TemplateError):  # UntrustedFileError is an OSError
+        return False
+    return is_template(text, template)
+
+
+def clock_notes(observation: Optional[ClockedObservation], prefix: str = "", note: str = "") -> List[str]:
+    """A note when the grader meant to own the clock and a node made it fall back to real time (``note``: why)."""
+    if observation is None or observation.problem or observation.session_error:
+        return []
+    if observation.clock == "real time" and grading_clock() == "grader":
+        return [prefix + (note or _REAL_TIME_NOTE)]
+    return []
+
+
+_REAL_TIME_NOTE = ("a node did not publish at every tick of the grader's /clock (a loop kept by rospy.Rate, or by "
+                   "time.sleep in your files, follows it), so it was run in real time")

@@ -320,7 +320,7 @@ def expectations(grade_id: str) -> Dict[str, Any]:
 
         return {"pub_force_rate_hz": float(FSR_SENSOR_RATE_HZ)}
     if grade_id == "ex4_loaded":
-        from hri_teleop.grading.judge.robot_params import TABLE_1  # noqa: PLC0415 - as above
+        from hri_teleop.grading.cases.handout import TABLE_1  # noqa: PLC0415 - as above
 
         return {"robot_mass": TABLE_1["robot_mass"]}
     if grade_id == "ex4_dumped":

@@ -13,11 +13,9 @@ import threading
 from pathlib import Path
 from typing import Any, Callable, List, Optional, Sequence, Tuple, TypeVar
 
-from hri_teleop.grading.cases.inputs import MappingCase
 from hri_teleop.grading.judge.compare_common import as_float
-from hri_teleop.grading.run.records import MappingRun
 
-__all__ = ["expected_vs_actual", "mapping_plot", "series_plot", "timeline"]
+__all__ = ["expected_vs_actual", "series_plot", "timeline"]
 
 F = TypeVar("F", bound=Callable[..., Any])
 # pyplot keeps one registry of figures: checks graded side by side (grade_submission's jobs) draw one at a time
@@ -79,19 +77,6 @@ def expected_vs_actual(path: Path, title: str, x: Sequence[float], expected: Seq
     ax.legend(loc="upper left", fontsize=8)
     ax.set_title(title, fontsize=10)
     return str(save_figure(fig, path))
-
-
-def mapping_plot(plot_dir: Optional[Path], run: MappingRun, case: MappingCase, marks: List[int]) -> List[str]:
-    """The values mapping_node.py sent back for one case's counts against the expected ones ([] without a folder)."""
-    if plot_dir is None:
-        return []
-    actual = [r[0].value if r else None for r in run.responses] + [None] * (len(case.counts) - len(run.responses))
-    actual = [a if as_float(a) is not None else None for a in actual]
-    path = expected_vs_actual(Path(plot_dir) / f"mapping-{case.label}.png",
-                              f"/force_mapped for the {case.label} counts, /max_sensor_force = {case.max_sensor_force}",
-                              list(range(len(case.counts))), list(case.expected), actual, "count number", "/force_mapped",
-                              inputs=list(case.counts), input_label="/pub_force (count)", marks=marks)
-    return [path]
 
 
 def series_plot(plot_dir: Optional[Path], name: str, title: str, expected: List[float], actual: List[Any],

@@ -20,8 +20,6 @@ from hri_teleop.grading.run.lockstep import (
     wait_until_settled,
 )
 from hri_teleop.grading.run.records import (
-    LiveGraphObservation,
-    LiveGraphPlan,
     TeleopLaunchSimObservation,
     TeleopLaunchSimPlan,
     Topic,
@@ -38,7 +36,7 @@ from hri_teleop.grading.run.ros_session import (
 )
 from hri_teleop.ros.master import stop_side_by_side
 
-__all__ = ["run_teleop_launch_sim", "run_live_graph", "CHAIN_SETTLE_S"]
+__all__ = ["run_teleop_launch_sim", "CHAIN_SETTLE_S"]
 
 
 CHAIN_SETTLE_S = 0.5
@@ -178,7 +176,7 @@ def run_teleop_launch_sim(session: Session, plan: TeleopLaunchSimPlan) -> Teleop
     # Everything judged is recorded: a run that started cleanly ends at once (its nodes' clean
     # shutdown took 0.7 s); one with a start problem gets its grace, for the output it explains.
     stop_side_by_side([launch, *extra, lab], kill=not problem)
-    publishers, subscribers = _connections(pubs, subs, IGNORED_TOPICS)
+    publishers, subscribers = topic_connections(pubs, subs, IGNORED_TOPICS)
     return TeleopLaunchSimObservation(
         supplied=supplied, problem=problem, nodes=sorted(nodes), quit_in_time=quit_in_time,
         run_s=round(now() - started, 3), teleop_publications=teleop_pub,
@@ -189,31 +187,8 @@ def run_teleop_launch_sim(session: Session, plan: TeleopLaunchSimPlan) -> Teleop
         lab_sim_log=lab.output()[-1500:])
 
 
-def _connections(pubs: Dict[str, Set[str]], subs: Dict[str, Set[str]], ignored: Sequence[str] = ()
+def topic_connections(pubs: Dict[str, Set[str]], subs: Dict[str, Set[str]], ignored: Sequence[str] = ()
                  ) -> Tuple[Dict[str, List[str]], Dict[str, List[str]]]:
     """(topic -> sorted publishers, topic -> sorted subscribers), the ``ignored`` topics left out."""
     return ({t: sorted(n) for t, n in pubs.items() if t not in ignored},
             {t: sorted(n) for t, n in subs.items() if t not in ignored})
-
-
-def run_live_graph(session: Session, plan: LiveGraphPlan) -> LiveGraphObservation:
-    """The lab's reference pipeline without hardware: its nodes, topics, types and connections."""
-    launch = session.master.run(["roslaunch", "--wait", "hri_lab", "teleoperation.launch", *plan.launch_args],
-                                "reference")
-    want = set(plan.nodes)
-    ok = wait_for(lambda: want <= set(session.master.node_names()) or not launch.running, plan.start_timeout_s, 0.1)
-    if not ok or not launch.running:
-        out = launch.output()[-1500:]
-        launch.stop()
-        return LiveGraphObservation(problem=f"the reference teleoperation.launch did not start: {out}")
-    previous: Any = None
-    for _ in range(50):  # until two readings 0.3 s apart agree
-        pubs, subs, types = topic_graph(session.master)
-        reading = (sorted((t, sorted(n)) for t, n in pubs.items()), sorted((t, sorted(n)) for t, n in subs.items()))
-        if reading == previous:
-            break
-        previous = reading
-        time.sleep(0.3)
-    launch.stop()
-    publishers, subscribers = _connections(pubs, subs)
-    return LiveGraphObservation(problem="", publishers=publishers, subscribers=subscribers, types=types)

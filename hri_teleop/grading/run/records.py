@@ -17,6 +17,7 @@ from typing import (
     Dict,
     Generic,
     List,
+    Mapping,
     NamedTuple,
     Optional,
     Protocol,
@@ -31,13 +32,11 @@ from hri_teleop.grading.run.gains import TeleopGains
 from hri_teleop.grading.run.sandbox import Limits
 
 __all__ = [
-    "RecordError", "Record", "Obs", "Message", "Response", "Topic", "ProcessFacts", "NodeFacts",
-    "Observation", "ClockedObservation", "LaunchObservation", "MappingRun", "MappingNodeObservation",
-    "SensorLaunchObservation", "TeleopNodeObservation", "TeleopLaunchSimObservation", "LiveGraphObservation",
-    "SessionContext", "SessionPlan", "MappingCasePlan", "MappingNodePlan", "LaunchPlan", "SensorLaunchPlan",
-    "TeleopNodePlan", "TeleopLaunchSimPlan", "LiveGraphPlan", "SessionRequest", "PLAN_TYPES",
-    "ProbeResult", "RosparamResult", "YamlResult", "LaunchNode", "LaunchParseResult", "PartsTick", "PartsCaseResult",
-    "TeleopPartsResult", "PartsPlanTick", "PartsPlanCase", "TeleopPartsPlan",
+    "RecordError", "Record", "Obs", "Message", "Response", "Topic", "ProcessFacts", "NodeFacts", "Observation",
+    "ClockedObservation", "LaunchObservation", "TeleopLaunchSimObservation", "SessionContext", "SessionPlan",
+    "LaunchPlan", "TeleopLaunchSimPlan", "SessionRequest", "ProbeResult", "RosparamResult", "YamlResult",
+    "LaunchNode", "LaunchParseResult", "PartsTick", "PartsCaseResult", "TeleopPartsResult", "PartsPlanTick",
+    "PartsPlanCase", "TeleopPartsPlan",
 ]
 
 
@@ -229,53 +228,6 @@ class LaunchObservation(ClockedObservation):
 
 
 @dataclass(frozen=True)
-class MappingRun(Record):
-    """One run of mapping_node.py for one case: the counts sent and what came back for each."""
-
-    label: str = ""
-    max_sensor_force: int = 0
-    counts: List[int] = field(default_factory=list)
-    responses: List[List[Response]] = field(default_factory=list)
-    input_topic: str = ""
-    input_type: str = ""
-    output_topic: str = ""
-    output_type: str = ""
-    connected: bool = False
-    node: NodeFacts = field(default_factory=NodeFacts)
-
-
-@dataclass(frozen=True)
-class MappingNodeObservation(Observation):
-    KIND: ClassVar[str] = "mapping-node"
-
-    runs: List[MappingRun] = field(default_factory=list)
-
-
-@dataclass(frozen=True)
-class SensorLaunchObservation(LaunchObservation):
-    KIND: ClassVar[str] = "sensor-launch"
-
-    force_mapped: List[Message] = field(default_factory=list)
-    pub_force: List[Message] = field(default_factory=list)
-
-
-@dataclass(frozen=True)
-class TeleopNodeObservation(ClockedObservation):
-    KIND: ClassVar[str] = "teleop-node"
-
-    quit_in_time: bool = False
-    rescued_steps: int = 0
-    node: NodeFacts = field(default_factory=NodeFacts)
-    exit_code: Optional[int] = None
-    messages: Dict[str, List[Message]] = field(default_factory=dict)
-    #: where the grader sent the steady force instead of /force_mapped (std_msgs/Float32): the topic and
-    #: type the node subscribes, so a subscriber of another type or topic costs its own part only
-    fed_force: List[Topic] = field(default_factory=list)
-    #: whether a subscriber of the node was connected to the grader's force publisher at some point of the run
-    force_connected: bool = True
-
-
-@dataclass(frozen=True)
 class TeleopLaunchSimObservation(LaunchObservation):
     KIND: ClassVar[str] = "teleop-launch-sim"
 
@@ -286,18 +238,6 @@ class TeleopLaunchSimObservation(LaunchObservation):
     subscribers: Dict[str, List[str]] = field(default_factory=dict)
     messages: Dict[str, List[Message]] = field(default_factory=dict)
     lab_sim_log: str = ""
-
-
-@dataclass(frozen=True)
-class LiveGraphObservation(Observation):
-    """The lab's reference pipeline: who publishes and subscribes each topic, and its type."""
-
-    KIND: ClassVar[str] = "live-graph"
-
-    problem: str = ""
-    publishers: Dict[str, List[str]] = field(default_factory=dict)
-    subscribers: Dict[str, List[str]] = field(default_factory=dict)
-    types: Dict[str, str] = field(default_factory=dict)
 
 
 Obs = TypeVar("Obs", bound=Observation)
@@ -331,25 +271,6 @@ class SessionPlan(Record, Generic[Obs]):
 
 
 @dataclass(frozen=True)
-class MappingCasePlan(Record):
-    label: str
-    max_sensor_force: int
-    counts: List[int]
-
-
-@dataclass(frozen=True)
-class MappingNodePlan(SessionPlan[MappingNodeObservation]):
-    KIND: ClassVar[str] = "mapping-node"
-
-    script: str
-    cases: List[MappingCasePlan]
-    response_timeout_s: float
-
-    def observation_type(self) -> Type[MappingNodeObservation]:
-        return MappingNodeObservation
-
-
-@dataclass(frozen=True)
 class LaunchPlan(SessionPlan[Obs]):
     """A student's launch file, run on the grader's clock or in real time (``clock``)."""
 
@@ -358,41 +279,6 @@ class LaunchPlan(SessionPlan[Obs]):
     clock: str
     settle_timeout_s: float
     expect_nodes: List[str]
-
-
-@dataclass(frozen=True)
-class SensorLaunchPlan(LaunchPlan[SensorLaunchObservation]):
-    KIND: ClassVar[str] = "sensor-launch"
-
-    run_fsr_sensor: bool
-    fsr_sensor: str
-    run_mapping_node: bool
-    mapping_node: str
-    record_s: float
-    record_messages: int
-    fsr_node: str
-    default_fsr_rate_hz: float
-    mapping_node_name: str
-
-    def observation_type(self) -> Type[SensorLaunchObservation]:
-        return SensorLaunchObservation
-
-
-@dataclass(frozen=True)
-class TeleopNodePlan(SessionPlan[TeleopNodeObservation]):
-    KIND: ClassVar[str] = "teleop-node"
-
-    script: str
-    pad_script: str
-    gains: TeleopGains
-    force: float
-    run_s: float
-    quit_grace_s: float
-    record: List[str]
-    clock: str
-
-    def observation_type(self) -> Type[TeleopNodeObservation]:
-        return TeleopNodeObservation
 
 
 @dataclass(frozen=True)
@@ -414,20 +300,6 @@ class TeleopLaunchSimPlan(LaunchPlan[TeleopLaunchSimObservation]):
         return TeleopLaunchSimObservation
 
 
-@dataclass(frozen=True)
-class LiveGraphPlan(SessionPlan[LiveGraphObservation]):
-    KIND: ClassVar[str] = "live-graph"
-
-    launch_args: List[str]
-    nodes: List[str]
-
-    def observation_type(self) -> Type[LiveGraphObservation]:
-        return LiveGraphObservation
-
-
-PLAN_TYPES: Dict[str, Type[SessionPlan[Any]]] = {
-    p.KIND: p for p in (MappingNodePlan, SensorLaunchPlan, TeleopNodePlan, TeleopLaunchSimPlan, LiveGraphPlan)}
-
 
 @dataclass(frozen=True)
 class _RequestJson:
@@ -446,14 +318,15 @@ class SessionRequest:
         return {"context": self.context.to_json(), "plan": self.plan.to_json()}
 
     @classmethod
-    def from_json(cls, data: object) -> SessionRequest:
+    def from_json(cls, data: object, plan_types: Mapping[str, Type[SessionPlan[Any]]]) -> SessionRequest:
+        """Read a request whose plan is one of ``plan_types`` (kind -> plan type: the sessions' registry)."""
         where = cls.__name__
         raw = _fields_of(_RequestJson, data, where)
         kind = raw.plan.get("kind") if isinstance(raw.plan, dict) else None
-        if not isinstance(kind, str) or kind not in PLAN_TYPES:
-            raise RecordError(f"{where}.plan: kind {kind!r}, expected one of {', '.join(PLAN_TYPES)}")
+        if not isinstance(kind, str) or kind not in plan_types:
+            raise RecordError(f"{where}.plan: kind {kind!r}, expected one of {', '.join(plan_types)}")
         return cls(SessionContext.from_json(raw.context, f"{where}.context"),
-                   PLAN_TYPES[kind].from_json(raw.plan, f"{where}.plan"))
+                   plan_types[kind].from_json(raw.plan, f"{where}.plan"))
 
 
 # -- probes: what python -m hri_teleop.grading.run.probe reports ----------------------------------------

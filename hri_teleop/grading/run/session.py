@@ -11,43 +11,51 @@ docs/grading-internals.md.
 from __future__ import annotations
 
 import dataclasses
+import importlib
+import importlib.util
 import json
 import os
 import sys
 import traceback
 from pathlib import Path
-from typing import Any, List, Optional
+from typing import Any, Callable, Dict, List, Optional, Tuple, Type
 
-from hri_teleop.grading.run.launch_runs import run_live_graph, run_teleop_launch_sim
-from hri_teleop.grading.run.node_runs import run_mapping_node, run_sensor_launch, run_teleop_node
+from hri_teleop.grading.exercises import DELIVERABLE_FILES
+from hri_teleop.grading.run.launch_runs import run_teleop_launch_sim
 from hri_teleop.grading.run.records import (
-    LiveGraphPlan,
-    MappingNodePlan,
     Observation,
-    SensorLaunchPlan,
     SessionContext,
     SessionPlan,
     SessionRequest,
     TeleopLaunchSimPlan,
-    TeleopNodePlan,
 )
 from hri_teleop.grading.run.ros_session import Session
 
-__all__ = ["main", "run_plan"]
+__all__ = ["main", "run_plan", "session_kinds"]
+
+Runner = Callable[[Session, Any], Observation]
+
+
+def session_kinds() -> Dict[str, Tuple[Type[SessionPlan[Any]], Runner]]:
+    """kind -> (plan type, what runs it): the shared simulated lab's, and each exercise's ``session`` module's
+    ``SESSIONS`` (an exercise folder without one runs no session)."""
+    kinds: Dict[str, Tuple[Type[SessionPlan[Any]], Runner]] = {
+        TeleopLaunchSimPlan.KIND: (TeleopLaunchSimPlan, run_teleop_launch_sim)}
+    for key in DELIVERABLE_FILES:
+        name = f"hri_teleop.grading.exercises.{key}.session"
+        spec = importlib.util.find_spec(f"hri_teleop.grading.exercises.{key}")
+        if spec is None or spec.submodule_search_locations is None:
+            continue  # a one-module exercise
+        if importlib.util.find_spec(name) is not None:
+            kinds.update(getattr(importlib.import_module(name), "SESSIONS", {}))
+    return kinds
 
 
 def _observe(session: Session, plan: SessionPlan[Any]) -> Observation:
-    if isinstance(plan, MappingNodePlan):
-        return run_mapping_node(session, plan)
-    if isinstance(plan, SensorLaunchPlan):
-        return run_sensor_launch(session, plan)
-    if isinstance(plan, TeleopNodePlan):
-        return run_teleop_node(session, plan)
-    if isinstance(plan, TeleopLaunchSimPlan):
-        return run_teleop_launch_sim(session, plan)
-    if isinstance(plan, LiveGraphPlan):
-        return run_live_graph(session, plan)
-    raise TypeError(f"no session runs a {type(plan).__name__}")
+    found = session_kinds().get(plan.KIND)
+    if found is None or not isinstance(plan, found[0]):
+        raise TypeError(f"no session runs a {type(plan).__name__}")
+    return found[1](session, plan)
 
 
 def run_plan(context: SessionContext, plan: SessionPlan[Any]) -> Observation:
@@ -63,7 +71,8 @@ def run_plan(context: SessionContext, plan: SessionPlan[Any]) -> Observation:
 
 def main(argv: Optional[List[str]] = None) -> int:
     args = sys.argv[1:] if argv is None else argv
-    request = SessionRequest.from_json(json.loads(Path(args[0]).read_text(encoding="utf-8")))
+    request = SessionRequest.from_json(json.loads(Path(args[0]).read_text(encoding="utf-8")),
+                                      {kind: found[0] for kind, found in session_kinds().items()})
     try:
         result = run_plan(request.context, request.plan)
     except Exception as exc:  # noqa: BLE001 - reported to the grader as a session failure

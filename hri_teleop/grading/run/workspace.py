@@ -18,6 +18,7 @@ from typing import Dict, List, Optional, Sequence, Tuple, Union
 
 from hri_teleop.core.errors import HriTeleopError
 from hri_teleop.core.paths import LAB_PACKAGE, REPO
+from hri_teleop.grading.exercises import DELIVERABLE_FILES
 from hri_teleop.grading.run.standins import SERIAL_NODE_SCRIPT
 from hri_teleop.grading.run.student_guard import guard_policy
 from hri_teleop.grading.run.untrusted_files import (
@@ -37,15 +38,8 @@ REFERENCE_PACKAGE = LAB_PACKAGE
 #: The toolkit's package folder (hri_teleop), whose reference rules the guard keeps from student code.
 TOOLKIT = Path(__file__).resolve().parents[2]
 
-#: What students hand in, by key, at the handout's place in the hri_lab package.
-DELIVERABLES: Dict[str, str] = {
-    "robot_params": "config/robot_params.yaml",
-    "mapping_node": "scripts/mapping_node.py",
-    "sensor_launch": "launch/sensor.launch",
-    "teleoperation": "scripts/teleoperation.py",
-    "teleoperation_launch": "launch/teleoperation.launch",
-    "graph": "graph.yaml",
-}
+#: What students hand in, by key, at the handout's place in the hri_lab package (the exercises' registry).
+DELIVERABLES: Dict[str, str] = {key: sub for key, sub in DELIVERABLE_FILES.items() if sub}
 #: Files the lab provides; the grader always uses the instructor's.
 PROVIDED = ("scripts/FSR_sensor.py", "scripts/gripper_manager.py", "package.xml", "CMakeLists.txt",
             "config/teleop.yaml")
@@ -342,7 +336,7 @@ def prepare_workspace(submission: Union[str, Path], session_dir: Path, uid: Opti
             # The student bundle's toolkit has no lab deliverables: the student's own run. A YAML
             # the launch file loads (Ex. 7) and nobody has is an empty one, so Ex. 7 counts as not
             # done instead of the whole file failing to parse.
-            if key == "robot_params" and not dest.exists():
+            if DELIVERABLES[key].endswith(".yaml") and not dest.exists():
                 dest.parent.mkdir(parents=True, exist_ok=True)
                 dest.write_text("{}\n", encoding="utf-8")
             continue

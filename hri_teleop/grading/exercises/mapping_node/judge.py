@@ -10,12 +10,12 @@ from __future__ import annotations
 
 import re
 from pathlib import Path
-from typing import Any, Callable, List, Optional, Sequence, Tuple
+from typing import Any, Callable, Dict, List, Optional, Sequence, Tuple
 
 from hri_teleop.core.mapping import ADC_MAX_COUNT
-from hri_teleop.grading.cases.inputs import MappingCase, public_mapping_case
+from hri_teleop.grading.exercises.mapping_node.cases import MappingCase, public_mapping_case
+from hri_teleop.grading.exercises.mapping_node.session import MappingNodeObservation, MappingRun
 from hri_teleop.grading.judge.compare_common import (
-    MAPPING,
     TOLERANCE,
     as_float,
     explain_process,
@@ -24,12 +24,22 @@ from hri_teleop.grading.judge.compare_common import (
     not_judged_part,
     with_box_hints,
 )
-from hri_teleop.grading.judge.plots import mapping_plot
+from hri_teleop.grading.judge.plots import expected_vs_actual
 from hri_teleop.grading.judge.tracebacks import NOT_JUDGED_CRASH, Crash, crash_text, find_crash
 from hri_teleop.grading.results import Part
-from hri_teleop.grading.run.records import MappingNodeObservation, MappingRun, NodeFacts, Response
+from hri_teleop.grading.run.records import NodeFacts, Response
 
-__all__ = ["compare_mapping", "TEMPLATE_MESSAGE", "TEMPLATE_NOTE", "SENSOR_TYPE"]
+__all__ = ["PARTS", "compare_mapping", "mapping_plot", "TEMPLATE_MESSAGE", "TEMPLATE_NOTE", "SENSOR_TYPE"]
+
+#: Part key -> (name as students read it, points; tests refer to the keys).
+PARTS: Dict[str, Tuple[str, float]] = {
+    "sub": ("subscribes /pub_force with the type the sensor publishes", 3),
+    "pub": ("publishes /force_mapped, one message per count", 3),
+    "type": ("/force_mapped is std_msgs/Float32", 2),
+    "values": ("maps 0../max_sensor_force to 0..1 (public trace, /max_sensor_force = 700)", 4),
+    "clip": ("clips counts above /max_sensor_force to 1.0 (public trace)", 3),
+    "hidden": ("takes the range from /max_sensor_force (hidden inputs, other values)", 5),
+}
 
 #: What the sensor publishes on /pub_force (the grader's, never shown to a student as the answer).
 SENSOR_TYPE = "std_msgs/Int16"
@@ -151,14 +161,14 @@ def _failed_node(facts: NodeFacts, crash: Optional[Crash], template: bool) -> st
 def _sub_part(run: MappingRun) -> Part:
     facts = run.node
     if run.input_topic == "/pub_force" and run.input_type == SENSOR_TYPE:
-        return judged_part(MAPPING, "sub", True)
+        return judged_part(PARTS, "sub", True)
     if run.input_topic != "/pub_force":
         others = ", ".join(t for t, _ in facts.subscriptions)
-        return judged_part(MAPPING, "sub", False, f"the node subscribes {others}, not /pub_force: the sensor publishes on "
+        return judged_part(PARTS, "sub", False, f"the node subscribes {others}, not /pub_force: the sensor publishes on "
                                                   "/pub_force (the grader sent the counts to your topic to judge the rest)")
     sent = ("the grader sent the counts as " + run.input_type + " to judge the rest" if run.connected
             else "rospy connects a subscriber only to publishers of its own type")
-    return judged_part(MAPPING, "sub", False, f"the node subscribes /pub_force as {run.input_type or 'no known type'}, "
+    return judged_part(PARTS, "sub", False, f"the node subscribes /pub_force as {run.input_type or 'no known type'}, "
                                               "which is not the type the sensor publishes on it, so it would get "
                                               f"nothing from the sensor: {_FIND_TYPE} ({sent})")
 
@@ -170,7 +180,7 @@ def compare_mapping(observation: MappingNodeObservation, cases: Sequence[Mapping
     ``package_dir``: the student's package as the node saw it (tracebacks are named relative to it);
     ``template``: the file is the template as handed out (named as such when it fails).
     """
-    T = MAPPING
+    T = PARTS
     runs = observation.runs
     if observation.session_error or not runs:
         reason = observation.session_error or "the grader's ROS session produced nothing"
@@ -258,7 +268,7 @@ def _hidden_part(runs: Sequence[MappingRun], cases: Sequence[MappingCase], value
                  plot_dir: Optional[Path], package_dir: str) -> Part:
     """The hidden inputs judge the range's source, in what the public trace found right only: a mistake the
     public parts judged (no clip, integer division) costs there, not here again."""
-    T = MAPPING
+    T = PARTS
     if not (values_ok or clip_ok):
         return not_judged_part(T, "hidden", "the values of the public trace are wrong (see above); the hidden inputs "
                                             "judge where the range comes from once they are right")
@@ -289,3 +299,16 @@ def _hidden_part(runs: Sequence[MappingRun], cases: Sequence[MappingCase], value
         ok_all = False
         lines.append("the hidden runs did not happen (see the parts above)")
     return judged_part(T, "hidden", ok_all, "\n".join(lines), plots, note)
+
+
+def mapping_plot(plot_dir: Optional[Path], run: MappingRun, case: MappingCase, marks: List[int]) -> List[str]:
+    """The values mapping_node.py sent back for one case's counts against the expected ones ([] without a folder)."""
+    if plot_dir is None:
+        return []
+    actual = [r[0].value if r else None for r in run.responses] + [None] * (len(case.counts) - len(run.responses))
+    actual = [a if as_float(a) is not None else None for a in actual]
+    path = expected_vs_actual(Path(plot_dir) / f"mapping-{case.label}.png",
+                              f"/force_mapped for the {case.label} counts, /max_sensor_force = {case.max_sensor_force}",
+                              list(range(len(case.counts))), list(case.expected), actual, "count number", "/force_mapped",
+                              inputs=list(case.counts), input_label="/pub_force (count)", marks=marks)
+    return [path]

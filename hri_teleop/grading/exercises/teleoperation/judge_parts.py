@@ -1,7 +1,6 @@
 """Judging the methods students write in ``teleoperation.py`` (Ex. 8) against pad-event traces.
 
-The node (Ex. 9) is judged in compare_teleop_node, ``mapping_node.py`` (Ex. 5) in compare_mapping;
-both are re-exported here.
+The node (Ex. 9) is judged in :mod:`.judge_node`.
 """
 
 from __future__ import annotations
@@ -13,14 +12,14 @@ from typing import Any, List, Optional, Sequence, Tuple
 from hri_teleop.core.gamepad import PadState
 from hri_teleop.core.gripper import GRIPPER_MAX_WIDTH_M
 from hri_teleop.core.teleop import TeleopController, TeleopParams
-from hri_teleop.grading.cases.inputs import (
+from hri_teleop.grading.exercises.teleoperation.cases import (
     ExpectedTick,
     TeleopPartsCase,
     reference_params,
     reference_parts,
 )
+from hri_teleop.grading.exercises.teleoperation.parts import PARTS
 from hri_teleop.grading.judge.compare_common import (
-    TELEOP,
     TWIST_TOLERANCE,
     as_float,
     explain_process,
@@ -28,8 +27,6 @@ from hri_teleop.grading.judge.compare_common import (
     judged_part,
     not_judged_part,
 )
-from hri_teleop.grading.judge.compare_mapping import compare_mapping
-from hri_teleop.grading.judge.compare_teleop_node import compare_teleop_node
 from hri_teleop.grading.judge.plots import series_plot
 from hri_teleop.grading.results import Part
 from hri_teleop.grading.run.records import (
@@ -39,7 +36,7 @@ from hri_teleop.grading.run.records import (
     TeleopPartsResult,
 )
 
-__all__ = ["compare_mapping", "compare_teleop_parts", "compare_teleop_node"]
+__all__ = ["compare_teleop_parts"]
 
 
 # -- teleoperation.py: the student's parts (Ex. 8) ------------------------------------------
@@ -201,7 +198,7 @@ def _judge_rumble(case: TeleopPartsCase, exp: List[ExpectedTick], got: List[Part
 def compare_teleop_parts(observation: TeleopPartsResult, cases: Sequence[TeleopPartsCase],
                          plot_dir: Optional[Path] = None, probe_facts: Optional[ProcessFacts] = None) -> List[Part]:
     """The parts of Ex. 8 (gripper, twist, toggle, rumble) from the teleop-parts probe."""
-    T = TELEOP
+    T = PARTS
     keys = ("gripper", "twist", "toggle", "rumble")
     if not observation.ok:
         reason = observation.error or explain_process(probe_facts or ProcessFacts(), "teleoperation.py")

@@ -15,9 +15,10 @@ from typing import List, Optional, Sequence, Tuple
 
 from hri_teleop.core.config import DEFAULT_TWIST_TOPIC
 from hri_teleop.core.gripper import GRIPPER_MAX_WIDTH_M
-from hri_teleop.grading.cases.inputs import TeleopNodeCase
+from hri_teleop.grading.exercises.teleoperation.cases import TeleopNodeCase
+from hri_teleop.grading.exercises.teleoperation.parts import PARTS
+from hri_teleop.grading.exercises.teleoperation.session import TeleopNodeObservation
 from hri_teleop.grading.judge.compare_common import (
-    TELEOP,
     TOLERANCE,
     as_float,
     explain_process,
@@ -30,7 +31,7 @@ from hri_teleop.grading.judge.compare_common import (
 from hri_teleop.grading.judge.plots import expected_vs_actual
 from hri_teleop.grading.judge.tracebacks import NOT_JUDGED_CRASH, Crash, crash_text, find_crash
 from hri_teleop.grading.results import Part
-from hri_teleop.grading.run.records import Message, NodeFacts, TeleopNodeObservation
+from hri_teleop.grading.run.records import Message, NodeFacts
 from hri_teleop.grading.run.sandbox import describe_exit
 
 __all__ = ["compare_teleop_node", "loop_rate_hz", "keeps_rate", "real_time_note", "RATE_TOLERANCE"]
@@ -108,7 +109,7 @@ def compare_teleop_node(observation: TeleopNodeObservation, case: TeleopNodeCase
 
     ``package_dir``: the student's package as the node saw it (a traceback is named relative to it).
     """
-    T = TELEOP
+    T = PARTS
     keys = ("node_start", "node_twist_topic", "node_width_topic", "node_twist", "node_width", "node_rumble", "node_quit")
     if observation.session_error:
         return [not_judged_part(T, k, f"the grader could not run the node ({observation.session_error})") for k in keys]
@@ -277,8 +278,8 @@ def _one_crash(keys: Sequence[str], parts: Sequence[Part], crash: Crash) -> List
         if part.passed:
             out.append(part)
         elif not shown:
-            out.append(judged_part(TELEOP, key, False, crash_text(crash, NODE)))
+            out.append(judged_part(PARTS, key, False, crash_text(crash, NODE)))
             shown = True
         else:
-            out.append(not_judged_part(TELEOP, key, NOT_JUDGED_CRASH))
+            out.append(not_judged_part(PARTS, key, NOT_JUDGED_CRASH))
     return out

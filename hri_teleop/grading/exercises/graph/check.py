@@ -17,7 +17,10 @@ import time
 from pathlib import Path
 from typing import Any, Dict, Optional, Union
 
-from hri_teleop.grading.judge import compare
+from hri_teleop.grading.exercises.exercise import Exercise
+from hri_teleop.grading.exercises.graph.judge import PARTS, compare_graph
+from hri_teleop.grading.exercises.graph.session import LiveGraphObservation, LiveGraphPlan
+from hri_teleop.grading.judge.compare_common import explain_process
 from hri_teleop.grading.judge.harness import (
     CheckRun,
     grader_shell_env,
@@ -29,7 +32,7 @@ from hri_teleop.grading.judge.harness import (
     run_session_plan,
 )
 from hri_teleop.grading.results import CheckResult, GradingError
-from hri_teleop.grading.run.records import LiveGraphObservation, LiveGraphPlan, SessionContext, YamlResult
+from hri_teleop.grading.run.records import SessionContext, YamlResult
 from hri_teleop.grading.run.sandbox import DEFAULT_LIMITS
 from hri_teleop.grading.run.workspace import (
     REFERENCE_PACKAGE,
@@ -37,7 +40,7 @@ from hri_teleop.grading.run.workspace import (
 )
 from hri_teleop.ros.master_api import MasterApiError, master_call
 
-__all__ = ["LIVE_GRAPH_NODES", "SENSOR_NODES", "graph_cache_file", "live_graph", "graph_of_running_master", "grade_graph"]
+__all__ = ["EXERCISE", "LIVE_GRAPH_NODES", "SENSOR_NODES", "graph_cache_file", "live_graph", "graph_of_running_master", "grade_graph"]
 
 PathLike = Union[str, Path]
 
@@ -138,22 +141,27 @@ def graph_of_running_master() -> LiveGraphObservation:
 def grade_graph(path: PathLike, *, seed: Optional[int] = None, out_dir: Optional[PathLike] = None,
                 graph_cache: Optional[PathLike] = None) -> CheckResult:
     """Ex. 15: the student's nodes, topics and types against the live graph of the lab's pipeline."""
-    key = "graph"
+    key = EXERCISE.key
     root, given, found, refused = resolve_deliverable(path, key)
     started = time.monotonic()
     if refused:
-        return refused_result("graph", key, compare.GRAPH, root, refused, None)
+        return refused_result(EXERCISE, root, refused, None)
     if found is None:
-        return missing_result("graph", key, compare.GRAPH, root, None)
-    run = CheckRun("graph", root if given is None else given, out_dir, key, given or found)
+        return missing_result(EXERCISE, root, None)
+    run = CheckRun(EXERCISE.check, root if given is None else given, out_dir, key, given or found)
     try:
         data, facts = run.probe("yaml-load", run.space.file(key), "graph-load", YamlResult)
     finally:
         run.close()
     if data is None:
-        error, answer = compare.explain_process(facts, "reading graph.yaml"), None
+        error, answer = explain_process(facts, "reading graph.yaml"), None
     else:
         error, answer = data.error, data.data
-    parts = compare.compare_graph(answer, live_graph(graph_cache) if not error and isinstance(answer, dict)
-                                  else LiveGraphObservation(), error)
-    return CheckResult("graph", str(found), parts, None, time.monotonic() - started)
+    parts = compare_graph(answer, live_graph(graph_cache) if not error and isinstance(answer, dict)
+                          else LiveGraphObservation(), error)
+    return CheckResult(EXERCISE.check, str(found), parts, None, time.monotonic() - started)
+
+
+EXERCISE = Exercise(key="graph", handout="Ex. 15", assignment="lab", parts=PARTS, grade=grade_graph, session_s=5.0,
+                    grade_kwargs=("graph_cache",), batch_cache=live_graph,
+                    notebook_calls={"graph": grade_graph}, whole_check_calls=("graph",))

@@ -13,12 +13,12 @@ import re
 from typing import Any, Dict, Iterable, List, Mapping, Sequence, Set, Tuple
 
 from hri_teleop.core.config import DEFAULT_TWIST_TOPIC
-from hri_teleop.grading.judge.compare_common import GRAPH, judged_part, not_judged_part
+from hri_teleop.grading.exercises.graph.session import LiveGraphObservation
+from hri_teleop.grading.judge.compare_common import judged_part, not_judged_part
 from hri_teleop.grading.judge.compare_launch import written
 from hri_teleop.grading.results import Part
-from hri_teleop.grading.run.records import LiveGraphObservation
 
-__all__ = ["PIPELINE_TOPICS", "SEE_NODES", "SEE_TOPICS", "compare_graph"]
+__all__ = ["PARTS", "PIPELINE_TOPICS", "SEE_NODES", "SEE_TOPICS", "compare_graph"]
 
 
 PIPELINE_TOPICS = ("/pub_force", "/force_mapped", "/gripper_width", DEFAULT_TWIST_TOPIC)
@@ -75,7 +75,7 @@ def _listed(names: Sequence[str]) -> str:
 
 def compare_graph(answer: Any, live: LiveGraphObservation, answer_error: str = "") -> List[Part]:
     """The student's graph.yaml against the live graph of the lab's pipeline (hri_lab, no hardware)."""
-    T = GRAPH
+    T = PARTS
     if answer_error or not isinstance(answer, dict) or not isinstance(answer.get("nodes"), (list, type(None))) \
             or not isinstance(answer.get("topics"), (dict, type(None))) or ("nodes" not in answer and "topics" not in answer):
         why = answer_error or ("graph.yaml needs `nodes:` (a list of node names) and `topics:` (a mapping from "
@@ -104,14 +104,14 @@ def compare_graph(answer: Any, live: LiveGraphObservation, answer_error: str = "
 
 def _nodes_part(listed: Dict[str, str], missing: Set[str], strangers: Dict[str, str], of: int) -> Part:
     if not listed:
-        return not_judged_part(GRAPH, "nodes", "graph.yaml lists no node (the format part)")
+        return not_judged_part(PARTS, "nodes", "graph.yaml lists no node (the format part)")
     problems = []
     if missing:
         problems.append(_not_listed(len(missing), of, "node"))
     if strangers:
         problems.append(f"not a node of the running graph: {_listed(sorted(strangers.values()))} (check the spelling, "
                         "the leading slash, and that it is the node's name, not its script's)")
-    return judged_part(GRAPH, "nodes", not problems, "; ".join(problems) + (f"; {SEE_NODES}" if problems else ""))
+    return judged_part(PARTS, "nodes", not problems, "; ".join(problems) + (f"; {SEE_NODES}" if problems else ""))
 
 
 def _topic_type(entry: Any) -> Any:
@@ -135,7 +135,7 @@ def _types_part(topics: Dict[str, Tuple[str, Any]], types: Mapping[str, str]) ->
         elif str(kind).strip() != types[topic]:
             problems.append(f"{shown}: {written(kind)} is not its type; `rostopic type {topic}` prints it "
                             "(package/Message)")
-    return judged_part(GRAPH, "types", not problems, "\n".join(problems))
+    return judged_part(PARTS, "types", not problems, "\n".join(problems))
 
 
 def _links_part(topics: Dict[str, Tuple[str, Any]], live: LiveGraphObservation, pipeline: Set[str],
@@ -176,8 +176,16 @@ def _links_part(topics: Dict[str, Tuple[str, Any]], live: LiveGraphObservation, 
     if problems:
         if waiting:
             problems.append(f"not judged yet: {' and '.join(waiting)}")
-        return judged_part(GRAPH, "links", False, "\n".join(problems))
+        return judged_part(PARTS, "links", False, "\n".join(problems))
     if waiting:
-        return not_judged_part(GRAPH, "links", f"{' and '.join(waiting)}: list what the parts above find missing, "
+        return not_judged_part(PARTS, "links", f"{' and '.join(waiting)}: list what the parts above find missing, "
                                "then who publishes and subscribes it")
-    return judged_part(GRAPH, "links", True)
+    return judged_part(PARTS, "links", True)
+
+
+PARTS: Dict[str, Tuple[str, float]] = {
+    "format": ("graph.yaml has a list of nodes and a mapping of topics", 1),
+    "nodes": ("the pipeline's nodes", 2),
+    "types": ("the pipeline's topics and their message types", 3),
+    "links": ("who publishes and who subscribes each topic", 3),
+}

@@ -1,4 +1,4 @@
-"""Handout Ex. 4 / Table 1: the parameters of robot_params.yaml, their YAML types and values.
+"""Ex. 4's check: robot_params.yaml loaded with rosparam's own loader, against Table 1's keys, YAML types and values.
 
 Why here: the answer key, the lab's copy (``hri_lab/config/robot_params.yaml``) and every
 student's file are judged against this one table. YAML decides a value's type by how it
@@ -9,21 +9,21 @@ unlike in the nodes' parameter checks).
 
 from __future__ import annotations
 
-from typing import Any, Dict, List, Mapping, Optional, Tuple
+from pathlib import Path
+from typing import Any, Dict, List, Mapping, Optional, Tuple, Union
 
-from hri_teleop.grading.results import Part
+from hri_teleop.grading.cases.handout import TABLE_1
+from hri_teleop.grading.exercises.exercise import Exercise
+from hri_teleop.grading.judge.compare_common import explain_process
+from hri_teleop.grading.judge.harness import closing_scratch, finish_check, reusable, start_check
+from hri_teleop.grading.results import CheckResult, Part
+from hri_teleop.grading.run.records import RosparamResult
 
-__all__ = ["TABLE_1", "POINTS", "LOAD_PART", "part_table", "yaml_type", "written", "compare_robot_params"]
+__all__ = ["EXERCISE", "TABLE_1", "POINTS", "LOAD_PART", "part_table", "yaml_type", "written", "compare_robot_params",
+           "grade_robot_params"]
 
-#: Table 1 of the handout: name -> value (with the Python type YAML gives it).
-TABLE_1: Dict[str, Any] = {
-    "robot_name": "FER",
-    "robot_number": 1,
-    "robot_mass": 18.0,
-    "load_gripper": True,
-    "mixed_list": ["text", 1.0, 1],
-    "gains": {"p": 10.0, "i": 1.0, "d": 5.0},
-}
+PathLike = Union[str, Path]
+
 POINTS: Dict[str, float] = {"robot_name": 1, "robot_number": 1, "robot_mass": 2, "load_gripper": 2,
                             "mixed_list": 2, "gains": 1}
 LOAD_PART = "loads with rosparam load"
@@ -151,3 +151,26 @@ def compare_robot_params(params: Optional[Mapping[str, Any]], load_error: str = 
         else:
             parts.append(Part(name, POINTS[key], False, _difference(key, params[key], want)))
     return parts
+
+
+@reusable("robot-params")
+@closing_scratch
+def grade_robot_params(path: PathLike, *, seed: Optional[int] = None, out_dir: Optional[PathLike] = None) -> CheckResult:
+    """Ex. 4: Table 1's keys, YAML types and values; loaded with rosparam's own loader."""
+    run, seed = start_check(EXERCISE, path, out_dir, seed)
+    if isinstance(run, CheckResult):  # the file is missing
+        return run
+    target = run.space.file("robot_params")
+    data, facts = run.probe("rosparam-load", target, "rosparam-load", RosparamResult)
+    if data is None:
+        parts = compare_robot_params(None, explain_process(facts, "loading robot_params.yaml"))
+    elif not data.ok:
+        parts = compare_robot_params(None, f"`rosparam load` fails: {data.error}")
+    else:
+        parts = compare_robot_params(data.params)
+    return finish_check(EXERCISE, run, parts)
+
+
+EXERCISE = Exercise(key="robot_params", handout="Ex. 4", assignment="preparation", parts=part_table(),
+                    grade=grade_robot_params, notebook_calls={"robot_params": grade_robot_params},
+                    whole_check_calls=("robot_params",))

@@ -13,15 +13,16 @@ import time
 from pathlib import Path
 from typing import Dict, List, Optional, Sequence, Tuple, Union
 
+from hri_teleop.grading.exercises.exercise import Exercise
 from hri_teleop.grading.results import CheckResult, GradingError, Part
 from hri_teleop.grading.run.untrusted_files import UntrustedFileError, read_regular, refusal
 from hri_teleop.grading.run.workspace import find_package_root, given_path
 from hri_teleop.ros.catkin_files import installed_programs, is_executable
 
-__all__ = ["CATKIN_PACKAGE", "EXERCISE_PARTS", "grade_catkin_package"]
+__all__ = ["EXERCISE", "PARTS", "EXERCISE_PARTS", "grade_catkin_package"]
 
 #: part key -> (what it judges, points)
-CATKIN_PACKAGE: Dict[str, Tuple[str, float]] = {
+PARTS: Dict[str, Tuple[str, float]] = {
     "teleop_executable": ("Ex. 9: scripts/teleoperation.py is executable (chmod +x)", 1),
     "teleop_cmake": ("Ex. 9: CMakeLists.txt installs scripts/teleoperation.py (catkin_install_python)", 1),
     "gm_executable": ("Ex. 12 c): scripts/gripper_manager.py is executable (chmod +x)", 1),
@@ -39,7 +40,7 @@ def _lists(programs: Sequence[str], script: str) -> bool:
 
 
 def _executable_part(root: Path, key: str) -> Part:
-    name, points = CATKIN_PACKAGE[f"{key}_executable"]
+    name, points = PARTS[f"{key}_executable"]
     script = root / _SCRIPTS[key]
     why = refusal(script, root)
     if why.endswith("No such file or directory"):
@@ -54,7 +55,7 @@ def _executable_part(root: Path, key: str) -> Part:
 
 
 def _cmake_part(root: Path, key: str, programs: Optional[List[str]], problem: str) -> Part:
-    name, points = CATKIN_PACKAGE[f"{key}_cmake"]
+    name, points = PARTS[f"{key}_cmake"]
     if programs is None:
         return Part(name, points, False, problem)
     if _lists(programs, _SCRIPTS[key]):
@@ -89,5 +90,14 @@ def grade_catkin_package(path: Union[str, Path], *, seed: Optional[int] = None, 
     for key in _SCRIPTS:
         parts[f"{key}_executable"] = _executable_part(root, key)
         parts[f"{key}_cmake"] = _cmake_part(root, key, programs, problem)
-    wanted = EXERCISE_PARTS[exercise] if exercise is not None else tuple(CATKIN_PACKAGE)
-    return CheckResult("catkin-package", str(cmake), [parts[k] for k in wanted], None, time.monotonic() - started)
+    wanted = EXERCISE_PARTS[exercise] if exercise is not None else tuple(PARTS)
+    return CheckResult(EXERCISE.check, str(cmake), [parts[k] for k in wanted], None, time.monotonic() - started)
+
+
+def exercise_half(package: Union[str, Path], exercise: int) -> CheckResult:
+    """Ex. 9's or Ex. 12's half, as its notebook's check cell shows it (``check.catkin_package(PACKAGE, 9)``)."""
+    return grade_catkin_package(package, exercise=exercise)
+
+
+EXERCISE = Exercise(key="catkin_package", handout="Ex. 9 and 12 c)", assignment="lab", parts=PARTS,
+                    grade=grade_catkin_package, notebook_calls={"catkin_package": exercise_half})
