@@ -10,6 +10,8 @@ YAML and files are read by functions the caller passes (the grader's run in a bo
 from __future__ import annotations
 
 import copy
+import datetime
+import optparse
 import posixpath
 import shlex
 from dataclasses import dataclass, field
@@ -55,8 +57,8 @@ def shell_lines(source: str) -> List[str]:
     """The shell command lines of one IPython cell: its ``!cmd`` (and ``!!cmd``, ``%sx``, ``%system``) lines,
     or every line of a ``%%bash`` / ``%%sh`` cell; a line ending in a backslash goes on on the next."""
     lines = source.splitlines()
-    first = lines[0].strip() if lines else ""
-    whole = any(first == magic or first.startswith(magic + " ") for magic in _SHELL_MAGICS)
+    whole = bool(lines) and any(lines[0].strip() == magic or lines[0].strip().startswith(magic + " ")
+                                for magic in _SHELL_MAGICS)
     joined: List[str] = []
     pending = ""
     for line in lines[1:] if whole else lines:
@@ -103,31 +105,41 @@ def shell_commands(sources: Iterable[str]) -> List[List[str]]:
     found: List[List[str]] = []
     for source in sources:
         for line in shell_lines(source):
-            for argv in _split(line):
-                while argv and "=" in argv[0] and not argv[0].startswith("=") and \
-                        argv[0].split("=", 1)[0].isidentifier():
-                    if argv[0].split("=", 1)[0] == "ROS_MASTER_URI":
-                        argv = []
-                        break
-                    argv = argv[1:]
-                if argv and posixpath.basename(argv[0]) == "rosparam":
-                    found.append(["rosparam", *argv[1:]])
+            for words in _split(line):
+                argv = _rosparam_argv(words)
+                if argv is not None:
+                    found.append(argv)
                     if len(found) >= MAX_COMMANDS:
                         return found
     return found
 
 
+def _rosparam_argv(words: List[str]) -> Optional[List[str]]:
+    """One simple command's argv from ``rosparam`` on, its leading ``NAME=value`` words dropped; None when it is
+    not rosparam or names another master."""
+    while words and "=" in words[0] and words[0].partition("=")[0].isidentifier():
+        if words[0].partition("=")[0] == "ROS_MASTER_URI":
+            return None
+        words = words[1:]
+    if words and posixpath.basename(words[0]) == "rosparam":
+        return ["rosparam", *words[1:]]
+    return None
+
+
 def resolve_name(name: str) -> str:
     """``name`` as rosparam resolves it with no ROS_NAMESPACE: '' is '/', ``~x`` is under rosparam's own
-    name, a relative name is under '/'; no trailing slash, no doubled ones."""
-    if not name:
-        return "/"
+    name, a relative name is under '/'; no trailing slash, no doubled ones (as the master stores it)."""
     if name.startswith("~"):
         name = _SCRIPT + "/" + name[1:]
-    elif not name.startswith("/"):
-        name = "/" + name
-    parts = [p for p in name.split("/") if p]
-    return "/" + "/".join(parts)
+    return "/" + "/".join(p for p in name.split("/") if p)
+
+
+def _join(namespace: str, name: str) -> str:
+    """rosgraph's ns_join, resolved: a global name (``/x``) or a private one (``~x``) is not put under
+    ``namespace`` (a dictionary's key or a document's ``_ns`` naming ``/x`` sets ``/x``)."""
+    if name.startswith(("/", "~")):
+        return resolve_name(name)
+    return resolve_name(namespace + "/" + name)
 
 
 def _parts(name: str) -> List[str]:
@@ -135,8 +147,9 @@ def _parts(name: str) -> List[str]:
 
 
 def _legal(value: Any, where: str) -> None:
-    """What the master's XML-RPC takes: bool, 32-bit int, float, str, lists and string-keyed dicts of them."""
-    if isinstance(value, bool) or isinstance(value, (float, str, bytes)):
+    """What the master's XML-RPC takes: bool, 32-bit int, float, str, bytes (a --binfile), a date and time
+    (YAML's ``2020-01-01 10:00:00``; a date alone is refused), lists and string-keyed dicts of them."""
+    if isinstance(value, (bool, float, str, bytes, datetime.datetime)):
         return
     if isinstance(value, int):
         if not INT32_MIN <= value <= INT32_MAX:
@@ -155,27 +168,56 @@ def _legal(value: Any, where: str) -> None:
     raise RosparamModelError(f"{where}: the master cannot hold {'nothing (YAML null)' if value is None else type(value).__name__}")
 
 
-def _positional(args: Sequence[str], with_value: Tuple[str, ...]) -> Tuple[Dict[str, str], List[str]]:
-    """rosparam's reading of its arguments: options apart, a negative number is a value, not an option."""
-    options: Dict[str, str] = {}
+class _Help(Exception):
+    """``-h``: rosparam prints its help and does nothing else."""
+
+
+class _Options(optparse.OptionParser):
+    """rosparam's own option parser (optparse, as rosparam builds it), its errors raised, its help silent."""
+
+    def error(self, msg: str) -> Any:  # optparse's hook
+        raise RosparamModelError(f"rosparam: {msg}")
+
+    def print_help(self, file: Any = None) -> None:  # optparse's hook
+        raise _Help()
+
+
+def _options(args: Sequence[str]) -> Tuple[optparse.Values, List[str]]:
+    """(options, positional arguments) of ``rosparam load|delete|dump ARGS`` as rosparam reads them: ``-v``
+    (and ``-h``); anything else, a negative number too, is "no such option"."""
+    parser = _Options()
+    parser.add_option("-v", action="store_true")
+    return parser.parse_args(list(args))
+
+
+def _set_options(args: Sequence[str]) -> Tuple[optparse.Values, List[str]]:
+    """(options, positional arguments) of ``rosparam set ARGS`` as rosparam reads them: ``-v``, ``-h``,
+    ``-t``/``--textfile`` and ``-b``/``--binfile``, where a negative number is a value, not an option
+    (rosparam's _set_optparse_neg_args); anything else is "no such option"."""
+    parser = _Options()
+    parser.add_option("-v", action="store_true")
+    parser.add_option("-t", "--textfile")
+    parser.add_option("-b", "--binfile")
     found: List[str] = []
-    wanting = ""
+    options: List[str] = []
+    skip = False
     for arg in args:
-        if wanting:
-            options[wanting] = arg
-            wanting = ""
-        elif arg.startswith("-") and len(arg) > 1 and not arg[1].isdigit() and arg != "-":
-            if arg in with_value:
-                wanting = arg
-            elif arg not in ("-v", "-p"):
-                raise RosparamModelError(f"rosparam: no such option: {arg}")
+        if arg.startswith("-"):
+            if arg in ("-t", "--textfile", "-b", "--binfile"):
+                skip = True
+                options.append(arg)
+            elif skip:
+                raise RosparamModelError("rosparam: -t and --textfile options require an argument")
+            elif arg[1:2].isdigit():
+                found.append(arg)
             else:
-                options[arg] = ""
+                options.append(arg)
+        elif skip:
+            skip = False
+            options.append(arg)
         else:
             found.append(arg)
-    if wanting:
-        raise RosparamModelError(f"rosparam: {wanting} option requires an argument")
-    return options, found
+    return parser.parse_args(options)[0], found
 
 
 @dataclass
@@ -196,11 +238,8 @@ class ParamModel:
 
     def _put(self, name: str, value: Any) -> None:
         parts = _parts(name)
-        if not parts:
-            if not isinstance(value, dict):
-                raise RosparamModelError("global / can only be set to a dictionary")
-            self.tree = value
-            return
+        if not parts:  # a dictionary is set key by key: only another value comes here, which the master refuses
+            raise RosparamModelError("global / can only be set to a dictionary")
         node = self.tree
         for part in parts[:-1]:
             if not isinstance(node.get(part), dict):
@@ -214,7 +253,7 @@ class ParamModel:
             for key, item in value.items():
                 if not isinstance(key, str):
                     raise RosparamModelError(f"YAML dictionaries must have string keys. Invalid dictionary is: {value}")
-                self.set(resolve_name(name).rstrip("/") + "/" + key, item)
+                self.set(_join(resolve_name(name), key), item)
             return
         _legal(value, resolve_name(name))
         self._put(name, copy.deepcopy(value))
@@ -239,41 +278,48 @@ class ParamModel:
         if len(argv) < 2:
             return
         command, args = argv[1], list(argv[2:])
-        if command == "set":
-            self._set(args, yaml_text, file_text)
-        elif command == "load":
-            self._load(args, yaml_text, file_text)
-        elif command == "delete":
-            _options, names = _positional(args, ())
-            if len(names) != 1:
-                raise RosparamModelError("rosparam delete: give one parameter name")
-            self.delete(names[0])
-        elif command == "dump":
-            _options, names = _positional(args, ())
-            if len(names) not in (1, 2):
-                raise RosparamModelError("rosparam dump: give a file and at most a namespace")
-            namespace = resolve_name(names[1] if len(names) == 2 else "")
-            found, tree = self.get(namespace)
-            if not found:
-                raise RosparamModelError(f"parameter [{namespace}] is not set")
+        try:
+            if command == "set":
+                self._set(args, yaml_text, file_text)
+            elif command == "load":
+                self._load(args, yaml_text, file_text)
+            elif command == "delete":
+                self._delete(args)
+            elif command == "dump":
+                self._dump(args)
+        except _Help:
+            return
+
+    def _delete(self, args: Sequence[str]) -> None:
+        _options_, names = _options(args)
+        if len(names) != 1:
+            raise RosparamModelError("rosparam delete: give one parameter name")
+        self.delete(names[0])
+
+    def _dump(self, args: Sequence[str]) -> None:
+        _options_, names = _options(args)
+        if len(names) > 2:
+            raise RosparamModelError("rosparam dump: give a file and at most a namespace")
+        namespace = resolve_name(names[1] if len(names) == 2 else "")
+        found, tree = self.get(namespace)
+        if not found:
+            raise RosparamModelError(f"parameter [{namespace}] is not set")
+        if names and names[0]:  # no file: rosparam prints the tree, nothing is written
             self.dumps.append(Dump(names[0], namespace, copy.deepcopy(tree)))
 
     def _set(self, args: Sequence[str], yaml_text: YamlText, file_text: FileText) -> None:
-        options, names = _positional(args, ("-t", "--textfile", "-b", "--binfile"))
-        text_file = options.get("-t", options.get("--textfile"))
-        bin_file = options.get("-b", options.get("--binfile"))
-        if text_file is not None and bin_file is not None:
+        options, names = _set_options(args)
+        if options.textfile and options.binfile:
             raise RosparamModelError("rosparam set: only one of --textfile or --binfile")
-        from_file = text_file is not None or bin_file is not None
         if len(names) > 2:
             raise RosparamModelError("rosparam set: too many arguments (the shell splits a value at its spaces "
                                      "unless it is quoted)")
-        if not names or (len(names) == 1 and not from_file):
+        if not names or (len(names) == 1 and not (options.textfile or options.binfile)):
             raise RosparamModelError("rosparam set: give a parameter name and a value")
-        if text_file is not None:
-            self.set(names[0], file_text(text_file))
-        elif bin_file is not None:
-            self.set(names[0], file_text(bin_file).encode("utf-8", "replace"))
+        if options.textfile:
+            self.set(names[0], file_text(options.textfile))
+        elif options.binfile:
+            self.set(names[0], file_text(options.binfile).encode())
         else:
             documents = yaml_text(names[1] if names[1] != "" else "!!str")
             if len(documents) != 1:
@@ -281,18 +327,16 @@ class ParamModel:
             self.set(names[0], documents[0])
 
     def _load(self, args: Sequence[str], yaml_text: YamlText, file_text: FileText) -> None:
-        _options, names = _positional(args, ())
+        """rosparam's load_file, then each document set in order: a document rosparam cannot look into for
+        ``_ns`` (a number, an empty one) stops the load before anything is set, as it stops rosparam."""
+        _options_, names = _options(args)
         if len(names) not in (1, 2):
             raise RosparamModelError("rosparam load: give a file and at most a namespace")
-        if names[0] == "-":
+        if names[0] in ("", "-"):
             raise RosparamModelError("rosparam load -: reads the terminal, which a notebook cell does not give")
         default = resolve_name(names[1] if len(names) == 2 else "")
-        for document in yaml_text(file_text(names[0])):
-            namespace = default
-            if isinstance(document, dict) and "_ns" in document:
-                namespace = resolve_name(default.rstrip("/") + "/" + str(document.pop("_ns")))
-            if namespace == "/" and not isinstance(document, dict):
-                raise RosparamModelError("global / can only be set to a dictionary")
+        loaded = [(_namespace(document, default), document) for document in yaml_text(file_text(names[0]))]
+        for namespace, document in loaded:  # a list or a text into '/' fails as set() fails it
             self.set(namespace, document)
 
     def run_all(self, commands: Sequence[Sequence[str]], yaml_text: YamlText, file_text: FileText) -> List[str]:
@@ -307,6 +351,22 @@ class ParamModel:
         return notes
 
 
+def _namespace(document: Any, default: str) -> str:
+    """Where rosparam's load_str puts one loaded document (its ``_ns`` taken out), or RosparamModelError where
+    its ``"_ns" in document`` fails: a number or an empty document, a text or list holding "_ns", a ``_ns``
+    that is not a name."""
+    if isinstance(document, dict):
+        if "_ns" not in document:
+            return default
+        namespace = document.pop("_ns")
+        if isinstance(namespace, str):
+            return _join(default, namespace)
+    elif isinstance(document, (list, str)) and "_ns" not in document:
+        return default
+    raise RosparamModelError("rosparam load: a document is not a dictionary rosparam can read (an empty one, a "
+                             "number, or a _ns that is not a name), so nothing is loaded")
+
+
 def file_reader(read_bytes: Callable[[str], bytes]) -> FileText:
     """``file_text`` for :meth:`ParamModel.run`: a file named from the notebook's folder, read by ``read_bytes``
     (the grader's refuses links and special files); a name outside the folder is refused here."""
@@ -315,7 +375,7 @@ def file_reader(read_bytes: Callable[[str], bytes]) -> FileText:
         if path.is_absolute() or ".." in path.parts:
             raise RosparamModelError(f"file [{name}] is outside your assignment's folder: name it from there")
         try:
-            return read_bytes(str(path)).decode("utf-8")
+            return read_bytes(str(path)).decode()
         except FileNotFoundError:
             raise RosparamModelError(f"file [{name}] does not exist") from None
         except (OSError, UnicodeDecodeError) as exc:

@@ -41,8 +41,18 @@ SCENARIOS: Dict[str, List[str]] = {
                               "!rosparam load docs.yaml /top", "!rosparam delete /copy/gains",
                               "!rosparam set /operator student; rosparam dump new_robot_params.yaml",
                               "!rosparam dump copy.yaml /copy", "!rosparam load missing.yaml"],
+    "options and names": ["!rosparam set -p /o/p 1", "!rosparam set -v /o/v 1", "!rosparam set -t -x /o/t",
+                          "!rosparam set --textfile=notes.txt /o/tf", "!rosparam set -b notes.txt /o/bin",
+                          "!rosparam load -v docs.yaml /o/docs", "!rosparam load abs.yaml /o/abs",
+                          "!rosparam set /o/g \"{/o_abs: 1, b: 2}\"", "!rosparam set / 5", "!rosparam delete -3",
+                          "!rosparam set /o/when '2020-01-01 10:00:00'", "!rosparam set /o/day 2020-01-01",
+                          "!rosparam set /o/d/e/f 1", "!rosparam delete -v /o/d/e/f", "!rosparam set -h /o/h 1"],
+    "documents rosparam cannot load": ["!rosparam load trailing.yaml /trailing", "!rosparam load mixed.yaml",
+                                       "!rosparam load list.yaml /list", "!rosparam load number.yaml /number"],
 }
-FILES = {"robot_params.yaml": ROBOT_PARAMS, "docs.yaml": "_ns: a\nx: 1\n---\ny: [2, 3]\n"}
+FILES = {"robot_params.yaml": ROBOT_PARAMS, "docs.yaml": "_ns: a\nx: 1\n---\ny: [2, 3]\n", "notes.txt": "7\n",
+         "abs.yaml": "_ns: /o_ns\nx: 1\n", "trailing.yaml": "a: 1\n---\n", "mixed.yaml": "m: 1\n---\n[1]\n---\nn: 2\n",
+         "list.yaml": "[1, 2]\n", "number.yaml": "m: 1\n---\n5\n"}
 ROSCORE = set(ROSCORE_PARAMS)
 
 
@@ -67,7 +77,8 @@ def test_the_model_leaves_the_server_and_the_dumps_rosparam_leaves(master, scena
         for argv in shell_commands(["!" + line]):
             if argv[1] == "dump":
                 dumps.append(argv[2])
-    code, _msg, real = xmlrpc.client.ServerProxy(master.uri).getParam("/test", "/")
+    # builtin types: a --binfile's value as bytes, a date and time as datetime, as the model holds them
+    code, _msg, real = xmlrpc.client.ServerProxy(master.uri, use_builtin_types=True).getParam("/test", "/")
     assert code == 1
 
     model = ParamModel()
