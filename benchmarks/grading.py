@@ -25,7 +25,7 @@ from hri_teleop.core.paths import REPO, SOLUTIONS
 from hri_teleop.course.nodes import STUDENT_PACKAGE
 from hri_teleop.grading.batch import nbgrader_batch
 from hri_teleop.grading.cases.templates import generate_answers, generate_templates
-from hri_teleop.grading.judge.checks import CHECKS
+from hri_teleop.grading.checks import CHECKS
 from hri_teleop.grading.judge.harness import CLOCK_ENV
 from hri_teleop.grading.run import jobs
 from hri_teleop.ros.kernel import install_kernelspec

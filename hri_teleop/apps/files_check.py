@@ -19,7 +19,7 @@ from pathlib import Path
 from typing import AbstractSet, Callable, Dict, List, Mapping, Optional, Sequence, Tuple
 
 from hri_teleop.grading.assignments import ASSIGNMENT_CHECKS, ASSIGNMENTS
-from hri_teleop.grading.judge.checks import default_check_jobs, grade
+from hri_teleop.grading.checks import default_check_jobs, grade
 from hri_teleop.grading.judge.reuse import REUSED_NOTE
 from hri_teleop.grading.points import CHECK_CELLS, check_points
 from hri_teleop.grading.results import CheckResult, GradingError

@@ -23,8 +23,8 @@ from hri_teleop.grading.batch.late import LateError
 from hri_teleop.grading.batch.nbgrader_batch import grade_course, refresh_course
 from hri_teleop.grading.cases.templates import TemplateError, generate_templates
 from hri_teleop.grading.cases.tracefiles import TRACE_DIR, write_traces
+from hri_teleop.grading.checks import CHECKS, default_check_jobs, grade, grade_submission
 from hri_teleop.grading.exercises.registry import exercise, exercises
-from hri_teleop.grading.judge.checks import CHECKS, default_check_jobs, grade, grade_submission
 from hri_teleop.grading.results import CheckResult, GradingError, feedback_text, gradescope_json
 from hri_teleop.grading.run.sandbox import SandboxError, sandbox_mode
 from hri_teleop.grading.run.workspace import WorkspaceError

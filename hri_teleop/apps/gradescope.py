@@ -8,8 +8,8 @@ from pathlib import Path
 from typing import List, Optional
 
 from hri_teleop.core.paths import OUT
+from hri_teleop.grading.checks import CHECKS
 from hri_teleop.grading.gradescope.build import build_zip
-from hri_teleop.grading.judge.checks import CHECKS
 from hri_teleop.grading.results import GradingError
 
 

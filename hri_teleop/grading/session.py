@@ -5,7 +5,7 @@ to it live there: a plan goes in, an observation (JSON, and a bag) comes out, an
 here. One plan per process, since rospy joins one master per process; the kinds of plan:
 docs/grading-internals.md.
 
-    python -m hri_teleop.grading.run.session PLAN.json
+    python -m hri_teleop.grading.session PLAN.json
 """
 
 from __future__ import annotations
@@ -20,7 +20,7 @@ import traceback
 from pathlib import Path
 from typing import Any, Callable, Dict, List, Optional, Tuple, Type
 
-from hri_teleop.grading.exercises import DELIVERABLE_FILES
+from hri_teleop.grading.deliverables import DELIVERABLE_FILES
 from hri_teleop.grading.run.launch_runs import run_teleop_launch_sim
 from hri_teleop.grading.run.records import (
     Observation,

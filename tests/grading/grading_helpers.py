@@ -134,9 +134,9 @@ def write_corpus_entry(name: str, root: Path) -> Path:
 
 def part_keys(check: str) -> Dict[str, str]:
     """part name -> key of the check's table (robot-params: Table 1 keys and 'load')."""
-    from hri_teleop.grading.judge.harness import table_for
+    from hri_teleop.grading.exercises.registry import exercise
 
-    return {name: key for key, (name, _) in table_for(check).items()}
+    return {name: key for key, (name, _) in exercise(check).parts.items()}
 
 
 def load_checks(out_dir: Path):

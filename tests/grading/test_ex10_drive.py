@@ -1,6 +1,6 @@
 """Ex. 10 is judged on a drive the grader makes itself: the student's teleoperation.py, boxed, beside the grader's
 lab_sim on the grader's clock, the notebook's drive on the scripted pad, the hand's height from lab_sim
-(hri_teleop.grading.judge.drive_check). The kernel's own reading of the hand (a patched ``lab.hand_z_m`` could
+(hri_teleop.grading.batch.drive_check). The kernel's own reading of the hand (a patched ``lab.hand_z_m`` could
 say anything) counts for nothing."""
 
 from __future__ import annotations
@@ -13,8 +13,8 @@ from typing import Any, Dict
 import pytest
 from grading_helpers import SOLUTIONS
 
+from hri_teleop.grading.batch.drive_check import EX10_DRIVE, ex10_values
 from hri_teleop.grading.batch.notebook_judge import judge_notebook
-from hri_teleop.grading.judge.drive_check import EX10_DRIVE, ex10_values
 from hri_teleop.grading.judge.notebook_answers import EX10_DROP_M, MIME, expectations
 
 NOTEBOOK = Path(__file__).resolve().parents[2] / "notebooks" / "source" / "lab" / "ex10_teleoperate_robot.ipynb"

@@ -6,6 +6,9 @@ from __future__ import annotations
 import pytest
 from grading_helpers import answer_text, write_package
 
+from hri_teleop.grading.exercises.teleoperation import check as teleop_check
+from hri_teleop.grading.exercises.teleoperation.judge_node import compare_teleop_node
+
 pytestmark = pytest.mark.ros
 
 SEED = 407054861
@@ -14,16 +17,16 @@ SEED = 407054861
 @pytest.fixture
 def clocks(monkeypatch):
     """The clock each node run was observed on ("grader" or "real time"), as the judge saw it."""
-    from hri_teleop.grading.judge import compare
+
 
     seen = []
-    original = compare.compare_teleop_node
+    original = compare_teleop_node
 
     def spy(observation, *args, **kwargs):
         seen.append(observation.clock)
         return original(observation, *args, **kwargs)
 
-    monkeypatch.setattr(compare, "compare_teleop_node", spy)
+    monkeypatch.setattr(teleop_check, "compare_teleop_node", spy)
     return seen
 
 
@@ -35,7 +38,7 @@ def _package(tmp_path, text):
 def test_the_answer_key_runs_on_the_grader_clock_and_gets_full_marks(tmp_path, clocks):
     """On the grader's clock a run takes what the node computes, not the pad script's length; how much
     faster that is than real time is make bench's ("hri-grade submission, real time", same run)."""
-    from hri_teleop.grading.judge.checks import grade_teleoperation
+    from hri_teleop.grading.exercises.teleoperation.check import grade_teleoperation
 
     result = grade_teleoperation(_package(tmp_path, answer_text("scripts/teleoperation.py")), seed=SEED)
     assert result.score == result.max_score, result.failed_parts
@@ -46,7 +49,7 @@ def test_the_answer_key_runs_on_the_grader_clock_and_gets_full_marks(tmp_path, c
 def test_a_loop_paced_by_time_sleep_is_judged_all_the_same(tmp_path, clocks):
     """Such a loop ignores /clock; under grading time.sleep in the student's files follows the
     grader's clock (grading/run/clock_sleep.py), so the loop passes once per tick, busy or not."""
-    from hri_teleop.grading.judge.checks import grade_teleoperation
+    from hri_teleop.grading.exercises.teleoperation.check import grade_teleoperation
 
     text = answer_text("scripts/teleoperation.py")
     assert "            rate.sleep()" in text
@@ -57,11 +60,11 @@ def test_a_loop_paced_by_time_sleep_is_judged_all_the_same(tmp_path, clocks):
 
 
 def test_the_grader_clock_gives_the_same_messages_run_after_run(tmp_path):
-    from hri_teleop.grading.judge import compare
-    from hri_teleop.grading.judge.checks import grade_teleoperation
+
+    from hri_teleop.grading.exercises.teleoperation.check import grade_teleoperation
 
     seen = []
-    original = compare.compare_teleop_node
+    original = compare_teleop_node
 
     def spy(observation, *args, **kwargs):
         seen.append({t: [(ts, v) for ts, _k, v in msgs] for t, msgs in observation.messages.items()})
@@ -69,7 +72,7 @@ def test_the_grader_clock_gives_the_same_messages_run_after_run(tmp_path):
 
     package = _package(tmp_path, answer_text("scripts/teleoperation.py"))
     with pytest.MonkeyPatch.context() as patch:
-        patch.setattr(compare, "compare_teleop_node", spy)
+        patch.setattr(teleop_check, "compare_teleop_node", spy)
         for _ in range(2):
             grade_teleoperation(package, seed=SEED)
     twist = "/cartesian_velocity_controller/cmd_vel"
@@ -82,7 +85,7 @@ def test_hri_grade_clock_real_runs_the_node_on_the_wall_clock_through_the_same_c
     "before" row): the pad script and the node on the wall clock, the same parts judged, no note
     about the clock. Its points are not asserted: on the wall clock a busy machine costs a loop
     ticks, which is why the grader owns the clock (test_a_loop_paced_by_time_sleep...)."""
-    from hri_teleop.grading.judge.checks import grade_teleoperation
+    from hri_teleop.grading.exercises.teleoperation.check import grade_teleoperation
     from hri_teleop.grading.judge.harness import CLOCK_ENV
 
     package = _package(tmp_path, answer_text("scripts/teleoperation.py"))

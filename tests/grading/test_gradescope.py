@@ -33,8 +33,8 @@ from grading_helpers import (
 
 from hri_teleop.course.release import COURSE_DIR, STUDENT_MAKES_EXECUTABLE
 from hri_teleop.grading.cases.templates import generate_templates
+from hri_teleop.grading.checks import CHECKS
 from hri_teleop.grading.gradescope.build import build_zip
-from hri_teleop.grading.judge.checks import CHECKS
 from hri_teleop.grading.points import check_points
 
 pytestmark = pytest.mark.ros

@@ -9,10 +9,13 @@ import shutil
 import pytest
 from grading_helpers import REPO
 
+from hri_teleop.grading.exercises.graph import check as checks
+from hri_teleop.grading.exercises.graph.check import graph_cache_file, live_graph
+
 
 @pytest.fixture
 def fresh_cache(tmp_path, monkeypatch):
-    from hri_teleop.grading.judge import graph as checks
+
 
     monkeypatch.setenv("XDG_CACHE_HOME", str(tmp_path / "cache"))
     monkeypatch.setattr(checks, "_LIVE_GRAPH", {})
@@ -27,10 +30,10 @@ def _copy_reference(dest):
 
 @pytest.mark.ros
 def test_the_live_graph_is_computed_once_and_read_back_by_the_next_run(fresh_cache, monkeypatch):
-    from hri_teleop.grading.judge import graph as checks
 
-    graph = checks.live_graph()
-    cached = checks.graph_cache_file()
+
+    graph = live_graph()
+    cached = graph_cache_file()
     assert cached.parent.parent == fresh_cache and json.loads(cached.read_text()) == graph.to_json()
     assert "/teleoperation" in graph.publishers["/cartesian_velocity_controller/cmd_vel"]
     monkeypatch.setattr(checks, "_LIVE_GRAPH", {})
@@ -39,11 +42,11 @@ def test_the_live_graph_is_computed_once_and_read_back_by_the_next_run(fresh_cac
         raise AssertionError("the cached graph was computed again")
 
     monkeypatch.setattr(checks, "run_session_plan", no_session)
-    assert checks.live_graph() == graph
+    assert live_graph() == graph
 
 
 def test_the_cache_key_follows_the_reference_files_not_their_folder(tmp_path):
-    from hri_teleop.grading.judge.graph import graph_cache_file
+    from hri_teleop.grading.exercises.graph.check import graph_cache_file
 
     copy = _copy_reference(tmp_path / "copy")
     assert graph_cache_file(copy) == graph_cache_file(REPO / "hri_lab")
@@ -53,13 +56,13 @@ def test_the_cache_key_follows_the_reference_files_not_their_folder(tmp_path):
 
 
 def test_a_cut_short_cache_file_is_computed_again(fresh_cache, monkeypatch):
-    from hri_teleop.grading.judge import graph as checks
-    from hri_teleop.grading.run.records import LiveGraphObservation
 
-    path = checks.graph_cache_file()
+    from hri_teleop.grading.exercises.graph.session import LiveGraphObservation
+
+    path = graph_cache_file()
     path.parent.mkdir(parents=True)
     path.write_text('{"kind": "live-gr')
     fake = LiveGraphObservation(problem="", publishers={}, subscribers={}, types={})
     monkeypatch.setattr(checks, "run_session_plan", lambda *_a, **_k: fake)
-    assert checks.live_graph() == fake
+    assert live_graph() == fake
     assert json.loads(path.read_text()) == fake.to_json()

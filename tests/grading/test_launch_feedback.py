@@ -12,10 +12,18 @@ from __future__ import annotations
 
 import pytest
 
-from hri_teleop.grading.cases.inputs import launch_sim_case
-from hri_teleop.grading.judge import compare
-from hri_teleop.grading.judge.compare_launch import EMPTY_CAUSE, HANDOUT_PORT
-from hri_teleop.grading.run.records import LaunchNode, LaunchParseResult, Message, SensorLaunchObservation
+from hri_teleop.grading.exercises.sensor_launch.judge import PARTS as SENSOR_LAUNCH
+from hri_teleop.grading.exercises.sensor_launch.judge import compare_sensor_launch
+from hri_teleop.grading.exercises.sensor_launch.session import SensorLaunchObservation
+from hri_teleop.grading.exercises.teleoperation_launch.cases import launch_sim_case
+from hri_teleop.grading.exercises.teleoperation_launch.judge import (
+    HANDOUT_PORT,
+    compare_teleop_launch,
+    compare_teleop_launch_sim,
+)
+from hri_teleop.grading.exercises.teleoperation_launch.judge import PARTS as TELEOP_LAUNCH
+from hri_teleop.grading.judge.compare_launch import EMPTY_CAUSE
+from hri_teleop.grading.run.records import LaunchNode, LaunchParseResult, Message
 from hri_teleop.grading.run.workspace import FRANKA_MARKER_PARAM
 
 SENSOR_NODES = [("FSR_sensor", "hri_lab", "FSR_sensor.py"), ("mapping_node", "hri_lab", "mapping_node.py")]
@@ -39,13 +47,13 @@ def _with_type(nodes, name, new_type):
 
 
 def _sensor(nodes, params=None, observation=None):
-    parts = compare.compare_sensor_launch(_launch(nodes, {"/max_sensor_force": 700} if params is None else params),
+    parts = compare_sensor_launch(_launch(nodes, {"/max_sensor_force": 700} if params is None else params),
                                           observation or _flowing())
-    return dict(zip(compare.SENSOR_LAUNCH, parts))
+    return dict(zip(SENSOR_LAUNCH, parts))
 
 
 def _teleop(nodes, params=TELEOP_PARAMS):
-    return dict(zip(compare.TELEOP_LAUNCH, compare.compare_teleop_launch(_launch(nodes, params))))
+    return dict(zip(TELEOP_LAUNCH, compare_teleop_launch(_launch(nodes, params))))
 
 
 def _failed(parts):
@@ -70,7 +78,7 @@ def test_a_teleoperation_node_whose_type_lacks_py_is_told_so_and_the_simulation_
     nodes = _with_type(TELEOP_NODES, "teleoperation", "teleoperation")
     failed = _failed(_teleop(nodes))
     assert list(failed) == ["nodes"] and "extension included" in failed["nodes"]
-    sim = compare.compare_teleop_launch_sim(_launch(nodes, TELEOP_PARAMS), None, launch_sim_case())
+    sim = compare_teleop_launch_sim(_launch(nodes, TELEOP_PARAMS), None, launch_sim_case())
     assert sim.message.startswith("not judged: the file starts no teleoperation.py of hri_lab (the nodes part: "
                                   "teleoperation.py: the <node name=\"teleoperation\"> is there")
 
@@ -107,7 +115,7 @@ def test_the_serial_port_is_judged_against_the_handouts(port, passes, words):
 
 
 def test_the_serial_part_label_quotes_only_the_port_the_handout_gives():
-    assert compare.TELEOP_LAUNCH["serial"][0] == f"starts rosserial_python's serial_node.py with ~port {HANDOUT_PORT} " \
+    assert TELEOP_LAUNCH["serial"][0] == f"starts rosserial_python's serial_node.py with ~port {HANDOUT_PORT} " \
                                                  "(a string)"
 
 
@@ -118,7 +126,7 @@ def test_an_empty_launch_file_fails_the_parse_part_only_and_the_rest_is_not_judg
         assert "starts no node and sets no parameter" in parts["parse"].message
         assert all(p.message == f"not judged: {EMPTY_CAUSE}" for key, p in parts.items() if key != "parse")
         assert sum(p.score for p in parts.values()) == 0
-    sim = compare.compare_teleop_launch_sim(empty, None, launch_sim_case())
+    sim = compare_teleop_launch_sim(empty, None, launch_sim_case())
     assert sim.message == f"not judged: {EMPTY_CAUSE}"
 
 

@@ -7,6 +7,11 @@ from __future__ import annotations
 import pytest
 from grading_helpers import answer_text, busy_cores, write_package
 
+from hri_teleop.grading.exercises.sensor_launch import check as sensor_check
+from hri_teleop.grading.exercises.sensor_launch.judge import compare_sensor_launch
+from hri_teleop.grading.exercises.teleoperation_launch import check as launch_check
+from hri_teleop.grading.exercises.teleoperation_launch.judge import compare_teleop_launch_sim
+
 pytestmark = pytest.mark.ros
 
 TWIST = "/cartesian_velocity_controller/cmd_vel"
@@ -19,18 +24,18 @@ def _same_series(a, b, at_least):
 
 
 def _observe(package, loaded: bool):
-    from hri_teleop.grading.judge import compare
-    from hri_teleop.grading.judge.checks import grade_teleoperation_launch
+
+    from hri_teleop.grading.exercises.teleoperation_launch.check import grade_teleoperation_launch
 
     seen = []
-    original = compare.compare_teleop_launch_sim
+    original = compare_teleop_launch_sim
 
     def spy(parsed, observation, *args, **kwargs):
         seen.append(observation)
         return original(parsed, observation, *args, **kwargs)
 
     with pytest.MonkeyPatch.context() as patch:
-        patch.setattr(compare, "compare_teleop_launch_sim", spy)
+        patch.setattr(launch_check, "compare_teleop_launch_sim", spy)
         if loaded:
             with busy_cores(2):
                 result = grade_teleoperation_launch(package)
@@ -59,13 +64,13 @@ def test_the_launch_check_gives_the_same_twists_and_arm_path_idle_and_loaded(tmp
 
 
 def test_the_sensor_launch_pairs_the_same_counts_and_mappings_idle_and_loaded(tmp_path):
-    from hri_teleop.grading.judge import compare
-    from hri_teleop.grading.judge.checks import grade_sensor_launch
+
+    from hri_teleop.grading.exercises.sensor_launch.check import grade_sensor_launch
 
     package = write_package(tmp_path / "hri_lab", {"package.xml": answer_text("package.xml"),
                                                    "launch/sensor.launch": answer_text("launch/sensor.launch")})
     seen = []
-    original = compare.compare_sensor_launch
+    original = compare_sensor_launch
 
     def spy(parsed, observation, *args, **kwargs):
         seen.append(observation)
@@ -73,7 +78,7 @@ def test_the_sensor_launch_pairs_the_same_counts_and_mappings_idle_and_loaded(tm
 
     results = []
     with pytest.MonkeyPatch.context() as patch:
-        patch.setattr(compare, "compare_sensor_launch", spy)
+        patch.setattr(sensor_check, "compare_sensor_launch", spy)
         results.append(grade_sensor_launch(package))
         with busy_cores(2):
             results.append(grade_sensor_launch(package))

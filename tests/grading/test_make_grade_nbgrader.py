@@ -378,7 +378,7 @@ def test_each_assignments_files_get_the_checks_its_notebooks_call():
     """make grade grades submitted/<student>/<assignment>/hri_lab with the checks that assignment's notebooks call."""
     from hri_teleop.course.release import COURSE_DIR
     from hri_teleop.grading.assignments import ASSIGNMENT_CHECKS, ASSIGNMENTS
-    from hri_teleop.grading.judge.checks import CHECKS
+    from hri_teleop.grading.checks import CHECKS
 
     for assignment in ASSIGNMENTS:
         called = set()

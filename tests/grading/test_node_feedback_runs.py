@@ -15,7 +15,8 @@ from grading_helpers import SOLUTIONS, answer_text, open_folder, write_corpus_en
 
 from hri_teleop.grading import feedback_text, grade
 from hri_teleop.grading.cases.templates import make_template
-from hri_teleop.grading.judge.compare_common import MAPPING, TELEOP
+from hri_teleop.grading.exercises.mapping_node.judge import PARTS as MAPPING
+from hri_teleop.grading.exercises.teleoperation.parts import PARTS as TELEOP
 
 pytestmark = pytest.mark.ros
 

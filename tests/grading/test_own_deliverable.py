@@ -13,7 +13,7 @@ BROKEN_NODE = "#!/usr/bin/env python3\nraise SystemExit('this mapping node is br
 
 
 def test_a_correct_sensor_launch_with_ex7_gets_full_marks_graded_alone(tmp_path):
-    from hri_teleop.grading.judge.checks import grade_sensor_launch
+    from hri_teleop.grading.exercises.sensor_launch.check import grade_sensor_launch
 
     launch = tmp_path / "sensor.launch"
     launch.write_text(answer_text("launch/sensor.launch"))
@@ -23,7 +23,8 @@ def test_a_correct_sensor_launch_with_ex7_gets_full_marks_graded_alone(tmp_path)
 
 
 def test_a_broken_mapping_node_costs_points_in_its_own_check_only(tmp_path):
-    from hri_teleop.grading.judge.checks import grade_mapping_node, grade_sensor_launch
+    from hri_teleop.grading.exercises.mapping_node.check import grade_mapping_node
+    from hri_teleop.grading.exercises.sensor_launch.check import grade_sensor_launch
 
     package = write_package(tmp_path / "hri_lab", {
         "package.xml": answer_text("package.xml"),
@@ -37,7 +38,7 @@ def test_a_broken_mapping_node_costs_points_in_its_own_check_only(tmp_path):
 
 
 def test_a_correct_teleoperation_launch_gets_full_marks_graded_alone(tmp_path):
-    from hri_teleop.grading.judge.checks import grade_teleoperation_launch
+    from hri_teleop.grading.exercises.teleoperation_launch.check import grade_teleoperation_launch
 
     launch = tmp_path / "teleoperation.launch"
     launch.write_text(answer_text("launch/teleoperation.launch"))
@@ -66,7 +67,7 @@ def test_without_the_labs_yaml_an_ex7_load_counts_as_ex7_not_done_not_as_a_parse
 
     import hri_teleop.grading.run.workspace as workspace
     from hri_teleop.course.bundle import LAB_DELIVERABLES
-    from hri_teleop.grading.judge.checks import grade_sensor_launch
+    from hri_teleop.grading.exercises.sensor_launch.check import grade_sensor_launch
 
     toolkit_lab = tmp_path / "toolkit" / "hri_lab"
     shutil.copytree(workspace.REFERENCE_PACKAGE, toolkit_lab)

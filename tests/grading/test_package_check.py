@@ -7,7 +7,8 @@ from pathlib import Path
 
 import pytest
 
-from hri_teleop.grading.judge.package_check import CATKIN_PACKAGE, grade_catkin_package
+from hri_teleop.grading.exercises.catkin_package import PARTS as CATKIN_PACKAGE
+from hri_teleop.grading.exercises.catkin_package import grade_catkin_package
 from hri_teleop.grading.results import GradingError
 
 LISTS = "catkin_install_python(PROGRAMS\n  scripts/FSR_sensor.py\n{extra}  DESTINATION ${{CATKIN_PACKAGE_BIN_DESTINATION}}\n)\n"

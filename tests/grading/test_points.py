@@ -23,9 +23,9 @@ from hri_teleop.grading.batch.class_results import score_columns, write_rows, wr
 from hri_teleop.grading.batch.finish import finish
 from hri_teleop.grading.batch.late import read_late_policy
 from hri_teleop.grading.cases.inputs import SEED_ENV, CasesError, default_seed, seed_for, student_seed
+from hri_teleop.grading.checks import CHECKS
 from hri_teleop.grading.gradescope.notebooks import cell_tests
 from hri_teleop.grading.gradescope.report import results_payload
-from hri_teleop.grading.judge.checks import CHECKS
 from hri_teleop.grading.points import (
     CHECK_CALL,
     CHECK_CELLS,
@@ -326,8 +326,9 @@ def test_gradescope_gives_the_files_and_the_uploaded_notebooks_the_students_seed
 
 
 def test_a_check_in_a_graded_kernel_takes_the_students_seed_and_finds_the_files_jobs_result(tmp_path, monkeypatch):
+    from hri_teleop.grading.exercises.mapping_node.check import grade_mapping_node
+    from hri_teleop.grading.exercises.robot_params import grade_robot_params
     from hri_teleop.grading.judge import reuse
-    from hri_teleop.grading.judge.checks import grade_mapping_node, grade_robot_params
 
     root = tmp_path / "autograded" / "alice" / "preparation" / "hri_lab"
     (root / "config").mkdir(parents=True)

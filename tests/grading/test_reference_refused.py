@@ -4,7 +4,7 @@ from __future__ import annotations
 
 import pytest
 
-from hri_teleop.grading.judge.checks import grade_mapping_node
+from hri_teleop.grading.exercises.mapping_node.check import grade_mapping_node
 
 pytestmark = pytest.mark.ros
 

@@ -9,8 +9,8 @@ from pathlib import Path
 
 import pytest
 
+from hri_teleop.grading.exercises.robot_params import grade_robot_params
 from hri_teleop.grading.judge import reuse
-from hri_teleop.grading.judge.checks import grade_robot_params
 from hri_teleop.grading.results import CheckResult, Part
 
 REPO = Path(__file__).resolve().parents[2]

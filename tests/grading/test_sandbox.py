@@ -71,7 +71,7 @@ def test_a_fork_bomb_hits_the_process_limit_and_leaves_nothing_behind(tmp_path):
 
 
 def test_output_beyond_the_cap_ends_the_process_with_a_clear_reason(tmp_path):
-    from hri_teleop.grading.judge.compare import process_hints
+    from hri_teleop.grading.judge.compare_common import process_hints
     from hri_teleop.grading.run.records import ProcessFacts
 
     cap = DEFAULT_LIMITS.file_bytes

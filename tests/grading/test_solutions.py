@@ -8,16 +8,13 @@ import time
 import pytest
 from grading_helpers import REPO, SOLUTIONS
 
-from hri_teleop.grading import (
-    GradingError,
-    feedback_text,
-    grade_mapping_node,
-    grade_robot_params,
-    grade_submission,
-    grade_teleoperation,
-)
+from hri_teleop.grading import GradingError, feedback_text, grade_submission
 from hri_teleop.grading.cases.templates import generate_templates
-from hri_teleop.grading.judge.checks import CHECKS, default_check_jobs
+from hri_teleop.grading.checks import CHECKS, default_check_jobs
+from hri_teleop.grading.exercises.mapping_node.check import grade_mapping_node
+from hri_teleop.grading.exercises.registry import exercise
+from hri_teleop.grading.exercises.robot_params import grade_robot_params
+from hri_teleop.grading.exercises.teleoperation.check import grade_teleoperation
 from hri_teleop.grading.judge.harness import CheckRun, closing_scratch, start_check
 
 pytestmark = pytest.mark.ros
@@ -74,12 +71,12 @@ def test_a_check_that_ends_closes_only_the_scratch_folders_of_its_own_thread(tmp
 
     @closing_scratch
     def other_check() -> None:
-        run, _ = start_check("robot-params", SOLUTIONS, tmp_path / "other", 1)
+        run, _ = start_check(exercise("robot-params"), SOLUTIONS, tmp_path / "other", 1)
         opened["other"] = run
         other_may_end.wait(30)
 
     thread = threading.Thread(target=lambda: (other_check(), other_ended.set()))
-    mine, _ = start_check("mapping-node", SOLUTIONS, tmp_path / "mine", 1)
+    mine, _ = start_check(exercise("mapping-node"), SOLUTIONS, tmp_path / "mine", 1)
     thread.start()
     other_may_end.set()
     thread.join(30)

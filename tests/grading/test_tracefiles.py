@@ -5,20 +5,21 @@ from __future__ import annotations
 import pytest
 from grading_helpers import hri_grade
 
-from hri_teleop.grading.cases.inputs import public_mapping_case, public_teleop_parts_case
-from hri_teleop.grading.cases.tracefiles import (
-    TRACE_DIR,
-    TRACE_FILES,
-    read_mapping_trace,
-    read_parts_trace,
-)
+from hri_teleop.grading.cases.tracefiles import TRACE_DIR
+from hri_teleop.grading.exercises.mapping_node.cases import public_mapping_case
+from hri_teleop.grading.exercises.mapping_node.traces import read_mapping_trace
+from hri_teleop.grading.exercises.registry import exercises
+from hri_teleop.grading.exercises.teleoperation.cases import public_teleop_parts_case
+from hri_teleop.grading.exercises.teleoperation.traces import read_parts_trace
 from hri_teleop.ros.bags import read_topics
 
 
 def test_hri_grade_traces_rewrites_the_committed_bags_byte_for_byte(tmp_path):
     proc = hri_grade("traces", "--out", str(tmp_path))
     assert proc.returncode == 0, proc.stderr
-    for name in TRACE_FILES:
+    names = [name for found in exercises() for name in found.public_traces]
+    assert names == ["mapping_public.bag", "teleop_parts_public.bag", "teleop_node_public.bag"]
+    for name in names:
         committed = TRACE_DIR / name
         assert committed.is_file(), f"{committed} missing: run `make traces`"
         assert (tmp_path / name).read_bytes() == committed.read_bytes(), \

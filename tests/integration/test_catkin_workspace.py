@@ -14,7 +14,7 @@ import pytest
 from hri_teleop.core.paths import SOLUTIONS
 from hri_teleop.course.release import STUDENT_MAKES_EXECUTABLE
 from hri_teleop.grading.cases.templates import generate_templates, make_answer
-from hri_teleop.grading.judge.package_check import grade_catkin_package
+from hri_teleop.grading.exercises.catkin_package import grade_catkin_package
 from hri_teleop.ros.catkin_ws import CatkinError, build_workspace
 from hri_teleop.ros.master import finds_hri_lab
 

@@ -8,7 +8,7 @@ from hri_teleop import course
 from hri_teleop.course import cells, check, lab, release
 from hri_teleop.course.errors import CourseError
 from hri_teleop.grading.assignments import ASSIGNMENTS
-from hri_teleop.grading.judge.compare import TELEOP
+from hri_teleop.grading.exercises.teleoperation.parts import PARTS as TELEOP
 from hri_teleop.grading.results import CheckResult, Part
 
 
@@ -37,11 +37,11 @@ def test_teleoperation_check_splits_into_the_class_parts_and_the_node_parts(tmp_
     from hri_teleop.grading.cases.templates import generate_templates
 
     generate_templates(release.SOLUTIONS, tmp_path / "hri_lab")
-    parts = check.teleoperation_parts_result(tmp_path / "hri_lab")
+    parts = check.calls()["teleoperation_parts"](tmp_path / "hri_lab")
     names = {p.name for p in parts.parts}
     assert names == {name for key, (name, _) in TELEOP.items() if not key.startswith("node_")}
     assert parts.score < parts.max_score == sum(p for k, (_, p) in TELEOP.items() if not k.startswith("node_"))
-    node = check.teleoperation_node_result(tmp_path / "hri_lab")
+    node = check.calls()["teleoperation_node"](tmp_path / "hri_lab")
     assert {p.name for p in node.parts} == {name for key, (name, _) in TELEOP.items() if key.startswith("node_")}
     assert node.score == 0 and any("Ex. 8 parts still failing" in n for n in node.notes)
 

@@ -120,10 +120,15 @@ def test_autograded_cells_call_the_toolkit_and_carry_no_logic(path):
 def test_check_cells_show_each_part_of_the_grader_once_and_carry_no_points():
     """What the check cells show adds up to the checks' points (Ex. 8/9 and 9/12 split a check in two);
     those points are the files' (hri_teleop.grading.points), so the cells carry none."""
-    from hri_teleop.grading.judge.checks import CHECKS
-    from hri_teleop.grading.judge.compare import GRAPH, MAPPING, SENSOR_LAUNCH, TELEOP, TELEOP_LAUNCH
-    from hri_teleop.grading.judge.package_check import CATKIN_PACKAGE, EXERCISE_PARTS
-    from hri_teleop.grading.judge.robot_params import POINTS
+    from hri_teleop.grading.checks import CHECKS
+    from hri_teleop.grading.exercises.catkin_package import EXERCISE_PARTS
+    from hri_teleop.grading.exercises.catkin_package import PARTS as CATKIN_PACKAGE
+    from hri_teleop.grading.exercises.graph.judge import PARTS as GRAPH
+    from hri_teleop.grading.exercises.mapping_node.judge import PARTS as MAPPING
+    from hri_teleop.grading.exercises.robot_params import POINTS
+    from hri_teleop.grading.exercises.sensor_launch.judge import PARTS as SENSOR_LAUNCH
+    from hri_teleop.grading.exercises.teleoperation.parts import PARTS as TELEOP
+    from hri_teleop.grading.exercises.teleoperation_launch.judge import PARTS as TELEOP_LAUNCH
     from hri_teleop.grading.points import check_points
 
     def total(table, node=None):
@@ -204,7 +209,7 @@ def test_the_readme_table_gives_each_notebook_the_points_its_cells_carry():
     """The autograded and manual columns are the cells' nbgrader points; the check-cell column names the
     checks a notebook's read-only check cells run, whose points (the files') add up to the checks'.
     The guide's totals per assignment: tests/grading/test_points.py."""
-    from hri_teleop.grading.judge.checks import CHECKS
+    from hri_teleop.grading.checks import CHECKS
     from hri_teleop.grading.points import CHECK_CELLS, check_points
 
     readme = (COURSE_DIR / "README.md").read_text(encoding="utf-8")

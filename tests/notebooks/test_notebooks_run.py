@@ -117,7 +117,7 @@ def test_a_check_cell_shows_full_points_on_a_machine_without_bubblewrap(course, 
     from nbclient import NotebookClient
 
     from hri_teleop.course.check import POINTS_NOTE
-    from hri_teleop.grading.judge.compare import TELEOP_LAUNCH
+    from hri_teleop.grading.exercises.teleoperation_launch.judge import PARTS as TELEOP_LAUNCH
     from hri_teleop.ros.kernel import ipc_kernel_config
 
     monkeypatch.setenv("HRI_GRADE_SANDBOX", "none")

@@ -27,7 +27,7 @@ INTERNAL: Dict[Tuple[str, str, str], str] = {
         "called only for an attribute the caller has checked is there: firing is a bug in paramfile",
     ("hri_teleop/grading/results.py", "CheckResult.part", "KeyError"):
         "a lookup by part name for code and tests; a wrong name is the caller's bug, and KeyError is a lookup's error",
-    ("hri_teleop/grading/run/session.py", "_observe", "TypeError"):
+    ("hri_teleop/grading/session.py", "_observe", "TypeError"):
         "every plan the judge builds has a session; another type is a bug in the grader",
     ("hri_teleop/course/answers.py", "_read_capped", "OSError"):
         "a file reader's contract: rosparam_model.file_reader turns an OSError into the command's note",

@@ -7,16 +7,14 @@ from pathlib import Path
 import pytest
 
 from hri_teleop.core.mapping import map_force
-from hri_teleop.grading.cases.inputs import (
-    PUBLIC_MAX_SENSOR_FORCE,
-    hidden_mapping_cases,
+from hri_teleop.grading.cases.inputs import PUBLIC_MAX_SENSOR_FORCE, seed_for
+from hri_teleop.grading.exercises.mapping_node.cases import hidden_mapping_cases, public_mapping_case
+from hri_teleop.grading.exercises.teleoperation.cases import (
     hidden_teleop_node_case,
     hidden_teleop_parts_case,
-    public_mapping_case,
     public_teleop_node_case,
     public_teleop_parts_case,
     reference_parts,
-    seed_for,
 )
 
 

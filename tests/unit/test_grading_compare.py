@@ -11,27 +11,34 @@ from pathlib import Path
 
 import pytest
 
-from hri_teleop.grading.cases.inputs import (
-    launch_sim_case,
-    public_mapping_case,
-    public_teleop_parts_case,
-    reference_parts,
-)
-from hri_teleop.grading.judge import compare
-from hri_teleop.grading.judge.robot_params import TABLE_1, compare_robot_params
+from hri_teleop.grading.cases.handout import TABLE_1
+from hri_teleop.grading.exercises.graph.judge import PARTS as GRAPH
+from hri_teleop.grading.exercises.graph.judge import compare_graph
+from hri_teleop.grading.exercises.graph.session import LiveGraphObservation
+from hri_teleop.grading.exercises.mapping_node.cases import public_mapping_case
+from hri_teleop.grading.exercises.mapping_node.judge import PARTS as MAPPING
+from hri_teleop.grading.exercises.mapping_node.judge import compare_mapping
+from hri_teleop.grading.exercises.mapping_node.session import MappingNodeObservation, MappingRun
+from hri_teleop.grading.exercises.robot_params import compare_robot_params
+from hri_teleop.grading.exercises.sensor_launch.judge import PARTS as SENSOR_LAUNCH
+from hri_teleop.grading.exercises.sensor_launch.judge import compare_sensor_launch
+from hri_teleop.grading.exercises.sensor_launch.session import SensorLaunchObservation
+from hri_teleop.grading.exercises.teleoperation.cases import public_teleop_parts_case, reference_parts
+from hri_teleop.grading.exercises.teleoperation.judge_parts import compare_teleop_parts
+from hri_teleop.grading.exercises.teleoperation.parts import PARTS as TELEOP
+from hri_teleop.grading.exercises.teleoperation_launch.cases import launch_sim_case
+from hri_teleop.grading.exercises.teleoperation_launch.judge import PARTS as TELEOP_LAUNCH
+from hri_teleop.grading.exercises.teleoperation_launch.judge import compare_teleop_launch, compare_teleop_launch_sim
+from hri_teleop.grading.judge.compare_common import process_hints
 from hri_teleop.grading.run.records import (
     LaunchNode,
     LaunchParseResult,
-    LiveGraphObservation,
-    MappingNodeObservation,
-    MappingRun,
     Message,
     NodeFacts,
     PartsCaseResult,
     PartsTick,
     ProcessFacts,
     Response,
-    SensorLaunchObservation,
     TeleopLaunchSimObservation,
     TeleopPartsResult,
     Topic,
@@ -101,23 +108,23 @@ def _run(case, outputs, topic="/force_mapped", kind="std_msgs/Float32", subs=(("
 
 
 def _cases():
-    from hri_teleop.grading.cases.inputs import hidden_mapping_cases
+    from hri_teleop.grading.exercises.mapping_node.cases import hidden_mapping_cases
 
     return [public_mapping_case()] + hidden_mapping_cases(3)
 
 
 def test_the_reference_mapping_gets_full_marks():
     cases = _cases()
-    parts = compare.compare_mapping(MappingNodeObservation(runs=[_run(c, c.expected) for c in cases]), cases)
+    parts = compare_mapping(MappingNodeObservation(runs=[_run(c, c.expected) for c in cases]), cases)
     assert all(p.passed for p in parts) and sum(p.points for p in parts) == 20
 
 
 def test_a_range_of_700_fails_only_the_hidden_part_and_says_so():
     cases = _cases()
     runs = [_run(c, [min(1.0, x / 700.0) for x in c.counts]) for c in cases]
-    failed = _failed(compare.compare_mapping(MappingNodeObservation(runs=runs), cases))
-    assert list(failed) == [compare.MAPPING["hidden"][0]]
-    assert "0..700" in failed[compare.MAPPING["hidden"][0]] and "rospy.get_param" in failed[compare.MAPPING["hidden"][0]]
+    failed = _failed(compare_mapping(MappingNodeObservation(runs=runs), cases))
+    assert list(failed) == [MAPPING["hidden"][0]]
+    assert "0..700" in failed[MAPPING["hidden"][0]] and "rospy.get_param" in failed[MAPPING["hidden"][0]]
 
 
 def test_missing_and_doubled_messages_are_counted_with_an_example():
@@ -125,9 +132,9 @@ def test_missing_and_doubled_messages_are_counted_with_an_example():
     public = _run(cases[0], cases[0].expected)
     public.responses[1] = []
     public.responses[2] = public.responses[2] * 2
-    failed = _failed(compare.compare_mapping(MappingNodeObservation(runs=[public] + [_run(c, c.expected)
+    failed = _failed(compare_mapping(MappingNodeObservation(runs=[public] + [_run(c, c.expected)
                                                                                      for c in cases[1:]]), cases))
-    message = failed[compare.MAPPING["values"][0]]
+    message = failed[MAPPING["values"][0]]
     assert "got no message back" in message and "more than one message" in message
 
 
@@ -137,7 +144,7 @@ def test_a_node_that_never_subscribes_fails_first_and_the_rest_is_not_judged():
     run = dataclasses.replace(run, node=dataclasses.replace(
         run.node, exited_by_itself=True, exit_code=1, output_tail="Traceback...\nKeyError: '/max_force'",
         problem="exited with status 1 before subscribing to a topic"))
-    parts = compare.compare_mapping(MappingNodeObservation(runs=[run]), cases)
+    parts = compare_mapping(MappingNodeObservation(runs=[run]), cases)
     assert "KeyError" in parts[0].message and "exited with status 1" in parts[0].message
     assert all(p.message.startswith("not judged") for p in parts[1:])
 
@@ -145,7 +152,7 @@ def test_a_node_that_never_subscribes_fails_first_and_the_rest_is_not_judged():
 def test_the_output_limit_and_writes_outside_are_explained():
     facts = ProcessFacts(output_bytes=5 * 1024 * 1024, exit_code=-25,
                          output_tail="OSError: [Errno 30] Read-only file system: '/etc/passwd'")
-    hints = " ".join(compare.process_hints(facts))
+    hints = " ".join(process_hints(facts))
     assert "output limit" in hints and "/etc/passwd" in hints and "outside its own folder" in hints
 
 
@@ -155,7 +162,7 @@ def test_the_output_limit_and_writes_outside_are_explained():
     ("OSError: [Errno 30] Read-only file system: '/usr/x'", ""),  # the write hint says it already
 ])
 def test_a_file_outside_the_folder_that_is_not_there_while_grading_is_explained(tail, named):
-    hints = " ".join(compare.process_hints(ProcessFacts(exit_code=1, output_tail=tail)))
+    hints = " ".join(process_hints(ProcessFacts(exit_code=1, output_tail=tail)))
     assert (f"{named} is not there while grading" in hints) is bool(named), hints
 
 
@@ -173,7 +180,7 @@ def _parts_result(*cases):
 def test_reference_parts_pass_and_a_gripper_step_without_rate_is_recognised():
     case = public_teleop_parts_case()
     ticks = _ticks_from_reference(case)
-    ok = compare.compare_teleop_parts(_parts_result(PartsCaseResult(case.label, ticks)), [case])
+    ok = compare_teleop_parts(_parts_result(PartsCaseResult(case.label, ticks)), [case])
     assert all(p.passed for p in ok)
     bad = []
     width = 0.08
@@ -181,9 +188,9 @@ def test_reference_parts_pass_and_a_gripper_step_without_rate_is_recognised():
         width += (case.gains.k_gripper if "east" in t.buttons else 0) - (case.gains.k_gripper if "south" in t.buttons else 0)
         width = min(0.08, max(0.0, width))
         bad.append(dataclasses.replace(tick, gripper_width=width))
-    failed = _failed(compare.compare_teleop_parts(_parts_result(PartsCaseResult(case.label, bad)), [case]))
-    assert list(failed) == [compare.TELEOP["gripper"][0]]
-    assert "k_gripper / rate" in failed[compare.TELEOP["gripper"][0]]
+    failed = _failed(compare_teleop_parts(_parts_result(PartsCaseResult(case.label, bad)), [case]))
+    assert list(failed) == [TELEOP["gripper"][0]]
+    assert "k_gripper / rate" in failed[TELEOP["gripper"][0]]
 
 
 def test_a_template_part_left_unfilled_names_the_method():
@@ -191,13 +198,13 @@ def test_a_template_part_left_unfilled_names_the_method():
     ticks = _ticks_from_reference(case)
     result = PartsCaseResult(case.label, ticks, errors={"update_rumble": "NotImplementedError: "},
                              error_ticks={"update_rumble": 0})
-    failed = _failed(compare.compare_teleop_parts(_parts_result(result), [case]))
-    assert list(failed) == [compare.TELEOP["rumble"][0]]
-    assert "update_rumble() raised NotImplementedError" in failed[compare.TELEOP["rumble"][0]]
+    failed = _failed(compare_teleop_parts(_parts_result(result), [case]))
+    assert list(failed) == [TELEOP["rumble"][0]]
+    assert "update_rumble() raised NotImplementedError" in failed[TELEOP["rumble"][0]]
 
 
 def test_an_import_failure_fails_the_import_part_and_nothing_is_judged_after_it():
-    parts = compare.compare_teleop_parts(TeleopPartsResult(ok=False, error="the file called sys.exit(2) while being "
+    parts = compare_teleop_parts(TeleopPartsResult(ok=False, error="the file called sys.exit(2) while being "
                                                                            "imported"), [public_teleop_parts_case()])
     assert "sys.exit" in parts[0].message and all("not judged" in p.message for p in parts[1:])
 
@@ -215,7 +222,7 @@ TELEOP_PARAMS = {"/max_sensor_force": 700, "/serial_node/port": "/dev/ttyACM0", 
 
 
 def test_a_complete_teleoperation_launch_passes():
-    assert all(p.passed for p in compare.compare_teleop_launch(_launch(TELEOP_NODES, TELEOP_PARAMS)))
+    assert all(p.passed for p in compare_teleop_launch(_launch(TELEOP_NODES, TELEOP_PARAMS)))
 
 
 @pytest.mark.parametrize("drop_node, params, key, words", [
@@ -229,14 +236,14 @@ def test_a_complete_teleoperation_launch_passes():
 ])
 def test_each_teleoperation_launch_mistake_fails_its_part_only(drop_node, params, key, words):
     nodes = [n for n in TELEOP_NODES if n[0] != drop_node]
-    failed = _failed(compare.compare_teleop_launch(_launch(nodes, params)))
-    assert list(failed) == [compare.TELEOP_LAUNCH[key][0]] and words in failed[compare.TELEOP_LAUNCH[key][0]]
+    failed = _failed(compare_teleop_launch(_launch(nodes, params)))
+    assert list(failed) == [TELEOP_LAUNCH[key][0]] and words in failed[TELEOP_LAUNCH[key][0]]
 
 
 def _serial_note(params):
-    parts = {p.name: p for p in compare.compare_teleop_launch(_launch(TELEOP_NODES, params))}
-    serial = parts[compare.TELEOP_LAUNCH["serial"][0]]
-    assert serial.passed and sum(p.points for p in parts.values()) == sum(v[1] for k, v in compare.TELEOP_LAUNCH.items()
+    parts = {p.name: p for p in compare_teleop_launch(_launch(TELEOP_NODES, params))}
+    serial = parts[TELEOP_LAUNCH["serial"][0]]
+    assert serial.passed and sum(p.points for p in parts.values()) == sum(v[1] for k, v in TELEOP_LAUNCH.items()
                                                                          if k != "sim")
     return serial.note
 
@@ -270,8 +277,8 @@ def test_a_bad_publish_period_ms_is_named_with_the_300_ms_the_board_keeps(value,
 def test_the_board_rate_note_follows_the_serial_node_s_own_name():
     nodes = [("arduino", "rosserial_python", "serial_node.py")] + TELEOP_NODES[1:]
     params = {**TELEOP_PARAMS, "/arduino/port": "/dev/ttyACM0", "/arduino/publish_period_ms": 10}
-    parts = {p.name: p for p in compare.compare_teleop_launch(_launch(nodes, params))}
-    serial = parts[compare.TELEOP_LAUNCH["serial"][0]]
+    parts = {p.name: p for p in compare_teleop_launch(_launch(nodes, params))}
+    serial = parts[TELEOP_LAUNCH["serial"][0]]
     assert serial.passed and serial.note == "the board sends every 10 ms, 100 Hz (serial_node's publish_period_ms)"
 
 
@@ -310,13 +317,13 @@ def _messages(rows):
 
 
 def _sim_part(observation, plot_dir=None):
-    return compare.compare_teleop_launch_sim(_launch(TELEOP_NODES, TELEOP_PARAMS), observation, launch_sim_case(),
+    return compare_teleop_launch_sim(_launch(TELEOP_NODES, TELEOP_PARAMS), observation, launch_sim_case(),
                                              plot_dir)
 
 
 def test_a_teleoperation_launch_that_works_in_simulation_passes_and_says_what_happened():
     part = _sim_part(_sim_observation())
-    assert part.passed and part.points == compare.TELEOP_LAUNCH["sim"][1]
+    assert part.passed and part.points == TELEOP_LAUNCH["sim"][1]
     assert "rumbled up to 1.00" in part.note and "sponge was lifted" in part.note
 
 
@@ -345,7 +352,7 @@ def test_a_launch_that_does_not_start_or_could_not_be_run_is_named():
     assert not failed.passed and "RLException" in failed.message
     skipped = _sim_part(TeleopLaunchSimObservation(session_error="the grading session did not finish within 120 s"))
     assert not skipped.passed and skipped.message.startswith("not judged: the grader could not run the simulation")
-    nothing = compare.compare_teleop_launch_sim(_launch(TELEOP_NODES[:2], TELEOP_PARAMS), None, launch_sim_case())
+    nothing = compare_teleop_launch_sim(_launch(TELEOP_NODES[:2], TELEOP_PARAMS), None, launch_sim_case())
     assert nothing.message.startswith("not judged") and "no teleoperation.py" in nothing.message
 
 
@@ -353,7 +360,7 @@ def test_sensor_launch_accepts_the_handouts_ros_intro_package_and_reports_ex_7()
     parsed = _launch([("FSR_sensor", "ros_intro", "FSR_sensor.py"), ("mapping_node", "ros_intro", "mapping_node.py")],
                      {"/max_sensor_force": 700, "/robot_name": "FER"})
     observation = SensorLaunchObservation(force_mapped=_messages([[0.0, "std_msgs/Float32", 0.5]] * 5), supplied=[])
-    parts = compare.compare_sensor_launch(parsed, observation)
+    parts = compare_sensor_launch(parsed, observation)
     assert all(p.passed for p in parts)
     assert "Ex. 7 done" in parts[3].note
 
@@ -363,20 +370,20 @@ def test_sensor_launch_values_outside_0_1_fail_the_flow():
                      {"/max_sensor_force": 700})
     observation = SensorLaunchObservation(force_mapped=_messages([[0.0, "std_msgs/Float32", v] for v in (0.2, 1.46, 0.9)]),
                                           supplied=[])
-    failed = _failed(compare.compare_sensor_launch(parsed, observation))
-    assert list(failed) == [compare.SENSOR_LAUNCH["flow"][0]] and "outside [0, 1]" in failed[compare.SENSOR_LAUNCH["flow"][0]]
+    failed = _failed(compare_sensor_launch(parsed, observation))
+    assert list(failed) == [SENSOR_LAUNCH["flow"][0]] and "outside [0, 1]" in failed[SENSOR_LAUNCH["flow"][0]]
 
 
 def test_an_empty_launch_file_parses_but_earns_no_point():
     empty = _launch([], {})
-    sensor = compare.compare_sensor_launch(empty, SensorLaunchObservation(
+    sensor = compare_sensor_launch(empty, SensorLaunchObservation(
         force_mapped=_messages([[0.0, "std_msgs/Float32", 0.5]] * 5),
         supplied=["/max_sensor_force", "FSR_sensor.py", "mapping_node.py"]))
     assert [p.score for p in sensor] == [0] * len(sensor)
     assert "starts no node" in sensor[0].message
-    teleop = compare.compare_teleop_launch(empty)
+    teleop = compare_teleop_launch(empty)
     assert teleop[0].score == 0 and "starts no node" in teleop[0].message
-    one_param = compare.compare_sensor_launch(_launch([], {"/max_sensor_force": 700}), None)
+    one_param = compare_sensor_launch(_launch([], {"/max_sensor_force": 700}), None)
     assert one_param[0].passed  # something written: the parse part is earned
 
 
@@ -387,14 +394,14 @@ def test_an_empty_launch_file_parses_but_earns_no_point():
 def test_the_flow_is_the_launch_files_only_when_it_started_a_node_of_the_pipeline(supplied, flow_passes):
     parsed = _launch([("FSR_sensor", "hri_lab", "FSR_sensor.py")], {"/max_sensor_force": 700})
     observation = SensorLaunchObservation(force_mapped=_messages([[0.0, "std_msgs/Float32", 0.5]] * 5), supplied=supplied)
-    flow = compare.compare_sensor_launch(parsed, observation)[-1]
+    flow = compare_sensor_launch(parsed, observation)[-1]
     assert flow.passed is flow_passes
     if not flow_passes:
         assert "neither node" in flow.message
 
 
 def test_launch_hints_name_the_element_and_exercise_not_the_answer_line():
-    parts = compare.compare_teleop_launch(_launch([("x", "hri_lab", "other.py")], {"/other": 1}))
+    parts = compare_teleop_launch(_launch([("x", "hri_lab", "other.py")], {"/other": 1}))
     text = " ".join(p.message for p in parts)
     assert "<node name=" not in text and "<param name=" not in text and "<include file=" not in text
     assert "Ex. 12 e)" in text and "Ex. 13" in text
@@ -425,7 +432,7 @@ ANSWER = {
 
 
 def test_the_answer_graph_matches_the_live_one_with_serial_node_for_the_simulated_sensor():
-    assert all(p.passed for p in compare.compare_graph(ANSWER, LIVE))
+    assert all(p.passed for p in compare_graph(ANSWER, LIVE))
 
 
 @pytest.mark.parametrize("change, key, words", [
@@ -438,12 +445,12 @@ def test_the_answer_graph_matches_the_live_one_with_serial_node_for_the_simulate
 def test_graph_mistakes_fail_their_part(change, key, words):
     answer = copy.deepcopy(ANSWER)
     change(answer)
-    failed = _failed(compare.compare_graph(answer, LIVE))
-    assert list(failed) == [compare.GRAPH[key][0]] and words in failed[compare.GRAPH[key][0]]
+    failed = _failed(compare_graph(answer, LIVE))
+    assert list(failed) == [GRAPH[key][0]] and words in failed[GRAPH[key][0]]
 
 
 def test_an_unreadable_graph_fails_the_format_part_first():
-    parts = compare.compare_graph(["not", "a", "mapping"], LIVE)
+    parts = compare_graph(["not", "a", "mapping"], LIVE)
     assert not parts[0].passed and "nodes:" in parts[0].message
 
 

@@ -102,10 +102,10 @@ def test_the_core_imports_only_the_standard_library_numpy_and_yaml():
     ({"hri_teleop.core.teleop": {"hri_teleop.core.limits"}}, []),
     ({"hri_teleop.grading.batch.nbgrader_batch": {"hri_teleop.course.release"}},
      [("hri_teleop.grading.batch.nbgrader_batch", "hri_teleop.course.release")]),
-    ({"hri_teleop.course.cells": {"hri_teleop.grading.judge.checks"}}, []),
+    ({"hri_teleop.course.cells": {"hri_teleop.grading.checks"}}, []),
     ({"hri_teleop.student": {"hri_teleop.ros.params", "hri_teleop.hardware.gamepad"}}, []),
     ({"hri_teleop.student": {"hri_teleop.grading.cases.inputs"}}, [("hri_teleop.student", "hri_teleop.grading.cases.inputs")]),
-    ({"hri_teleop.grading.judge.checks": {"hri_teleop.student"}}, [("hri_teleop.grading.judge.checks", "hri_teleop.student")]),
+    ({"hri_teleop.grading.checks": {"hri_teleop.student"}}, [("hri_teleop.grading.checks", "hri_teleop.student")]),
     ({"hri_teleop.limits": {"hri_teleop.student"}, "hri_teleop.gamepad.events": {"hri_teleop.student.deprecation"}}, []),
     ({"hri_teleop.limits": {"hri_teleop.core.limits"}}, [("hri_teleop.limits", "hri_teleop.core.limits")]),
 ])

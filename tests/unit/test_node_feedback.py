@@ -11,26 +11,22 @@ import dataclasses
 
 import pytest
 
-from hri_teleop.grading.cases.inputs import hidden_mapping_cases, hidden_teleop_node_case, public_mapping_case
-from hri_teleop.grading.judge.compare_common import MAPPING, TELEOP
-from hri_teleop.grading.judge.compare_mapping import compare_mapping
-from hri_teleop.grading.judge.compare_teleop_node import (
+from hri_teleop.grading.exercises.mapping_node.cases import hidden_mapping_cases, public_mapping_case
+from hri_teleop.grading.exercises.mapping_node.judge import PARTS as MAPPING
+from hri_teleop.grading.exercises.mapping_node.judge import compare_mapping
+from hri_teleop.grading.exercises.mapping_node.session import MappingNodeObservation, MappingRun
+from hri_teleop.grading.exercises.teleoperation.cases import hidden_teleop_node_case
+from hri_teleop.grading.exercises.teleoperation.judge_node import (
     RATE_TOLERANCE,
     compare_teleop_node,
     keeps_rate,
     loop_rate_hz,
     real_time_note,
 )
+from hri_teleop.grading.exercises.teleoperation.parts import PARTS as TELEOP
+from hri_teleop.grading.exercises.teleoperation.session import TeleopNodeObservation
 from hri_teleop.grading.judge.tracebacks import crash_text, find_crash, is_template
-from hri_teleop.grading.run.records import (
-    MappingNodeObservation,
-    MappingRun,
-    Message,
-    NodeFacts,
-    Response,
-    TeleopNodeObservation,
-    Topic,
-)
+from hri_teleop.grading.run.records import Message, NodeFacts, Response, Topic
 
 PACKAGE = "/tmp/hri-grade-mapping-node-abc/ws/hri_lab"
 

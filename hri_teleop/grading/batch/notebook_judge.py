@@ -18,8 +18,8 @@ from pathlib import Path
 from typing import Any, Dict, List, Optional, Tuple
 
 from hri_teleop.core.errors import HriTeleopError
+from hri_teleop.grading.batch.drive_check import ex10_values
 from hri_teleop.grading.batch.notebook_commands import command_cells_values
-from hri_teleop.grading.judge.drive_check import ex10_values
 from hri_teleop.grading.judge.notebook_answers import (
     MAX_ANSWER_BYTES,
     MIME,

@@ -13,7 +13,7 @@ import time
 from pathlib import Path
 from typing import Dict, List, Optional, Sequence, Tuple, Union
 
-from hri_teleop.grading.exercises.exercise import Exercise
+from hri_teleop.grading.exercise import Exercise
 from hri_teleop.grading.results import CheckResult, GradingError, Part
 from hri_teleop.grading.run.untrusted_files import UntrustedFileError, read_regular, refusal
 from hri_teleop.grading.run.workspace import find_package_root, given_path

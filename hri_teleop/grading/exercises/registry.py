@@ -1,4 +1,4 @@
-"""The exercises of :data:`~hri_teleop.grading.exercises.DELIVERABLE_FILES`, loaded and looked up.
+"""The exercises of :data:`~hri_teleop.grading.deliverables.DELIVERABLE_FILES`, loaded and looked up.
 
 Each module named there (a folder's ``check`` module) is imported by its name and gives its ``EXERCISE``; everything that runs,
 counts or reports checks (``checks``, ``points``, ``assignments``, ``batch``, ``gradescope``, the course)
@@ -10,8 +10,8 @@ from __future__ import annotations
 import importlib
 from typing import Dict, Tuple
 
-from hri_teleop.grading.exercises import DELIVERABLE_FILES
-from hri_teleop.grading.exercises.exercise import Exercise, PartTable
+from hri_teleop.grading.deliverables import DELIVERABLE_FILES
+from hri_teleop.grading.exercise import Exercise, PartTable
 from hri_teleop.grading.results import GradingError
 
 __all__ = ["exercises", "exercise", "by_file", "checks", "part_tables", "by_assignment"]

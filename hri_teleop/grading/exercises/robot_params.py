@@ -13,7 +13,7 @@ from pathlib import Path
 from typing import Any, Dict, List, Mapping, Optional, Tuple, Union
 
 from hri_teleop.grading.cases.handout import TABLE_1
-from hri_teleop.grading.exercises.exercise import Exercise
+from hri_teleop.grading.exercise import Exercise
 from hri_teleop.grading.judge.compare_common import explain_process
 from hri_teleop.grading.judge.harness import closing_scratch, finish_check, reusable, start_check
 from hri_teleop.grading.results import CheckResult, Part

@@ -14,9 +14,9 @@ from pathlib import Path
 from typing import Iterator, List, Sequence, Tuple
 
 from hri_teleop.core.paths import REPO
+from hri_teleop.grading.checks import CHECKS
 from hri_teleop.grading.gradescope.container import CONFIG_NAME, Config
 from hri_teleop.grading.gradescope.notebooks import course_members
-from hri_teleop.grading.judge.checks import CHECKS
 from hri_teleop.grading.points import check_cell_problems
 from hri_teleop.grading.results import GradingError
 

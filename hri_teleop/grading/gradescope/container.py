@@ -20,10 +20,10 @@ from pathlib import Path
 from typing import Any, Dict, List, Optional, Sequence, Tuple
 
 from hri_teleop.grading.cases.inputs import seed_for, student_seed
+from hri_teleop.grading.checks import CHECKS
 from hri_teleop.grading.gradescope.layout import find_upload, printable
 from hri_teleop.grading.gradescope.notebooks import COURSE, NOTEBOOKS_TIMEOUT_S, NotebookTests, grade_notebooks
 from hri_teleop.grading.gradescope.report import Unjudged, results_payload
-from hri_teleop.grading.judge.checks import CHECKS
 from hri_teleop.grading.results import CheckResult, GradingError
 from hri_teleop.grading.run.jobs import run_job
 from hri_teleop.grading.run.kernel_sandbox import KernelPolicy

@@ -1,6 +1,7 @@
-"""What every judge shares: the parts tables with their points, message helpers, process output.
+"""What every judge shares: message helpers, tolerances, and what a process' output says.
 
-What a process' output says: its exit, a crash, a write refused by the sandbox.
+A process' output tells its exit, a crash, a write refused by the sandbox. Each exercise's parts and
+points live in its own module.
 """
 
 from __future__ import annotations
@@ -16,7 +17,6 @@ from hri_teleop.grading.run.sandbox import OUTPUT_CAP_BYTES, describe_exit
 #: Values on /force_mapped must be within this of the reference (Float32 carries ~7 digits).
 TOLERANCE = 1e-6
 TWIST_TOLERANCE = 1e-9
-
 
 STUDENT_PACKAGES = ("hri_lab", "ros_intro")  # the handout has Ex. 2-6 done in ros_intro
 

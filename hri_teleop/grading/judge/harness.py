@@ -23,7 +23,7 @@ from hri_teleop.core.config import DEFAULT_TWIST_TOPIC
 from hri_teleop.core.paths import SOLUTIONS
 from hri_teleop.grading.cases import inputs as C
 from hri_teleop.grading.cases.templates import TemplateError, kind_of, make_template
-from hri_teleop.grading.exercises.exercise import Exercise
+from hri_teleop.grading.exercise import Exercise
 from hri_teleop.grading.judge import reuse
 from hri_teleop.grading.judge.reference_guard import reference_uses, refusal
 from hri_teleop.grading.judge.tracebacks import is_template
@@ -235,12 +235,12 @@ class CheckRun:
 
 
 def run_session_plan(context: SessionContext, plan: SessionPlan[Obs], session_dir: Path, timeout_s: float) -> Obs:
-    """Start ``python -m hri_teleop.grading.run.session`` (in bubblewrap where it works), wait, read."""
+    """Start ``python -m hri_teleop.grading.session`` (in bubblewrap where it works), wait, read."""
     plan_path = session_dir / f"{plan.KIND}.plan.json"
     plan_path.write_text(json.dumps(SessionRequest(context, plan).to_json()), encoding="utf-8")
     out = Path(context.out)
     observation = plan.observation_type()
-    argv = session_argv(isolated_module_argv("hri_teleop.grading.run.session", [str(plan_path)]), session_dir)
+    argv = session_argv(isolated_module_argv("hri_teleop.grading.session", [str(plan_path)]), session_dir)
     log = open(session_dir / f"{plan.KIND}.session.log", "wb")
     proc = subprocess.Popen(argv, env=context.env, stdin=subprocess.DEVNULL, stdout=log, stderr=subprocess.STDOUT,
                             start_new_session=True, cwd=str(session_dir))

@@ -4,7 +4,7 @@ Under ``/use_sim_time`` the grader publishes /clock one tick at a time (:class:`
 and, before the next tick, waits for what the tick must produce: messages counted by a
 :class:`Recorder`, connections counted at both ends from the nodes' own bus info
 (:func:`connections`), a graph that has settled. Every wait is bounded on the wall clock.
-Runs inside the grading session (:mod:`hri_teleop.grading.run.session`).
+Runs inside the grading session (:mod:`hri_teleop.grading.session`).
 """
 
 from __future__ import annotations
@@ -25,7 +25,7 @@ __all__ = ["GRADER_NODE", "wait_for", "Recorder", "GraderClock", "Quiescence", "
 
 
 class Session(Protocol):
-    """What the waits need of a grading session (hri_teleop.grading.run.session.Session): its master."""
+    """What the waits need of a grading session (hri_teleop.grading.session.Session): its master."""
 
     master: PrivateMaster
 

@@ -196,7 +196,7 @@ class NodeFacts(ProcessFacts):
     publications: List[Topic] = field(default_factory=list)
 
 
-# -- observations: what a session saw (python -m hri_teleop.grading.run.session) ---------------------
+# -- observations: what a session saw (python -m hri_teleop.grading.session) ---------------------
 
 @dataclass(frozen=True)
 class Observation(Record):

@@ -18,7 +18,7 @@ from typing import Dict, List, Optional, Sequence, Tuple, Union
 
 from hri_teleop.core.errors import HriTeleopError
 from hri_teleop.core.paths import LAB_PACKAGE, REPO
-from hri_teleop.grading.exercises import DELIVERABLE_FILES
+from hri_teleop.grading.deliverables import DELIVERABLE_FILES
 from hri_teleop.grading.run.standins import SERIAL_NODE_SCRIPT
 from hri_teleop.grading.run.student_guard import guard_policy
 from hri_teleop.grading.run.untrusted_files import (

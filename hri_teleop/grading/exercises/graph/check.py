@@ -17,7 +17,7 @@ import time
 from pathlib import Path
 from typing import Any, Dict, Optional, Union
 
-from hri_teleop.grading.exercises.exercise import Exercise
+from hri_teleop.grading.exercise import Exercise
 from hri_teleop.grading.exercises.graph.judge import PARTS, compare_graph
 from hri_teleop.grading.exercises.graph.session import LiveGraphObservation, LiveGraphPlan
 from hri_teleop.grading.judge.compare_common import explain_process

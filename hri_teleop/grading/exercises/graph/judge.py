@@ -20,6 +20,14 @@ from hri_teleop.grading.results import Part
 
 __all__ = ["PARTS", "PIPELINE_TOPICS", "SEE_NODES", "SEE_TOPICS", "compare_graph"]
 
+#: Part key -> (name as students read it, points; tests refer to the keys).
+PARTS: Dict[str, Tuple[str, float]] = {
+    "format": ("graph.yaml has a list of nodes and a mapping of topics", 1),
+    "nodes": ("the pipeline's nodes", 2),
+    "types": ("the pipeline's topics and their message types", 3),
+    "links": ("who publishes and who subscribes each topic", 3),
+}
+
 
 PIPELINE_TOPICS = ("/pub_force", "/force_mapped", "/gripper_width", DEFAULT_TWIST_TOPIC)
 _SENSOR_ALIASES = {"/serial_node", "/FSR_sensor"}  # the Arduino in the lab, its simulation at home
@@ -181,11 +189,3 @@ def _links_part(topics: Dict[str, Tuple[str, Any]], live: LiveGraphObservation, 
         return not_judged_part(PARTS, "links", f"{' and '.join(waiting)}: list what the parts above find missing, "
                                "then who publishes and subscribes it")
     return judged_part(PARTS, "links", True)
-
-
-PARTS: Dict[str, Tuple[str, float]] = {
-    "format": ("graph.yaml has a list of nodes and a mapping of topics", 1),
-    "nodes": ("the pipeline's nodes", 2),
-    "types": ("the pipeline's topics and their message types", 3),
-    "links": ("who publishes and who subscribes each topic", 3),
-}

@@ -1,6 +1,6 @@
 """Ex. 15's session: the lab's reference pipeline run on a private master, who publishes and subscribes what.
 
-Runs inside the session sandbox (``python -m hri_teleop.grading.run.session``): no judging here.
+Runs inside the session sandbox (``python -m hri_teleop.grading.session``): no judging here.
 """
 
 from __future__ import annotations

@@ -5,7 +5,7 @@ from __future__ import annotations
 from pathlib import Path
 from typing import Optional, Union
 
-from hri_teleop.grading.exercises.exercise import Exercise
+from hri_teleop.grading.exercise import Exercise
 from hri_teleop.grading.exercises.mapping_node.cases import hidden_mapping_cases, public_mapping_case
 from hri_teleop.grading.exercises.mapping_node.judge import PARTS, compare_mapping
 from hri_teleop.grading.exercises.mapping_node.session import MappingCasePlan, MappingNodePlan

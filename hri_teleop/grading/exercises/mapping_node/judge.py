@@ -29,7 +29,7 @@ from hri_teleop.grading.judge.tracebacks import NOT_JUDGED_CRASH, Crash, crash_t
 from hri_teleop.grading.results import Part
 from hri_teleop.grading.run.records import NodeFacts, Response
 
-__all__ = ["PARTS", "compare_mapping", "mapping_plot", "TEMPLATE_MESSAGE", "TEMPLATE_NOTE", "SENSOR_TYPE"]
+__all__ = ["PARTS", "compare_mapping", "mapping_plot", "TEMPLATE_MESSAGE", "SENSOR_TYPE"]
 
 #: Part key -> (name as students read it, points; tests refer to the keys).
 PARTS: Dict[str, Tuple[str, float]] = {
@@ -48,9 +48,6 @@ NODE = "mapping_node.py"
 TEMPLATE_MESSAGE = ("scripts/mapping_node.py is the template as handed out: every part marked YOUR CODE HERE "
                     "still raises NotImplementedError. Write the node (Ex. 5); in the lab package, put in the "
                     "mapping_node.py you wrote in the preparation (Ex. 12 d)")
-#: The note of the checks that run the lab's mapping_node.py in place of a template left in the package.
-TEMPLATE_NOTE = ("scripts/mapping_node.py is still the template as handed out (the lab's ran in its place here): "
-                 "Ex. 12 d) asks for the mapping_node.py you wrote in the preparation in this package")
 _FIND_TYPE = ("`rostopic type /pub_force` (or `rostopic info /pub_force`) with FSR_sensor.py running shows the "
               "type the sensor publishes")
 

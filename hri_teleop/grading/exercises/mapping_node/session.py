@@ -1,6 +1,6 @@
 """Ex. 5's session: the student's mapping node in lockstep, one count in, what comes back recorded.
 
-Runs inside the session sandbox (``python -m hri_teleop.grading.run.session``): no judging here.
+Runs inside the session sandbox (``python -m hri_teleop.grading.session``): no judging here.
 """
 
 from __future__ import annotations

@@ -6,7 +6,7 @@ from pathlib import Path
 from typing import Optional, Union
 
 from hri_teleop.grading.cases.inputs import PUBLIC_MAX_SENSOR_FORCE
-from hri_teleop.grading.exercises.exercise import Exercise
+from hri_teleop.grading.exercise import Exercise
 from hri_teleop.grading.exercises.sensor_launch.judge import PARTS, compare_sensor_launch
 from hri_teleop.grading.exercises.sensor_launch.session import SensorLaunchObservation, SensorLaunchPlan
 from hri_teleop.grading.judge.compare_common import STUDENT_PACKAGES
@@ -48,7 +48,7 @@ def grade_sensor_launch(path: PathLike, *, seed: Optional[int] = None, out_dir: 
             launch_file=str(run.space.file(EXERCISE.key)),
             set_max_sensor_force=None if param_ok else PUBLIC_MAX_SENSOR_FORCE,
             run_fsr_sensor="FSR_sensor.py" not in scripts, fsr_sensor=str(package / "scripts" / "FSR_sensor.py"),
-            run_mapping_node=run_mapping, mapping_node=str(package / "scripts" / "mapping_node.py"),
+            run_mapping_node=run_mapping, mapping_script=str(package / "scripts" / "mapping_node.py"),
             start_timeout_s=15.0, record_s=3.0, record_messages=10, clock=grading_clock(), settle_timeout_s=10.0,
             fsr_node=next((n.full_name for n in parsed.nodes if n.type == "FSR_sensor.py"), "/FSR_sensor"),
             default_fsr_rate_hz=FSR_SENSOR_RATE_HZ,

@@ -21,7 +21,7 @@ from hri_teleop.grading.run.records import LaunchParseResult, ProcessFacts
 
 __all__ = ["PARTS", "compare_sensor_launch"]
 
-
+#: Part key -> (name as students read it, points; tests refer to the keys).
 PARTS: Dict[str, Tuple[str, float]] = {
     "parse": ("parses with roslaunch", 1),
     "nodes": ("starts FSR_sensor.py and mapping_node.py", 3),

@@ -1,6 +1,6 @@
 """Ex. 6-7's session: the student's sensor.launch run by roslaunch, /force_mapped recorded on the grader's clock.
 
-Runs inside the session sandbox (``python -m hri_teleop.grading.run.session``): no judging here.
+Runs inside the session sandbox (``python -m hri_teleop.grading.session``): no judging here.
 """
 
 from __future__ import annotations
@@ -52,7 +52,7 @@ class SensorLaunchPlan(LaunchPlan[SensorLaunchObservation]):
     run_fsr_sensor: bool
     fsr_sensor: str
     run_mapping_node: bool
-    mapping_node: str
+    mapping_script: str
     record_s: float
     record_messages: int
     fsr_node: str
@@ -103,7 +103,7 @@ def run_sensor_launch(session: Session, plan: SensorLaunchPlan) -> SensorLaunchO
         extra.append(session.master.run([session.python, plan.fsr_sensor], "grader_FSR_sensor"))
         supplied.append("FSR_sensor.py")
     if plan.run_mapping_node:
-        extra.append(session.start_student([session.python, plan.mapping_node], "grader_mapping_node"))
+        extra.append(session.start_student([session.python, plan.mapping_script], "grader_mapping_node"))
         supplied.append("mapping_node.py")
     recorder = Recorder(clock.now if clock else time.monotonic)
     ok = wait_for(lambda: bool(session.master.publishers("/force_mapped")) or not launch.running,

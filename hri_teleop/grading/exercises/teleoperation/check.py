@@ -15,7 +15,7 @@ from typing import Any, List, Optional, Set, Union
 import yaml
 
 from hri_teleop.core.gamepad.events import pad_events
-from hri_teleop.grading.exercises.exercise import Exercise
+from hri_teleop.grading.exercise import Exercise
 from hri_teleop.grading.exercises.teleoperation.cases import (
     hidden_teleop_node_case,
     hidden_teleop_parts_case,

@@ -1,6 +1,6 @@
 """Ex. 9's session: the student's teleoperation node driven by a scripted virtual pad, fed a force, recorded.
 
-Runs inside the session sandbox (``python -m hri_teleop.grading.run.session``): no judging here.
+Runs inside the session sandbox (``python -m hri_teleop.grading.session``): no judging here.
 """
 
 from __future__ import annotations

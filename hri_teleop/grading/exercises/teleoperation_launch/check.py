@@ -1,5 +1,7 @@
-"""Ex. 12-13's check: node set, serial_node with its port, /max_sensor_force, the controller include; then
-launched in simulation (the simulated lab in place of robot and board)."""
+"""Ex. 12-13's check: the launch file's nodes, serial_node's port, /max_sensor_force and the controller's include.
+
+Then it is launched in simulation (the simulated lab in place of robot and board).
+"""
 
 from __future__ import annotations
 
@@ -10,7 +12,7 @@ from typing import Dict, List, Optional, Union
 import yaml
 
 from hri_teleop.grading.cases.inputs import PUBLIC_MAX_SENSOR_FORCE
-from hri_teleop.grading.exercises.exercise import Exercise
+from hri_teleop.grading.exercise import Exercise
 from hri_teleop.grading.exercises.teleoperation_launch.cases import launch_sim_case
 from hri_teleop.grading.exercises.teleoperation_launch.judge import (
     PARTS,
@@ -43,7 +45,7 @@ __all__ = ["EXERCISE", "grade_teleoperation_launch"]
 
 PathLike = Union[str, Path]
 #: The lab's mapping node runs in place of the student's; a template left there is named (Ex. 12 d).
-MAPPING_NODE = "scripts/mapping_node.py"
+MAPPING_SCRIPT = "scripts/mapping_node.py"
 TEMPLATE_NOTE = ("scripts/mapping_node.py is still the template as handed out (the lab's ran in its place here): "
                  "Ex. 12 d) asks for the mapping_node.py you wrote in the preparation in this package")
 
@@ -100,13 +102,13 @@ def grade_teleoperation_launch(path: PathLike, *, seed: Optional[int] = None,
     observation: Optional[TeleopLaunchSimObservation] = run.session(plan, timeout_s=120.0) if plan is not None else None
     parts.append(compare_teleop_launch_sim(parsed, observation, launch_sim_case(), run.out_dir))
     notes = clock_notes(observation, "teleoperation.launch: ")
-    if left_as_template(run, deliverable_key(MAPPING_NODE), find_package_root(path)):
+    if left_as_template(run, deliverable_key(MAPPING_SCRIPT), find_package_root(path)):
         notes.append(TEMPLATE_NOTE)  # the lab's ran in its place: Ex. 12 d) would go unnoticed
     return finish_check(EXERCISE, run, parts, notes)
 
 
 EXERCISE = Exercise(key="teleoperation_launch", handout="Ex. 12-13", assignment="lab", parts=PARTS,
                     grade=grade_teleoperation_launch,
-                    lab_stand_ins=(MAPPING_NODE, "scripts/teleoperation.py"), session_s=30.0,
+                    lab_stand_ins=(MAPPING_SCRIPT, "scripts/teleoperation.py"), session_s=30.0,
                     notebook_calls={"teleoperation_launch": grade_teleoperation_launch},
                     whole_check_calls=("teleoperation_launch",))

@@ -29,7 +29,7 @@ from hri_teleop.grading.run.workspace import FRANKA_MARKER_PARAM
 
 __all__ = ["PARTS", "compare_teleop_launch", "compare_teleop_launch_sim", "teleop_node_name", "HANDOUT_PORT", "board_rate_note"]
 
-
+#: Part key -> (name as students read it, points; tests refer to the keys).
 PARTS: Dict[str, Tuple[str, float]] = {
     "parse": ("parses with roslaunch", 1),
     "nodes": ("starts teleoperation.py, gripper_manager.py and mapping_node.py", 3),
