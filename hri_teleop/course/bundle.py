@@ -45,6 +45,7 @@ LAB_DELIVERABLES = ("hri_lab/scripts/mapping_node.py", "hri_lab/scripts/teleoper
                     "hri_lab/config/robot_params.yaml", "hri_lab/CMakeLists.txt")
 #: what only instructors and developers read or run (the nodes' docs go to students, the rubric does not)
 INSTRUCTOR_ONLY = ("benchmarks", "docs/instructors.md", "docs/grading-internals.md", "docs/benchmarks.md",
+                   "docs/adding-an-exercise.md",  # its worked example is an answer key's file, markers and all
                    "hri_teleop/grading/gradescope",  # it ships the course notebooks' hidden tests
                    "hri_teleop/apps/gradescope.py")  # its command, which needs it
 #: Region lines shorter than this (``else:``, ``}``) are too common to prove a leak.
