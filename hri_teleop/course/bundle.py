@@ -11,6 +11,7 @@ provided nodes and sketch, the simulation, the trials' analysis and what the not
 from __future__ import annotations
 
 import json
+import os
 import re
 import shutil
 import tarfile
@@ -110,10 +111,11 @@ def _normalized(text: str) -> str:
 
 
 def deliverable_copies(folder: PathLike, answers: Dict[str, str]) -> List[str]:
-    """Files under ``folder`` whose text is a completed deliverable (``answers``: where -> answer text)."""
+    """Files under ``folder`` whose text is a completed deliverable (``answers``: where -> answer text); a ``.venv``
+    folder is not read."""
     wanted = {_normalized(text): where for where, text in answers.items() if text.strip()}
     found = []
-    for path in sorted(p for p in Path(folder).rglob("*") if p.is_file() and p.suffix != ".ipynb"):
+    for path in (p for p in _shipped_files(Path(folder)) if p.suffix != ".ipynb"):
         try:
             text = _normalized(path.read_text(encoding="utf-8"))
         except (UnicodeDecodeError, OSError):
@@ -205,8 +207,13 @@ def distinctive(line: str) -> bool:
 
 
 def _shipped_files(bundle: Path) -> List[Path]:
-    """Every file under ``bundle`` but an installed virtual environment's (third-party packages)."""
-    return sorted(p for p in bundle.rglob("*") if p.is_file() and ".venv" not in p.relative_to(bundle).parts)
+    """Every file under ``bundle`` but an installed virtual environment's (third-party packages): a ``.venv``
+    folder is not entered (nor, as with rglob, a linked folder)."""
+    found = []
+    for root, folders, files in os.walk(bundle):
+        folders[:] = [name for name in folders if name != ".venv"]
+        found.extend(Path(root, name) for name in files if name != ".venv")
+    return sorted(p for p in found if p.is_file())
 
 
 def bundle_leaks(bundle: PathLike, texts: Optional[Dict[str, List[str]]] = None) -> List[str]:

@@ -120,7 +120,7 @@ def test_the_bundle_holds_no_solution_line_and_no_completed_deliverable(unpacked
 
 def test_the_leak_check_finds_a_deliverable_copied_into_the_toolkit(unpacked, course, tmp_path):
     bundle = tmp_path / "task4"
-    shutil.copytree(unpacked, bundle, symlinks=True)
+    shutil.copytree(unpacked, bundle, symlinks=True, ignore=shutil.ignore_patterns(".venv"))  # no packages: never scanned
     hidden = bundle / "toolkit" / "hri_teleop" / "hardware" / "sim" / "answer.launch"
     hidden.write_text(make_answer((SOLUTIONS / "launch" / "sensor.launch").read_text()))
     (bundle / "toolkit" / LAB_DELIVERABLES[0]).write_text("#!/usr/bin/env python3\n")
@@ -387,7 +387,8 @@ def test_the_leak_check_finds_a_solution_line_inside_a_string_of_the_toolkit(unp
     line = next(line.strip() for where, lines in texts.items() if where.endswith("mapping_node.py")
                 for line in lines if distinctive(line))
     bundle = tmp_path / "task4"
-    shutil.copytree(unpacked, bundle, symlinks=True)
+    # without the .venv `make setup` may have put in (1.4 GB of packages, never scanned for leaks)
+    shutil.copytree(unpacked, bundle, symlinks=True, ignore=shutil.ignore_patterns(".venv"))
     (bundle / "toolkit" / "hri_teleop" / "grading" / "judge" / "hint.py").write_text(f"HINT = 'write {line} here'\n")
     leaks = toolkit_leaks(bundle, texts, answer_files())
     assert [leak for leak in leaks if "hint.py" in leak and "inside a longer line" in leak], leaks
