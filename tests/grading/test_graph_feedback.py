@@ -1,7 +1,7 @@
 """Ex. 15's feedback names the cause and the command that shows the truth, never the graph it asks for.
 
 The handout's Ex. 15 asks the student to find the pipeline's nodes, topics and message types with
-`rosnode list`, `rostopic list`, `rostopic info` and `rostopic type`. The feedback on yaml may say
+`rosnode list`, `rostopic list`, `rostopic info` and `rostopic type`. The feedback on graph.yaml may say
 how many of each are missing and quote back what the student wrote; it must not name a node, topic or
 type the student did not write. A graph that lists nothing earns nothing, and one mistake costs in one
 part: a part that depends on one that failed says "not judged: <cause>".
@@ -46,8 +46,8 @@ ANSWERS = ["/serial_node", "/FSR_sensor", "/mapping_node", "/teleoperation", "/g
 
 
 def _key() -> Dict[str, Any]:
-    """The answer key's yaml (the lab's node names: /serial_node for the board)."""
-    return yaml.safe_load(answer_text("yaml"))
+    """The answer key's graph.yaml (the lab's node names: /serial_node for the board)."""
+    return yaml.safe_load(answer_text("graph.yaml"))
 
 
 def _judge(answer: Any) -> Dict[str, Part]:
@@ -141,7 +141,7 @@ def test_a_graph_with_one_made_up_node_earns_nothing_and_is_told_what_shows_the_
     assert "lists no topic" in parts["format"].message and SEE_TOPICS in parts["format"].message
     nodes = parts["nodes"].message
     assert "none of the pipeline's 4 nodes is listed" in nodes and "my_node" in nodes and SEE_NODES in nodes
-    assert parts["types"].message == parts["links"].message == "not judged: yaml lists no topic (the format part)"
+    assert parts["types"].message == parts["links"].message == "not judged: graph.yaml lists no topic (the format part)"
 
 
 @pytest.mark.parametrize("nodes, topics, format_passes", [
@@ -281,7 +281,7 @@ def test_the_running_master_graph_error_counts_the_nodes_not_up_without_naming_t
 @pytest.mark.ros
 def test_hri_grade_graph_gives_a_made_up_node_no_point_and_names_nothing_of_the_pipeline(tmp_path):
     (tmp_path / "hri_lab").mkdir()
-    (tmp_path / "hri_lab" / "yaml").write_text("nodes:\n  - /my_node\ntopics: {}\n")
+    (tmp_path / "hri_lab" / "graph.yaml").write_text("nodes:\n  - /my_node\ntopics: {}\n")
     proc = hri_grade("graph", str(tmp_path / "hri_lab"), "--json")
     assert proc.returncode in (0, 1), proc.stderr
     result = json.loads(proc.stdout)

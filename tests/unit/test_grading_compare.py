@@ -1,4 +1,4 @@
-"""Judging observations (hri_teleop.grading.judge.compare, robot_params): parts, points, student messages.
+"""Judging observations (each exercise's judge, robot_params): parts, points, student messages.
 
 No ROS here: the observations are built by hand the way the sessions and probes report them.
 """
