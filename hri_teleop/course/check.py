@@ -13,8 +13,6 @@ from typing import Any, Callable, Dict, Union
 from hri_teleop.grading.exercises.registry import exercises
 from hri_teleop.grading.results import CheckResult, feedback_text
 
-__all__ = ["score", "POINTS_NOTE", "KEEPS_RESULT", "calls"]
-
 PathLike = Union[str, Path]
 
 #: The last line a check cell prints: where its points count (hri_teleop.grading.points).
@@ -44,6 +42,9 @@ def calls() -> Dict[str, Callable[..., CheckResult]]:
 #: (:mod:`hri_teleop.grading.judge.reuse`); the others (Ex. 8's class alone, one exercise's catkin parts)
 #: judge less than their check: the files' half runs those. call name -> its check.
 KEEPS_RESULT: Dict[str, str] = {name: found.check for found in exercises() for name in found.whole_check_calls}
+
+#: What a notebook's check cell calls: each exercise's notebook calls (``score`` and the rest serve them).
+__all__ = sorted(calls())
 
 
 def __getattr__(name: str) -> Callable[..., float]:
