@@ -239,11 +239,13 @@ def parse_when(value: object) -> Union[datetime, str]:
     if parsed is not None:
         return parsed if parsed.tzinfo is not None else "it has no time zone"
     head, _sep, name = text.rpartition(" ")
-    zone = _zone(name) if head else None
-    if zone is None and head and "/" in name and importlib.util.find_spec("zoneinfo") is None:
+    if not head:  # one word, and not ISO 8601: no zone after a date and time
+        return "it has no time zone"
+    zone = _zone(name)
+    if zone is None and "/" in name and importlib.util.find_spec("zoneinfo") is None:
         return f"zone names like {name!r} need Python 3.9 or later; write the offset instead, e.g. +01:00"
     if zone is None:
-        return f"cannot read the time zone {name!r}" if head else "it has no time zone"
+        return f"cannot read the time zone {name!r}"
     try:
         local = datetime.fromisoformat(head.strip())
     except ValueError:
