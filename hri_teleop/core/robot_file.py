@@ -81,7 +81,7 @@ def _value(source: str, where: str, kind: str, value: object) -> Any:
             raise bad("{velocity: V, acceleration: A, jerk: J}")
         return {k: _value(source, f"{where}.{k}", "positive", value[k]) for k in AXIS_KEYS}
     if kind.startswith("errors:"):
-        keys = kind.split(":", 1)[1].split(",")
+        keys = kind[len("errors:"):].split(",")
         if not isinstance(value, Mapping) or set(value) != set(keys):
             raise bad("{" + ", ".join(f"{k}: NAME" for k in keys) + "}")
         return {k: _value(source, f"{where}.{k}", "name", value[k]) for k in keys}

@@ -102,6 +102,7 @@ def test_a_name_is_kept_without_its_spaces_and_blank_or_not_text_is_refused(tmp_
     {"velocity": 1.0, "acceleration": 2.0},                                    # one missing
     {"velocity": 1.0, "acceleration": 2.0, "jerk": 3.0, "snap": 4.0},          # one more
     [1.0, 2.0, 3.0],                                                           # not a mapping
+    ["velocity", "acceleration", "jerk"],                                      # its keys, but in a list
 ])
 def test_an_axis_has_exactly_velocity_acceleration_and_jerk(tmp_path, value):
     message = _refusal(_changed(tmp_path, "cartesian_limits", "rotation", value))
@@ -120,6 +121,7 @@ def test_an_axis_value_is_positive_and_named_by_its_key(tmp_path):
     {"velocity": "a", "acceleration": "b"},
     {"velocity": "a", "acceleration": "b", "jerk": "c", "position": "d"},
     "cartesian_errors",
+    ["velocity", "acceleration", "jerk"],
 ])
 def test_an_error_table_has_exactly_its_keys(tmp_path, value):
     message = _refusal(_changed(tmp_path, "errors", "cartesian", value))
@@ -212,6 +214,20 @@ def test_the_urdfs_joint_names_default_to_the_topics_and_may_differ():
     assert panda["kinematics"]["urdf_finger_joints"] == panda["gripper"]["finger_joints"]
     assert fr3["joints"]["names"][0] == "fr3_joint1" and fr3["kinematics"]["urdf_joint_names"][0] == "panda_joint1"
     assert fr3["kinematics"]["urdf_finger_joints"] == ("panda_finger_joint1", "panda_finger_joint2")
+
+
+def test_an_optional_key_left_out_leaves_the_keys_after_it_read(tmp_path):
+    data = _panda()
+    data["kinematics"]["urdf_finger_joints"] = ["left_finger", "right_finger"]
+    read = read_robot_file(_write(tmp_path, data))["kinematics"]
+    assert read["urdf_joint_names"][0] == "panda_joint1" and read["urdf_finger_joints"] == ("left_finger", "right_finger")
+
+
+def test_a_missing_profile_file_says_what_it_is_and_how_to_name_one(tmp_path):
+    with pytest.raises(RobotFileError) as caught:
+        read_robot_file(tmp_path / "arm.yaml")
+    assert str(caught.value) == (f"robot profile not found: {tmp_path / 'arm.yaml'}; give the path of a robot "
+                                 f"profile YAML, e.g. {PANDA_FILE}")
 
 
 def test_only_the_optional_keys_may_be_left_out(tmp_path):
