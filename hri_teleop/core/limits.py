@@ -344,6 +344,9 @@ class TwistLimiter:
         The state is exactly the realised velocity and acceleration of the emitted
         sequence, so starting from another sequence's last values continues it smoothly.
         """
+        for name, values in (("velocity", velocity), ("acceleration", acceleration)):
+            if values is not None and len(values) != 6:
+                raise LimitsError(f"reset's {name} must have 6 values (vx vy vz wx wy wz), got {len(values)}")
         for g, group in enumerate(self._groups):
             group.reset()
             if velocity is not None:

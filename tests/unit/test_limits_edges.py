@@ -1,0 +1,179 @@
+"""The rules of hri_teleop.core.limits at their edges (issue 44: changing a rule fails a test): the command-rate
+check and the lab's limits lowered to a robot's budget at their margin and at exact equality, the robot's 1 kHz
+view of held commands, and the independent checker's thresholds and words. The limiter's law itself is pinned by
+the property tests of tests/unit/test_limits.py."""
+
+from __future__ import annotations
+
+import math
+
+import pytest
+
+from hri_teleop.core.limits import (
+    DEFAULT_LIMITS,
+    LAB_LIMITS,
+    ROBOT_LIMITS,
+    AxisLimits,
+    CartesianLimits,
+    LimitsError,
+    TwistLimiter,
+    check_command_rate,
+    hold_at_robot_rate,
+    lab_limits_for,
+    limit_violations,
+    max_step_per_command,
+)
+
+MARGIN = 1e-9  # limits._MARGIN: the relative slack of both budget checks
+BIG = 1e9
+
+
+def _both(axis: AxisLimits) -> CartesianLimits:
+    return CartesianLimits(axis, axis)
+
+
+# --- the largest step a robot takes: the smaller of its acceleration and jerk budgets in one cycle ----------
+
+
+def test_a_step_is_bounded_by_the_jerk_budget_or_the_acceleration_budget_whichever_is_smaller():
+    assert max_step_per_command(ROBOT_LIMITS.translation) == pytest.approx(6500.0 * 1e-6)  # the Panda: jerk
+    assert max_step_per_command(AxisLimits(1.0, 2.0, 6500.0)) == pytest.approx(2.0 * 1e-3)  # acceleration
+    assert max_step_per_command(AxisLimits(1.0, 2.0, 6500.0), robot_period_s=0.0001) == pytest.approx(6500.0 * 1e-8)
+
+
+# --- the lab's limits for a robot: lowered only where they do not fit its budget ----------------------------
+
+
+def _translation_budget(acceleration: float, rate_hz: float = 1000.0) -> CartesianLimits:
+    """A robot whose translation budget at ``rate_hz`` is ``acceleration * 1 ms * rate_hz`` (its jerk is no bound)."""
+    return CartesianLimits(AxisLimits(10.0, acceleration, BIG), ROBOT_LIMITS.rotation)
+
+
+def test_a_lab_acceleration_exactly_at_the_budgets_margin_is_kept():
+    hard = _translation_budget(0.29999999969999996)
+    assert max_step_per_command(hard.translation) * 1000.0 * (1.0 + MARGIN) == LAB_LIMITS.translation.acceleration
+    assert lab_limits_for(hard, rate_hz=1000.0).translation.acceleration == 0.3
+
+
+def test_a_lab_acceleration_inside_the_budgets_margin_is_kept_and_one_beyond_it_lowered():
+    inside = _translation_budget(0.3 * (1.0 - 0.5 * MARGIN))
+    assert lab_limits_for(inside, rate_hz=1000.0).translation.acceleration == 0.3
+    beyond = _translation_budget(0.3 * (1.0 - 2.0 * MARGIN))
+    assert lab_limits_for(beyond, rate_hz=1000.0).translation.acceleration == 0.25
+
+
+@pytest.mark.parametrize("jerk, lowered", [(2000.0, 0.1), (3000.0, 0.15), (4000.0, 0.2), (4500.0, 0.2)])
+def test_a_lowered_acceleration_is_the_largest_step_multiple_the_budget_takes_even_when_it_divides_exactly(
+        jerk, lowered):
+    """0.1 / 0.05 is 2.0 and 0.15 / 0.05 is 2.9999999999999996 in floats: both are whole steps."""
+    hard = CartesianLimits(AxisLimits(3.0, BIG, jerk), ROBOT_LIMITS.rotation)
+    assert lab_limits_for(hard).translation.acceleration == lowered
+
+
+def test_a_budget_below_one_step_is_taken_as_it_is_to_nine_places():
+    hard = CartesianLimits(AxisLimits(3.0, BIG, 246.913578024), ROBOT_LIMITS.rotation)  # 0.0123456789012 at 50 Hz
+    assert lab_limits_for(hard).translation.acceleration == 0.012345679
+
+
+# --- the command-rate check: the change per message against the robot's one-cycle budget -------------------
+
+
+def test_the_command_rate_check_takes_the_robots_period():
+    check_command_rate(LAB_LIMITS, 50.0, ROBOT_LIMITS)  # 6 mm/s per message, the Panda's 6.5
+    with pytest.raises(LimitsError, match="above its 0.005265 m/s"):  # 6500 m/s^3 * (0.9 ms)^2
+        check_command_rate(LAB_LIMITS, 50.0, ROBOT_LIMITS, robot_period_s=0.0009)
+
+
+@pytest.mark.parametrize("factor, ok", [(1.0 + MARGIN, True), (1.0 + 0.5 * MARGIN, True), (1.0 + 3.0 * MARGIN, False)])
+def test_a_change_per_message_up_to_the_budgets_margin_passes_and_beyond_it_is_refused(factor, ok):
+    """A robot period of 1 s and a jerk of 1 make the budget exactly 1: the margin is the only slack."""
+    limits = _both(AxisLimits(10.0, 1.0 * factor, 10.0))
+    hard = _both(AxisLimits(10.0, 10.0, 1.0))
+    if ok:
+        check_command_rate(limits, 1.0, hard, robot_period_s=1.0)
+    else:
+        with pytest.raises(LimitsError):
+            check_command_rate(limits, 1.0, hard, robot_period_s=1.0)
+
+
+@pytest.mark.parametrize("group, unit", [("translation", "m/s"), ("rotation", "rad/s")])
+def test_a_refused_rate_names_the_group_its_unit_and_both_fixes(group, unit):
+    fast = AxisLimits(1.0, 0.5, 10.0)
+    limits = CartesianLimits(fast, LAB_LIMITS.rotation) if group == "translation" else CartesianLimits(
+        LAB_LIMITS.translation, AxisLimits(1.0, 0.7, 10.0))
+    acceleration = 0.5 if group == "translation" else 0.7
+    budget = max_step_per_command(getattr(ROBOT_LIMITS, group))
+    with pytest.raises(LimitsError) as caught:
+        check_command_rate(limits, 50.0, ROBOT_LIMITS)
+    assert str(caught.value) == (
+        f"limits.{group}.acceleration {acceleration:g} {unit}^2 at rate 50 Hz lets the command change by "
+        f"{acceleration / 50.0:.4g} {unit} per message, which the robot (1 kHz) sees as a step above its "
+        f"{budget:.4g} {unit}; lower limits.{group}.acceleration to <= {budget * 50.0:.4g} or raise rate to >= "
+        f"{acceleration / budget:.4g} Hz")
+
+
+# --- what a controller holding each command shows the robot ----------------------------------------------
+
+
+def test_held_commands_repeat_once_per_robot_cycle_as_floats():
+    held = hold_at_robot_rate([(1, 2, 3, 4, 5, 6), (0, 0, 0, 0, 0, 0)], 50.0)
+    assert len(held) == 40 and held[:20] == [(1.0, 2.0, 3.0, 4.0, 5.0, 6.0)] * 20 and held[20:] == [(0.0,) * 6] * 20
+    assert all(type(c) is float for c in held[0])
+
+
+@pytest.mark.parametrize("rate_hz, period_s, copies", [(50, 0.001, 20), (50.0, 0.002, 10), (400.0, 0.001, 2),
+                                                        (2000.0, 0.001, 1), (10000.0, 0.001, 1)])
+def test_each_command_is_held_for_the_robot_cycles_between_two_commands_and_at_least_one(rate_hz, period_s, copies):
+    assert hold_at_robot_rate([(0.1,) * 6], rate_hz, robot_period_s=period_s) == [(0.1,) * 6] * copies
+
+
+# --- the independent checker ----------------------------------------------------------------------------------
+
+
+def test_a_twist_that_is_not_six_finite_numbers_ends_the_check_with_its_step():
+    limits = _both(AxisLimits(1.0, 1.0, 1.0))
+    assert limit_violations(limits, [(0.0,) * 6, (0.0,) * 5, (BIG,) * 6], [1.0, 1.0, 1.0]) == [
+        "step 1: twist (0.0, 0.0, 0.0, 0.0, 0.0) is not 6 finite numbers"]
+    assert limit_violations(limits, [(math.nan,) + (0.0,) * 5], [1.0]) == [
+        "step 0: twist (nan, 0.0, 0.0, 0.0, 0.0, 0.0) is not 6 finite numbers"]
+
+
+def test_a_norm_exactly_at_its_limit_passes_and_just_above_it_is_named():
+    limits = _both(AxisLimits(0.5, 0.5, 0.5))
+    assert limit_violations(limits, [(0.5, 0.0, 0.0, 0.0, 0.0, 0.0)], [1.0], rel_tol=0.0) == []
+    assert limit_violations(limits, [(0.0, 0.0, 0.0, 0.3, 0.4, 0.0)], [1.0], rel_tol=0.0) == []  # |(0.3, 0.4)| = 0.5
+    assert limit_violations(limits, [(0.0, 0.0, 0.0, 0.5000001, 0.0, 0.0)], [1.0], rel_tol=0.0) == [
+        "step 0: rotation velocity 0.5000001 > 0.5", "step 0: rotation acceleration 0.5000001 > 0.5",
+        "step 0: rotation jerk 0.5000001 > 0.5"]
+
+
+def test_each_group_is_judged_on_its_own_three_components():
+    limits = _both(AxisLimits(0.5, 10.0, 100.0))
+    assert limit_violations(limits, [(0.0, 0.0, 0.0, 0.6, 0.0, 0.0)], [1.0]) == [
+        "step 0: rotation velocity 0.6 > 0.5"]
+    assert limit_violations(limits, [(0.0, 0.0, 0.6, 0.0, 0.0, 0.0)], [1.0]) == [
+        "step 0: translation velocity 0.6 > 0.5"]
+
+
+def test_the_jerk_is_the_change_of_the_acceleration():
+    """A constant acceleration of 0.01 has no jerk after its start: 0.01, then 0."""
+    limits = _both(AxisLimits(1.0, 1.0, 0.015))
+    assert limit_violations(limits, [(0.01, 0.0, 0.0, 0.0, 0.0, 0.0), (0.02, 0.0, 0.0, 0.0, 0.0, 0.0)], [1.0, 1.0]) == []
+    # a stop from 0.02 at once: acceleration -0.02, jerk -0.03 (both named)
+    assert limit_violations(_both(AxisLimits(1.0, 0.015, 0.015)), [(0.01,) + (0.0,) * 5, (0.02,) + (0.0,) * 5,
+                                                                    (0.0,) * 6], [1.0, 1.0, 1.0]) == [
+        "step 2: translation acceleration 0.02 > 0.015", "step 2: translation jerk 0.03 > 0.015"]
+
+
+# --- continuing from a known motion -----------------------------------------------------------------------
+
+
+@pytest.mark.parametrize("name", ["velocity", "acceleration"])
+@pytest.mark.parametrize("count", [5, 7])
+def test_reset_takes_six_values_of_each(name, count):
+    limiter = TwistLimiter(DEFAULT_LIMITS)
+    with pytest.raises(LimitsError) as caught:
+        limiter.reset(**{name: (0.01,) * count})
+    assert str(caught.value) == f"reset's {name} must have 6 values (vx vy vz wx wy wz), got {count}"
+    limiter.reset(**{name: (0.01, 0.02, 0.03, 0.04, 0.05, 0.06)})
+    assert getattr(limiter, name) == (0.01, 0.02, 0.03, 0.04, 0.05, 0.06)
