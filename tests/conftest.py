@@ -36,37 +36,45 @@ os.environ.setdefault("PYGAME_HIDE_SUPPORT_PROMPT", "1")
 os.environ.setdefault("OPENBLAS_NUM_THREADS", "1")
 
 
-# The modules that keep a worker busy longest, longest first (worker-seconds of an idle run, 2-core
-# machine, 2026-11-27). `make test` hands each file to one worker (--dist loadfile) in collection
-# order; a long file that starts last leaves the other workers idle while it finishes. This is the
-# schedule only: no test depends on it, and a module missing here just runs after these.
+# The modules that keep a worker busy longest, longest first (worker-seconds of `make test` on the 2-core
+# machine beside other jobs, 2026-11-29: about 2.4 times an idle run's). `make test` hands each file to one
+# worker (--dist loadfile) in collection order; a long file that starts last leaves the other workers idle
+# while it finishes. This is the schedule only: no test depends on it, and a module missing here just runs
+# after these. test_bench_selfcheck.py checks the bundle test_student_bundle.py sets up (bundle_helpers):
+# placed where that setup is done when it starts (it would wait for it, not make a second one).
 LONGEST_FIRST = [
-    "integration/test_student_bundle.py",         # 174 s
-    "integration/test_lab_twin_notebooks.py",     # 152 s
-    "unit/test_python38_compatible.py",           # 136 s
-    "notebooks/test_notebooks_run.py",            # 116 s
-    "grading/test_gradescope.py",                 # 96 s
-    "integration/test_lab_simulation.py",         # 88 s
-    "grading/test_make_grade_nbgrader.py",        # 83 s
-    "grading/test_corpus.py",                     # 80 s
-    "integration/test_teleoperation_node.py",     # 77 s
-    "grading/test_notebook_sandbox.py",           # 74 s
-    "integration/test_lab_twin.py",               # 68 s
-    "integration/test_study_end_to_end.py",       # 63 s
-    "bench/test_bench_grading.py",                # 52 s
-    "unit/test_sim_lab.py",                       # 43 s
-    "integration/test_doctor.py",                 # 40 s
-    "integration/test_lab_sim_node.py",           # 34 s
-    "integration/test_lab_twin_launch.py",        # 34 s
-    "integration/test_arm_view_browser.py",       # 34 s
-    "grading/test_grader_clock.py",               # 33 s
-    "grading/test_own_deliverable.py",            # 32 s
-    "grading/test_solutions.py",                  # 29 s
-    "bench/test_bench_nodes.py",                  # 28 s
-    "grading/test_hostile.py",                    # 27 s
-    "integration/test_sensor_launch.py",          # 27 s
-    "grading/test_make_grade.py",                 # 26 s
-    "grading/test_launch_on_grader_clock.py",     # 26 s
+    "integration/test_student_bundle.py",         # 1260 s (its make setup: 650)
+    "unit/test_python38_compatible.py",           # 531 s (one test: the core's unit tests on Python 3.8)
+    "integration/test_lab_twin_notebooks.py",     # 377 s
+    "notebooks/test_notebooks_run.py",            # 320 s
+    "grading/test_gradescope.py",                 # 354 s
+    "grading/test_instructors_guide.py",          # 354 s
+    "grading/test_corpus.py",                     # 305 s
+    "grading/test_kernel_reports.py",             # 235 s
+    "grading/test_notebook_sandbox.py",           # 214 s
+    "bench/test_bench_grading.py",                # 210 s
+    "grading/test_make_grade_nbgrader.py",        # 199 s
+    "integration/test_lab_twin.py",               # 197 s
+    "integration/test_study_end_to_end.py",       # 193 s
+    "bench/test_bench_selfcheck.py",              # 417 s with a make setup of its own, now two make checks
+    "grading/test_node_feedback_runs.py",         # 164 s
+    "integration/test_lab_simulation.py",         # 154 s
+    "grading/test_ex10_drive.py",                 # 154 s
+    "unit/test_arm_kernel.py",                    # 152 s
+    "integration/test_teleoperation_node.py",     # 133 s
+    "integration/test_doctor.py",                 # 129 s
+    "integration/test_browser_pad.py",            # 120 s
+    "integration/test_catkin_workspace.py",       # 103 s
+    "grading/test_hostile_output.py",             # 99 s
+    "integration/test_lab_twin_launch.py",        # 97 s
+    "integration/test_lab_modes.py",              # 97 s
+    "integration/test_arm_view_browser.py",       # 95 s
+    "unit/test_experiment.py",                    # 91 s
+    "grading/test_late_hostile.py",               # 89 s
+    "grading/test_command_cells.py",              # 85 s
+    "grading/test_make_grade.py",                 # 84 s
+    "grading/test_hostile_inputs.py",             # 82 s
+    "integration/test_lab_sim_node.py",           # 78 s
 ]
 
 
@@ -77,10 +85,14 @@ def pytest_configure(config: pytest.Config) -> None:
 
 
 def pytest_sessionfinish(session: pytest.Session, exitstatus: int) -> None:
-    """The run's controller (not an xdist worker): fail the run when it left a process behind."""
+    """The run's controller (not an xdist worker): remove the run's shared student bundle (bundle_helpers); fail
+    the run when it left a process behind."""
     if hasattr(session.config, "workerinput"):
         return
+    from bundle_helpers import remove_shared_bundle
     from leftovers import reap
+
+    remove_shared_bundle(session.config._tmp_path_factory.getbasetemp())  # type: ignore[attr-defined]
 
     left = reap(REPO, getattr(session.config, "_hri_started_ticks", 0))
     if left:
