@@ -190,3 +190,126 @@ def test_the_count_finds_names_strings_and_imports_and_leaves_the_own_folder_out
         "hri_teleop/course/check.py": ["1: lab_notes", "1: from hri_teleop.grading.exercises import lab_notes"],
         "hri_teleop/grading/exercises/lab_notes_x/check.py": ["1: 'lab_notes'"],
     }, places
+
+
+# -- the registry's rules, each run afresh (the course's modules load it once at import) ------------------------
+
+def _fake_module(monkeypatch, name: str, exercise_value=None, folder: bool = False) -> None:
+    """hri_teleop.grading.exercises.<name> in sys.modules: a module (or a folder with its check module) ending
+    with ``exercise_value`` (None: no EXERCISE at all)."""
+    import sys
+    import types
+
+    full = f"hri_teleop.grading.exercises.{name}"
+    module = types.ModuleType(full)
+    target = module
+    if folder:
+        module.__path__ = []  # a package
+        target = types.ModuleType(full + ".check")
+        monkeypatch.setitem(sys.modules, full + ".check", target)
+    if exercise_value is not None:
+        target.EXERCISE = exercise_value
+    monkeypatch.setitem(sys.modules, full, module)
+
+
+def _made_up(key: str, assignment: str = "lab"):
+    from hri_teleop.grading.exercise import Exercise
+    from hri_teleop.grading.results import CheckResult
+
+    def grade(path, **kwargs):
+        return CheckResult(key.replace("_", "-"), str(path), [], None)
+
+    return Exercise(key=key, handout="Ex. 99", assignment=assignment, parts={"one": ("one thing", 1)}, grade=grade)
+
+
+@pytest.fixture
+def fresh_registry(monkeypatch):
+    """The registry with nothing loaded and a list of ``files`` the test sets (registry.DELIVERABLE_FILES)."""
+    from hri_teleop.grading.exercises import registry
+
+    monkeypatch.setattr(registry, "_LOADED", {})
+    return registry
+
+
+def test_the_registry_loads_each_exercise_from_its_module_or_its_folders_check_module_once(fresh_registry, monkeypatch):
+    one, two = _made_up("made_one"), _made_up("made_two")
+    _fake_module(monkeypatch, "made_one", one)
+    _fake_module(monkeypatch, "made_two", two, folder=True)
+    monkeypatch.setattr(fresh_registry, "DELIVERABLE_FILES", {"made_one": "a.yaml", "made_two": "b.yaml"})
+    assert fresh_registry.exercises() == (one, two)
+    imported = []
+    monkeypatch.setattr(fresh_registry.importlib, "import_module", lambda name: imported.append(name))
+    assert fresh_registry.exercises() == (one, two) and imported == []  # loaded once, then kept
+
+
+def test_the_registry_keeps_its_lists_order_not_the_loading_order(fresh_registry, monkeypatch):
+    one, two = _made_up("made_one"), _made_up("made_two")
+    _fake_module(monkeypatch, "made_one", one)
+    _fake_module(monkeypatch, "made_two", two)
+    monkeypatch.setattr(fresh_registry, "DELIVERABLE_FILES", {"made_two": "b.yaml", "made_one": "a.yaml"})
+    fresh_registry._LOADED["made_one"] = one  # loaded earlier, under the other order
+    assert fresh_registry.exercises() == (two, one)
+
+
+@pytest.mark.parametrize("value", [None, "EXERCISE as a string", "other_key"], ids=["none", "no exercise", "other key"])
+def test_a_module_that_does_not_end_with_its_own_exercise_is_refused_in_one_line(fresh_registry, monkeypatch, value):
+    given = _made_up("other_key") if value == "other_key" else value
+    _fake_module(monkeypatch, "made_bad", given)
+    monkeypatch.setattr(fresh_registry, "DELIVERABLE_FILES", {"made_bad": "c.yaml"})
+    from hri_teleop.grading.results import GradingError
+
+    with pytest.raises(GradingError) as info:
+        fresh_registry.exercises()
+    assert str(info.value) == ("hri_teleop/grading/exercises/made_bad: its module must end with EXERCISE = "
+                               "Exercise(key='made_bad', ...) (docs/adding-an-exercise.md)")
+    assert "made_bad" not in fresh_registry._LOADED
+
+
+def test_an_exercise_is_found_by_its_check_its_module_or_its_file_and_an_unknown_one_is_named(fresh_registry,
+                                                                                               monkeypatch):
+    one, two = _made_up("made_one", "preparation"), _made_up("made_two")
+    _fake_module(monkeypatch, "made_one", one)
+    _fake_module(monkeypatch, "made_two", two)
+    monkeypatch.setattr(fresh_registry, "DELIVERABLE_FILES", {"made_one": "config/a.yaml", "made_two": ""})
+    assert fresh_registry.exercise("made-one") is one and fresh_registry.exercise("made_two") is two
+    assert fresh_registry.by_file("config/a.yaml") is one
+    assert fresh_registry.checks() == ("made-one", "made-two")
+    assert fresh_registry.part_tables() == {"made-one": one.parts, "made-two": two.parts}
+    from hri_teleop.grading.results import GradingError
+
+    with pytest.raises(GradingError, match=r"^unknown check 'made-three'; use one of made-one, made-two$"):
+        fresh_registry.exercise("made-three")
+    with pytest.raises(GradingError, match=r"^config/b.yaml is no deliverable of the course"):
+        fresh_registry.by_file("config/b.yaml")
+    with pytest.raises(GradingError):
+        fresh_registry.by_file("")  # the package's own check judges no file: no file names it
+
+
+def test_each_assignment_lists_its_checks_in_the_registrys_order(fresh_registry, monkeypatch):
+    made = [_made_up("made_a", "lab"), _made_up("made_b", "preparation"), _made_up("made_c", "lab")]
+    for found in made:
+        _fake_module(monkeypatch, found.key, found)
+    monkeypatch.setattr(fresh_registry, "DELIVERABLE_FILES", {found.key: "" for found in made})
+    assert fresh_registry.by_assignment() == {"lab": ("made-a", "made-c"), "preparation": ("made-b",)}
+
+
+def test_the_course_assignments_take_their_checks_from_the_exercises():
+    from hri_teleop.grading.assignments import ASSIGNMENT_CHECKS
+    from hri_teleop.grading.exercises import registry
+
+    assert ASSIGNMENT_CHECKS == {"preparation": ("robot-params", "mapping-node", "sensor-launch"),
+                                 "lab": ("teleoperation", "teleoperation-launch", "graph", "catkin-package")}
+    assert registry.by_assignment() == ASSIGNMENT_CHECKS
+
+
+def test_an_exercises_call_runs_its_check_with_what_it_is_given():
+    seen = []
+    from hri_teleop.grading.exercise import Exercise
+    from hri_teleop.grading.results import CheckResult
+
+    def grade(path, **kwargs):
+        seen.append((path, kwargs))
+        return CheckResult("made-one", str(path), [], None)
+
+    found = Exercise(key="made_one", handout="Ex. 99", assignment="lab", parts={}, grade=grade)
+    assert found.call("pkg", seed=3).check == "made-one" and seen == [("pkg", {"seed": 3})]
