@@ -16,8 +16,11 @@ from typing import Dict, Iterator, Optional, Tuple
 
 import pytest
 
-#: What the run's one bundle is (its course, its folder, set up or why not), beside the lock that guards it.
+#: What the run's one bundle is (its course, its folder, set up or why not, who is done with it), beside the
+#: lock that guards it.
 _STATE = "student-bundle.json"
+#: The test files that use it: the last of them to be done removes it (1.4 GB; else the run's end does).
+USERS = ("integration/test_student_bundle.py", "bench/test_bench_selfcheck.py")
 
 
 def __getattr__(name: str) -> object:
@@ -75,6 +78,9 @@ def shared_bundle(tmp_path_factory: pytest.TempPathFactory) -> Tuple[Path, Path]
     from benchmarks.selfcheck import unpack_bundle
 
     with _shared_state(tmp_path_factory) as state:
+        if state.get("removed"):
+            pytest.fail("the run's shared bundle was removed when its users were done: add this test file to "
+                        "tests/bundle_helpers.USERS")
         if "bundle" not in state:
             work = Path(tempfile.mkdtemp(prefix="hri-student-home-"))
             work.chmod(0o755)
@@ -98,11 +104,23 @@ def shared_installed_bundle(tmp_path_factory: pytest.TempPathFactory) -> Tuple[P
     return course, bundle
 
 
+def done_with_shared_bundle(tmp_path_factory: pytest.TempPathFactory, user: str) -> None:
+    """``user`` (one of :data:`USERS`) needs the shared bundle no more; the last of them removes it."""
+    with _shared_state(tmp_path_factory) as state:
+        state["done"] = sorted(set(state.get("done", [])) | {user})
+        if "work" in state and set(USERS) <= set(state["done"]) and not state.get("removed"):
+            shutil.rmtree(state["work"], ignore_errors=True)
+            state["removed"] = True
+
+
 def remove_shared_bundle(run_folder: Path) -> None:
-    """At the run's end (the controller's session finish): the shared bundle's folder, if a test made one."""
+    """At the run's end (the controller's session finish): the shared bundle's folder, if a test made one and
+    not all of its users ran."""
     state_file = run_folder / _STATE
     if state_file.is_file():
-        shutil.rmtree(json.loads(state_file.read_text())["work"], ignore_errors=True)
+        state = json.loads(state_file.read_text())
+        if "work" in state and not state.get("removed"):
+            shutil.rmtree(state["work"], ignore_errors=True)
 
 
 def bundle_copy(installed: Path, home: Path, name: str) -> Path:

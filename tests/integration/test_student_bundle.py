@@ -16,7 +16,14 @@ from typing import Dict, List
 
 import pytest
 from bundle_helpers import bundle_copy as _copy
-from bundle_helpers import copy_answer_key, files_points, notebook_points, shared_bundle, shared_installed_bundle
+from bundle_helpers import (
+    copy_answer_key,
+    done_with_shared_bundle,
+    files_points,
+    notebook_points,
+    shared_bundle,
+    shared_installed_bundle,
+)
 from bundle_helpers import make as _make
 from bundle_helpers import student_env as _student_env
 
@@ -49,7 +56,8 @@ def course(tmp_path_factory):
 def unpacked(tmp_path_factory):
     """The bundle packed as `make release` packs it, then unpacked where no checkout is (one per run, shared
     with tests/bench/test_bench_selfcheck.py: bundle_helpers.shared_bundle)."""
-    return shared_bundle(tmp_path_factory)[1]
+    yield shared_bundle(tmp_path_factory)[1]
+    done_with_shared_bundle(tmp_path_factory, "integration/test_student_bundle.py")
 
 
 @pytest.fixture(scope="module")
