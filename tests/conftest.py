@@ -147,7 +147,8 @@ def _cap_examples(test: object) -> None:
 def pytest_runtest_protocol(item: pytest.Item, nextitem: object) -> Iterator[None]:
     """With HRI_TEST_CPU_LOG=path: one JSON line per test of the CPU seconds it cost (this process and
     the children it waited for: roscore, nodes, kernels), when it ran and on which worker, to see
-    where a 2-core machine's time goes."""
+    where a 2-core machine's time goes. The Python 3.8 run's tests (test_python38_compatible.py's pytest
+    inherits the variable and the worker's name) are marked "compat": true."""
     path = os.environ.get("HRI_TEST_CPU_LOG")
     if not path:
         yield
@@ -165,7 +166,7 @@ def pytest_runtest_protocol(item: pytest.Item, nextitem: object) -> Iterator[Non
     yield
     with open(path, "a") as fh:
         fh.write(json.dumps({"test": item.nodeid, "cpu_s": round(cpu_s() - before, 3), "start": round(start, 3),
-                             "end": round(time.time(), 3), "worker": os.environ.get("PYTEST_XDIST_WORKER", "")})
+                             "end": round(time.time(), 3), "worker": os.environ.get("PYTEST_XDIST_WORKER", ""), "compat": COMPAT})
                  + "\n")
 
 
