@@ -82,7 +82,7 @@ class RobotProfile:
             topics={k: v for k, v in data["topics"].items() if k != "source"},
             cartesian_errors=dict(errors["cartesian"]), joint_errors=dict(errors["joint"]),
             non_finite_error=errors["non_finite"],
-            sources={section: str(data[section].get("source", "")) for section in
+            sources={section: data[section]["source"] for section in
                      ("cartesian_limits", "joints", "kinematics", "gripper", "topics", "errors")},
             path=path)
 
