@@ -264,8 +264,8 @@ def teleop_config_from_dict(d: Mapping[str, Any], source: str = "<dict>") -> Tel
         for role, value in roles.items():
             if role not in _BUTTON_ROLES:
                 raise _unknown(str(role), "buttons.", tuple(_BUTTON_ROLES), source)
-            if role in _OPTIONAL_ROLES and value in (None, "none", ""):
-                value = ""  # no dead-man switch / precision button (the handout's behaviour)
+            if role in _OPTIONAL_ROLES and value in (None, "none"):
+                value = ""  # no dead-man switch / precision button (the handout's behaviour), as "" says too
             if not isinstance(value, str):
                 raise ConfigError(f"{source}: buttons.{role} must be a button name such as south, got {value!r}; write e.g. {role}: south")
             kwargs[_BUTTON_ROLES[role]] = value
@@ -284,7 +284,7 @@ def teleop_config_from_dict(d: Mapping[str, Any], source: str = "<dict>") -> Tel
             kwargs[_NUMBER_KEYS[key][0]] = robot.gripper.max_width_m
     if given is None:  # _limits_from checked given limits against the robot already
         try:
-            TwistLimiter(limits, hard_limits=robot.cartesian_limits)
+            TwistLimiter(hard_limits=robot.cartesian_limits)  # the defaults (limits is DEFAULT_LIMITS)
         except LimitsError as exc:
             raise ConfigError(f"{source}: limits: {exc}") from None
 
