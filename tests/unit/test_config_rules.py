@@ -210,3 +210,11 @@ def test_a_missing_config_file_says_where_configs_live(tmp_path):
         load_teleop_config(tmp_path / "teleop.yaml")
     assert str(caught.value) == (f"file not found: {tmp_path / 'teleop.yaml'}; check the path (configs live in "
                                  "hri_lab/config/)")
+
+
+@pytest.mark.parametrize("d, line", [
+    ({"rate": -1}, "<dict>: rate must be > 0 Hz, got -1.0; the lab runs at 50"),
+    ({"input_timeout": -1}, "<dict>: input_timeout must be > 0 s, got -1.0; e.g. 0.5"),
+])
+def test_a_value_the_controller_refuses_is_named_by_the_files_key_not_the_fields(d, line):
+    assert _refused(d) == line

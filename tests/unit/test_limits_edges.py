@@ -17,6 +17,7 @@ from hri_teleop.core.limits import (
     CartesianLimits,
     LimitsError,
     TwistLimiter,
+    _accel_for_error,
     check_command_rate,
     hold_at_robot_rate,
     lab_limits_for,
@@ -177,3 +178,17 @@ def test_reset_takes_six_values_of_each(name, count):
     assert str(caught.value) == f"reset's {name} must have 6 values (vx vy vz wx wy wz), got {count}"
     limiter.reset(**{name: (0.01, 0.02, 0.03, 0.04, 0.05, 0.06)})
     assert getattr(limiter, name) == (0.01, 0.02, 0.03, 0.04, 0.05, 0.06)
+
+
+# --- the tracking law's inverse: the acceleration whose braking staircase covers an error --------------------
+
+
+@pytest.mark.parametrize("q, x", [
+    (0.0, 0.0), (0.5, 0.5), (1.0, 1.0), (3.0, 2.0), (6.0, 3.0), (10.0, 4.0),
+    # just below a step of the staircase, where the closed form's sqrt rounds up to the next step
+    (1.0 - 2.0 ** -53, 1.0 - 2.0 ** -53), (3.0 - 2.0 ** -51, (3.0 - 2.0 ** -51 + 1.0) / 2.0),
+])
+def test_the_acceleration_for_an_error_is_on_the_right_step_of_the_braking_staircase(q, x):
+    """With dt = h = 1, D(x) = (n+1) x - n(n+1)/2 on [n, n+1) (docs/teleoperation.md): x = (q + n(n+1)/2)/(n+1)."""
+    assert _accel_for_error(q, 1.0, 1.0) == x
+    assert _accel_for_error(q * 0.02 * 0.5, 0.02, 0.5) == pytest.approx(x * 0.5, rel=1e-12)
