@@ -65,7 +65,7 @@ def test_last_terms_gripper_manager_runs_on_the_old_paths(ros_master):
 
 
 def test_a_teleoperation_that_takes_the_reference_rule_through_the_student_api_scores_zero(tmp_path):
-    from hri_teleop.grading.checks import grade_teleoperation
+    from hri_teleop.grading.exercises.teleoperation.check import grade_teleoperation
 
     text = answer_text("scripts/teleoperation.py")
     delegated = text.replace("import rospy\n", "import rospy\nimport hri_teleop.student as api\n", 1).replace(

@@ -337,7 +337,7 @@ def start_check(exercise: Exercise, path: PathLike, out_dir: Optional[PathLike],
     if found is None:
         return missing_result(exercise, root, seed), seed
     sandbox_mode()  # says once when bubblewrap is missing
-    stand_ins = [k for k, sub in DELIVERABLES.items() if sub in exercise.lab_stand_ins]
+    stand_ins = [deliverable_key(sub) for sub in exercise.lab_stand_ins]  # in the exercise's order
     return CheckRun(exercise.check, root if given is None else given, out_dir, key, given or found,
                     reference=stand_ins), seed
 
