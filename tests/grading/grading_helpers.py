@@ -3,7 +3,9 @@
 from __future__ import annotations
 
 import json
+import os
 import shutil
+import signal
 import subprocess
 import sys
 from pathlib import Path
@@ -32,6 +34,21 @@ def hri_grade(*args: str, timeout: float = 300, env: Optional[Dict[str, str]] = 
         pytest.fail("hri-grade is not installed: run 'make setup' (pyproject.toml [project.scripts])")
     return subprocess.run([str(exe), *args], capture_output=True, text=True, timeout=timeout,
                           env=env or grader_env(), stdin=subprocess.DEVNULL)
+
+
+def run_session(argv: List[str], cwd: Path, env: Dict[str, str], timeout: float = 600) -> subprocess.CompletedProcess:
+    """``argv`` in a session of its own (everything it starts is killed if it hangs), its output printed and
+    returned as stdout (stderr merged)."""
+    proc = subprocess.Popen(argv, cwd=cwd, env=env, text=True, stdout=subprocess.PIPE, stderr=subprocess.STDOUT,
+                            stdin=subprocess.DEVNULL, start_new_session=True)
+    try:
+        out, _ = proc.communicate(timeout=timeout)
+    except subprocess.TimeoutExpired:
+        os.killpg(proc.pid, signal.SIGKILL)
+        out, _ = proc.communicate()
+        pytest.fail(f"{' '.join(argv)}: still running after {timeout:.0f} s\n{out[-3000:]}")
+    print(f"$ {' '.join(argv)}\n{out}")
+    return subprocess.CompletedProcess(argv, proc.returncode, out, "")
 
 
 def nbgrader(args: List[str], cwd: Path) -> None:

@@ -19,7 +19,6 @@ import json
 import os
 import re
 import shutil
-import signal
 import subprocess
 import sys
 import sysconfig
@@ -30,7 +29,7 @@ from pathlib import Path
 from typing import Dict, List, Tuple
 
 import pytest
-from grading_helpers import REPO
+from grading_helpers import REPO, run_session
 
 pytestmark = pytest.mark.ros
 
@@ -142,16 +141,7 @@ def fresh_env(**extra: str) -> Dict[str, str]:
 
 def run(argv: List[str], cwd: Path, env: Dict[str, str]) -> subprocess.CompletedProcess:
     """``argv`` in a session of its own (everything it starts is killed if it hangs); output printed."""
-    proc = subprocess.Popen(argv, cwd=cwd, env=env, text=True, stdout=subprocess.PIPE, stderr=subprocess.STDOUT,
-                            stdin=subprocess.DEVNULL, start_new_session=True)
-    try:
-        out, _ = proc.communicate(timeout=TIMEOUT_S)
-    except subprocess.TimeoutExpired:
-        os.killpg(proc.pid, signal.SIGKILL)
-        out, _ = proc.communicate()
-        pytest.fail(f"{' '.join(argv)}: still running after {TIMEOUT_S} s\n{out[-3000:]}")
-    print(f"$ {' '.join(argv)}\n{out}")
-    return subprocess.CompletedProcess(argv, proc.returncode, out, "")
+    return run_session(argv, cwd, env, TIMEOUT_S)
 
 
 def make(folder: Path, *args: str, env: Dict[str, str]) -> str:

@@ -30,7 +30,7 @@ from pathlib import Path
 from typing import Dict, List, Optional
 
 import pytest
-from grading_helpers import REPO, SOLUTIONS, grader_env, nbgrader_course
+from grading_helpers import REPO, SOLUTIONS, grader_env, nbgrader_course, run_session
 
 pytestmark = pytest.mark.ros
 
@@ -71,16 +71,8 @@ def fresh_env(**extra: str) -> Dict[str, str]:
 
 
 def _shell(command: str, env: Dict[str, str], timeout: float = 600) -> subprocess.CompletedProcess:
-    proc = subprocess.Popen(["bash", "--noprofile", "--norc", "-c", command], cwd=REPO, env=env, text=True,
-                            stdout=subprocess.PIPE, stderr=subprocess.STDOUT, start_new_session=True)
-    try:
-        out, _ = proc.communicate(timeout=timeout)
-    except subprocess.TimeoutExpired:
-        os.killpg(proc.pid, signal.SIGKILL)
-        out, _ = proc.communicate()
-        pytest.fail(f"{command}: still running after {timeout:.0f} s\n{out[-3000:]}")
-    print(f"$ {command}\n{out}")
-    return subprocess.CompletedProcess(command, proc.returncode, out, "")
+    done = run_session(["bash", "--noprofile", "--norc", "-c", command], REPO, env, timeout)
+    return subprocess.CompletedProcess(command, done.returncode, done.stdout, "")
 
 
 def _student_nbgrader(args: List[str], cwd: Path, exchange: Path) -> str:
