@@ -209,3 +209,22 @@ def test_holding_exactly_the_velocity_limit_is_viable_and_one_step_beyond_it_is_
     group.v = (group.v_max, 0.0, 0.0)
     assert group._viable((0.0, 0.0, 0.0), 0.02)
     assert not group._viable((1e-3, 0.0, 0.0), 0.02)
+
+
+def test_a_target_equal_to_the_velocity_while_accelerating_eases_the_acceleration_off_by_one_jerk_step():
+    """No error left but 0.16 m/s^2 of acceleration: the law takes it down by j dt = 0.04, along its own axis."""
+    limiter = TwistLimiter(DEFAULT_LIMITS)
+    for _ in range(4):
+        limiter.step((0.1, 0.0, 0.0, 0.0, 0.0, 0.0), 0.02)
+    before = limiter.acceleration[0]
+    assert before == pytest.approx(0.16)
+    limiter.step(limiter.velocity, 0.02)
+    after = limiter.acceleration
+    assert after[0] == pytest.approx(before - DEFAULT_LIMITS.translation.jerk * 0.02) and after[1:] == (0.0,) * 5
+
+
+@pytest.mark.parametrize("target", [0.0006, 0.000403, 0.0008 * (1.0 - 2e-9)])
+def test_an_error_one_step_can_close_is_closed_exactly_in_that_step(target):
+    """At 50 Hz an error up to 0.8 mm/s needs at most one jerk step of acceleration (2 m/s^3 * 20 ms = 0.04 m/s^2):
+    the step lands on the target bit for bit (0.000403 by the switching curve would be 0.00040300000000000004)."""
+    assert TwistLimiter(DEFAULT_LIMITS).step((target, 0.0, 0.0, 0.0, 0.0, 0.0), 0.02) == (target,) + (0.0,) * 5
