@@ -17,7 +17,7 @@ import subprocess
 import tarfile
 import time
 from pathlib import Path
-from typing import Callable, Dict, List, Optional, Tuple
+from typing import Callable, Dict, List, Tuple
 
 from benchmarks.report import BenchError, BenchOptions, BenchRow
 from hri_teleop.course.bundle import assemble_bundle, pack_bundle
@@ -68,9 +68,10 @@ def _make(bundle: Path, *args: str) -> Tuple[float, str]:
     return seconds, output
 
 
-def unpack_bundle(work: Path) -> Tuple[Path, Path]:
-    """(course, bundle): a copy of the course under ``work`` and its bundle as ``make release`` packs it, unpacked
-    in ``work/home`` (not set up). ``work`` is new or empty, and readable by all (as a student's home is)."""
+def prepare_bundle(work: Path, progress: Progress) -> Path:
+    """The answer key in a bundle as ``make release`` packs it, unpacked and set up."""
+    if work.exists():
+        shutil.rmtree(work)
     course = prepare_course_copy(work)
     archive = pack_bundle(assemble_bundle(course / "release", work / "assembled", ASSIGNMENTS), work / "bundle.tar.gz")
     home = work / "home"
@@ -78,14 +79,7 @@ def unpack_bundle(work: Path) -> Tuple[Path, Path]:
     home.chmod(0o755)  # the grader's student uid reads the files (as root), as a student's home allows
     with tarfile.open(archive) as tar:
         tar.extractall(home)
-    return course, home / "task4"
-
-
-def prepare_bundle(work: Path, progress: Progress) -> Path:
-    """The answer key in a bundle as ``make release`` packs it, unpacked and set up."""
-    if work.exists():
-        shutil.rmtree(work)
-    course, bundle = unpack_bundle(work)
+    bundle = home / "task4"
     seconds, _ = _make(bundle, "setup")
     progress(f"selfcheck: bundle set up in {seconds:.0f} s (not timed below)")
     copy_answer_key(bundle, course)
@@ -136,12 +130,8 @@ def _row(name: str, kind: str, values: Dict[str, float]) -> BenchRow:
                     "wall / sum of own times", values)
 
 
-def run(options: BenchOptions, progress: Progress, bundle: Optional[Path] = None) -> List[BenchRow]:
-    """The two rows; ``bundle``: one already set up and given the answer key (the tests share one set-up bundle)."""
-    if bundle is None:
-        bundle = prepare_bundle(options.out_dir / "selfcheck", progress)
-    else:
-        progress(f"selfcheck: the bundle in {bundle}, set up and given the answer key before (not timed)")
+def run(options: BenchOptions, progress: Progress) -> List[BenchRow]:
+    bundle = prepare_bundle(options.out_dir / "selfcheck", progress)
     runs = RUNS[options.smoke]
     whole = measure(bundle, SMOKE_WHOLE if options.smoke else "", runs, progress, "whole")
     one = measure(bundle, ONE, runs, progress, f"ONLY={ONE}")

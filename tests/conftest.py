@@ -40,8 +40,7 @@ os.environ.setdefault("OPENBLAS_NUM_THREADS", "1")
 # machine beside other jobs, 2026-11-29: about 2.4 times an idle run's). `make test` hands each file to one
 # worker (--dist loadfile) in collection order; a long file that starts last leaves the other workers idle
 # while it finishes. This is the schedule only: no test depends on it, and a module missing here just runs
-# after these. test_bench_selfcheck.py checks the bundle test_student_bundle.py sets up (bundle_helpers):
-# placed where that setup is done when it starts (it would wait for it, not make a second one).
+# after these.
 LONGEST_FIRST = [
     "integration/test_student_bundle.py",         # 1260 s (its make setup: 650)
     "unit/test_python38_compatible.py",           # 531 s (one test: the core's unit tests on Python 3.8)
@@ -56,7 +55,7 @@ LONGEST_FIRST = [
     "grading/test_make_grade_nbgrader.py",        # 199 s
     "integration/test_lab_twin.py",               # 197 s
     "integration/test_study_end_to_end.py",       # 193 s
-    "bench/test_bench_selfcheck.py",              # 417 s with a make setup of its own, now two make checks
+    "bench/test_bench_selfcheck.py",              # 417 s (its bundle's make setup, and 85 s removing it)
     "grading/test_node_feedback_runs.py",         # 164 s
     "integration/test_lab_simulation.py",         # 154 s
     "grading/test_ex10_drive.py",                 # 154 s
@@ -85,14 +84,10 @@ def pytest_configure(config: pytest.Config) -> None:
 
 
 def pytest_sessionfinish(session: pytest.Session, exitstatus: int) -> None:
-    """The run's controller (not an xdist worker): remove the run's shared student bundle (bundle_helpers); fail
-    the run when it left a process behind."""
+    """The run's controller (not an xdist worker): fail the run when it left a process behind."""
     if hasattr(session.config, "workerinput"):
         return
-    from bundle_helpers import remove_shared_bundle
     from leftovers import reap
-
-    remove_shared_bundle(session.config._tmp_path_factory.getbasetemp())  # type: ignore[attr-defined]
 
     left = reap(REPO, getattr(session.config, "_hri_started_ticks", 0))
     if left:

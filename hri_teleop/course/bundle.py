@@ -209,7 +209,7 @@ def distinctive(line: str) -> bool:
 def _shipped_files(bundle: Path) -> List[Path]:
     """Every file under ``bundle`` but an installed virtual environment's (third-party packages): a ``.venv``
     folder is not entered (nor, as with rglob, a linked folder)."""
-    found = []
+    found: List[Path] = []
     for root, folders, files in os.walk(bundle):
         folders[:] = [name for name in folders if name != ".venv"]
         found.extend(Path(root, name) for name in files if name != ".venv")

@@ -1,5 +1,4 @@
-"""Benchmark 8 (the student bundle's make check) in its smoke size: a real bundle set up and checked (the bundle
-the test run sets up once, bundle_helpers.shared_installed_bundle, in a copy given the answer key)."""
+"""Benchmark 8 (the student bundle's make check) in its smoke size: a real bundle set up and checked."""
 
 from __future__ import annotations
 
@@ -8,7 +7,6 @@ import tempfile
 from pathlib import Path
 
 import pytest
-from bundle_helpers import bundle_copy, copy_answer_key, done_with_shared_bundle, shared_installed_bundle
 
 from benchmarks import selfcheck
 from benchmarks.report import BenchError, BenchOptions
@@ -39,17 +37,9 @@ def readable_out():
     shutil.rmtree(folder, ignore_errors=True)
 
 
-def test_the_smoke_run_times_a_real_make_check_of_the_answer_key_beside_its_own_printed_times(readable_out,
-                                                                                             tmp_path_factory):
-    # the run's one bundle, set up once (tests/integration/test_student_bundle.py's too), in a copy of its own
-    try:
-        course, installed = shared_installed_bundle(tmp_path_factory)
-        bundle = bundle_copy(installed, readable_out, "selfcheck")
-        copy_answer_key(bundle, course)
-        messages = []
-        whole, one = selfcheck.run(BenchOptions(out_dir=readable_out, smoke=True), messages.append, bundle=bundle)
-    finally:
-        done_with_shared_bundle(tmp_path_factory, "bench/test_bench_selfcheck.py")
+def test_the_smoke_run_times_a_real_make_check_of_the_answer_key_beside_its_own_printed_times(readable_out):
+    messages = []
+    whole, one = selfcheck.run(BenchOptions(out_dir=readable_out, smoke=True), messages.append)
     assert whole.benchmark.startswith("make check, whole bundle") and one.benchmark == "make check ONLY=ex08"
     assert whole.values["notebooks"] == 2 and one.values["notebooks"] == 1
     for row, promise in ((whole, 60.0), (one, 15.0)):

@@ -11,31 +11,25 @@ import re
 import shutil
 import signal
 import subprocess
+import tarfile
+import tempfile
 from pathlib import Path
-from typing import Dict, List
+from typing import Dict, List, Optional
 
 import pytest
-from bundle_helpers import bundle_copy as _copy
-from bundle_helpers import (
-    copy_answer_key,
-    done_with_shared_bundle,
-    files_points,
-    notebook_points,
-    shared_bundle,
-    shared_installed_bundle,
-)
-from bundle_helpers import make as _make
-from bundle_helpers import student_env as _student_env
+from bundle_helpers import copy_answer_key, files_points, notebook_points
 
 from hri_teleop.core.paths import SOLUTIONS
 from hri_teleop.course.bundle import (
     LAB_DELIVERABLES,
     answer_files,
+    assemble_bundle,
     distinctive,
+    pack_bundle,
     toolkit_leaks,
 )
 from hri_teleop.course.nodes import STUDENT_PACKAGE
-from hri_teleop.course.release import solution_texts
+from hri_teleop.course.release import prepare_course_copy, solution_texts
 from hri_teleop.grading.assignments import ASSIGNMENTS
 from hri_teleop.grading.cases.templates import make_answer
 from hri_teleop.ros.master import ManagedProcess, MasterError, RunningMaster, free_port
@@ -49,22 +43,36 @@ CHECKED = "ex05,ex06,ex15"
 
 @pytest.fixture(scope="module")
 def course(tmp_path_factory):
-    return shared_bundle(tmp_path_factory)[0]
+    return prepare_course_copy(tmp_path_factory.mktemp("bundle-course"))
 
 
 @pytest.fixture(scope="module")
-def unpacked(tmp_path_factory):
-    """The bundle packed as `make release` packs it, then unpacked where no checkout is (one per run, shared
-    with tests/bench/test_bench_selfcheck.py: bundle_helpers.shared_bundle)."""
-    yield shared_bundle(tmp_path_factory)[1]
-    done_with_shared_bundle(tmp_path_factory, "integration/test_student_bundle.py")
-
-
-@pytest.fixture(scope="module")
-def home(unpacked):
+def home():
     """A student's home: readable by the unprivileged user the grader runs student code as (when
     the tests run as root), which pytest's own 0700 temporary folders are not."""
-    return unpacked.parent
+    folder = Path(tempfile.mkdtemp(prefix="hri-student-home-"))
+    folder.chmod(0o755)
+    yield folder
+    shutil.rmtree(folder, ignore_errors=True)
+
+
+@pytest.fixture(scope="module")
+def unpacked(course, home, tmp_path_factory):
+    """The bundle packed as `make release` packs it, then unpacked where no checkout is."""
+    work = tmp_path_factory.mktemp("bundle")
+    archive = pack_bundle(assemble_bundle(course / "release", work / "assembled", ASSIGNMENTS), work / "b.tar.gz")
+    with tarfile.open(archive) as tar:
+        tar.extractall(home)
+    return home / "task4"
+
+
+def _copy(installed: Path, home: Path, name: str) -> Path:
+    """A second student's folder sharing the installed toolkit's .venv (set up once)."""
+    bundle = home / name / "task4"
+    shutil.copytree(installed, bundle, symlinks=True, ignore=shutil.ignore_patterns(".venv"))
+    os.symlink(installed / "toolkit" / ".venv", bundle / "toolkit" / ".venv")
+    (home / name).chmod(0o755)
+    return bundle
 
 
 def test_the_bundle_has_its_three_commands_and_the_provided_nodes(unpacked):
@@ -121,10 +129,27 @@ def test_the_leak_check_finds_a_deliverable_copied_into_the_toolkit(unpacked, co
     assert any(LAB_DELIVERABLES[0] in leak for leak in leaks)
 
 
+def _student_env() -> dict:
+    """Only the machine's own PATH: no project .venv, no ROS_PACKAGE_PATH pointing at this checkout."""
+    env = {k: v for k, v in os.environ.items() if not k.startswith(("ROS_", "VIRTUAL_ENV", "PYTHON", "HRI_"))}
+    env["PATH"] = ":".join(p for p in env.get("PATH", "").split(":") if ".venv" not in p)
+    env["SDL_VIDEODRIVER"] = env["SDL_AUDIODRIVER"] = "dummy"
+    return env
+
+
+def _make(bundle: Path, *args: str, timeout: float, extra_env: Optional[Dict[str, str]] = None
+          ) -> subprocess.CompletedProcess:
+    env = dict(_student_env(), **(extra_env or {}))
+    return subprocess.run(["make", "-C", str(bundle), *args], capture_output=True, text=True, timeout=timeout,
+                          env=env, stdin=subprocess.DEVNULL)
+
+
 @pytest.fixture(scope="module")
-def installed(unpacked, tmp_path_factory):
-    """`make setup` of the bundle: its own venv with the toolkit, as on a student's machine (once per run)."""
-    return shared_installed_bundle(tmp_path_factory)[1]
+def installed(unpacked):
+    """`make setup` of the bundle: its own venv with the toolkit, as on a student's machine."""
+    done = _make(unpacked, "setup", timeout=1200)
+    assert done.returncode == 0, done.stdout[-2000:] + done.stderr[-2000:]
+    return unpacked
 
 
 def test_the_installed_toolkit_holds_no_answer(installed, course):
