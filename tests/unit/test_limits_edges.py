@@ -228,3 +228,12 @@ def test_an_error_one_step_can_close_is_closed_exactly_in_that_step(target):
     """At 50 Hz an error up to 0.8 mm/s needs at most one jerk step of acceleration (2 m/s^3 * 20 ms = 0.04 m/s^2):
     the step lands on the target bit for bit (0.000403 by the switching curve would be 0.00040300000000000004)."""
     assert TwistLimiter(DEFAULT_LIMITS).step((target, 0.0, 0.0, 0.0, 0.0, 0.0), 0.02) == (target,) + (0.0,) * 5
+
+
+def test_full_stick_beyond_the_limit_stays_at_or_below_the_velocity_limit_without_tolerance():
+    """The limiter aims a relative 1e-9 inside each limit, so its output holds them with no tolerance at all."""
+    limits = _both(AxisLimits(0.25, 0.3, 2.0))
+    limiter = TwistLimiter(limits)
+    twists = [limiter.step((1.0, 0.0, 0.0, 0.0, 0.0, 1.0), 0.02) for _ in range(200)]
+    assert twists[-1][0] == twists[-2][0] > 0.2499  # reached and held
+    assert limit_violations(limits, twists, [0.02] * 200, rel_tol=0.0) == []
