@@ -48,6 +48,7 @@ LONGEST_FIRST = [
     "notebooks/test_notebooks_run.py",            # 320 s
     "grading/test_gradescope.py",                 # 354 s
     "grading/test_instructors_guide.py",          # 354 s
+    "grading/test_adding_an_exercise.py",         # ~350 s (130-160 s alone: a copy released, graded, checked)
     "grading/test_corpus.py",                     # 305 s
     "grading/test_kernel_reports.py",             # 235 s
     "grading/test_notebook_sandbox.py",           # 214 s
