@@ -62,10 +62,14 @@ def publish_press(peak: int) -> None:
     pub = rospy.Publisher("/pub_force", Int16, queue_size=100, tcp_nodelay=True)
     _wait_for_subscribers([pub], timeout_s=60.0)
     profile = [int(peak * min(k, 100 - k) / 50) for k in range(101)]  # 0 -> peak -> 0 in 1 s at 100 Hz
+    # On a schedule of its own, as the board keeps 100 Hz: a sleep of 0.01 s after each message ran slower
+    # than 100 Hz by the time each publish takes, and much slower on a busy machine (149 samples in 2 s).
+    start, sent = time.monotonic(), 0
     while not rospy.is_shutdown():
         for count in profile:
             pub.publish(Int16(count))
-            time.sleep(0.01)
+            sent += 1
+            time.sleep(max(0.0, start + sent * 0.01 - time.monotonic()))
 
 
 def live_plot(count: int, out: str) -> None:
@@ -77,18 +81,22 @@ def live_plot(count: int, out: str) -> None:
     assert plot.topics is not None
     buffers = plot.topics.buffers
     draws = []
+    arriving = []  # the messages received by each redraw made while they still arrived
     deadline = time.monotonic() + 60.0
     # The kernel's thread: redraw 10 times per second while rospy's threads fill the buffers.
     while time.monotonic() < deadline and any(b.received < count for b in buffers.values()):
         started = time.monotonic()
+        before = sum(b.received for b in buffers.values())
         plot.redraw()
         draws.append(time.monotonic() - started)
+        if 0 < before < count * len(buffers):
+            arriving.append(before)
         time.sleep(max(0.0, 0.1 - draws[-1]))
     time.sleep(0.5)  # anything beyond count would be a duplicate
     plot.redraw()
     with open(out[:-len(".json")] + ".png", "wb") as fh:
         fh.write(plot.view.png())  # the last frame, for a person to look at
-    result = {"node": session.node_name, "draws": len(draws), "draw_ms_mean": 1000 * sum(draws) / max(1, len(draws)),
+    result = {"node": session.node_name, "draws": len(draws), "arriving": arriving, "draw_ms_mean": 1000 * sum(draws) / max(1, len(draws)),
               "draw_ms_max": 1000 * max(draws or [0.0]), "topics": {}, "pad_cue": plot.pad_cue.value}
     for topic, buffer in buffers.items():
         times, values = buffer.snapshot()

@@ -49,7 +49,11 @@ def test_four_topics_at_100_hz_arrive_complete_and_in_order_while_the_plot_redra
         got = result["topics"][topic]
         assert got["received"] == count, f"{topic}: {count - got['received']} of {count} messages dropped"
         assert got["first_column"] == [float(i) for i in range(count)], f"{topic}: messages out of order"
-    assert result["draws"] >= 5, f"the plot did not keep redrawing while the messages arrived: {result}"
+    # Redrawn while the messages arrived, each time with more of them: the kernel's redraws and rospy's threads
+    # run side by side (how many redraws fit in the 5 s depends on the machine's speed, not on the plot).
+    growing = result["arriving"]
+    assert len(set(growing)) >= 2 and growing == sorted(growing), \
+        f"the plot did not keep redrawing while the messages arrived: {result['draws']} redraws, {growing}"
     print(f"\nlive plot: 4 x {count} messages at 100 Hz, 0 dropped; {result['draws']} redraws, "
           f"{result['draw_ms_mean']:.0f} ms mean, {result['draw_ms_max']:.0f} ms max")
 
