@@ -206,7 +206,7 @@ def _scale(x: Vec3, s: float) -> Vec3:
     return (x[0] * s, x[1] * s, x[2] * s)
 
 
-def _sanitize_clip(target: Sequence[float], limit: float) -> Vec3:
+def sanitize_clip(target: Sequence[float], limit: float) -> Vec3:
     """Non-finite components -> 0, then scale down to norm ``limit`` (overflow-safe)."""
     t = tuple(float(c) if math.isfinite(c) else 0.0 for c in target)
     peak = max(abs(c) for c in t)
@@ -219,7 +219,7 @@ def _sanitize_clip(target: Sequence[float], limit: float) -> Vec3:
     return _scale(unit, limit / n)
 
 
-def _accel_for_error(error: float, dt_s: float, jerk_step: float) -> float:
+def accel_for_error(error: float, dt_s: float, jerk_step: float) -> float:
     """The acceleration x >= 0 with ``D(x) = error``, D as in docs/teleoperation.md (the tracking law, step 3).
 
     On ``x in [n h, (n+1) h)`` (``h = jerk_step = j dt``) D is linear:
@@ -236,7 +236,7 @@ def _accel_for_error(error: float, dt_s: float, jerk_step: float) -> float:
     return jerk_step * (q + n * (n + 1) / 2.0) / (n + 1)
 
 
-class _GroupLimiter:
+class GroupLimiter:
     """The tracking law of docs/teleoperation.md for one 3-vector group."""
 
     def __init__(self, limits: AxisLimits) -> None:
@@ -261,7 +261,7 @@ class _GroupLimiter:
 
     def step(self, target: Sequence[float], dt_s: float) -> Vec3:
         v, a = self.v, self.a
-        goal = _sanitize_clip(target, self.v_max)
+        goal = sanitize_clip(target, self.v_max)
         jerk_step = self.j_max * dt_s
         error = _sub(goal, v)
 
@@ -276,7 +276,7 @@ class _GroupLimiter:
         else:
             # 3. the time-optimal switching curve, jerk- and acceleration-limited.
             e_norm = _norm(error)
-            x = min(self.a_max, _accel_for_error(e_norm, dt_s, jerk_step))
+            x = min(self.a_max, accel_for_error(e_norm, dt_s, jerk_step))
             a_des = _scale(error, x / e_norm) if e_norm > 0.0 else (0.0, 0.0, 0.0)
             delta = _sub(a_des, a)
             d_norm = _norm(delta)
@@ -331,7 +331,7 @@ class TwistLimiter:
             )
             raise LimitsError(f"limits exceed the robot's ({details}); lower them in the teleop config (the Panda's limits: docs/lab-facts.md)")
         self._limits = limits
-        self._groups = (_GroupLimiter(limits.translation), _GroupLimiter(limits.rotation))
+        self._groups = (GroupLimiter(limits.translation), GroupLimiter(limits.rotation))
 
     @property
     def limits(self) -> CartesianLimits:

@@ -15,16 +15,16 @@ from hri_teleop.core.limits import (
     ROBOT_LIMITS,
     AxisLimits,
     CartesianLimits,
+    GroupLimiter,
     LimitsError,
     TwistLimiter,
-    _accel_for_error,
-    _GroupLimiter,
-    _sanitize_clip,
+    accel_for_error,
     check_command_rate,
     hold_at_robot_rate,
     lab_limits_for,
     limit_violations,
     max_step_per_command,
+    sanitize_clip,
 )
 
 MARGIN = 1e-9  # limits._MARGIN: the relative slack of both budget checks
@@ -192,20 +192,20 @@ def test_reset_takes_six_values_of_each(name, count):
 ])
 def test_the_acceleration_for_an_error_is_on_the_right_step_of_the_braking_staircase(q, x):
     """With dt = h = 1, D(x) = (n+1) x - n(n+1)/2 on [n, n+1) (docs/teleoperation.md): x = (q + n(n+1)/2)/(n+1)."""
-    assert _accel_for_error(q, 1.0, 1.0) == x
-    assert _accel_for_error(q * 0.02 * 0.5, 0.02, 0.5) == pytest.approx(x * 0.5, rel=1e-12)
+    assert accel_for_error(q, 1.0, 1.0) == x
+    assert accel_for_error(q * 0.02 * 0.5, 0.02, 0.5) == pytest.approx(x * 0.5, rel=1e-12)
 
 
 # --- the target clip and the velocity-safety test at exactly the velocity limit -----------------------------
 
 
 def test_a_target_exactly_at_the_velocity_limit_is_taken_as_it_is():
-    assert _sanitize_clip((0.007, 0.024, 0.0), 0.025) == (0.007, 0.024, 0.0)  # scaled: 0.007000000000000001
-    assert _sanitize_clip((0.6, 0.8, 0.0), 0.5) == pytest.approx((0.3, 0.4, 0.0), rel=1e-15)
+    assert sanitize_clip((0.007, 0.024, 0.0), 0.025) == (0.007, 0.024, 0.0)  # scaled: 0.007000000000000001
+    assert sanitize_clip((0.6, 0.8, 0.0), 0.5) == pytest.approx((0.3, 0.4, 0.0), rel=1e-15)
 
 
 def test_holding_exactly_the_velocity_limit_is_viable_and_one_step_beyond_it_is_not():
-    group = _GroupLimiter(AxisLimits(1.0, 1.0, 1.0))
+    group = GroupLimiter(AxisLimits(1.0, 1.0, 1.0))
     group.v = (group.v_max, 0.0, 0.0)
     assert group._viable((0.0, 0.0, 0.0), 0.02)
     assert not group._viable((1e-3, 0.0, 0.0), 0.02)
