@@ -287,8 +287,11 @@ def _x(msg) -> float:
 
 def test_a_smooth_ramp_moves_the_pose_by_the_integral_without_violations(session):
     sent = session.twists(0)
+    # The whole ramp went out, in order. Its integral is judged over the times it was sent, not over the
+    # client's 100 Hz schedule (0.0243 m): a stall of the client's machine during the ramp-up holds one
+    # slow twist for longer and leaves the twists sent to catch up almost no time (0.0227 m at load 5).
+    assert [v[1:] for v in sent] == RAMP
     integral_m = sum(v[1] * (later[0] - v[0]) for v, later in zip(sent, sent[1:]))
-    assert integral_m == pytest.approx(0.0243, abs=0.001)
     poses = sorted(session.between("/lab_sim/ee_pose", "ramp", "ramp_end"), key=lambda p: p[1].header.stamp.to_sec())
     # The distance is judged on lab_sim's own stamps: on a busy machine its simulated time skips its
     # stalls, so the client's send times are not when it moved (L16, loaded: 0.02471 m moved for a
