@@ -9,9 +9,11 @@ for ``_`` (``mapping_node`` -> ``mapping-node``). Adding an exercise adds one li
 
 from __future__ import annotations
 
-from typing import Dict
+from typing import Dict, Mapping
 
-__all__ = ["DELIVERABLE_FILES"]
+from hri_teleop.grading.results import GradingError
+
+__all__ = ["DELIVERABLE_FILES", "key_of"]
 
 #: module name -> the file it judges, in the order reports and the answer key's results list them.
 DELIVERABLE_FILES: Dict[str, str] = {
@@ -23,3 +25,12 @@ DELIVERABLE_FILES: Dict[str, str] = {
     "graph": "graph.yaml",
     "catkin_package": "",
 }
+
+
+def key_of(sub: str, files: Mapping[str, str] = DELIVERABLE_FILES) -> str:
+    """The key of the exercise that judges the file at ``sub`` in the package (``scripts/mapping_node.py``
+    -> ``mapping_node``); ``files`` is the list to look in (the registry's own, or a test's)."""
+    for key, path in files.items():
+        if path and path == sub:  # an exercise that judges the package itself has no file
+            return key
+    raise GradingError(f"{sub} is no deliverable of the course (hri_teleop/grading/exercises lists them)")

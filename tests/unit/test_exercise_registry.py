@@ -285,6 +285,19 @@ def test_an_exercise_is_found_by_its_check_its_module_or_its_file_and_an_unknown
         fresh_registry.by_file("")  # the package's own check judges no file: no file names it
 
 
+def test_the_course_files_keys_are_found_by_their_path_in_the_package_and_no_key_by_the_packages_own_check():
+    from hri_teleop.grading.deliverables import key_of
+    from hri_teleop.grading.results import GradingError
+
+    assert key_of("scripts/mapping_node.py") == "mapping_node"
+    assert key_of("launch/teleoperation.launch") == "teleoperation_launch"
+    assert key_of("config/a.yaml", {"made_one": "", "made_two": "config/a.yaml"}) == "made_two"
+    for sub in ("", "mapping_node.py", "scripts/mapping_node.py/"):
+        with pytest.raises(GradingError, match=f"^{sub} is no deliverable of the course "
+                                               r"\(hri_teleop/grading/exercises lists them\)$"):
+            key_of(sub)
+
+
 def test_each_assignment_lists_its_checks_in_the_registrys_order(fresh_registry, monkeypatch):
     made = [_made_up("made_a", "lab"), _made_up("made_b", "preparation"), _made_up("made_c", "lab")]
     for found in made:

@@ -10,7 +10,7 @@ from __future__ import annotations
 import importlib
 from typing import Dict, Tuple
 
-from hri_teleop.grading.deliverables import DELIVERABLE_FILES
+from hri_teleop.grading.deliverables import DELIVERABLE_FILES, key_of
 from hri_teleop.grading.exercise import Exercise, PartTable
 from hri_teleop.grading.results import GradingError
 
@@ -44,10 +44,7 @@ def exercise(check: str) -> Exercise:
 
 def by_file(sub: str) -> Exercise:
     """The exercise that judges the file at ``sub`` in the package (``scripts/teleoperation.py``)."""
-    for key, path in DELIVERABLE_FILES.items():
-        if path and path == sub:  # an exercise that judges the package itself has no file
-            return exercise(key)
-    raise GradingError(f"{sub} is no deliverable of the course (hri_teleop/grading/exercises lists them)")
+    return exercise(key_of(sub, DELIVERABLE_FILES))
 
 
 def checks() -> Tuple[str, ...]:

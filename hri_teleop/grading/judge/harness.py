@@ -23,6 +23,7 @@ from hri_teleop.core.config import DEFAULT_TWIST_TOPIC
 from hri_teleop.core.paths import SOLUTIONS
 from hri_teleop.grading.cases import inputs as C
 from hri_teleop.grading.cases.templates import TemplateError, kind_of, make_template
+from hri_teleop.grading.deliverables import key_of
 from hri_teleop.grading.exercise import Exercise
 from hri_teleop.grading.judge import reuse
 from hri_teleop.grading.judge.reference_guard import reference_uses, refusal
@@ -286,14 +287,6 @@ def refused_result(exercise: Exercise, root: Path, reason: str, seed: Optional[i
     return CheckResult(exercise.check, str(root / sub), parts, seed if exercise.hidden_inputs else None)
 
 
-def deliverable_key(sub: str) -> str:
-    """The key of the deliverable at ``sub`` in the package (``scripts/mapping_node.py`` -> its exercise's key)."""
-    for key, path in DELIVERABLES.items():
-        if path == sub:
-            return key
-    raise GradingError(f"{sub} is no deliverable of the course (hri_teleop/grading/exercises lists them)")
-
-
 def resolve_deliverable(path: PathLike, key: str) -> Tuple[Path, Optional[Path], Optional[Path], str]:
     """(package root, the file given explicitly or None, the file found or None, why it is refused or "").
 
@@ -337,7 +330,7 @@ def start_check(exercise: Exercise, path: PathLike, out_dir: Optional[PathLike],
     if found is None:
         return missing_result(exercise, root, seed), seed
     sandbox_mode()  # says once when bubblewrap is missing
-    stand_ins = [deliverable_key(sub) for sub in exercise.lab_stand_ins]  # in the exercise's order
+    stand_ins = [key_of(sub) for sub in exercise.lab_stand_ins]  # in the exercise's order
     return CheckRun(exercise.check, root if given is None else given, out_dir, key, given or found,
                     reference=stand_ins), seed
 

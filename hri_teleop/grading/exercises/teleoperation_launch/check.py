@@ -12,6 +12,7 @@ from typing import Dict, List, Optional, Union
 import yaml
 
 from hri_teleop.grading.cases.inputs import PUBLIC_MAX_SENSOR_FORCE
+from hri_teleop.grading.deliverables import key_of
 from hri_teleop.grading.exercise import Exercise
 from hri_teleop.grading.exercises.teleoperation_launch.cases import launch_sim_case
 from hri_teleop.grading.exercises.teleoperation_launch.judge import (
@@ -26,7 +27,6 @@ from hri_teleop.grading.judge.harness import (
     CheckRun,
     clock_notes,
     closing_scratch,
-    deliverable_key,
     finish_check,
     grading_clock,
     left_as_template,
@@ -102,7 +102,7 @@ def grade_teleoperation_launch(path: PathLike, *, seed: Optional[int] = None,
     observation: Optional[TeleopLaunchSimObservation] = run.session(plan, timeout_s=120.0) if plan is not None else None
     parts.append(compare_teleop_launch_sim(parsed, observation, launch_sim_case(), run.out_dir))
     notes = clock_notes(observation, "teleoperation.launch: ")
-    if left_as_template(run, deliverable_key(MAPPING_SCRIPT), find_package_root(path)):
+    if left_as_template(run, key_of(MAPPING_SCRIPT), find_package_root(path)):
         notes.append(TEMPLATE_NOTE)  # the lab's ran in its place: Ex. 12 d) would go unnoticed
     return finish_check(EXERCISE, run, parts, notes)
 
