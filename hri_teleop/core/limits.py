@@ -228,11 +228,9 @@ def accel_for_error(error: float, dt_s: float, jerk_step: float) -> float:
     if error <= 0.0:
         return 0.0
     q = error / (dt_s * jerk_step)  # D in units of dt*h
-    n = int((math.sqrt(1.0 + 8.0 * q) - 1.0) / 2.0)
-    while n > 0 and n * (n + 1) / 2.0 > q:
-        n -= 1
-    while (n + 1) * (n + 2) / 2.0 <= q:
-        n += 1
+    # The step n is the largest with n (n+1) / 2 <= q, that is <= int(q) (a whole number): exact in integers. A
+    # float square root would be off by up to ~2^-53 q^0.5 steps for a huge q, and walking back would not end.
+    n = (math.isqrt(8 * int(q) + 1) - 1) // 2
     return jerk_step * (q + n * (n + 1) / 2.0) / (n + 1)
 
 

@@ -237,3 +237,61 @@ def test_full_stick_beyond_the_limit_stays_at_or_below_the_velocity_limit_withou
     twists = [limiter.step((1.0, 0.0, 0.0, 0.0, 0.0, 1.0), 0.02) for _ in range(200)]
     assert twists[-1][0] == twists[-2][0] > 0.2499  # reached and held
     assert limit_violations(limits, twists, [0.02] * 200, rel_tol=0.0) == []
+
+
+def test_an_error_of_exactly_one_jerk_step_lands_on_the_target_bit_for_bit():
+    """At 1/0.07 Hz the jerk step of DEFAULT_LIMITS' translation is 2 m/s^3 (less its 1e-9) * 0.07 s; a target from
+    rest that needs exactly that acceleration lands on it (the switching curve would give 0.0097999999902)."""
+    target, dt = 0.009799999990200002, 0.07
+    assert target * (1.0 / dt) == 2.0 * (1.0 - MARGIN) * dt  # the landing's edge, hit exactly
+    assert TwistLimiter(DEFAULT_LIMITS).step((target, 0.0, 0.0, 0.0, 0.0, 0.0), dt)[0] == target
+    assert TwistLimiter(DEFAULT_LIMITS).step((0.0, 0.0, 0.0, 2 * target, 0.0, 0.0), dt)[3] == 2 * target  # 4 rad/s^3
+
+
+# --- the tracking law's staircase for any error, and its groups kept apart -----------------------------------
+
+
+def _staircase_step(q: int) -> int:
+    """The largest n with n (n+1) / 2 <= q, by bisection on whole numbers (independent of the limiter's formula)."""
+    lo, hi = 0, 1
+    while hi * (hi + 1) // 2 <= q:
+        hi *= 2
+    while hi - lo > 1:
+        mid = (lo + hi) // 2
+        lo, hi = (mid, hi) if mid * (mid + 1) // 2 <= q else (lo, mid)
+    return lo
+
+
+@pytest.mark.parametrize("q", [1.48401282329844e31, 2.0 ** 200, 1e300])
+def test_the_acceleration_for_a_huge_error_is_found_at_once_on_its_step(q):
+    """1.48e31: the float square root's guess falls one step short; 2^200: it is 1.2e14 steps too high, which a
+    walk back one step at a time would take days to correct. dt = h = 1, so q is whole and x = (q + T(n))/(n+1)."""
+    n = _staircase_step(int(q))
+    assert accel_for_error(q, 1.0, 1.0) == pytest.approx((q + n * (n + 1) / 2) / (n + 1), rel=1e-15)
+
+
+def test_the_translation_command_is_the_same_bit_for_bit_whatever_the_rotation_target():
+    """Each group is clipped on its own: a huge wx does not take part in the translation's clip."""
+    alone, beside = TwistLimiter(DEFAULT_LIMITS), TwistLimiter(DEFAULT_LIMITS)
+    for _ in range(30):
+        own = alone.step((3.0, 0.5, 0.0, 0.0, 0.0, 0.0), 0.02)
+        mixed = beside.step((3.0, 0.5, 0.0, 1.79e308, 0.0, 0.0), 0.02)
+        assert mixed[:3] == own[:3]
+
+
+# --- the velocity safety's braking fallback: a turn at full stick ----------------------------------------------
+
+
+@pytest.mark.parametrize("axis, dt, straight", [
+    (AxisLimits(0.1, 4.0, 0.1), 0.1, 10),  # the jerk alone limits: the acceleration builds over a whole second
+    (AxisLimits(0.1, 4.0, 1.0), 0.02, 5),
+    (AxisLimits(0.1, 4.0, 1.0), 0.02, 10),
+])
+def test_a_turn_at_full_stick_keeps_every_limit_while_the_velocity_safety_brakes(axis, dt, straight):
+    """Full stick along x, then along y: the acceleration towards y is not viable at once near the velocity limit,
+    so the law brakes by one jerk step and takes the largest viable point towards the candidate."""
+    group = GroupLimiter(axis)
+    targets = [(1.0, 0.0, 0.0)] * straight + [(0.0, 1.0, 0.0)] * (100 - straight)
+    twists = [group.step(target, dt) + (0.0, 0.0, 0.0) for target in targets]
+    assert limit_violations(_both(axis), twists, [dt] * 100, rel_tol=0.0) == []
+    assert twists[-1][:2] == pytest.approx((0.0, 0.1), abs=1e-9)  # and it got there
