@@ -16,7 +16,7 @@ from hri_teleop.core.experiment.metrics import (
     per_participant,
     trial_metrics,
 )
-from hri_teleop.core.experiment.plan import counterbalanced_plan, read_plan, write_plan
+from hri_teleop.core.experiment.plan import counterbalanced_plan, read_plan, trial_seed, write_plan
 from hri_teleop.core.experiment.stats import paired_comparison
 from hri_teleop.sim.grasp_objects import OBJECTS
 from hri_teleop.sim.lab import run_lab
@@ -178,3 +178,74 @@ def replace_params(**changes):
     from dataclasses import replace
 
     return replace(CONFIG.params, **changes)
+
+
+def test_a_trial_seed_is_the_base_plus_1000_per_participant_plus_the_trial_number():
+    assert trial_seed(0, 0, 1) == 1
+    assert trial_seed(7, 2, 3) == 2010
+    assert trial_seed(7, 0, 999) == 1006 and trial_seed(7, 1, 0) == 1007
+    seed = trial_seed(7.0, 2.0, 3.0)  # a number read from a file is still a whole seed
+    assert seed == 2010 and type(seed) is int
+    assert trial_seed("7", "2", "3") == 2010
+
+
+def test_the_plan_of_two_participants_is_crossed_over_and_rotated_trial_by_trial():
+    plan = counterbalanced_plan(["P01", "P02"], ["egg", "sponge"], repetitions=2)
+    assert [(m.participant, m.trial, m.condition, m.object_name) for m in plan] == [
+        ("P01", 1, "feedback", "egg"), ("P01", 2, "feedback", "sponge"),
+        ("P01", 3, "feedback", "egg"), ("P01", 4, "feedback", "sponge"),
+        ("P01", 5, "no_feedback", "egg"), ("P01", 6, "no_feedback", "sponge"),
+        ("P01", 7, "no_feedback", "egg"), ("P01", 8, "no_feedback", "sponge"),
+        ("P02", 1, "no_feedback", "sponge"), ("P02", 2, "no_feedback", "egg"),
+        ("P02", 3, "no_feedback", "sponge"), ("P02", 4, "no_feedback", "egg"),
+        ("P02", 5, "feedback", "sponge"), ("P02", 6, "feedback", "egg"),
+        ("P02", 7, "feedback", "sponge"), ("P02", 8, "feedback", "egg"),
+    ]
+    three = counterbalanced_plan(["A", "B", "C"], ["egg", "sponge", "block"])
+    assert [(m.participant, m.condition, m.object_name) for m in three if m.trial <= 3] == [
+        ("A", "feedback", "egg"), ("A", "feedback", "sponge"), ("A", "feedback", "block"),
+        ("B", "no_feedback", "sponge"), ("B", "no_feedback", "block"), ("B", "no_feedback", "egg"),
+        ("C", "feedback", "block"), ("C", "feedback", "egg"), ("C", "feedback", "sponge"),
+    ]
+    assert len(counterbalanced_plan(["A"], ["egg"], repetitions=1)) == 2
+
+
+@pytest.mark.parametrize("participants, objects, repetitions, message", [
+    ([], ["egg"], 1, "participants must be distinct codes, got []; e.g. P01 P02 P03 P04"),
+    (["P01", "P01"], ["egg"], 1, "participants must be distinct codes, got ['P01', 'P01']; e.g. P01 P02 P03 P04"),
+    (["P01"], [], 1, "objects must be distinct names, got []; e.g. egg sponge"),
+    (["P01"], ["egg", "egg"], 1, "objects must be distinct names, got ['egg', 'egg']; e.g. egg sponge"),
+    (["P01"], ["egg"], 0, "repetitions must be at least 1, got 0"),
+    (["P01"], ["egg"], -1, "repetitions must be at least 1, got -1"),
+])
+def test_a_plan_needs_distinct_participants_and_objects_and_one_repetition_or_more(participants, objects,
+                                                                                   repetitions, message):
+    with pytest.raises(MetricsError) as info:
+        counterbalanced_plan(participants, objects, repetitions)
+    assert str(info.value) == message
+
+
+def test_the_plan_csv_lists_participant_trial_condition_object_in_a_new_folder(tmp_path):
+    path = write_plan(counterbalanced_plan(["A", "B"], ["egg"]), tmp_path / "new" / "deeper" / "plan.csv")
+    assert path == tmp_path / "new" / "deeper" / "plan.csv"
+    assert path.read_bytes() == (b"participant,trial,condition,object\r\nA,1,feedback,egg\r\nA,2,no_feedback,egg\r\n"
+                                 b"B,1,no_feedback,egg\r\nB,2,feedback,egg\r\n")
+
+
+@pytest.mark.parametrize("text, cause", [
+    ("participant,trial,condition\nA,1,feedback\n", "'object'"),
+    ("participant,trial,condition,object\nA,one,feedback,egg\n", "invalid literal for int() with base 10: 'one'"),
+    ("participant,trial,condition,object\nA,1,fb,egg\n", "condition must be one of feedback, no_feedback, got 'fb'"),
+])
+def test_a_file_that_is_not_a_plan_is_named_with_the_columns_it_needs(tmp_path, text, cause):
+    path = tmp_path / "plan.csv"
+    path.write_text(text)
+    with pytest.raises(MetricsError) as info:
+        read_plan(path)
+    assert str(info.value) == f"{path}: not a trial plan ({cause}); columns are participant, trial, condition, object"
+
+
+def test_a_plan_with_a_quoted_line_break_in_a_name_reads_back_whole(tmp_path):
+    path = tmp_path / "plan.csv"
+    path.write_bytes(b'participant,trial,condition,object\r\nA,1,feedback,"raw\r\negg"\r\n')
+    assert read_plan(path) == [TrialMeta("A", "raw\r\negg", "feedback", 1)]
