@@ -249,3 +249,131 @@ def test_a_plan_with_a_quoted_line_break_in_a_name_reads_back_whole(tmp_path):
     path = tmp_path / "plan.csv"
     path.write_bytes(b'participant,trial,condition,object\r\nA,1,feedback,"raw\r\negg"\r\n')
     assert read_plan(path) == [TrialMeta("A", "raw\r\negg", "feedback", 1)]
+
+
+# -- the metrics on hand-made records (no simulation) ----------------------------------------------------
+
+def _hand_record(counts, heights=(), rumble=(), lifted=True, crushed=False, **series):
+    from hri_teleop.core.run_record import LabRecord
+
+    return LabRecord(count=list(counts), object_height=list(heights), rumble=list(rumble), lifted=lifted,
+                     crushed=crushed, **series)
+
+
+HAND = TrialMeta("P07", "egg", "no_feedback", 3)
+
+
+def test_contact_starts_above_1_percent_of_the_calibration_and_saturation_at_it():
+    # calibrated at 700: contact above 7 counts, full travel at 700
+    record = _hand_record([(2.0, 0.0), (3.0, 7.0), (4.0, 8.0), (5.0, 350.0), (6.0, 699.0), (7.0, 700.0),
+                           (8.0, 701.0), (9.0, 0.0)])
+    m = trial_metrics(record, HAND, 700)
+    assert m.time_to_grasp_s == 2.0  # 8 counts at 4 s, 2 s after the first sample
+    assert m.saturated_s == 2.0  # 700 and 701 held one second each; 699 is not full travel
+    assert m.peak_force_n == pytest.approx(1.7805, abs=1e-4)  # 701 counts, above the calibration's 1.77 N
+    # the mean over 8, 350, 699, 700 and 701 counts (0.0012, 0.2748, 1.7596, 1.77, 1.7805 N)
+    assert m.mean_force_n == pytest.approx(1.1172, abs=1e-4)
+    assert trial_metrics(_hand_record([(0.0, 7.0), (1.0, 7.0)]), HAND, 700).time_to_grasp_s is None
+    assert trial_metrics(_hand_record([(0.0, 7.0), (1.0, 7.0)]), HAND, 700).mean_force_n == 0.0
+    assert trial_metrics(_hand_record([(0.0, 7.0), (1.0, 8.0)]), HAND, 700).mean_force_n == pytest.approx(0.0012,
+                                                                                                         abs=1e-4)
+
+
+def test_a_contact_fraction_of_10_percent_starts_contact_above_70_counts_of_700():
+    record = _hand_record([(0.0, 0.0), (1.0, 70.0), (2.0, 71.0), (3.0, 0.0)])
+    assert trial_metrics(record, HAND, 700, contact_fraction=0.1).time_to_grasp_s == 2.0
+    assert trial_metrics(record, HAND, 700).time_to_grasp_s == 1.0
+
+
+def test_the_object_counts_as_lifted_above_5_mm_and_times_count_from_the_first_sample_of_any_series():
+    record = _hand_record([(1.0, 0.0), (2.0, 350.0), (6.0, 0.0)],
+                          heights=[(0.5, 0.0), (3.0, 0.005), (4.0, 0.0051), (7.0, 0.02)],
+                          rumble=[(0.5, 0.0), (2.0, 0.3), (2.5, 0.0), (3.0, 0.2), (3.25, 0.0), (6.0, 0.0)])
+    m = trial_metrics(record, HAND, 700)
+    assert (m.time_to_grasp_s, m.time_to_lift_s, m.duration_s) == (1.5, 3.5, 6.5)
+    assert m.rumble_s == 0.75  # 0.5 s at 0.3 and 0.25 s at 0.2; nothing at 0
+    assert m.peak_force_n == pytest.approx(0.2748, abs=1e-4)
+    assert trial_metrics(_hand_record([(0.0, 0.0), (1.0, 350.0)], heights=[(0.0, 0.0), (1.0, 0.005)]),
+                         HAND, 700).time_to_lift_s is None
+    assert trial_metrics(_hand_record([(0.0, 0.0), (1.0, 350.0)]), HAND, 700).time_to_lift_s is None
+
+
+@pytest.mark.parametrize("lifted, crushed, outcome, expected", [
+    (True, False, {}, (True, True, False)),
+    (True, True, {}, (False, True, True)),
+    (False, False, {}, (False, False, False)),
+    (True, False, {"outcome_crushed": True}, (False, True, True)),
+    (False, True, {"outcome_lifted": True, "outcome_crushed": False}, (True, True, False)),
+    (True, False, {"outcome_lifted": False}, (False, False, False)),
+    (True, True, {"outcome_lifted": 1, "outcome_crushed": 0}, (True, True, False)),
+])
+def test_success_is_lifted_and_not_crushed_by_the_experimenters_word_else_the_recordings(lifted, crushed, outcome,
+                                                                                         expected):
+    m = trial_metrics(_hand_record([(0.0, 0.0), (1.0, 350.0)], lifted=lifted, crushed=crushed), HAND, 700,
+                      **outcome)
+    assert (m.success, m.lifted, m.crushed) == expected
+    assert type(m.lifted) is bool and type(m.crushed) is bool
+
+
+def test_the_full_travel_force_given_replaces_the_attachments_and_the_score_is_kept_as_a_float():
+    record = _hand_record([(0.0, 0.0), (1.0, 700.0), (2.0, 0.0)])
+    assert trial_metrics(record, HAND, 700).peak_force_n == pytest.approx(1.77)
+    m = trial_metrics(record, HAND, 700, full_travel_force_n=2, raw_tlx=45)
+    assert m.peak_force_n == pytest.approx(2.0) and m.raw_tlx == 45.0 and type(m.raw_tlx) is float
+    assert trial_metrics(record, HAND, 700).raw_tlx is None
+    assert calibrated_force_n([700, 350], 700, 2)[0] == pytest.approx(2.0)
+    assert calibrated_force_n([350], 700, 2)[0] == pytest.approx(0.3105, abs=1e-4)
+    assert calibrated_force_n([350], 690)[0] == pytest.approx(0.2914, abs=1e-4)
+
+
+@pytest.mark.parametrize("value", [0, -1, 0.0, float("nan")])
+def test_a_calibration_that_is_not_a_positive_count_is_refused(value):
+    with pytest.raises(MetricsError) as info:
+        calibrated_force_n([100], value)
+    assert str(info.value) == f"max_sensor_force must be a positive count, got {value!r}; use the Ex. 11 value"
+
+
+def test_a_trial_without_samples_says_which_and_what_to_check():
+    with pytest.raises(MetricsError) as info:
+        trial_metrics(_hand_record([]), HAND, 700)
+    assert str(info.value) == ("P07 trial 3 (egg, no_feedback): no /pub_force samples recorded; "
+                               "was the sensor board running?")
+    assert info.value._render_traceback_() == ["MetricsError: P07 trial 3 (egg, no_feedback): no /pub_force samples "
+                                               "recorded; was the sensor board running?"]
+
+
+@pytest.mark.parametrize("participant, condition, message", [
+    ("P01", "fb", "condition must be one of feedback, no_feedback, got 'fb'"),
+    ("", "feedback", "participant code is empty; use a pseudonym such as P01"),
+    ("  ", "feedback", "participant code is empty; use a pseudonym such as P01"),
+])
+def test_a_trial_needs_a_participant_code_and_one_of_the_two_conditions(participant, condition, message):
+    with pytest.raises(MetricsError) as info:
+        TrialMeta(participant, "egg", condition, 1)
+    assert str(info.value) == message
+    assert TrialMeta("0", "egg", "no_feedback", 1).label == "0 trial 1 (egg, no_feedback)"
+
+
+def _m(participant, condition, peak, tlx=None):
+    from hri_teleop.core.experiment.metrics import TrialMetrics
+
+    return TrialMetrics(TrialMeta(participant, "egg", condition, 1), True, True, False, peak, 0.0, 0.0, None, None,
+                        0.0, 1.0, tlx)
+
+
+def test_each_participants_value_is_their_mean_in_the_condition_sorted_by_code_missing_values_skipped():
+    metrics = [_m("P02", "feedback", 1.0, 30), _m("P01", "feedback", 2.0), _m("P02", "feedback", 2.0, 40),
+               _m("P01", "no_feedback", 5.0, 50), _m("P03", "no_feedback", 1, 20)]
+    assert per_participant(metrics, "peak_force_n", "feedback") == [("P01", 2.0), ("P02", 1.5)]
+    assert per_participant(metrics, "peak_force_n", "no_feedback") == [("P01", 5.0), ("P03", 1.0)]
+    assert per_participant(metrics, "raw_tlx", "feedback") == [("P02", 35.0)]
+    assert all(type(v) is float for _, v in per_participant(metrics, "peak_force_n", "no_feedback"))
+
+
+def test_pairs_are_the_participants_with_a_value_in_both_conditions_the_others_left_out():
+    from hri_teleop.core.experiment.metrics import paired_by_participant
+
+    metrics = [_m("P03", "feedback", 1.0, 30), _m("P03", "no_feedback", 4.0), _m("P01", "no_feedback", 5.0, 50),
+               _m("P01", "feedback", 2.0, 20), _m("P02", "feedback", 3.0, 10)]
+    assert paired_by_participant(metrics, "peak_force_n") == (["P01", "P03"], [5.0, 4.0], [2.0, 1.0], ["P02"])
+    assert paired_by_participant(metrics, "raw_tlx") == (["P01"], [50.0], [20.0], ["P02", "P03"])
