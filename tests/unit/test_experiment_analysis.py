@@ -424,3 +424,23 @@ def test_a_blank_hri_trials_means_the_checkouts_folder(monkeypatch):
     assert default_trials_folder() == REPO / "trials"
     monkeypatch.setenv("HRI_TRIALS", " /data/trials ")
     assert default_trials_folder() == Path("/data/trials")
+
+
+def test_a_questionnaire_off_the_scale_is_named_by_its_sidecar():
+    trials = _hand_study()
+    trials[0] = _answered(trials[0], 20)._replace(extra={**trials[0].extra, "tlx": {
+        "mental": 41, "physical": 0, "temporal": 0, "performance": 0, "effort": 0, "frustration": 0}})
+    assert _error(trials) == "trials/P01_t01.yaml: TLX mental is 41; rate 0..100 in steps of 5 (0, 5, ..., 100)"
+
+
+def test_one_trial_is_measured_with_its_sidecars_calibration_unless_one_is_given_and_a_missing_one_named_once():
+    from hri_teleop.core.experiment.analysis import measure_trial
+
+    trial = _hand("P01", 1, "feedback", 350, max_sensor_force=350)
+    assert measure_trial(trial).saturated_s == 0.5 and measure_trial(trial).peak_force_n == pytest.approx(1.77)
+    assert measure_trial(trial, 700).saturated_s == 0.0
+    assert measure_trial(trial, 700).peak_force_n == pytest.approx(0.2748, abs=1e-4)
+    with pytest.raises(MetricsError) as info:
+        measure_trial(trial._replace(extra={"sim": True}))
+    assert str(info.value) == ("trials/P01_t01.yaml: max_sensor_force is None, not a positive count; add the "
+                               "session's Ex. 11 value to the file (max_sensor_force: 690) or pass max_sensor_force=")

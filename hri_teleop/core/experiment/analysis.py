@@ -81,8 +81,9 @@ def measure_trial(trial: LoadedTrial, max_sensor_force: Optional[float] = None) 
     """The metrics of one loaded trial, with its calibration, outcome and questionnaire from the sidecar."""
     lifted, crushed = _outcome(trial)
     tlx = optional_tlx(trial.extra, str(trial.sidecar))
+    calibration = _calibration(trial, max_sensor_force)  # its error names the sidecar already
     try:
-        return trial_metrics(trial.record, trial.meta, _calibration(trial, max_sensor_force),
+        return trial_metrics(trial.record, trial.meta, calibration,
                              outcome_lifted=lifted, outcome_crushed=crushed,
                              raw_tlx=None if tlx is None else tlx.raw_tlx)
     except MetricsError as exc:
