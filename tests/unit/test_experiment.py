@@ -208,6 +208,8 @@ def test_the_plan_of_two_participants_is_crossed_over_and_rotated_trial_by_trial
         ("C", "feedback", "block"), ("C", "feedback", "egg"), ("C", "feedback", "sponge"),
     ]
     assert len(counterbalanced_plan(["A"], ["egg"], repetitions=1)) == 2
+    assert [(m.trial, m.condition) for m in counterbalanced_plan(["A"], ["egg"])] == [(1, "feedback"),
+                                                                                     (2, "no_feedback")]
 
 
 @pytest.mark.parametrize("participants, objects, repetitions, message", [

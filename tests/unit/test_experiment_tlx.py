@@ -224,6 +224,8 @@ def test_the_score_is_the_mean_of_six_ratings_stored_to_4_decimals():
                "frustration), got [40, 10]"),
     ({**ANSWERS, "mentl": 40, "0": 1}, "x.yaml: tlx has unknown key(s) 0, mentl; the subscales are mental, "
                                        "physical, temporal, performance, effort, frustration"),
+    ({**ANSWERS, "mentl": 40, 0: 1, True: 5}, "x.yaml: tlx has unknown key(s) 0, True, mentl; the subscales are "
+                                              "mental, physical, temporal, performance, effort, frustration"),
     ({"mental": 40, "effort": 10}, "x.yaml: tlx lacks physical, temporal, performance, frustration; rate all six "
                                    "subscales (0..100 in steps of 5)"),
 ])

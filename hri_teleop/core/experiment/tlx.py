@@ -96,9 +96,9 @@ def tlx_from_dict(data: Any, source: str = "") -> TlxRatings:
     where = f"{source}: " if source else ""
     if not isinstance(data, Mapping):
         raise TlxError(f"{where}tlx must be a mapping of the six ratings ({', '.join(SUBSCALE_KEYS)}), got {data!r}")
-    unknown = sorted(set(data) - set(SUBSCALE_KEYS) - {"raw_tlx"})
+    unknown = sorted(str(k) for k in set(data) - set(SUBSCALE_KEYS) - {"raw_tlx"})  # YAML keys: 0, true, ...
     if unknown:
-        raise TlxError(f"{where}tlx has unknown key(s) {', '.join(map(str, unknown))}; "
+        raise TlxError(f"{where}tlx has unknown key(s) {', '.join(unknown)}; "
                        f"the subscales are {', '.join(SUBSCALE_KEYS)}")
     missing = [k for k in SUBSCALE_KEYS if k not in data]
     if missing:
