@@ -182,3 +182,188 @@ def test_an_open_error_is_one_line_naming_the_cause_and_the_fix(number, words):
     message = open_error_message("/dev/ttyACM0", number, "[Errno x] details", "port:=...")
     assert words in message
     assert "\n" not in message
+
+
+# ------------------------------------------------------------------ each rule at its edge (the sketch's side of the wire)
+
+def _checked(payload: bytes) -> bytes:
+    """``payload`` with its good CRC-8 and newline: a line that only the rule under test can refuse."""
+    return payload + b" %02X\n" % crc8(payload)
+
+
+def test_the_sketch_sends_seq_0_to_65535_and_counts_0_to_1023_and_nothing_else():
+    assert format_line(0, 0) == b"F 0 0 92\n"
+    assert format_line(65535, 1023) == b"F 65535 1023 9B\n"
+    for seq, count in ((-1, 0), (65536, 0), (0, -1), (0, 1024)):   # each out of range alone
+        with pytest.raises(SerialProtocolError) as caught:
+            format_line(seq, count)
+        assert caught.value.reason == "range"
+        assert caught.value.line == b""
+        assert str(caught.value) == (f"corrupt line from the sensor board (range: seq {seq} not in 0..65535 or "
+                                     f"count {count} not in 0..1023): b''")
+
+
+@pytest.mark.parametrize("seq, ok", [(b"65535", True), (b"65536", False)])
+def test_a_seq_up_to_65535_is_read_and_one_above_is_out_of_range(seq, ok):
+    line = _checked(b"F " + seq + b" 5")
+    if ok:
+        assert parse_line(line) == Sample(seq=65535, count=5)
+        return
+    with pytest.raises(SerialProtocolError) as caught:
+        parse_line(line)
+    assert caught.value.reason == "range"
+    assert str(caught.value) == ("corrupt line from the sensor board (range: seq 65536 is above 65535): "
+                                 "b'F 65536 5 62\\n'")
+
+
+def test_a_count_above_1023_names_the_count_in_its_message():
+    with pytest.raises(SerialProtocolError) as caught:
+        parse_line(b"F 1 1024 FE\n")
+    assert str(caught.value) == ("corrupt line from the sensor board (range: count 1024 is above 1023): "
+                                 "b'F 1 1024 FE\\n'")
+
+
+@pytest.mark.parametrize("line, message", [
+    # a sign, a letter or a sixth digit behind a good checksum: not a plain decimal, whatever its value
+    (b"F -1 5 7B\n", "format: seq b'-1' is not a plain decimal number"),
+    (b"F 1x 5 48\n", "format: seq b'1x' is not a plain decimal number"),
+    (b"F 1 -5 D4\n", "format: count b'-5' is not a plain decimal number"),
+    (b"F 123456 5 E4\n", "format: seq b'123456' is not a plain decimal number"),
+    # words split by two spaces: the sketch writes one
+    (b"F  1 5 85\n", "format: expected 'F <seq> <count> <crc>'"),
+    (b"F\t1 5 " + b"%02X" % crc8(b"F\t1 5") + b"\n", "format: expected 'F <seq> <count> <crc>'"),
+    (b"F 1 2 XX\n", "format: checksum b'XX' is not two upper-case hex digits"),
+])
+def test_a_line_with_a_good_checksum_but_a_malformed_word_is_refused_as_format(line, message):
+    with pytest.raises(SerialProtocolError) as caught:
+        parse_line(line)
+    assert caught.value.reason == "format"
+    assert caught.value.line == line
+    assert str(caught.value) == f"corrupt line from the sensor board ({message}): {line!r}"
+
+
+def test_the_five_digit_seq_12345_is_read():
+    assert parse_line(_checked(b"F 12345 5")) == Sample(seq=12345, count=5)
+
+
+@pytest.mark.parametrize("length, ok", [(63, True), (64, True), (65, False)])
+def test_an_information_line_of_64_bytes_is_read_and_one_of_65_is_too_long(length, ok):
+    line = b"#" + b"a" * (length - 1) + b"\n"
+    if ok:
+        info = parse_line(line)
+        assert isinstance(info, BoardInfo) and info.text == "#" + "a" * (length - 1)
+        return
+    with pytest.raises(SerialProtocolError) as caught:
+        parse_line(line)
+    assert caught.value.reason == "too_long"
+    assert caught.value.line == line
+    # the message shows the line's first 40 bytes only
+    assert str(caught.value) == ("corrupt line from the sensor board (too_long: 65 bytes, at most 64): b'#"
+                                 + "a" * 39 + "'")
+
+
+def test_an_information_line_keeps_its_text_and_a_value_with_an_equals_sign_whole():
+    info = parse_line(b"# fsr_serial v1 note=a=b baud=115200\r\n")
+    assert info == BoardInfo(text="# fsr_serial v1 note=a=b baud=115200", restarted=True,
+                             fields={"note": "a=b", "baud": "115200"})
+
+
+def test_a_control_character_in_an_information_line_is_an_encoding_error():
+    with pytest.raises(SerialProtocolError) as caught:
+        parse_line(b"# \x07\n")
+    assert caught.value.reason == "encoding"
+
+
+@pytest.mark.parametrize("seq, lost", [(32767, 32766), (32768, 32767), (32769, None), (32770, None)])
+def test_a_forward_jump_of_up_to_32767_lost_lines_counts_them_a_larger_one_is_a_restart(seq, lost):
+    tracker = SequenceTracker()
+    assert tracker.feed(0) == 0
+    assert tracker.feed(seq) == lost
+
+
+def _line_of(body_bytes: int) -> bytes:
+    """An information line of ``body_bytes`` bytes before its newline."""
+    return b"#" + b"b" * (body_bytes - 1) + b"\n"
+
+
+@pytest.mark.parametrize("body_bytes", [63, 64])
+def test_the_framer_passes_a_line_of_up_to_64_bytes_whole(body_bytes):
+    framer = LineFramer()
+    line = _line_of(body_bytes)
+    assert framer.feed(line + format_line(1, 2)) == [line, format_line(1, 2)]
+
+
+def test_the_framer_cuts_a_line_of_65_bytes_to_65_without_its_newline_and_reads_the_next():
+    framer = LineFramer()
+    line = _line_of(65)
+    assert framer.feed(line + format_line(1, 2)) == [line[:65], format_line(1, 2)]
+
+
+def test_the_framer_waits_for_the_newline_of_64_bytes_and_cuts_65_at_once():
+    framer = LineFramer()
+    assert framer.feed(b"c" * 64) == []
+    assert framer.feed(b"\n") == [b"c" * 64 + b"\n"]
+    assert framer.feed(b"d" * 65) == [b"d" * 65]
+    assert framer.feed(b"dd\n" + format_line(3, 4)) == [format_line(3, 4)]
+
+
+def test_a_read_that_starts_with_the_newline_ends_the_line_before_it():
+    framer = LineFramer()
+    first, second = format_line(5, 6), format_line(7, 8)
+    assert framer.feed(first[:-1]) == []
+    assert framer.feed(b"\n" + second) == [first, second]
+
+
+def test_a_read_that_starts_with_the_newline_of_a_cut_line_ends_the_dropping():
+    framer = LineFramer()
+    assert framer.feed(b"e" * 70) == [b"e" * 65]
+    assert framer.feed(b"\n" + format_line(9, 10)) == [format_line(9, 10)]
+
+
+def test_the_stream_counts_every_corrupt_line_info_line_and_restart():
+    stream = BoardStream()
+    banner = b"# fsr_serial v1 period_us=10000 baud=115200\n"
+    events = stream.feed(banner + format_line(100, 1) + b"F 101 1 00\n" + b"F 102 1 00\n"
+                         + b"# hello\n" + banner + format_line(0, 2)
+                         + format_line(50, 3) + format_line(10, 4)       # backwards: restarted, nothing lost
+                         + format_line(5, 5))                            # backwards again
+    assert [type(e).__name__ for e in events] == ["BoardInfo", "Sample", "SerialProtocolError", "SerialProtocolError",
+                                                  "BoardInfo", "BoardInfo", "Sample", "Sample", "Sample", "Sample"]
+    assert events[0] == BoardInfo(text=banner[:-1].decode(), restarted=True,
+                                  fields={"period_us": "10000", "baud": "115200"})
+    samples = [e for e in events if isinstance(e, Sample)]
+    assert samples == [Sample(seq=100, count=1), Sample(seq=0, count=2), Sample(seq=50, count=3, lost_before=49),
+                       Sample(seq=10, count=4), Sample(seq=5, count=5)]
+    c = stream.counters
+    assert (c.samples, c.corrupt, c.lost, c.restarts, c.info_lines, c.partial) == (5, 2, 49, 4, 3, 0)
+    assert c.summary() == "5 samples, 49 lost, 2 corrupt, 4 board restarts"
+
+
+def test_after_each_reopen_a_cut_first_line_is_partial_not_corrupt():
+    stream = BoardStream()
+    assert stream.feed(b"23 4F\n" + format_line(1, 1)) == [Sample(seq=1, count=1)]
+    stream.reopened()
+    assert stream.feed(b"7 1A\n" + format_line(9, 1)) == [Sample(seq=9, count=1)]
+    assert (stream.counters.partial, stream.counters.corrupt, stream.counters.lost) == (2, 0, 0)
+
+
+@pytest.mark.parametrize("number, message", [
+    (errno.ENOENT, "no serial port /dev/ttyUSB1: plug the board in or pass --port ... "
+                   "(`ls /dev/ttyACM* /dev/ttyUSB*` lists the boards)"),
+    (errno.ENODEV, "no serial port /dev/ttyUSB1: plug the board in or pass --port ... "
+                   "(`ls /dev/ttyACM* /dev/ttyUSB*` lists the boards)"),
+    (errno.ENXIO, "no serial port /dev/ttyUSB1: plug the board in or pass --port ... "
+                  "(`ls /dev/ttyACM* /dev/ttyUSB*` lists the boards)"),
+    (errno.EACCES, "no permission to open /dev/ttyUSB1: add yourself to the dialout group "
+                   "(`sudo usermod -aG dialout $USER`, then log in again)"),
+    (errno.EPERM, "no permission to open /dev/ttyUSB1: add yourself to the dialout group "
+                  "(`sudo usermod -aG dialout $USER`, then log in again)"),
+    (errno.EBUSY, "serial port /dev/ttyUSB1 is busy: close the program that holds it "
+                  "(Arduino IDE serial monitor, another bridge or serial_node)"),
+    (errno.EIO, "cannot open serial port /dev/ttyUSB1 ([Errno 5] Input/output error): check the cable and the "
+                "board, or pass --port ..."),
+    (None, "cannot open serial port /dev/ttyUSB1 ([Errno 5] Input/output error): check the cable and the "
+           "board, or pass --port ..."),
+])
+def test_each_open_error_reads_exactly_as_the_user_sees_it(number, message):
+    assert open_error_message("/dev/ttyUSB1", number, "[Errno 5] Input/output error", "--port ...") == message
