@@ -65,7 +65,7 @@ class _Tag:
     tag: str
     start: int  # offset of '<' in the text
     attrs: List[Tuple[str, str, int]]  # (name, value, offset of the value in the text)
-    scope: str  # "global" or why it is not: "node" / "group ns"
+    scope: str  # "global" or why it is not: "node" (or <test>) / "group ns" (or <include ns>)
 
     def get(self, name: str) -> Optional[Tuple[str, int]]:
         for key, value, offset in self.attrs:
@@ -100,9 +100,9 @@ def _tags(text: str) -> List[_Tag]:
         found.append(item)
         if not match.group("empty"):
             inner = outer
-            if not inner and tag == "node":
+            if not inner and tag in ("node", "test"):
                 inner = "node"
-            elif not inner and tag == "group":
+            elif not inner and tag in ("group", "include"):
                 ns = item.get("ns")
                 if ns is not None and ns[0].strip() not in ("", "/"):
                     inner = "group ns"
@@ -126,7 +126,8 @@ def set_in_launch(text: str, value: int, source: str = "<launch>") -> Tuple[str,
     """``text`` with the calibration value set, and the edits made.
 
     The value set is a ``<param name="max_sensor_force" value="..."/>`` that sets the global
-    parameter (outside ``<node>`` and namespaced ``<group>``, or named ``/max_sensor_force``);
+    parameter (outside ``<node>``/``<test>`` and a namespaced ``<group>``/``<include>``, or named
+    ``/max_sensor_force``);
     if its value is ``$(arg X)``, the default (or value) of ``<arg name="X" .../>`` changes
     instead. Without such a param, ``<arg name="max_sensor_force" default="..."/>`` is used.
 
@@ -226,7 +227,10 @@ def set_in_yaml(text: str, value: int, source: str = "<yaml>") -> Tuple[str, Lis
         raise ParamFileError(f"{source}:{_line_of(text, match.start())}: {PARAM_NAME} has no value on its line; "
                              f"write `{PARAM_NAME}: 700`")
     result = text[:match.start("value")] + new_value + text[match.end("value"):]
-    after = yaml.safe_load(result)
+    try:
+        after = yaml.safe_load(result)
+    except yaml.YAMLError:  # e.g. the value carried an anchor (&a 700) that an alias elsewhere needs
+        after = None
     key = match.group("key").strip("\"'")
     if not isinstance(after, dict) or after.get(key) != int(new_value):
         raise ParamFileError(f"{source}: could not set {PARAM_NAME} without changing the file's structure; "

@@ -6,10 +6,11 @@ import difflib
 import os
 from pathlib import Path
 
+import numpy as np
 import pytest
 import yaml
 
-from hri_teleop.core.paramfile import ParamFileError, set_in_launch, set_in_yaml, write_max_sensor_force
+from hri_teleop.core.paramfile import ParamEdit, ParamFileError, set_in_launch, set_in_yaml, write_max_sensor_force
 
 REPO = Path(__file__).resolve().parents[2]
 
@@ -142,3 +143,215 @@ def test_yaml_files_are_recognised_by_their_suffix(tmp_path):
 def test_a_missing_file_names_the_path_and_what_to_give(tmp_path):
     with pytest.raises(ParamFileError, match="not found; give the path of your teleoperation.launch"):
         write_max_sensor_force(tmp_path / "nope.launch", 700)
+
+
+# -- the edges, exact messages and the file's kind (make mutants) --------------------------------------------------
+
+ONE_PARAM = "<launch>\n  <param name='max_sensor_force' value='700'/>\n</launch>\n"
+
+
+@pytest.mark.parametrize("value, written", [(1, "1"), (2, "2"), (1022, "1022"), (1023, "1023"),
+                                            (np.int64(691), "691"), (np.int16(5), "5")])
+def test_counts_from_1_to_1023_and_numpy_integers_are_written(value, written):
+    result, edits = set_in_launch(ONE_PARAM, value, "my.launch")
+    assert result == ONE_PARAM.replace("'700'", f"'{written}'")
+    assert edits == [ParamEdit(2, "700", written, '<param name="max_sensor_force"> value')]
+
+
+@pytest.mark.parametrize("value", [0, 1024, np.int64(0), np.int64(1024), np.float64(700.0), np.bool_(True)])
+def test_a_count_of_0_or_1024_or_a_numpy_float_is_refused_naming_the_file(value):
+    with pytest.raises(ParamFileError) as info:
+        set_in_launch(ONE_PARAM, value, "my.launch")
+    assert str(info.value) == (f"my.launch: /max_sensor_force must be an integer ADC count 1..1023, got {value!r}; "
+                               "calibrate again with the piston pressed in")
+
+
+def test_a_bad_count_for_a_yaml_file_names_the_file():
+    with pytest.raises(ParamFileError) as info:
+        set_in_yaml("max_sensor_force: 700\n", 1024, "params.yaml")
+    assert str(info.value) == ("params.yaml: /max_sensor_force must be an integer ADC count 1..1023, got 1024; "
+                               "calibrate again with the piston pressed in")
+
+
+def test_a_launch_text_without_a_source_is_named_launch_in_messages():
+    with pytest.raises(ParamFileError) as info:
+        set_in_launch("<launch>\n  <node name='a' pkg='b' type='c'/>\n</launch>\n", 700)
+    assert str(info.value) == ('<launch>: no /max_sensor_force parameter to set; add <param name="max_sensor_force" '
+                               'value="700"/> inside <launch> (Ex. 12 g) and calibrate again')
+
+
+def test_a_yaml_text_without_a_source_is_named_yaml_in_messages():
+    with pytest.raises(ParamFileError) as info:
+        set_in_yaml("robot_name: FER\n", 700)
+    assert str(info.value) == ("<yaml>: no top-level `max_sensor_force: ...` line; add `max_sensor_force: 700` at the "
+                               "start of a line and calibrate again")
+
+
+def test_xml_that_is_not_well_formed_is_refused_with_the_line_of_the_mistake():
+    text = "<launch>\n  <param name='max_sensor_force' value='700'>\n</launch>\n"  # line 3 closes the wrong tag
+    with pytest.raises(ParamFileError) as info:
+        set_in_launch(text, 700, "my.launch")
+    assert str(info.value) == ("my.launch:3: not well-formed XML (mismatched tag); fix the file first (roslaunch "
+                               "would refuse it too)")
+
+
+def test_a_param_without_a_value_is_refused_at_its_own_line():
+    text = "<launch>\n\n  <node name='a' pkg='b' type='c'/>\n  <param name='max_sensor_force' command='cat x'/>\n</launch>\n"
+    with pytest.raises(ParamFileError) as info:
+        set_in_launch(text, 700, "my.launch")
+    assert str(info.value) == ('my.launch:4: <param name="max_sensor_force"> has no value attribute; write it as '
+                               '<param name="max_sensor_force" value="700"/>')
+
+
+def test_a_newline_at_the_very_start_of_the_file_counts_as_line_1():
+    result, edits = set_in_launch("\n" + ONE_PARAM, 650)
+    assert [e.line for e in edits] == [3]
+    result, edits = set_in_yaml("\nmax_sensor_force: 700\n", 650)
+    assert edits == [ParamEdit(2, "700", "650", "max_sensor_force:")]
+
+
+def test_an_arg_given_by_value_changes_its_value():
+    text = ('<launch>\n  <arg name="msf" value="700"/>\n'
+            '  <param name="max_sensor_force" value="$(arg msf)"/>\n</launch>\n')
+    result, edits = set_in_launch(text, 512)
+    assert result == text.replace('value="700"', 'value="512"')
+    assert edits == [ParamEdit(2, "700", "512", '<arg name="msf"> value')]
+
+
+def test_an_arg_named_max_sensor_force_given_by_value_changes_its_value_when_no_param_sets_it():
+    text = '<launch>\n  <arg name="max_sensor_force" value="700"/>\n</launch>\n'
+    result, edits = set_in_launch(text, 512)
+    assert result == text.replace('"700"', '"512"')
+    assert edits == [ParamEdit(2, "700", "512", '<arg name="max_sensor_force"> value')]
+
+
+def test_arg_msf_means_the_arg_declared_so_not_another_element_of_that_name():
+    text = ('<launch>\n  <arg name="msf" default="700"/>\n'
+            '  <param name="max_sensor_force" value="$(arg msf)"/>\n'
+            '  <node name="msf" pkg="p" type="t"/>\n</launch>\n')
+    result, edits = set_in_launch(text, 512)
+    assert result == text.replace('default="700"', 'default="512"')
+    assert edits == [ParamEdit(2, "700", "512", '<arg name="msf"> default')]
+
+
+def test_every_param_setting_it_changes_once_and_an_arg_they_share_once_however_long_the_values():
+    text = ('<launch>\n'
+            '  <arg name="msf" default="50"/>\n'
+            '  <param name="max_sensor_force" value="7"/>\n'
+            '  <param if="$(arg sim)" name="max_sensor_force" value="$(arg msf)"/>\n'
+            '  <param unless="$(arg sim)" name="max_sensor_force" value="$(arg msf)"/>\n'
+            '  <param name="/max_sensor_force" value="700"/>\n'
+            '</launch>\n')
+    result, edits = set_in_launch(text, 1000)
+    assert result == ('<launch>\n'
+                      '  <arg name="msf" default="1000"/>\n'
+                      '  <param name="max_sensor_force" value="1000"/>\n'
+                      '  <param if="$(arg sim)" name="max_sensor_force" value="$(arg msf)"/>\n'
+                      '  <param unless="$(arg sim)" name="max_sensor_force" value="$(arg msf)"/>\n'
+                      '  <param name="/max_sensor_force" value="1000"/>\n'
+                      '</launch>\n')
+    assert edits == [ParamEdit(2, "50", "1000", '<arg name="msf"> default'),
+                     ParamEdit(3, "7", "1000", '<param name="max_sensor_force"> value'),
+                     ParamEdit(6, "700", "1000", '<param name="/max_sensor_force"> value')]
+
+
+def test_a_param_inside_a_test_node_is_private_to_it():
+    text = ('<launch>\n  <test test-name="t" pkg="p" type="t">\n    <param name="max_sensor_force" value="1"/>\n'
+            '  </test>\n  <param name="max_sensor_force" value="700"/>\n</launch>\n')
+    result, edits = set_in_launch(text, 600)
+    assert result == text.replace('"700"', '"600"')
+    assert [e.line for e in edits] == [5]
+
+
+def test_an_arg_passed_to_an_include_sets_it_but_not_to_an_include_in_a_namespace():
+    passed = ('<launch>\n  <include file="sensor.launch">\n    <arg name="max_sensor_force" value="700"/>\n'
+              '  </include>\n</launch>\n')
+    result, edits = set_in_launch(passed, 600)
+    assert result == passed.replace('"700"', '"600"')
+    assert edits == [ParamEdit(3, "700", "600", '<arg name="max_sensor_force"> value')]
+    for ns in ("/", " "):
+        result, _ = set_in_launch(passed.replace('<include ', f'<include ns="{ns}" '), 600)
+        assert '"600"' in result
+    # sensor.launch's params go to /robot/max_sensor_force there: not the global parameter
+    with pytest.raises(ParamFileError, match="no /max_sensor_force parameter to set"):
+        set_in_launch(passed.replace('<include ', '<include ns="robot" '), 600)
+
+
+def test_a_namespace_of_slash_or_blank_is_the_global_one():
+    text = ('<launch>\n  <group ns="NS">\n    <param name="max_sensor_force" value="700"/>\n'
+            '  </group>\n</launch>\n')
+    for ns in ("/", "", "  "):
+        result, edits = set_in_launch(text.replace("NS", ns), 600)
+        assert result == text.replace("NS", ns).replace('"700"', '"600"')
+
+
+def test_yaml_that_is_not_valid_is_refused_with_the_line_of_the_mistake():
+    with pytest.raises(ParamFileError) as info:
+        set_in_yaml("robot_name: FER\nmax_sensor_force: [700\n", 700, "params.yaml")
+    assert str(info.value) == "params.yaml:3: not valid YAML; fix the file first (rosparam load would refuse it too)"
+
+
+def test_yaml_with_a_character_yaml_forbids_is_refused_without_a_line():
+    with pytest.raises(ParamFileError) as info:
+        set_in_yaml("robot_name: \x07\nmax_sensor_force: 700\n", 700, "params.yaml")
+    assert str(info.value) == "params.yaml: not valid YAML; fix the file first (rosparam load would refuse it too)"
+
+
+def test_a_quoted_yaml_key_is_set_and_named_without_its_quotes():
+    for key in ('"max_sensor_force"', "'max_sensor_force'", "'/max_sensor_force'"):
+        text = f"a: 1\n{key}: 700  # counts\n"
+        result, edits = set_in_yaml(text, 677)
+        assert result == f"a: 1\n{key}: 677  # counts\n"
+        assert edits == [ParamEdit(2, "700", "677", key.strip("\"'") + ":")]
+
+
+def test_yaml_whose_value_an_alias_elsewhere_needs_is_refused_not_broken():
+    text = "max_sensor_force: &m 700\nother: *m\n"
+    with pytest.raises(ParamFileError) as info:
+        set_in_yaml(text, 691, "params.yaml")
+    assert str(info.value) == ("params.yaml: could not set max_sensor_force without changing the file's structure; "
+                               "write it as a plain line `max_sensor_force: 700`")
+
+
+def test_a_yaml_line_inside_a_quoted_text_is_not_the_key():
+    text = 'note: "x\nmax_sensor_force: 700 # "\n'
+    with pytest.raises(ParamFileError, match="could not set max_sensor_force without changing the file's structure"):
+        set_in_yaml(text, 691, "params.yaml")
+
+
+XML_TEXT = "<launch>\n  <param name='max_sensor_force' value='700'/>\n</launch>\n"
+YAML_TEXT = "max_sensor_force: 700\n"
+
+
+@pytest.mark.parametrize("name", ["teleop.launch", "teleop.xml", "TELEOP.LAUNCH", "teleop.XML"])
+def test_a_launch_or_xml_file_is_read_as_xml_whatever_its_text(tmp_path, name):
+    path = tmp_path / name
+    path.write_text(YAML_TEXT)
+    with pytest.raises(ParamFileError, match="not well-formed XML"):
+        write_max_sensor_force(path, 650)
+    assert path.read_text() == YAML_TEXT
+    path.write_text(XML_TEXT)
+    assert write_max_sensor_force(path, 650)[0].what == '<param name="max_sensor_force"> value'
+
+
+@pytest.mark.parametrize("name", ["calibration.yaml", "calibration.yml", "CALIBRATION.YAML", "calibration.YML"])
+def test_a_yaml_or_yml_file_is_read_as_yaml_whatever_its_text(tmp_path, name):
+    path = tmp_path / name
+    path.write_text(XML_TEXT)
+    with pytest.raises(ParamFileError, match="no top-level"):
+        write_max_sensor_force(path, 650)
+    assert path.read_text() == XML_TEXT
+    path.write_text("<<: {a: 1}\n" + YAML_TEXT)  # a YAML merge key: YAML though it starts with '<'
+    write_max_sensor_force(path, 650)
+    assert path.read_text() == "<<: {a: 1}\nmax_sensor_force: 650\n"
+
+
+@pytest.mark.parametrize("name", ["calibration", "calibration.txt"])
+def test_a_file_of_another_kind_is_xml_when_its_text_starts_with_a_tag(tmp_path, name):
+    path = tmp_path / name
+    path.write_text("\n  " + XML_TEXT)
+    write_max_sensor_force(path, 650)
+    assert path.read_text() == "\n  " + XML_TEXT.replace("700", "650")
+    path.write_text("\n" + YAML_TEXT)
+    write_max_sensor_force(path, 650)
+    assert path.read_text() == "\nmax_sensor_force: 650\n"
