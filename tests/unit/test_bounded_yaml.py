@@ -14,7 +14,14 @@ import pytest
 import yaml
 
 from hri_teleop.core.errors import HriTeleopError
-from hri_teleop.core.yamlfile import BoundedYamlError, arithmetic, load_bounded, load_bounded_all
+from hri_teleop.core.yamlfile import (
+    BoundedYamlError,
+    arithmetic,
+    disarm_rosparam_tags,
+    load_bounded,
+    load_bounded_all,
+    read_yaml,
+)
 
 REPO = Path(__file__).resolve().parents[2]
 
@@ -157,3 +164,95 @@ def test_degrees_as_rosparam_reads_them() -> None:
     with pytest.raises(BoundedYamlError) as caught:
         load_bounded("a: !degrees __import__('os')")
     assert "invalid degree value" in str(caught.value)
+
+
+# --- the bounds at their edges ------------------------------------------------------------------------------
+
+
+def test_a_document_weighs_one_per_node_plus_its_scalars_characters_and_passes_at_exactly_its_weight() -> None:
+    """abc: 1 + 3; [ab, c]: 1 + 3 + 2; {a: bc}: 1 + (1 + 1) + (1 + 2); an alias counts again at each use."""
+    for text, weight in (("abc", 4), ("[ab, c]", 6), ("{a: bc}", 6), ("{a: bcd}", 7), ("a: &x [1, 2]\nb: *x\n", 15)):
+        assert load_bounded(text, max_weight=weight) == yaml.safe_load(text)
+        assert load_bounded_all(text, max_weight=weight) == [yaml.safe_load(text)]
+        with pytest.raises(BoundedYamlError, match=f"^the YAML expands to more than {weight - 1} values"):
+            load_bounded(text, max_weight=weight - 1)
+
+
+def test_a_recursive_anchor_is_named_as_such_not_as_deep_nesting() -> None:
+    for text in ("&a [*a]", "&m {k: *m}"):
+        with pytest.raises(BoundedYamlError, match="^the YAML refers to itself through an alias"):
+            load_bounded(text)
+
+
+def test_a_text_of_exactly_max_chars_is_read_and_one_more_is_refused() -> None:
+    assert load_bounded("a: 1", max_chars=4) == {"a": 1}
+    assert load_bounded_all("a: 1", max_chars=4) == [{"a": 1}]
+    for load in (load_bounded, load_bounded_all):
+        with pytest.raises(BoundedYamlError, match="^the YAML is larger than 0 kB"):
+            load("a: 12", max_chars=4)
+
+
+def test_the_plain_deg_and_rad_forms_read_the_number_inside_the_brackets() -> None:
+    assert load_bounded("a: deg(90)\nb: deg(-45.5)\nc: rad(pi/4)\n") == {
+        "a": math.pi / 2, "b": -45.5 * math.pi / 180.0, "c": math.pi / 4}
+
+
+def test_an_expression_of_1000_characters_is_evaluated_and_one_of_1001_is_refused() -> None:
+    assert arithmetic("pi/2" + " " * 996) == math.pi / 2
+    with pytest.raises(BoundedYamlError, match="is longer than 1000 characters"):
+        arithmetic("pi/2" + " " * 997)
+
+
+# --- read_yaml: the file's own errors, in one line -----------------------------------------------------------
+
+
+class _Refused(Exception):
+    pass
+
+
+def test_a_syntax_error_names_the_file_its_line_and_yamls_problem(tmp_path) -> None:
+    path = tmp_path / "teleop.yaml"
+    path.write_text("rate: 50\nname: 'open\n")
+    with pytest.raises(_Refused) as info:
+        read_yaml(path, _Refused)
+    assert str(info.value) == (f"{path}:3: found unexpected end of stream; fix the YAML syntax "
+                               "(indent with spaces, `key: value`)")
+
+
+def test_a_character_yaml_does_not_read_names_the_file_and_the_character(tmp_path) -> None:
+    """A control character is a ReaderError: no line mark and no problem of its own, only its text."""
+    path = tmp_path / "teleop.yaml"
+    path.write_text("rate: \x07\n")
+    with pytest.raises(_Refused) as info:
+        read_yaml(path, _Refused)
+    assert str(info.value) == (f"{path}: unacceptable character #x0007: special characters are not allowed; fix the "
+                               "YAML syntax (indent with spaces, `key: value`)")
+
+
+def test_a_utf8_file_is_read_as_utf8_also_in_the_c_locale(tmp_path) -> None:
+    import locale
+
+    path = tmp_path / "teleop.yaml"
+    path.write_bytes("label: Kraft ≤ 20 N\n".encode("utf-8"))
+    before = locale.setlocale(locale.LC_CTYPE)
+    locale.setlocale(locale.LC_CTYPE, "C")
+    try:
+        assert read_yaml(path, _Refused) == {"label": "Kraft ≤ 20 N"}
+    finally:
+        locale.setlocale(locale.LC_CTYPE, before)
+
+
+# --- roslaunch's loaders, disarmed ---------------------------------------------------------------------------
+
+
+@pytest.mark.parametrize("loader", [yaml.SafeLoader, yaml.Loader, yaml.FullLoader, yaml.UnsafeLoader])
+def test_once_disarmed_every_pyyaml_loader_reads_angles_by_arithmetic_and_runs_no_code(loader, monkeypatch) -> None:
+    """From a loader without the angle tags (as before rosparam's import), whatever earlier tests left there."""
+    monkeypatch.setattr(loader, "yaml_constructors", {tag: build for tag, build in loader.yaml_constructors.items()
+                                                      if tag not in ("!radians", "!degrees")})
+    disarm_rosparam_tags()
+    assert yaml.load("a: !radians pi/2\nb: !degrees 90\n", Loader=loader) == {"a": math.pi / 2, "b": math.pi / 2}
+    with pytest.raises(BoundedYamlError, match="^invalid radian expression"):
+        yaml.load("a: !radians __import__('os').getcwd()\n", Loader=loader)
+    with pytest.raises(yaml.constructor.ConstructorError, match="could not determine a constructor for the tag"):
+        yaml.load("a: !other 1\n", Loader=loader)  # an unknown tag stays unknown: the angle tags take their own only
