@@ -295,3 +295,11 @@ def test_a_turn_at_full_stick_keeps_every_limit_while_the_velocity_safety_brakes
     twists = [group.step(target, dt) + (0.0, 0.0, 0.0) for target in targets]
     assert limit_violations(_both(axis), twists, [dt] * 100, rel_tol=0.0) == []
     assert twists[-1][:2] == pytest.approx((0.0, 0.1), abs=1e-9)  # and it got there
+
+
+def test_a_diagonal_target_beyond_the_limit_is_scaled_onto_it_along_its_direction():
+    """(0.2, 0.2) m/s has a norm of 0.283 above 0.25, though each component is below it."""
+    clipped = sanitize_clip((0.2, 0.2, 0.0), 0.25)
+    assert clipped == pytest.approx((0.25 / math.sqrt(2.0), 0.25 / math.sqrt(2.0), 0.0), rel=1e-15)
+    assert sanitize_clip((0.1, -0.1, 0.1), 0.1) == pytest.approx((0.1 / math.sqrt(3.0), -0.1 / math.sqrt(3.0),
+                                                                  0.1 / math.sqrt(3.0)), rel=1e-15)
