@@ -13,6 +13,7 @@ from hri_teleop.core.gamepad.browser import (
     STANDARD_BUTTONS,
     BrowserClock,
     BrowserInput,
+    BrowserReading,
     read_browser_pad,
     state_from_standard,
 )
@@ -172,3 +173,231 @@ def test_the_heartbeat_timeout_must_be_a_positive_number():
     for bad in (0.0, -1.0, float("nan"), float("inf"), "0.3"):
         with pytest.raises(GamepadError, match="positive number of seconds"):
             BrowserInput(bad)
+
+
+# ------------------------------------------------------------------ the page's values, edge by edge
+
+def test_a_state_is_connected_unless_the_caller_says_otherwise():
+    assert state_from_standard([0.0] * 4, _buttons()).connected is True
+    assert state_from_standard([0.0] * 4, _buttons(), connected=False).connected is False
+
+
+def test_a_stick_beyond_either_end_reads_that_end():
+    state = state_from_standard([-3.0, 3.0, -1.5, 2.0], _buttons())
+    assert (state.axis("left_x"), state.axis("left_y"), state.axis("right_x"), state.axis("right_y")) == \
+        (-1.0, -1.0, -1.0, -1.0)
+
+
+def test_a_trigger_missing_from_a_short_button_list_reads_released():
+    six = state_from_standard([0.0] * 4, [[True, 0.5]] * 6)  # buttons 0-5: no trigger
+    assert six.axis("l2") == 0.0 and six.axis("r2") == 0.0
+    seven = state_from_standard([0.0] * 4, [[True, 0.5]] * 7)  # button 6 (l2) only
+    assert seven.axis("l2") == 0.5 and seven.axis("r2") == 0.0 and seven.pressed("l2")
+
+
+def test_a_trigger_sent_as_a_bool_reads_fully_pulled_or_released():
+    pulled = state_from_standard([0.0] * 4, [False] * 6 + [True, False])
+    assert pulled.axis("l2") == 1.0 and pulled.pressed("l2")
+    assert pulled.axis("r2") == 0.0 and not pulled.pressed("r2")
+
+
+def test_a_trigger_value_above_1_reads_1_in_either_form():
+    state = state_from_standard([0.0] * 4, [False] * 6 + [[True, 1.5], 1.5])
+    assert state.axis("l2") == 1.0 and state.axis("r2") == 1.0
+
+
+def test_a_button_sent_as_a_number_is_pressed_only_above_0_5():
+    state = state_from_standard([0.0] * 4, [0.499, 0.5, 0.501])
+    assert (state.pressed("south"), state.pressed("east"), state.pressed("west")) == (False, False, True)
+
+
+NEUTRAL_LOST = PadState.neutral(connected=False)
+NO_PAD = ("no gamepad in this browser: plug one in and press a button on it (a browser shows a pad only after "
+          "a button press, with its tab visible)")
+HIDDEN = ("the browser tab with the gamepad is hidden (the browser gives a pad only to the visible tab): bring "
+          "the notebook's tab to the front")
+
+
+def test_no_pad_reads_released_unplugged_with_a_line_saying_how_to_get_one():
+    assert read_browser_pad(None) == BrowserReading(NEUTRAL_LOST, NO_PAD, "", False)
+
+
+def test_a_usable_reading_has_no_problem_at_all():
+    ok = read_browser_pad(_pad(id="Pad X"))
+    assert ok.problem == "" and ok.usable and ok.pad_id == "Pad X" and ok.haptics is True
+
+
+def test_a_disconnected_pad_keeps_its_name_and_haptics_with_the_line():
+    gone = read_browser_pad(_pad(id="Pad X", connected=False))
+    assert gone == BrowserReading(NEUTRAL_LOST, "the gamepad 'Pad X' was disconnected: plug it in again or wake it "
+                                                "(press its PS / Xbox button)", "Pad X", True)
+
+
+def test_an_unmapped_pad_names_its_mapping_in_the_line():
+    unknown = ("the browser does not know the layout of 'Pad X' (mapping %s), so its buttons could mean anything "
+               "and nothing is sent: use Chrome or Edge, connect the pad by USB, or use a DualShock 4, DualSense or "
+               "Xbox pad")
+    assert read_browser_pad(_pad(id="Pad X", mapping="xr-standard")) == \
+        BrowserReading(NEUTRAL_LOST, unknown % "'xr-standard'", "Pad X", True)
+    no_mapping = _pad(id="Pad X")
+    del no_mapping["mapping"]
+    assert read_browser_pad(no_mapping) == BrowserReading(NEUTRAL_LOST, unknown % "''", "Pad X", True)
+
+
+def test_a_pad_without_an_id_is_named_by_an_empty_string():
+    nameless = _pad(mapping="")
+    del nameless["id"]
+    reading = read_browser_pad(nameless)
+    assert reading.pad_id == "" and reading.problem.startswith("the browser does not know the layout of '' (mapping")
+
+
+def test_a_pad_id_is_cut_to_its_first_120_characters():
+    for length, kept in [(119, 119), (120, 120), (121, 120)]:
+        assert read_browser_pad(_pad(id="x" * length)).pad_id == "x" * kept, length
+
+
+def test_the_page_must_send_at_least_4_axes_and_4_buttons_as_lists():
+    reload = ("the page sent no standard axes and buttons for 'Pad X': reload the page (the widget's JavaScript is "
+              "older than the kernel's)")
+    refused = BrowserReading(NEUTRAL_LOST, reload, "Pad X", True)
+    assert read_browser_pad(dict(_pad(id="Pad X"), buttons=[[True, 1.0]] * 3)) == refused
+    assert read_browser_pad(dict(_pad(id="Pad X"), axes=[0.0] * 3)) == refused
+    assert read_browser_pad(dict(_pad(id="Pad X"), axes=None)) == refused
+    assert read_browser_pad(dict(_pad(id="Pad X"), buttons="abcd")) == refused
+    four = read_browser_pad(dict(_pad(id="Pad X", axes=(0.0, -1.0, 0.0, 0.0)), buttons=[[True, 1.0]] * 4))
+    assert four.usable and four.state.pressed("north") and four.state.axis("left_y") == 1.0
+
+
+# ------------------------------------------------------------------ the link's clock, edge by edge
+# Times are binary fractions (the page sends every 0.0625 s, the clocks are 512 s apart): exact comparisons.
+
+def _measured(clock, count=6, sent_s=8.0, offset_s=512.0):
+    """count readings in real time, all with delay offset_s; returns the last (sent, received)."""
+    for i in range(count):
+        clock.age_s(sent_s + i * 0.0625, sent_s + i * 0.0625 + offset_s)
+    return sent_s + (count - 1) * 0.0625, sent_s + (count - 1) * 0.0625 + offset_s
+
+
+def test_a_reading_counts_as_in_time_when_it_arrives_at_least_half_its_send_gap_after_the_last():
+    for gap_s, measured in [(0.03125 - 0.001953125, False), (0.03125, True), (0.03125 + 0.001953125, True)]:
+        clock = BrowserClock(steady=5)
+        ages = [clock.age_s(8.0 + i * 0.0625, 520.0 + i * gap_s) for i in range(6)]
+        assert ages[:5] == [None] * 5, gap_s
+        assert (ages[5] is not None) == measured, gap_s
+
+
+def test_a_reading_sent_at_the_same_page_time_as_the_last_is_not_used_again():
+    clock = BrowserClock()
+    sent, received = _measured(clock)
+    assert clock.age_s(sent, received + 0.0625) is None
+    assert clock.age_s(sent + 0.0625, received + 0.0625) == 0.0
+
+
+def test_the_usual_delay_follows_a_smaller_one_at_once_and_a_larger_one_by_drift_per_s():
+    clock = BrowserClock(drift_per_s=0.25)
+    sent, received = _measured(clock)
+    # 0.125 s later, 0.125 s faster than ever: the new usual delay
+    assert clock.age_s(sent + 0.25, received + 0.125) == 0.0
+    # 0.1875 s later, back at the old delay: the usual one rose by 0.25 * 0.1875 = 0.046875 s meanwhile
+    assert clock.age_s(sent + 0.3125, received + 0.3125) == 0.125 - 0.046875
+
+
+def _in_time(clock, sent_s, received_s, count, delay_s):
+    """count readings in real time after (sent_s, received_s), each delay_s later than the link's usual delay."""
+    ages = []
+    for _ in range(count):
+        sent_s, received_s = sent_s + 0.0625, received_s + 0.0625
+        ages.append(clock.age_s(sent_s, received_s + delay_s))
+    return ages, sent_s, received_s
+
+
+def test_a_link_whose_readings_all_come_in_time_but_old_is_measured_anew_at_the_25th():
+    clock = BrowserClock(steady=5, drift_per_s=0.0)
+    sent, received = _measured(clock)
+    assert clock.resyncs == 0
+    ages, sent, received = _in_time(clock, sent, received, 25, 4.0)  # the page's clock jumped back 4 s
+    assert ages == [4.0] * 24 + [0.0] and clock.resyncs == 1
+    # at once a second jump: again 25 readings
+    ages, sent, received = _in_time(clock, sent, received, 25, 8.0)
+    assert ages == [4.0] * 24 + [0.0] and clock.resyncs == 2
+    ages, sent, received = _in_time(clock, sent, received, 1, 8.0)
+    assert ages == [0.0]
+
+
+def test_a_link_measured_and_at_once_old_is_measured_anew_at_the_25th_reading_too():
+    clock = BrowserClock(steady=5, drift_per_s=0.0)
+    ages = [clock.age_s(8.0 + i * 0.0625, 520.0 + i * 0.0625) for i in range(6)]
+    assert ages == [None] * 5 + [0.0]
+    ages, _sent, _received = _in_time(clock, 8.3125, 520.3125, 25, 4.0)
+    assert ages == [4.0] * 24 + [0.0] and clock.resyncs == 1
+
+
+def test_a_reading_exactly_max_age_s_old_is_fresh_and_restarts_the_count_of_old_ones():
+    clock = BrowserClock(steady=5, drift_per_s=0.0)
+    sent, received = _measured(clock)
+    ages, sent, received = _in_time(clock, sent, received, 24, 0.3125)
+    assert ages == [0.3125] * 24
+    sent, received = sent + 0.25, received + 0.25  # received 0.1875 s after the one before: in time
+    assert clock.age_s(sent, received + 0.25) == 0.25
+    ages, sent, received = _in_time(clock, sent, received, 25, 0.3125)
+    assert ages == [0.3125] * 24 + [0.0] and clock.resyncs == 1
+
+
+def test_the_count_of_old_readings_restarts_after_one_that_came_in_a_burst():
+    clock = BrowserClock(steady=5, drift_per_s=0.0)
+    sent, received = _measured(clock)
+    ages, sent, received = _in_time(clock, sent, received, 10, 4.0)
+    sent += 0.0625
+    assert clock.age_s(sent, received + 4.0) == 3.9375  # received with the one before: not in time
+    ages, sent, received = _in_time(clock, sent, received, 25, 4.0)
+    assert ages == [3.9375] * 24 + [0.0] and clock.resyncs == 1
+
+
+# ------------------------------------------------------------------ what the input keeps and counts
+
+WAITING = "waiting for the browser page to send the pad"
+
+
+def _message(sent_s, **pad):
+    return {"sent_s": sent_s, "visible": True, "pad": _pad(**pad)}
+
+
+def test_before_any_message_the_input_is_waiting_released_and_unplugged():
+    link = BrowserInput()
+    assert link.reading == BrowserReading(NEUTRAL_LOST, WAITING)
+    assert link.problem(0.0) == WAITING and link.state(0.0) == NEUTRAL_LOST
+    assert (link.received, link.dropped, link.age_s) == (0, 0, None)
+
+
+def test_every_message_is_counted_and_each_dropped_one_apart():
+    link = BrowserInput()
+    for i in range(6):  # five before the link is measured, then one used
+        link.receive(_message(8.0 + i * 0.0625), 520.0 + i * 0.0625)
+    assert (link.received, link.dropped, link.age_s) == (6, 5, 0.0)
+    link.receive("garbage", 521.0)
+    assert (link.received, link.dropped) == (7, 6)
+
+
+def test_a_message_exactly_max_age_s_late_is_used():
+    link = BrowserInput(clock=BrowserClock(drift_per_s=0.0))
+    for i in range(6):
+        link.receive(_message(8.0 + i * 0.0625), 520.0 + i * 0.0625)
+    reading = link.receive(_message(8.375, axes=(0.0, -1.0, 0.0, 0.0)), 520.375 + 0.25)
+    assert reading is not None and link.age_s == 0.25 and link.state(520.625).axis("left_y") == 1.0
+
+
+def test_the_input_measures_the_link_with_the_clock_it_is_given():
+    clock = BrowserClock(steady=1)
+    link = BrowserInput(clock=clock)
+    assert link.clock is clock
+    assert link.receive(_message(8.0), 520.0) is None
+    assert link.receive(_message(8.0625), 520.0625) is not None  # one reading in time is enough
+
+
+def test_a_hidden_tab_gives_a_released_unplugged_reading_and_the_line_to_bring_it_forward():
+    link = BrowserInput()
+    for i in range(6):
+        link.receive(_message(8.0 + i * 0.0625), 520.0 + i * 0.0625)
+    reading = link.receive({"sent_s": 8.375, "visible": False, "pad": _pad()}, 520.375)
+    assert reading == BrowserReading(NEUTRAL_LOST, HIDDEN)
+    assert link.problem(520.375) == HIDDEN

@@ -137,3 +137,76 @@ def test_auto_identifies_again_when_another_pad_is_plugged_in():
     pad.poll()
     pygame.plug(second)
     assert pad.poll().connected and pad.layout.name == "xbox"
+
+
+# ------------------------------------------------------------------ the reason, word for word (pad_check prints it)
+
+LAYOUTS = "dualsense, dualsense_hid_generic, dualshock4, xbox"
+
+
+@pytest.mark.parametrize("guid, buttons, layout, reason", [
+    ("030000004c050000e60c000011810000", 13, "dualsense",
+     "DualSense (054c:0ce6) over USB by its GUID, driver hid-playstation"),
+    ("050000004c050000e60c000000010000", 15, "dualsense_hid_generic",
+     "DualSense (054c:0ce6) over Bluetooth by its GUID, generic HID driver (version 0x0100)"),
+    ("030000004c050000cc09000011810000", 13, "dualshock4",
+     "DualShock 4 (second model) (054c:09cc) over USB by its GUID, driver hid-sony/hid-playstation"),
+    ("050000004c050000cc09000000010000", 13, None,
+     "DualShock 4 (second model) (054c:09cc) over Bluetooth by its GUID, but its driver (version 0x0100: the "
+     "generic HID driver or Linux < 4.10) orders the buttons as no shipped layout does"),
+    ("030000005e0400008e02000010010000", 11, "xbox", "Xbox pad (045e:028e) over USB by its GUID, driver xpad"),
+    ("050000005e040000fd02000030110000", 11, None,
+     "Xbox pad (045e:02fd) over Bluetooth by its GUID: over Bluetooth it uses another driver (hid-microsoft or "
+     "xpadneo) with another order; connect it with a USB cable"),
+    ("060000005e040000fd02000030110000", 11, None,  # bus 0x06 (virtual): named by its number
+     "Xbox pad (045e:02fd) over bus 0x06 by its GUID: over bus 0x06 it uses another driver (hid-microsoft or "
+     "xpadneo) with another order; connect it with a USB cable"),
+    ("050000004c050000e60c000000006800", 13, None,
+     "054c:0ce6 is read through SDL's HIDAPI driver (GUID byte 14 is 0x68), whose raw order no shipped layout "
+     "describes; open it with SDL_JOYSTICK_HIDAPI=0 as the node does"),
+    ("030000004c050000e60c000011810000", 12, None,
+     "DualSense (054c:0ce6) over USB by its GUID, driver hid-playstation, but it reports 6 axes and 12 buttons "
+     "where layout dualsense needs 6 and 13"),
+])
+def test_the_reason_for_a_pad_known_by_its_guid_says_pad_ids_bus_and_driver(guid, buttons, layout, reason):
+    assert identify_layout(guid, "some name", 6, buttons) == LayoutGuess(layout, reason)
+
+
+@pytest.mark.parametrize("name, buttons, layout, reason", [
+    ("DualSense Wireless Controller", 14, "dualsense_hid_generic",
+     "DualSense by its name and its 14 buttons (the generic HID driver's count)"),
+    ("DualSense Wireless Controller", 13, "dualsense", "DualSense by its name and its 13 buttons (hid-playstation's count)"),
+    ("DualShock 4", 14, None,
+     "DualShock 4 by its name, but its 14 buttons say the generic HID driver, whose order no shipped layout describes"),
+    ("DualShock 4", 13, "dualshock4", "DualShock 4 by its name"),
+    ("Microsoft X-Box 360 pad", 11, "xbox", "Xbox pad by its name (driver xpad)"),
+    ("Nintendo Switch Pro Controller", 13, None,
+     "'Nintendo Switch Pro Controller' (no vendor/product in its GUID) is not a pad the shipped layouts (%s) are "
+     "known to fit" % LAYOUTS),
+])
+def test_the_reason_for_a_pad_known_by_its_name_alone(name, buttons, layout, reason):
+    assert identify_layout("", name, 6, buttons) == LayoutGuess(layout, reason)
+
+
+def test_an_xbox_pad_known_by_its_name_over_bluetooth_is_sent_to_a_usb_cable():
+    unknown_ids_bluetooth = "05000000d62000000120000000000000"  # PowerA (20d6:2001)
+    assert identify_layout(unknown_ids_bluetooth, "PowerA Xbox One Controller", 6, 11) == LayoutGuess(
+        None, "Xbox pad by its name, over Bluetooth, where its order differs; connect it with a USB cable")
+
+
+def test_a_sony_pad_no_layout_describes_is_named_with_its_ids():
+    # a PlayStation 3 pad: Sony's vendor id, a product that is neither a DualShock 4 nor a DualSense
+    assert identify_layout("050000004c0500006802000000800000", "Sony PLAYSTATION(R)3 Controller", 6, 17) == \
+        LayoutGuess(None, "'Sony PLAYSTATION(R)3 Controller' (vendor:product 054c:0268) is not a pad the shipped "
+                          "layouts (%s) are known to fit" % LAYOUTS)
+
+
+@pytest.mark.parametrize("guid", ["030000004c050100cc09000011810000",   # the word after the vendor is not 0
+                                  "030000004c050000cc09010011810000"])  # the word after the product is not 0
+def test_a_guid_whose_padding_words_are_not_zero_holds_no_ids(guid):
+    assert parse_sdl_guid(guid) is None
+
+
+def test_a_bus_without_a_name_is_named_by_its_number():
+    assert SdlGuid(0x06, 0x045E, 0x02FD, 0x1130, 0).bus_name() == "bus 0x06"
+    assert SdlGuid(0x03, 0x045E, 0x02FD, 0x1130, 0).bus_name() == "USB"

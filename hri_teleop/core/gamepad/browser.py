@@ -171,7 +171,8 @@ class BrowserClock:
         if self.base_s is None:
             if self._in_time < self.steady:
                 return None
-            self.base_s = delay
+            self.base_s, self._old_in_time = delay, 0  # the link measured: this reading has the usual delay
+            return 0.0
         age = delay - self.base_s
         if age <= self.max_age_s:
             self._old_in_time = 0
