@@ -121,6 +121,8 @@ class FrameReader:
 def _string(payload: bytes, at: int) -> Tuple[str, int]:
     size = struct.unpack_from("<I", payload, at)[0]
     start = at + 4
+    if start + size > len(payload):  # cut short, like a number cut short: the callers' FrameError
+        raise struct.error(f"a string of {size} bytes at offset {start}, {len(payload) - start} left")
     return payload[start:start + size].decode("utf-8", "replace"), start + size
 
 
