@@ -154,8 +154,9 @@ def resistance_to_voltage(resistance_ohm: Any, pulldown_ohm: float = PULLDOWN_OH
     resistance = np.asarray(resistance_ohm, dtype=float)
     if np.any(resistance < 0):
         raise FsrError("resistance_ohm must be >= 0 ohm (inf for an open circuit); check the divider arithmetic")
-    with np.errstate(invalid="ignore"):
+    with np.errstate(invalid="ignore"):  # inf / inf: an open circuit where supply_v * pulldown_ohm overflows
         voltage = supply_v * pulldown_ohm / (pulldown_ohm + resistance)
+    voltage = np.where(np.isposinf(resistance), 0.0, voltage)
     return _out(voltage)
 
 

@@ -2,6 +2,8 @@
 
 from __future__ import annotations
 
+import warnings
+
 import numpy as np
 import pytest
 from hypothesis import given, settings
@@ -200,3 +202,127 @@ def test_bad_arguments_raise_one_line_errors(call):
 
 def test_module_has_one_error_class():
     assert issubclass(fsr.FsrError, ValueError)
+
+
+# -- the edges (make mutants) ----------------------------------------------------------------------------------------
+
+@pytest.mark.parametrize("adc_bits, top", [(1, 1), (2, 3), (23, 2 ** 23 - 1), (24, 2 ** 24 - 1), (np.int64(12), 4095)])
+def test_an_adc_of_1_to_24_bits_is_accepted_numpy_integers_too(adc_bits, top):
+    assert int(voltage_to_count(5.0, adc_bits=adc_bits)) == top
+    assert count_to_voltage(top, adc_bits=adc_bits) == 5.0 * top / (top + 1)
+
+
+@pytest.mark.parametrize("adc_bits", [0, 25, np.int64(25), 12.0, np.float64(12.0)])
+def test_an_adc_of_0_or_25_bits_or_a_float_is_refused(adc_bits):
+    with pytest.raises(FsrError) as info:
+        voltage_to_count(2.5, adc_bits=adc_bits)
+    assert str(info.value) == (f"adc_bits must be an integer from 1 to 24, got {adc_bits!r}; "
+                               "the Uno's ADC has 10 bits")
+
+
+def test_numpy_numbers_of_any_kind_are_accepted_as_divider_and_law():
+    law = PowerLaw(r_at_1n_ohm=np.float32(6000.0), exponent=np.float32(0.75))
+    assert law == PowerLaw(6000.0, 0.75)
+    assert PowerLaw(np.int64(6000), np.int32(1)) == PowerLaw(6000.0, 1.0)
+    assert resistance_to_voltage(10e3, pulldown_ohm=np.int64(10000), supply_v=np.float32(5.0)) == 2.5
+    assert voltage_to_resistance(2.5, pulldown_ohm=np.float32(10000.0), supply_v=np.int64(5)) == 10e3
+    assert count_to_voltage(512, supply_v=np.float32(5.0)) == 2.5
+
+
+@pytest.mark.parametrize("r_at_1n_ohm, ok", [(0.0, False), (-1e-9, False), (1e-9, True), (0.5, True), (1.0, True)])
+def test_a_law_needs_a_resistance_at_1_n_above_0_ohm(r_at_1n_ohm, ok):
+    if ok:
+        assert resistance_to_force(r_at_1n_ohm, PowerLaw(r_at_1n_ohm, 0.8)) == 1.0
+    else:
+        with pytest.raises(FsrError, match="PowerLaw.r_at_1n_ohm must be a positive finite resistance"):
+            PowerLaw(r_at_1n_ohm, 0.8)
+
+
+def test_two_points_at_two_forces_are_enough_for_a_fit():
+    law = fit_power_law([(1.0, 6000.0), (10.0, 600.0)])
+    assert law.r_at_1n_ohm == pytest.approx(6000.0, rel=1e-12)
+    assert law.exponent == pytest.approx(1.0, rel=1e-12)
+    law = fit_power_law([(1.0, 6000.0), (1.0, 5000.0), (10.0, 600.0)])  # two at one force: still two forces
+    assert law.exponent > 0.9
+
+
+@pytest.mark.parametrize("points", [[(1.0, 6e3)], [(1.0, 6e3), (10.0, 1e3, 5.0)], [(1.0,), (10.0, 1e3)]])
+def test_a_fit_needs_two_pairs_or_more(points):
+    with pytest.raises(FsrError) as info:
+        fit_power_law(points)
+    assert str(info.value) == (f"fit_power_law needs at least two (force_n, resistance_ohm) pairs, got {points!r}; "
+                               "pass more points")
+
+
+def test_a_fit_of_half_precision_points_is_that_of_the_doubles_they_hold():
+    points = [(np.float16(0.2), np.float16(3e4)), (np.float16(1.0), np.float16(6e3)), (np.float16(10.0), np.float16(1e3))]
+    as_doubles = [(float(f), float(r)) for f, r in points]
+    assert fit_power_law(points) == fit_power_law(as_doubles)
+
+
+@pytest.mark.parametrize("convert, value", [
+    (force_to_resistance, np.float16(2.504)),
+    (resistance_to_force, np.float16(2504.0)),
+    (resistance_to_voltage, np.float16(2504.0)),
+    (voltage_to_resistance, np.float16(2.504)),
+    (count_to_voltage, np.float16(513.0)),
+    (voltage_to_count, np.float16(2.504)),  # 2.50390625 V: count 512 (computed in half precision: 513)
+])
+def test_a_half_precision_input_gives_the_double_precision_answer(convert, value):
+    got = convert(value)
+    assert got == convert(float(value))
+    assert got.dtype == (np.int64 if convert is voltage_to_count else np.float64)
+    got = convert(np.array([value, value]))
+    assert got.dtype == (np.int64 if convert is voltage_to_count else np.float64)
+
+
+def test_a_nan_force_has_a_nan_resistance():
+    assert np.isnan(force_to_resistance(float("nan")))
+    assert force_to_resistance(np.array([float("nan"), 1.0])).dtype == np.float64
+
+
+@pytest.mark.parametrize("resistance_ohm, force_n", [(0.0, np.inf), (float("inf"), 0.0)])
+def test_0_ohm_is_an_infinite_force_and_an_open_circuit_none(resistance_ohm, force_n):
+    assert resistance_to_force(resistance_ohm) == force_n
+
+
+def test_a_resistance_below_1_ohm_is_a_force_not_an_error():
+    law = PowerLaw(0.5, 1.0)
+    assert resistance_to_force(0.25, law) == 2.0
+    assert resistance_to_force(np.array([0.5, 0.25]), law).tolist() == [1.0, 2.0]
+
+
+def test_extreme_values_give_inf_or_0_without_a_numpy_warning():
+    with warnings.catch_warnings():
+        warnings.simplefilter("error")
+        assert force_to_resistance(1e-200, PowerLaw(6e3, 2.0)) == np.inf     # overflows
+        assert resistance_to_force(0.0) == np.inf                            # divides by 0
+        assert resistance_to_force(1e-300, PowerLaw(6e3, 0.1)) == np.inf    # overflows
+        assert voltage_to_resistance(0.0) == np.inf                          # divides by 0
+        assert count_to_force(0) == 0.0
+
+
+@pytest.mark.parametrize("voltage_v, resistance_ohm", [
+    (-1.0, np.inf), (-0.0, np.inf), (0.0, np.inf), (1.0, 40e3), (2.5, 10e3), (5.0, 0.0), (6.0, 0.0)])
+def test_a_voltage_is_clipped_to_the_supply_before_it_is_read_as_a_resistance(voltage_v, resistance_ohm):
+    assert voltage_to_resistance(voltage_v) == resistance_ohm
+
+
+@pytest.mark.parametrize("count, voltage_v", [(-5, 0.0), (0, 0.0), (1023, 4.9951171875), (1024, 4.9951171875),
+                                              (1025, 4.9951171875), (5000, 4.9951171875)])
+def test_a_count_is_clipped_to_0_1023_before_it_is_read_as_a_voltage(count, voltage_v):
+    assert count_to_voltage(count) == voltage_v
+
+
+def test_an_open_circuit_reads_0_v_even_where_the_dividers_product_overflows():
+    with warnings.catch_warnings():
+        warnings.simplefilter("error")
+        assert resistance_to_voltage(np.inf, pulldown_ohm=1e300, supply_v=1e300) == 0.0  # was NaN (inf / inf)
+        assert resistance_to_voltage(np.inf) == 0.0
+
+
+def test_0_v_reads_as_an_open_circuit_even_where_the_dividers_product_underflows():
+    with warnings.catch_warnings():
+        warnings.simplefilter("error")
+        assert voltage_to_resistance(0.0, pulldown_ohm=1e-200, supply_v=1e-200) == np.inf  # 0 / 0 inside
+        assert voltage_to_resistance(-1.0, pulldown_ohm=1e-200, supply_v=1e-200) == np.inf
