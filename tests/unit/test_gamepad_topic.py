@@ -87,3 +87,38 @@ def test_the_browser_pad_reads_unplugged_from_the_moment_the_real_robot_appears(
 def test_a_timeout_that_is_not_positive_is_one_line_with_an_example():
     with pytest.raises(GamepadError, match=r"timeout_s is 0: give a positive number of seconds, e\.g\. 0\.5"):
         TopicPadInput(LAYOUT, 0)
+
+
+def test_a_message_is_fresh_from_the_moment_it_arrives_until_exactly_the_timeout_after():
+    pad = TopicPadInput(LAYOUT, timeout_s=0.25)
+    pad.receive(*_raw(PadState({"left_y": 1.0}, {})), now=10.0)
+    for now, fresh in [(9.999, False), (10.0, True), (10.25, True), (10.251, False)]:
+        assert pad.fresh(now) is fresh, now
+        assert pad.state(now).connected is fresh, now
+
+
+def test_any_positive_timeout_is_taken_as_seconds():
+    assert TopicPadInput(LAYOUT, 1).timeout_s == 1.0 and type(TopicPadInput(LAYOUT, 1).timeout_s) is float
+    tiny = TopicPadInput(LAYOUT, 0.001)
+    tiny.receive(*_raw(PadState({"left_y": 1.0}, {})), now=10.0)
+    assert tiny.fresh(10.001) and not tiny.fresh(10.002)
+    with pytest.raises(GamepadError, match=r"timeout_s is -0\.5: give a positive number of seconds, e\.g\. 0\.5"):
+        TopicPadInput(LAYOUT, -0.5)
+
+
+def test_every_message_is_counted():
+    pad = TopicPadInput(LAYOUT)
+    assert pad.messages == 0
+    for i in range(3):
+        pad.receive([0.0] * 6, [0] * 13, now=10.0 + i)
+    assert pad.messages == 3
+
+
+def test_a_message_is_read_in_the_layout_the_input_was_given():
+    xbox = load_layout("xbox")
+    pad = TopicPadInput(xbox)
+    assert pad.layout is xbox
+    axes, buttons = xbox.raw_from_state(PadState({"right_x": 0.5}, {"north": True}))
+    pad.receive(tuple(axes), tuple(buttons), now=1.0)
+    assert pad.state(1.0) == xbox.state_from_raw(axes, buttons)
+    assert pad.state(1.0).axis("right_x") == pytest.approx(0.5) and pad.state(1.0).pressed("north")
