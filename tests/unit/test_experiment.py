@@ -328,6 +328,12 @@ def test_the_full_travel_force_given_replaces_the_attachments_and_the_score_is_k
     assert calibrated_force_n([350], 690)[0] == pytest.approx(0.2914, abs=1e-4)
 
 
+def test_a_calibration_of_half_a_count_or_one_count_is_positive_and_reads_full_travel_there():
+    assert calibrated_force_n([1], 1)[0] == pytest.approx(1.77)
+    assert calibrated_force_n([0.5, 0], 0.5)[0] == pytest.approx(1.77)
+    assert calibrated_force_n([0.001], 0.001)[0] == pytest.approx(1.77)
+
+
 @pytest.mark.parametrize("value", [0, -1, 0.0, float("nan")])
 def test_a_calibration_that_is_not_a_positive_count_is_refused(value):
     with pytest.raises(MetricsError) as info:
