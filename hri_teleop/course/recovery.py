@@ -45,8 +45,10 @@ def reflex_from_status(values: Mapping[str, str]) -> List[str]:
 def reflex_from_errors(last_motion_errors: Any) -> List[str]:
     """The lines for franka_msgs/Errors (the fields set to true), as the real robot reports them."""
     names = [name for name in getattr(last_motion_errors, "__slots__", []) if getattr(last_motion_errors, name, False)]
-    return explain_reflex([ReflexCause(name, "a joint" if "joint" in name else "the hand", math.nan, math.nan)
-                           for name in names])
+    # The flags say neither which joint nor which Cartesian group: "The commanded translation or rotation velocity
+    # jumped", "A joint's acceleration jumped".
+    return explain_reflex([ReflexCause(name, "a joint" if "joint" in name else "translation or rotation", math.nan,
+                                       math.nan) for name in names])
 
 
 def reflex(timeout_s: float = 3.0) -> List[str]:

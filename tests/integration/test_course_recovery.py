@@ -93,3 +93,16 @@ def test_the_status_and_the_robots_error_flags_become_the_same_plain_words():
 
     lines = reflex_from_errors(Errors())
     assert len(lines) == 3 and "a joint reached its limit." in lines[1] and "nan" not in lines[1]
+
+    class CartesianErrors:  # the Cartesian flags say neither which group nor by how much
+        __slots__ = ("cartesian_motion_generator_velocity_discontinuity",
+                     "cartesian_motion_generator_acceleration_discontinuity")
+
+        def __init__(self) -> None:
+            for name in self.__slots__:
+                setattr(self, name, True)
+
+    lines = reflex_from_errors(CartesianErrors())
+    assert lines[1].startswith("The commanded translation or rotation velocity jumped: its change within one "
+                               "millisecond is too large an acceleration. Ramp")
+    assert lines[2].startswith("The commanded translation or rotation acceleration jumped: too large a jerk. Ramp")
