@@ -157,3 +157,91 @@ def test_the_hand_width_is_the_sum_of_the_two_finger_joints_or_none_for_a_malfor
     assert width_from_joint_positions_m((0.013, 0.013, 9.0)) == pytest.approx(0.026)
     assert width_from_joint_positions_m([0.04]) is None
     assert width_from_joint_positions_m([float("nan"), 0.01]) is None
+
+
+# -- the edges (make mutants) ----------------------------------------------------------------------------------------
+
+@pytest.mark.parametrize("now_s, sends", [(0.19, False), (0.199, False), (0.2, True), (0.21, True)])
+def test_by_default_a_big_step_waits_0_2_s_after_the_last_goal(now_s, sends):
+    throttle = GoalThrottle()
+    throttle.sent(0.08, 0.0)
+    assert throttle.should_send(0.0, now_s) is sends
+
+
+@pytest.mark.parametrize("now_s, sends", [(1.19, False), (1.21, True)])
+def test_by_default_a_small_correction_goes_out_once_unchanged_for_0_2_s(now_s, sends):
+    throttle = GoalThrottle()
+    throttle.sent(0.040, 0.0)
+    assert not throttle.should_send(0.0395, 1.0)  # 0.5 mm: below the default 2 mm step, above the 0.1 mm tolerance
+    assert throttle.should_send(0.0395, now_s) is sends
+
+
+@pytest.mark.parametrize("now_s, sends", [(1.125, False), (1.25, True), (1.375, True)])
+def test_a_correction_goes_out_once_unchanged_for_exactly_the_settle_time(now_s, sends):
+    throttle = GoalThrottle(min_step_m=1.0, max_goal_rate_hz=100.0, settle_s=0.25, tolerance_m=0.25)
+    throttle.sent(2.0, 0.0)
+    assert not throttle.should_send(2.5, 1.0)
+    assert throttle.should_send(2.5, now_s) is sends
+
+
+@pytest.mark.parametrize("target, sends", [(2.24, False), (2.25, False), (2.26, True)])
+def test_a_target_at_most_the_tolerance_from_the_last_goal_is_never_sent(target, sends):
+    throttle = GoalThrottle(min_step_m=1.0, max_goal_rate_hz=100.0, settle_s=0.5, tolerance_m=0.25)
+    throttle.sent(2.0, 0.0)
+    assert throttle.should_send(target, 1.0) is False  # a new target (or none) has not settled yet
+    assert throttle.should_send(target, 2.0) is sends
+
+
+def test_a_target_moving_by_exactly_the_tolerance_does_not_restart_the_settle_time():
+    throttle = GoalThrottle(min_step_m=1.0, max_goal_rate_hz=100.0, settle_s=0.5, tolerance_m=0.25)
+    throttle.sent(2.0, 0.0)
+    assert not throttle.should_send(2.5, 1.0)    # settles from 1.0
+    assert not throttle.should_send(2.75, 1.25)  # 0.25 from 2.5: the same target
+    assert throttle.should_send(2.75, 1.5)       # unchanged since 1.0 for 0.5 s
+
+
+def test_a_goal_within_the_tolerance_of_the_latest_target_leaves_nothing_pending():
+    throttle = GoalThrottle(min_step_m=1.0, tolerance_m=0.25)
+    throttle.should_send(2.5, 0.0)
+    throttle.sent(2.25, 0.0)  # 0.25 from the latest target
+    assert not throttle.pending()
+    throttle.should_send(2.76, 1.0)  # a new target, 0.51 from the goal
+    assert throttle.pending()
+
+
+def test_goals_sent_counts_every_goal_recorded():
+    throttle = GoalThrottle()
+    assert throttle.goals_sent == 0
+    throttle.sent(0.04, 0.0)
+    assert throttle.goals_sent == 1
+    throttle.sent(0.04, 1.0)
+    throttle.sent(0.02, 2.0)
+    assert throttle.goals_sent == 3
+
+
+@pytest.mark.parametrize("kwargs, message", [
+    ({"min_step_m": 0}, "gripper throttle min_step_m must be a positive number, got 0; set it to e.g. 0.002 (2 mm)"),
+    ({"max_goal_rate_hz": -5.0}, "gripper throttle max_goal_rate_hz must be a positive number, got -5.0; set it to e.g. 5.0"),
+    ({"settle_s": float("inf")}, "gripper throttle settle_s must be a positive number, got inf; set it to e.g. 0.2"),
+    ({"min_step_m": 0.002, "tolerance_m": 0.002}, "gripper throttle tolerance_m must be >= 0 and below min_step_m "
+                                                  "(0.002), got 0.002; leave it at its default 1e-4"),
+    ({"tolerance_m": -1e-9}, "gripper throttle tolerance_m must be >= 0 and below min_step_m (0.002), got -1e-09; "
+                             "leave it at its default 1e-4"),
+])
+def test_a_bad_setting_is_refused_naming_it_and_the_fix(kwargs, message):
+    with pytest.raises(GripperError) as info:
+        GoalThrottle(**kwargs)
+    assert str(info.value) == message
+
+
+@pytest.mark.parametrize("tolerance_m", [0, 0.0, 0.0019])
+def test_a_tolerance_from_0_to_just_below_the_step_is_accepted(tolerance_m):
+    assert GoalThrottle(min_step_m=0.002, tolerance_m=tolerance_m).tolerance_m == tolerance_m
+
+
+def test_the_hand_width_adds_the_first_two_finger_joints_whatever_follows():
+    from hri_teleop.core.gripper import width_from_joint_positions_m
+
+    assert width_from_joint_positions_m([0.01, 0.03]) == 0.04
+    assert width_from_joint_positions_m([0.01, 0.03, float("nan")]) == 0.04
+    assert width_from_joint_positions_m((0.01, 0.03, "x")) == 0.04

@@ -21,9 +21,12 @@ from hri_teleop.core.joints import (
     JointLimits,
     JointLimitWatch,
     JointsError,
+    JointStateWarning,
     JointViolation,
+    LimitDistance,
     joint_violations,
     nearest_limit,
+    positions_by_name,
 )
 from hri_teleop.core.reflex import (
     CARTESIAN_ACCELERATION_DISCONTINUITY,
@@ -261,3 +264,87 @@ def test_an_explanation_names_each_error_once_and_ends_with_how_to_recover():
     assert lines[0].startswith("The robot stopped itself") and lines[-1] == RECOVERY_HINT
     assert len(lines) == 4 and lines[1].endswith(f"[libfranka: {JOINT_VELOCITY_DISCONTINUITY}]")
     assert explain_reflex([]) == ["No reflex: the robot accepts commands."]
+
+
+# -- the edges (make mutants) ----------------------------------------------------------------------------------------
+
+def _square(velocity: float = 0.5) -> JointLimits:
+    """Every joint within -1 .. 1 rad: margins exact in floating point."""
+    return JointLimits(position_min_rad=(-1.0,) * 7, position_max_rad=(1.0,) * 7, velocity_rad_per_s=(velocity,) * 7,
+                       acceleration_rad_per_s2=(1.0,) * 7, jerk_rad_per_s3=(1.0,) * 7)
+
+
+@pytest.mark.parametrize("velocity", [1e-9, 0.5, 1.0, 2.0])
+def test_any_positive_derivative_limit_is_accepted_below_1_too(velocity):
+    assert _square(velocity).velocity_rad_per_s == (velocity,) * 7
+
+
+def test_a_limit_that_is_not_7_numbers_is_refused_naming_its_field_exactly():
+    with pytest.raises(JointsError) as info:
+        JointLimits(position_min_rad=(-1.0,) * 7, position_max_rad=(1.0,) * 7, velocity_rad_per_s=2.0,
+                    acceleration_rad_per_s2=(1.0,) * 7, jerk_rad_per_s3=(1.0,) * 7)
+    assert str(info.value) == "JointLimits.velocity_rad_per_s must be 7 finite numbers, one per joint, got 2.0"
+
+
+@pytest.mark.parametrize("position", [0.5, None, (0.0,) * 6])
+def test_a_position_that_is_not_7_numbers_is_refused_naming_position_rad(position):
+    with pytest.raises(JointsError) as info:
+        nearest_limit(position)
+    assert str(info.value) == f"position_rad must be 7 finite numbers, one per joint, got {position!r}"
+
+
+def test_numpy_positions_of_any_precision_are_joint_positions():
+    import numpy as np
+
+    q = np.array([0.0, 0.0, 0.5, 0.0, 0.0, 0.0, 0.0], dtype=np.float32)
+    assert nearest_limit(q, _square()) == LimitDistance(3, 0.5, "max", 0.5, 1.0)
+    assert positions_by_name(list(JOINT_NAMES), list(q)) == (0.0, 0.0, 0.5, 0.0, 0.0, 0.0, 0.0)
+    assert positions_by_name(list(JOINT_NAMES), [np.int64(0)] * 7) == ZERO7
+
+
+def test_asking_a_joint_state_for_other_than_7_joints_is_refused_naming_position_rad():
+    with pytest.raises(JointsError) as info:
+        positions_by_name(["a", "b"], [0.5, 0.25], joint_names=["a", "b"])
+    assert str(info.value) == "position_rad must be 7 finite numbers, one per joint, got [0.5, 0.25]"
+
+
+def test_of_joints_equally_near_a_limit_the_first_and_its_min_side_are_named():
+    assert nearest_limit(ZERO7, _square()) == LimitDistance(1, 1.0, "min", 0.0, -1.0)
+    assert nearest_limit((0.0, 0.5, 0.0, -0.5, 0.0, 0.0, 0.5), _square()) == LimitDistance(2, 0.5, "max", 0.5, 1.0)
+
+
+def test_a_watch_judges_at_its_own_limits():
+    watch = JointLimitWatch(limits=_square())
+    near = (0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.9375)  # 0.0625 rad from joint 7's max here, far from the Panda's limits
+    assert watch.update(near) == LimitDistance(7, 0.0625, "max", 0.9375, 1.0)
+
+
+@pytest.mark.parametrize("kwargs, message", [
+    ({"rumble_level": -0.001}, "rumble_level must be in [0, 1], got -0.001; e.g. 0.6"),
+    ({"rumble_level": 1.001}, "rumble_level must be in [0, 1], got 1.001; e.g. 0.6"),
+    ({"pulse_period_s": 0.0}, "pulse_period_s must be a positive time in s, got 0.0; e.g. 0.4"),
+])
+def test_a_warning_setting_out_of_range_is_refused_exactly(kwargs, message):
+    with pytest.raises(JointsError) as info:
+        JointLimitWatch(**kwargs)
+    assert str(info.value) == message
+
+
+@pytest.mark.parametrize("level", [0.0, 1.0])
+def test_a_warning_rumble_of_0_or_1_is_accepted(level):
+    watch = JointLimitWatch(limits=_square(), rumble_level=level, pulse_period_s=1e-9)
+    watch.update((0.95,) + (0.0,) * 6)
+    assert watch.rumble(0.0) == level
+
+
+def test_before_any_joint_state_nothing_expires_and_nothing_rumbles():
+    warning = JointStateWarning(JointLimitWatch(limits=_square()))
+    assert warning.expire(10.0) is False
+    assert warning.rumble(10.0) == 0.0
+
+
+def test_a_watch_already_warning_when_handed_over_pulses_from_time_0():
+    watch = JointLimitWatch(limits=_square())  # pulse 0.4 s, on for its first half, at 0.6
+    watch.update((0.95,) + (0.0,) * 6)
+    warning = JointStateWarning(watch)
+    assert [warning.rumble(t) for t in (0.0, 0.125, 0.25, 0.375, 0.5)] == [0.6, 0.6, 0.0, 0.0, 0.6]
