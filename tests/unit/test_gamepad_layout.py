@@ -228,3 +228,178 @@ def test_layout_argument_must_be_a_name_or_path(bad):
     with pytest.raises(GamepadError) as info:
         load_layout(bad)  # type: ignore[arg-type]
     assert "dualshock4" in _one_line(info)
+
+
+# ------------------------------------------------------------------ a layout built from a dict, edge by edge
+
+import importlib.resources  # noqa: E402
+import math  # noqa: E402
+from pathlib import Path  # noqa: E402
+
+from hri_teleop.core.gamepad import layout as layout_module  # noqa: E402
+from hri_teleop.core.gamepad.layout import AxisMap, as_layout, layout_from_dict  # noqa: E402
+
+SHIPPED = "dualsense, dualsense_hid_generic, dualshock4, xbox"
+
+
+def _minimal(**changes) -> dict:
+    data = {"name": "mine", "description": "a pad", "verified": "by hand",
+            "axes": {"left_x": {"index": 0}, "left_y": {"index": 1}, "right_x": {"index": 2}, "right_y": {"index": 3}},
+            "buttons": {"south": 0, "east": 1, "west": 2, "north": 3}}
+    data.update(changes)
+    return data
+
+
+def _refusal(data) -> str:
+    with pytest.raises(GamepadError) as info:
+        layout_from_dict(data)
+    return _one_line(info)
+
+
+def test_a_layout_from_a_dict_has_no_source_and_its_errors_name_the_dict():
+    assert layout_from_dict(_minimal()).source is None
+    assert layout_from_dict(_minimal(), "pads/mine.yaml").source == "pads/mine.yaml"
+    assert _refusal(_minimal(description="")) == \
+        "<dict>: missing key 'description'; add it (see hri_teleop/core/gamepad/layouts/dualshock4.yaml)"
+    assert _refusal(_minimal(name=None)) == \
+        "<dict>: missing key 'name'; add it (see hri_teleop/core/gamepad/layouts/dualshock4.yaml)"
+
+
+def test_an_axis_may_be_written_as_its_bare_index():
+    layout = layout_from_dict(_minimal(axes={"left_x": 0, "left_y": {"index": 1, "invert": True}, "right_x": 2,
+                                             "right_y": 3}))
+    assert layout.axes["left_x"] == AxisMap(0, False, 0.0) and layout.axes["right_x"].raw_index == 2
+    assert layout.axes["left_y"] == AxisMap(1, True, 0.0)
+
+
+def test_an_axis_without_an_index_is_refused_with_the_form_to_write():
+    axes = dict(_minimal()["axes"], left_x={"invert": True})
+    assert _refusal(_minimal(axes=axes)) == "<dict>: axis 'left_x' is {'invert': True}; write it as {index: N, invert: false}"
+
+
+def test_a_negative_index_is_refused_naming_the_axis_or_button():
+    axes = dict(_minimal()["axes"], left_y={"index": -1})
+    assert _refusal(_minimal(axes=axes)) == "<dict>: axis 'left_y' index is -1; give a raw index, an integer >= 0"
+    buttons = dict(_minimal()["buttons"], east=-1)
+    assert _refusal(_minimal(buttons=buttons)) == "<dict>: button 'east' is -1; give a raw index, an integer >= 0"
+
+
+def test_a_rest_from_minus_1_up_to_below_1_is_accepted():
+    for rest in (-1.0, 0.999999):
+        axes = dict(_minimal()["axes"], l2={"index": 4, "rest": rest})
+        assert layout_from_dict(_minimal(axes=axes)).axes["l2"].rest == rest
+    for rest in (-1.000001, 1.0):
+        axes = dict(_minimal()["axes"], l2={"index": 4, "rest": rest})
+        assert _refusal(_minimal(axes=axes)) == ("<dict>: axis 'l2' rest is %r; give the raw resting value, -1.0 for "
+                                                 "a trigger that rests at -1, else 0" % rest)
+
+
+def test_two_axes_or_two_buttons_on_one_raw_index_are_named_with_the_fix():
+    axes = dict(_minimal()["axes"], right_x={"index": 0})
+    assert _refusal(_minimal(axes=axes)) == \
+        "<dict>: axes 'left_x' and 'right_x' both use raw index 0; give each axis its own index"
+    buttons = dict(_minimal()["buttons"], north=1)
+    assert _refusal(_minimal(buttons=buttons)) == \
+        "<dict>: buttons 'east' and 'north' both use raw index 1; give each button its own index"
+
+
+@pytest.mark.parametrize("labels", [["cross"], {"south": 1}, {"cross": "x"}])
+def test_labels_must_map_positional_names_to_text(labels):
+    assert _refusal(_minimal(labels=labels)) == \
+        "<dict>: 'labels' must map positional button names to text; write e.g. 'labels: {south: cross}'"
+
+
+def test_a_button_without_a_label_is_called_by_its_positional_name():
+    layout = layout_from_dict(_minimal(labels={"south": "cross"}))
+    assert layout.label("south") == "cross" and layout.label("north") == "north"
+
+
+@pytest.mark.parametrize("text", ["pads/mine", "pads\\mine", "mine.yaml", "mine.yml"])
+def test_a_name_with_a_slash_or_a_yaml_suffix_is_a_path(text):
+    with pytest.raises(GamepadError) as info:
+        load_layout(text)
+    assert _one_line(info) == ("layout file not found: %s; check the path or use one of the shipped layouts: %s"
+                               % (text, SHIPPED))
+
+
+def test_a_name_without_is_a_shipped_layouts_name():
+    with pytest.raises(GamepadError) as info:
+        load_layout("mine")
+    assert _one_line(info) == ("unknown gamepad layout 'mine': set layout to one of %s, or to the path of your own "
+                               "layout YAML file" % SHIPPED)
+
+
+@pytest.mark.parametrize("bad, shown", [(3, "3"), ("   ", "'   '"), (None, "None")])
+def test_a_layout_that_is_neither_a_name_nor_a_path_is_refused_with_the_choices(bad, shown):
+    with pytest.raises(GamepadError) as info:
+        load_layout(bad)  # type: ignore[arg-type]
+    assert _one_line(info) == ("layout %s is not a name or a path: set layout to one of %s or to a layout YAML file"
+                               % (shown, SHIPPED))
+
+
+def test_a_layout_file_gone_between_the_check_and_the_read_is_named_as_a_layout_file(monkeypatch):
+    monkeypatch.setattr(Path, "is_file", lambda _self: True)
+    with pytest.raises(GamepadError) as info:
+        load_layout("/nonexistent/gone.yaml")
+    assert _one_line(info) == "layout file not found: /nonexistent/gone.yaml; check the path"
+
+
+def test_none_and_auto_are_the_default_layout_anything_else_is_loaded():
+    assert as_layout(None).name == "dualshock4" and as_layout(" auto ").name == "dualshock4"
+    assert as_layout("xbox").name == "xbox" and as_layout(" xbox ").name == "xbox"
+
+
+def test_the_shipped_layouts_are_found_beside_the_module_with_or_without_importlib_resources_files(monkeypatch):
+    here = (Path(layout_module.__file__).resolve().parent / "layouts").resolve()
+    assert layout_module._shipped_layouts().resolve() == here and (here / "dualshock4.yaml").is_file()
+    monkeypatch.delattr(importlib.resources, "files", raising=False)  # as on Python 3.8
+    assert layout_module._shipped_layouts().resolve() == here
+
+
+def test_a_layout_converts_and_copies_what_it_is_given_and_cannot_be_changed():
+    axes = {"left_x": (0,), "left_y": (1, True), "right_x": AxisMap(2), "right_y": (3, False, 0.5)}
+    buttons, labels = {"south": 0, "east": 1, "west": 2, "north": 3}, {"south": "cross"}
+    layout = Layout("mine", "a pad", axes, buttons, labels=labels)
+    assert layout.axes["left_x"].rest == 0.0 and layout.axes["left_y"].invert is True
+    assert layout.axes["right_y"].rest == 0.5 and layout.axes["right_x"] == AxisMap(2, False, 0.0)
+    axes["left_x"], buttons["south"], labels["south"] = (5,), 5, "A"
+    assert layout.axes["left_x"].raw_index == 0 and layout.buttons["south"] == 0 and layout.labels["south"] == "cross"
+    for mapping in (layout.axes, layout.buttons, layout.labels):
+        with pytest.raises(TypeError):
+            mapping["south"] = 1  # type: ignore[index]
+
+
+def test_raw_slots_no_axis_or_button_uses_read_0():
+    layout = Layout("gaps", "a pad", {"left_x": AxisMap(0), "left_y": AxisMap(1), "right_x": AxisMap(3),
+                                      "right_y": AxisMap(4)}, {"south": 0, "east": 1, "west": 2, "north": 5})
+    axes, buttons = layout.raw_from_state(PadState({"left_x": 1.0, "left_y": 1.0, "right_x": 1.0, "right_y": 1.0},
+                                                   {b: True for b in ("south", "east", "west", "north")}))
+    assert axes == [1.0, 1.0, 0.0, 1.0, 1.0] and buttons == [1, 1, 1, 0, 0, 1]
+
+
+def test_a_state_is_connected_unless_the_caller_says_otherwise():
+    layout = load_layout("dualshock4")
+    assert layout.state_from_raw([0.0] * 6, [0] * 13).connected is True
+
+
+ODD = Layout("odd", "axes at odd rests", {
+    "left_x": AxisMap(0, True, 0.0),        # inverted: raw 0 must read 0.0, not -0.0
+    "left_y": AxisMap(1, False, 0.5),       # rests at 0.5: raw -1 is 3 times a full push below
+    "right_x": AxisMap(2, True, 0.5),       # the same, inverted
+    "right_y": AxisMap(3, True, -0.0),      # a rest written -0.0
+    "l2": AxisMap(4, True, -1.0),           # an inverted trigger resting at -1
+    "r2": AxisMap(5, False, 0.0),           # a trigger resting at 0
+}, {"south": 0, "east": 1, "west": 2, "north": 3})
+
+
+def test_axes_read_within_their_range_and_never_minus_zero_whatever_the_rest():
+    state = ODD.state_from_raw([0.0, -1.0, -1.0, 0.0, -1.5, -0.5], [0] * 4)
+    assert (state.axis("left_x"), state.axis("left_y"), state.axis("right_x")) == (0.0, -1.0, 1.0)
+    assert math.copysign(1.0, state.axis("left_x")) == 1.0
+    assert state.axis("l2") == 0.0 and state.axis("r2") == 0.0  # below their rest: released
+
+
+def test_raw_axes_are_clipped_to_minus_1_to_1_and_never_minus_zero():
+    axes, _buttons = ODD.raw_from_state(PadState({"l2": 1.0}))
+    assert axes[4] == -1.0  # -(1.0) * 2 - 1 = -3: clipped
+    assert axes[3] == 0.0 and math.copysign(1.0, axes[3]) == 1.0

@@ -132,3 +132,12 @@ def test_a_policy_at_the_edge_of_its_ranges_is_accepted(kwargs):
 def test_a_policy_just_outside_its_ranges_is_refused(kwargs):
     with pytest.raises(GamepadError, match="0 < change <= 1 and 0 < refresh_s < hold_s"):
         RumblePolicy(**kwargs)
+
+
+def test_a_pad_that_refuses_the_start_check_is_named_with_the_cause_and_the_fixes():
+    from hri_teleop.core.gamepad.rumble import rumble_refused
+
+    assert rumble_refused("Wireless Controller", "no force feedback device") == (
+        "gamepad 'Wireless Controller' refuses rumble (no force feedback device): no force feedback with it; connect "
+        "the pad with a USB cable (some Bluetooth links carry no rumble), check that its kernel driver supports force "
+        "feedback and that /dev/input/event* is writable (`ls -l /dev/input/`), or use another pad")

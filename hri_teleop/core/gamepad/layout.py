@@ -213,9 +213,10 @@ def layout_from_dict(data: Any, source: str = "<dict>") -> Layout:
 
 def _check_unique(source: str, kind: str, indices: Mapping[str, int]) -> None:
     seen: Dict[int, str] = {}
+    plural = "axes" if kind == "axis" else kind + "s"
     for name, index in indices.items():
         if index in seen:
-            raise _fail(source, "%ss %r and %r both use raw index %d" % (kind, seen[index], name, index),
+            raise _fail(source, "%s %r and %r both use raw index %d" % (plural, seen[index], name, index),
                         "give each %s its own index" % kind)
         seen[index] = name
 
