@@ -144,7 +144,9 @@ def set_in_launch(text: str, value: int, source: str = "<launch>") -> Tuple[str,
             continue
         if name[0] == "/" + PARAM_NAME or (name[0] == PARAM_NAME and tag.scope == "global"):
             params.append(tag)
-    args = {tag.value_of("name")[0]: tag for tag in tags
+    # The first <arg> of a name is its declaration (roslaunch reads in order); a later one inside an
+    # <include> only passes a value on, often $(arg name) itself: reversed, so that the first one wins.
+    args = {tag.value_of("name")[0]: tag for tag in reversed(tags)
             if tag.tag == "arg" and tag.get("name") is not None and tag.scope == "global"}
 
     targets: List[Tuple[_Tag, str]] = []  # (tag, attribute to change)

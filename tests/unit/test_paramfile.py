@@ -226,12 +226,12 @@ def test_an_arg_named_max_sensor_force_given_by_value_changes_its_value_when_no_
 
 
 def test_arg_msf_means_the_arg_declared_so_not_another_element_of_that_name():
-    text = ('<launch>\n  <arg name="msf" default="700"/>\n'
-            '  <param name="max_sensor_force" value="$(arg msf)"/>\n'
-            '  <node name="msf" pkg="p" type="t"/>\n</launch>\n')
-    result, edits = set_in_launch(text, 512)
-    assert result == text.replace('default="700"', 'default="512"')
-    assert edits == [ParamEdit(2, "700", "512", '<arg name="msf"> default')]
+    for node in ('  <node name="msf" pkg="p" type="t"/>\n', '  <node name="max_sensor_force" pkg="p" type="t"/>\n'):
+        text = ('<launch>\n' + node + '  <arg name="msf" default="700"/>\n'
+                '  <param name="max_sensor_force" value="$(arg msf)"/>\n' + node + '</launch>\n')
+        result, edits = set_in_launch(text, 512)
+        assert result == text.replace('default="700"', 'default="512"')
+        assert edits == [ParamEdit(3, "700", "512", '<arg name="msf"> default')]
 
 
 def test_every_param_setting_it_changes_once_and_an_arg_they_share_once_however_long_the_values():
@@ -355,3 +355,12 @@ def test_a_file_of_another_kind_is_xml_when_its_text_starts_with_a_tag(tmp_path,
     path.write_text("\n" + YAML_TEXT)
     write_max_sensor_force(path, 650)
     assert path.read_text() == "\nmax_sensor_force: 650\n"
+
+
+def test_arg_msf_means_its_declaration_not_an_include_passing_it_on():
+    text = ('<launch>\n  <arg name="msf" default="700"/>\n'
+            '  <param name="max_sensor_force" value="$(arg msf)"/>\n'
+            '  <include file="sensor.launch">\n    <arg name="msf" value="$(arg msf)"/>\n  </include>\n</launch>\n')
+    result, edits = set_in_launch(text, 691)
+    assert result == text.replace('default="700"', 'default="691"')  # the include still passes $(arg msf) on
+    assert edits == [ParamEdit(2, "700", "691", '<arg name="msf"> default')]
