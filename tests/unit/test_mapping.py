@@ -24,7 +24,8 @@ def test_adc_max_count():
 
 @pytest.mark.parametrize(
     "count, expected",
-    [(0, 0.0), (350, 0.5), (700, 1.0), (1023, 1.0), (-5, 0.0), (70, 0.1)],
+    [(0, 0.0), (350, 0.5), (700, 1.0), (1023, 1.0), (-5, 0.0), (70, 0.1), (1, 1 / 700), (-1, 0.0), (699, 699 / 700),
+     (701, 1.0)],
 )
 def test_map_force_values(count, expected):
     result = map_force(count, 700)
@@ -37,6 +38,13 @@ def test_map_force_arrays():
     assert isinstance(result, np.ndarray)
     assert result.tolist() == pytest.approx([0.0, 0.5, 1.0, 1.0, 0.0])
     assert map_force([0, 700], 700).tolist() == [0.0, 1.0]
+
+
+def test_a_series_with_missing_readings_maps_them_to_no_force_and_the_rest_as_floats():
+    """A trace with gaps (None where the board sent nothing) maps like NaN: no usable reading, no feedback."""
+    result = map_force(np.array([350, None, 700, 1], dtype=object), 700)
+    assert result.dtype == np.float64
+    assert result.tolist() == [0.5, 0.0, 1.0, 1 / 700]
 
 
 def test_nan_count_maps_to_no_force():
