@@ -446,3 +446,43 @@ def test_with_feedback_off_the_pad_never_rumbles_and_everything_else_is_the_same
 def test_feedback_must_be_a_bool():
     with pytest.raises(TeleopError, match="feedback must be true or false"):
         TeleopParams(feedback="false")
+
+
+# --- the small rules around the controller (issue 44: each pinned by its behaviour) --------------------------
+
+
+def test_an_axes_entry_given_as_one_string_of_three_characters_is_refused_as_not_a_list():
+    with pytest.raises(TeleopError, match=r"^axes\.translation must list 3 axes for x, y, z, got 'xyz'; write e\.g\."):
+        AxisAssignment(translation="xyz")  # type: ignore[arg-type]
+
+
+def test_an_unknown_axis_is_named_by_its_mode_and_place():
+    with pytest.raises(TeleopError, match=r"^axes\.rotation\[1\] names unknown axis 'up'"):
+        AxisAssignment(rotation=("left_y", "up", "right_y"))
+
+
+def test_a_button_already_down_at_the_first_reading_is_one_press():
+    from hri_teleop.core.teleop import ButtonPress
+
+    press = ButtonPress("start")
+    assert [press.update(pad(pressed=("start",))) for _ in range(3)] == [True, False, False]
+    assert press.update(pad()) is False and press.update(pad(pressed=("start",))) is True
+
+
+def test_combined_motors_both_carry_the_larger_of_force_and_warning():
+    from hri_teleop.core.teleop import motor_rumble
+
+    assert motor_rumble(0.6, 0.2, False, True, "combined") == (0.6, 0.6)
+    assert motor_rumble(0.2, 0.6, False, True, "combined") == (0.6, 0.6)
+    assert motor_rumble(0.6, 0.2, False, True, "split") == (0.6, 0.2)
+
+
+def test_recovery_waits_and_says_how_fast_the_node_still_translates_and_turns():
+    from hri_teleop.core.teleop import recovery_refusal
+
+    assert recovery_refusal((0.03, 0.04, 0.0, 0.5, 0.0, 0.0)) == (
+        "error recovery waits: the node still commands 0.050 m/s and 0.500 rad/s; let go of the sticks, then press "
+        "the recover button again (a recovered robot starts from rest)")
+    assert recovery_refusal((0.0, 0.0, 0.0, 0.0, 0.3, 0.4)).startswith(
+        "error recovery waits: the node still commands 0.000 m/s and 0.500 rad/s;")
+    assert recovery_refusal((0.0,) * 6) is None
