@@ -93,3 +93,28 @@ def test_a_travel_or_spring_that_is_not_a_positive_number_is_refused_by_name(fie
 def test_a_wiring_the_fsr_model_refuses_is_refused_with_its_own_words():
     with pytest.raises(fsr.FsrError, match="adc_bits must be an integer from 1 to 24"):
         Attachment(adc_bits=25)
+
+
+def test_a_refused_travel_or_spring_says_what_it_got_and_a_usable_value():
+    with pytest.raises(AttachmentError) as travel:
+        Attachment(piston_travel_m=0.0)
+    assert str(travel.value) == "Attachment.piston_travel_m must be > 0, got 0.0; e.g. 0.003 (3 mm)"
+    with pytest.raises(AttachmentError) as spring:
+        Attachment(spring_n_per_m=-1)
+    assert str(spring.value) == "Attachment.spring_n_per_m must be > 0, got -1; e.g. 590.0"
+
+
+def test_whole_numbers_from_a_yaml_file_are_kept_as_floats():
+    given = Attachment(piston_travel_m=np.float32(0.5), spring_n_per_m=590)
+    assert type(given.piston_travel_m) is float and given.piston_travel_m == 0.5
+    assert type(given.spring_n_per_m) is float and given.spring_n_per_m == 590.0
+
+
+@pytest.mark.parametrize("wiring, words", [
+    ({"pulldown_ohm": -1.0}, "pulldown_ohm must be a positive finite resistance in ohm, got -1.0"),
+    ({"supply_v": 0.0}, "supply_v must be a positive finite voltage in volt, got 0.0"),
+])
+def test_a_wiring_without_a_table_is_refused_when_the_attachment_is_made_not_at_its_first_count(wiring, words):
+    """An 18-bit ADC builds no table, so only the check at construction can refuse the wiring."""
+    with pytest.raises(fsr.FsrError, match=words):
+        Attachment(adc_bits=18, **wiring)
