@@ -122,8 +122,15 @@ def _check_bits(adc_bits: int) -> None:
         raise FsrError(f"adc_bits must be an integer from 1 to 24, got {adc_bits!r}; the Uno's ADC has 10 bits")
 
 
+def _check_law(law: object) -> None:
+    if not isinstance(law, PowerLaw):
+        raise FsrError(f"law must be a PowerLaw(r_at_1n_ohm, exponent), got {law!r}; pass e.g. fsr.FSR402 or "
+                       "fsr.fit_power_law(points)")
+
+
 def force_to_resistance(force_n: Any, law: PowerLaw = FSR402) -> Any:
     """Resistance (ohm) at a force (N); ``inf`` (open circuit) at zero or negative force."""
+    _check_law(law)
     force = np.asarray(force_n, dtype=float)
     with np.errstate(divide="ignore", invalid="ignore", over="ignore"):
         resistance = np.where(force > 0, law.r_at_1n_ohm * np.power(np.where(force > 0, force, 1.0), -law.exponent), np.inf)
@@ -136,6 +143,7 @@ def resistance_to_force(resistance_ohm: Any, law: PowerLaw = FSR402) -> Any:
 
     Negative resistances are not physical and raise :class:`FsrError`.
     """
+    _check_law(law)
     resistance = np.asarray(resistance_ohm, dtype=float)
     if np.any(resistance < 0):
         raise FsrError("resistance_ohm must be >= 0 ohm (inf for an open circuit); check the divider arithmetic")

@@ -326,3 +326,12 @@ def test_0_v_reads_as_an_open_circuit_even_where_the_dividers_product_underflows
         warnings.simplefilter("error")
         assert voltage_to_resistance(0.0, pulldown_ohm=1e-200, supply_v=1e-200) == np.inf  # 0 / 0 inside
         assert voltage_to_resistance(-1.0, pulldown_ohm=1e-200, supply_v=1e-200) == np.inf
+
+
+@pytest.mark.parametrize("law", ["FSR402", None, (6000.0, 0.8)])
+def test_a_law_that_is_not_a_power_law_is_refused_in_one_line_both_ways(law):
+    for convert in (lambda: fsr.force_to_resistance(1.0, law), lambda: fsr.resistance_to_force(6000.0, law),
+                    lambda: fsr.force_to_count(1.0, law=law), lambda: fsr.count_to_force(500, law=law)):
+        with pytest.raises(fsr.FsrError, match=r"^law must be a PowerLaw\(r_at_1n_ohm, exponent\), got .*; pass e\.g\. "
+                                               r"fsr\.FSR402 or fsr\.fit_power_law\(points\)$"):
+            convert()
