@@ -401,3 +401,10 @@ def test_a_hidden_tab_gives_a_released_unplugged_reading_and_the_line_to_bring_i
     reading = link.receive({"sent_s": 8.375, "visible": False, "pad": _pad()}, 520.375)
     assert reading == BrowserReading(NEUTRAL_LOST, HIDDEN)
     assert link.problem(520.375) == HIDDEN
+
+
+def test_a_silent_page_says_for_how_long_and_what_the_robot_gets():
+    link, received = _input_driving(0.25)
+    assert link.problem(received + 0.3125) == (
+        "no reading from the browser for 0.3 s (a cell is running, the tab was closed or the link dropped): the robot "
+        "gets a released pad until readings come again")

@@ -210,3 +210,7 @@ def test_a_guid_whose_padding_words_are_not_zero_holds_no_ids(guid):
 def test_a_bus_without_a_name_is_named_by_its_number():
     assert SdlGuid(0x06, 0x045E, 0x02FD, 0x1130, 0).bus_name() == "bus 0x06"
     assert SdlGuid(0x03, 0x045E, 0x02FD, 0x1130, 0).bus_name() == "USB"
+
+
+def test_a_pad_named_ps4_controller_without_ids_is_a_dualshock_4():
+    assert identify_layout("", "PS4 Controller", 6, 13) == LayoutGuess("dualshock4", "DualShock 4 by its name")
