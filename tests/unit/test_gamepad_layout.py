@@ -351,9 +351,9 @@ def test_none_and_auto_are_the_default_layout_anything_else_is_loaded():
 
 def test_the_shipped_layouts_are_found_beside_the_module_with_or_without_importlib_resources_files(monkeypatch):
     here = (Path(layout_module.__file__).resolve().parent / "layouts").resolve()
-    assert layout_module._shipped_layouts().resolve() == here and (here / "dualshock4.yaml").is_file()
+    assert layout_module.shipped_layouts_folder().resolve() == here and (here / "dualshock4.yaml").is_file()
     monkeypatch.delattr(importlib.resources, "files", raising=False)  # as on Python 3.8
-    assert layout_module._shipped_layouts().resolve() == here
+    assert layout_module.shipped_layouts_folder().resolve() == here
 
 
 def test_a_layout_converts_and_copies_what_it_is_given_and_cannot_be_changed():

@@ -19,11 +19,10 @@ from hri_teleop.core.gamepad.state import AXES, BUTTONS, STICK_AXES, TRIGGER_AXE
 from hri_teleop.core.yamlfile import read_yaml
 
 __all__ = ["AxisMap", "Layout", "LAYOUT_DIR", "DEFAULT_LAYOUT", "AUTO_LAYOUT", "available_layouts",
-           "load_layout", "as_layout", "layout_from_dict"]
+           "load_layout", "as_layout", "layout_from_dict", "shipped_layouts_folder"]
 
 
-
-def _shipped_layouts() -> Path:
+def shipped_layouts_folder() -> Path:
     """The package data folder of layouts, found through importlib.resources (3.9+)."""
     files = getattr(importlib.resources, "files", None)
     if files is None:  # Python 3.8 (the lab PCs), where the package is always unpacked on disk
@@ -31,7 +30,7 @@ def _shipped_layouts() -> Path:
     return Path(str(files(__package__) / "layouts"))
 
 
-LAYOUT_DIR = _shipped_layouts()
+LAYOUT_DIR = shipped_layouts_folder()
 DEFAULT_LAYOUT = "dualshock4"
 #: The layout setting that asks a real pad to identify itself (core.gamepad.identify); a pad
 #: that cannot (virtual, unknown) gets DEFAULT_LAYOUT.
