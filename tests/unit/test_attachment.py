@@ -54,6 +54,29 @@ def test_every_threshold_of_the_10_bit_table_and_its_neighbours_read_what_force_
     assert checked > 1000 // 2
 
 
+def test_a_force_between_two_thresholds_reads_the_lower_ones_count():
+    thresholds = [float(f) for f in fsr.count_to_force(np.arange(1024))]
+    for low, high in zip(thresholds, thresholds[1:]):
+        if math.isfinite(low) and math.isfinite(high) and high > low > 0.0:
+            middle = 0.5 * (low + high)
+            assert LAB.count(middle) == _exact(middle)
+
+
+def test_a_wiring_of_its_own_reads_its_own_counts_at_and_between_its_thresholds():
+    """Another FSR, a 4.7 kOhm pull-down and a 3.3 V board: the table is built and read with that wiring."""
+    law = fsr.fit_power_law([(0.2, 30e3), (1.0, 8e3), (10.0, 1.2e3)])
+    own = Attachment(law=law, pulldown_ohm=4.7e3, supply_v=3.3)
+    thresholds = [float(f) for f in fsr.count_to_force(np.arange(1024), law=law, pulldown_ohm=4.7e3, supply_v=3.3)]
+    checked = 0
+    for low, high in zip(thresholds, thresholds[1:]):
+        if math.isfinite(low) and math.isfinite(high) and high > low > 0.0:
+            for force in (low, 0.5 * (low + high), float(np.nextafter(high, 0.0))):
+                assert own.count(force) == _exact(force, own), force
+            checked += 1
+    assert checked > 500
+    assert own.count(1e9) == _exact(1e9, own)
+
+
 @given(st.floats(min_value=1e-9, max_value=1e6, allow_nan=False))
 @example(1e-9)
 @example(1.77)
