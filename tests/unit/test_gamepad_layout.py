@@ -2,7 +2,10 @@
 
 from __future__ import annotations
 
+import importlib.resources
+import math
 import textwrap
+from pathlib import Path
 
 import pytest
 import yaml
@@ -19,6 +22,8 @@ from hri_teleop.core.gamepad import (
     available_layouts,
     load_layout,
 )
+from hri_teleop.core.gamepad import layout as layout_module
+from hri_teleop.core.gamepad.layout import AxisMap, as_layout, layout_from_dict
 
 #: Raw (SDL2, Linux, kernel driver) indices each shipped layout must keep; sources in the YAML.
 EXPECTED = {
@@ -231,13 +236,6 @@ def test_layout_argument_must_be_a_name_or_path(bad):
 
 
 # ------------------------------------------------------------------ a layout built from a dict, edge by edge
-
-import importlib.resources  # noqa: E402
-import math  # noqa: E402
-from pathlib import Path  # noqa: E402
-
-from hri_teleop.core.gamepad import layout as layout_module  # noqa: E402
-from hri_teleop.core.gamepad.layout import AxisMap, as_layout, layout_from_dict  # noqa: E402
 
 SHIPPED = "dualsense, dualsense_hid_generic, dualshock4, xbox"
 
