@@ -96,6 +96,14 @@ def test_an_adc_of_more_than_16_bits_is_computed_without_a_table():
     assert wide.full_travel_count == _exact(1.77, wide) > 700 * 200
 
 
+def test_an_adc_without_a_table_reads_with_its_own_wiring():
+    law = fsr.fit_power_law([(0.2, 30e3), (1.0, 8e3), (10.0, 1.2e3)])
+    own = Attachment(adc_bits=18, law=law, pulldown_ohm=4.7e3)
+    for force in (0.05, 0.5, 1.77, 20.0):
+        assert own.count(force) == _exact(force, own) != _exact(force, Attachment(adc_bits=18)), force
+    assert own.count(math.inf) == 2 ** 18 - 1  # whatever the wiring
+
+
 def test_a_16_bit_adc_is_read_through_its_table_all_the_same():
     fine = Attachment(adc_bits=16)
     for force in (0.01, 1.0, 1.77, 20.0):
