@@ -103,6 +103,6 @@ def test_the_status_and_the_robots_error_flags_become_the_same_plain_words():
                 setattr(self, name, True)
 
     lines = reflex_from_errors(CartesianErrors())
-    assert lines[1].startswith("The commanded translation or rotation velocity jumped: its change within one "
+    assert lines[1].startswith("- The commanded translation or rotation velocity jumped: its change within one "
                                "millisecond is too large an acceleration. Ramp")
-    assert lines[2].startswith("The commanded translation or rotation acceleration jumped: too large a jerk. Ramp")
+    assert lines[2].startswith("- The commanded translation or rotation acceleration jumped: too large a jerk. Ramp")
