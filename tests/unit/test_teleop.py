@@ -486,3 +486,72 @@ def test_recovery_waits_and_says_how_fast_the_node_still_translates_and_turns():
     assert recovery_refusal((0.0, 0.0, 0.0, 0.0, 0.3, 0.4)).startswith(
         "error recovery waits: the node still commands 0.000 m/s and 0.500 rad/s;")
     assert recovery_refusal((0.0,) * 6) is None
+
+
+@pytest.mark.parametrize("changed", [
+    {"rate_hz": 0.5}, {"width_min_m": 0.04, "width_max_m": 0.04, "initial_width_m": 0.04}, {"rumble_threshold": 1.0},
+    {"initial_width_m": 0.0}, {"gripper_max_width_m": 0.1, "width_max_m": 0.1, "initial_width_m": 0.1},
+])
+def test_settings_at_the_edge_of_their_range_are_taken(changed):
+    params = TeleopParams(**changed)
+    assert all(getattr(params, name) == value for name, value in changed.items())
+
+
+@pytest.mark.parametrize("changed, words", [
+    ({"rate_hz": 0.0}, "rate_hz must be > 0 Hz, got 0.0"),
+    ({"gripper_max_width_m": 0.0, "width_max_m": 0.0, "initial_width_m": 0.0}, "gripper_max_width_m must be > 0 m"),
+    ({"rumble_threshold": 1.01}, "rumble_threshold must be in [0, 1]"),
+])
+def test_settings_just_past_their_range_are_refused(changed, words):
+    with pytest.raises(TeleopError, match="^" + words.replace("[", r"\[").replace("]", r"\]")):
+        TeleopParams(**changed)
+
+
+def test_every_number_setting_is_kept_as_a_float_also_those_after_feedback():
+    params = TeleopParams(rate_hz=50, precision_scale=1, gripper_max_width_m=1)
+    assert type(params.rate_hz) is float and type(params.precision_scale) is float
+    assert type(params.gripper_max_width_m) is float
+
+
+def test_an_axis_entry_reads_as_its_axis_and_sign_and_none_0_or_empty_as_no_axis():
+    assignment = AxisAssignment(translation=("+left_y", "0", ""), rotation=("-left_x", "none", "right_y"))
+    assert assignment.sources(Mode.TRANSLATION) == (("left_y", 1.0), (None, 0.0), (None, 0.0))
+    assert assignment.sources(Mode.ROTATION) == (("left_x", -1.0), (None, 0.0), ("right_y", 1.0))
+    with pytest.raises(TeleopError, match=r"^axes\.translation\[0\] names unknown axis 'Xleft_y'"):
+        AxisAssignment(translation=("Xleft_y", "none", "none"))
+
+
+def test_the_controllers_limits_are_judged_against_the_hard_limits_it_is_given():
+    from hri_teleop.core.limits import LAB_LIMITS
+
+    with pytest.raises(TeleopError, match="translation"):  # LAB_LIMITS' 0.3 m/s^2 at 50 Hz is beyond its own 1 ms budget
+        TeleopController(TeleopParams(), limits=LAB_LIMITS, hard_limits=LAB_LIMITS)
+    narrow = CartesianLimits(AxisLimits(0.2, 13.0, 6500.0), AxisLimits(2.5, 25.0, 12500.0))
+    with pytest.raises(TeleopError):
+        TeleopController(TeleopParams(), hard_limits=narrow)  # the default 0.25 m/s exceeds 0.2
+
+
+def test_a_stick_at_rest_on_an_inverted_axis_commands_plus_zero_not_minus_zero():
+    controller = TeleopController()
+    twist = run(controller, [pad({"left_x": 0.0})])[-1].twist
+    assert math.copysign(1.0, twist[1]) == 1.0
+
+
+def test_the_first_command_does_not_quit_and_says_so_with_false():
+    command = run(TeleopController(), [pad()])[-1]
+    assert command.quit is False
+
+
+def test_a_force_that_is_not_a_number_rumbles_nothing():
+    controller = TeleopController()
+    run(controller, [pad()])
+    assert controller.rumble_for("strong", 0.1) == 0.0  # type: ignore[arg-type]
+    assert controller.rumble_for(0.5, "old") == 0.0  # type: ignore[arg-type]
+
+
+def test_the_next_tick_is_one_period_on_unless_the_loop_fell_more_than_a_period_behind():
+    from hri_teleop.core.teleop import next_tick_s
+
+    assert next_tick_s(1.0, 1.1, 0.25) == 1.25  # on time
+    assert next_tick_s(1.0, 1.5, 0.25) == 1.25  # exactly one period behind: still on its schedule
+    assert next_tick_s(1.0, 1.75, 0.25) == 1.75  # more than a period behind: starts again from now
