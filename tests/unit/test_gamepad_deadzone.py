@@ -75,3 +75,12 @@ def test_bad_dead_zone_is_one_line_with_the_fix(deadzone):
 def test_returns_plain_float():
     out = normalize_analog_input(0.5, 0.1)
     assert type(out) is float and math.isfinite(out)
+
+
+def test_a_numpy_dead_zone_is_a_number_like_any_other():
+    import numpy as np
+
+    from hri_teleop.core.gamepad.deadzone import check_deadzone
+
+    assert check_deadzone(np.float32(0.25)) == 0.25
+    assert normalize_analog_input(0.625, np.float32(0.25)) == 0.5
