@@ -531,8 +531,9 @@ def test_the_controllers_limits_are_judged_against_the_hard_limits_it_is_given()
         TeleopController(TeleopParams(), hard_limits=narrow)  # the default 0.25 m/s exceeds 0.2
 
 
-def test_a_stick_at_rest_on_an_inverted_axis_commands_plus_zero_not_minus_zero():
+def test_a_stick_at_rest_on_an_inverted_axis_asks_for_plus_zero_not_minus_zero():
     controller = TeleopController()
+    assert math.copysign(1.0, controller.target_twist(pad({"left_x": 0.0}))[1]) == 1.0  # vy <- -left_x
     twist = run(controller, [pad({"left_x": 0.0})])[-1].twist
     assert math.copysign(1.0, twist[1]) == 1.0
 
