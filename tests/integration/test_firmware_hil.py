@@ -165,8 +165,13 @@ def test_the_bridge_survives_the_board_being_unplugged_and_plugged_back_in(ros_m
     assert len(after) >= 100, f"only {len(after)} counts after the board came back"
     _check_staircase(before, steps, "before the unplug")
     _check_staircase(after, steps, "after the replug")  # the firmware's rate, on the board's own clock
-    after_mapped = [v for t, v in ((t, float(m.data)) for t, m in topics["/force_mapped"]) if t > plugged_at]
-    assert len(after_mapped) >= 100
+    # The mapping node carried on: what it published after the replug is the mapping of the counts that came
+    # after it. It runs a few messages behind the bridge, and further on a busy machine (93 of 100+ counts
+    # seen at load 15 when the recording stopped), so it is judged against the counts, not a wall-clock window.
+    after_mapped = [(t, float(m.data)) for t, m in topics["/force_mapped"] if t > plugged_at]
+    pairing = pair_outputs(counts[split:], after_mapped, lambda c: float(map_force(c, MAX_SENSOR_FORCE)), tolerance=1e-6)
+    assert pairing.unmatched_outputs == 0, "values on /force_mapped after the replug that are no count's mapping"
+    assert len(after_mapped) >= len(after) // 2, f"{len(after_mapped)} mapped values for {len(after)} counts"
     out = bridge.output()
     assert f"lost {link}" in out, out
     assert "Traceback" not in out, out
